@@ -1,0 +1,1 @@
+//! The FACS Action Unit catalogue: numbers, names and muscular basis.

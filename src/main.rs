@@ -1,0 +1,5 @@
+//! The `grimace` command.
+
+fn main() -> std::process::ExitCode {
+    grimace::cli::main()
+}

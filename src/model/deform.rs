@@ -1,0 +1,1 @@
+//! The deformation: a sparse blend of muscle fields, then the jaw.

@@ -1,0 +1,1 @@
+//! Per-muscle displacement fields, precomputed once per rig and mesh.

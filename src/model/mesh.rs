@@ -1,0 +1,201 @@
+//! Triangle meshes: rest positions, triangles, derived edges and normals, named vertex groups.
+
+use std::collections::BTreeMap;
+
+use glam::Vec3;
+use thiserror::Error;
+
+/// Why a set of positions and triangles is not a usable mesh.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum MeshError {
+    /// The mesh has no triangles at all.
+    #[error("the mesh has no faces")]
+    NoFaces,
+    /// A triangle refers to a vertex that does not exist.
+    #[error("triangle {triangle} refers to vertex {index}, but the mesh has only {count} vertices")]
+    IndexOutOfRange {
+        /// Triangle number (0-based).
+        triangle: usize,
+        /// The offending vertex index (0-based).
+        index: u32,
+        /// Number of vertices in the mesh.
+        count: usize,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite coordinate ({position:?})")]
+    NonFinite {
+        /// Vertex number (0-based).
+        vertex: usize,
+        /// The offending position.
+        position: [f32; 3],
+    },
+    /// A named vertex group refers to a vertex that does not exist.
+    #[error("vertex group `{group}` refers to vertex {index}, but the mesh has only {count} vertices")]
+    GroupOutOfRange {
+        /// The group's name.
+        group: String,
+        /// The offending vertex index.
+        index: u32,
+        /// Number of vertices in the mesh.
+        count: usize,
+    },
+    /// The mesh is larger than grimace accepts.
+    #[error("the mesh has {count} {what}, more than the limit of {limit}")]
+    TooLarge {
+        /// "vertices" or "triangles".
+        what: &'static str,
+        /// How many the input has.
+        count: usize,
+        /// The limit.
+        limit: usize,
+    },
+}
+
+/// The most vertices a mesh may have (a dense face scan is far below this).
+pub const MAX_VERTICES: usize = 4_000_000;
+/// The most triangles a mesh may have.
+pub const MAX_TRIANGLES: usize = 8_000_000;
+
+/// A triangle mesh at rest.
+///
+/// Positions use the face convention of the whole project: x across the face (the subject's
+/// left at negative x, as in the classic data), y up, z out of the face toward the viewer.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Mesh {
+    /// Rest positions, one per vertex.
+    pub positions: Vec<Vec3>,
+    /// Triangles as vertex indices. Winding is kept as read.
+    pub triangles: Vec<[u32; 3]>,
+    /// Named vertex groups (for example `jaw`, `upper_lip`), each a sorted list of vertex indices.
+    pub groups: BTreeMap<String, Vec<u32>>,
+}
+
+impl Mesh {
+    /// Builds a mesh and checks that it is usable: at least one triangle, every index in
+    /// range, every coordinate finite, sizes within limits.
+    pub fn new(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<Mesh, MeshError> {
+        let mesh = Mesh {
+            positions,
+            triangles,
+            groups: BTreeMap::new(),
+        };
+        mesh.validate()?;
+        Ok(mesh)
+    }
+
+    /// Checks the invariants [`Mesh::new`] establishes (useful after editing fields directly).
+    pub fn validate(&self) -> Result<(), MeshError> {
+        let count = self.positions.len();
+        if count > MAX_VERTICES {
+            return Err(MeshError::TooLarge {
+                what: "vertices",
+                count,
+                limit: MAX_VERTICES,
+            });
+        }
+        if self.triangles.len() > MAX_TRIANGLES {
+            return Err(MeshError::TooLarge {
+                what: "triangles",
+                count: self.triangles.len(),
+                limit: MAX_TRIANGLES,
+            });
+        }
+        if self.triangles.is_empty() {
+            return Err(MeshError::NoFaces);
+        }
+        for (vertex, p) in self.positions.iter().enumerate() {
+            if !p.is_finite() {
+                return Err(MeshError::NonFinite {
+                    vertex,
+                    position: p.to_array(),
+                });
+            }
+        }
+        for (triangle, tri) in self.triangles.iter().enumerate() {
+            for &index in tri {
+                if index as usize >= count {
+                    return Err(MeshError::IndexOutOfRange {
+                        triangle,
+                        index,
+                        count,
+                    });
+                }
+            }
+        }
+        for (group, members) in &self.groups {
+            for &index in members {
+                if index as usize >= count {
+                    return Err(MeshError::GroupOutOfRange {
+                        group: group.clone(),
+                        index,
+                        count,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// The unique undirected edges, each as `[low, high]`, sorted.
+    pub fn edges(&self) -> Vec<[u32; 2]> {
+        let mut edges: Vec<[u32; 2]> = self
+            .triangles
+            .iter()
+            .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+            .map(|[a, b]| if a < b { [a, b] } else { [b, a] })
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        edges
+    }
+
+    /// Face normals of the triangles for the given positions (right-hand rule on the winding,
+    /// unit length, zero for degenerate triangles).
+    pub fn face_normals(&self, positions: &[Vec3]) -> Vec<Vec3> {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| positions[i as usize]);
+                (b - a).cross(c - a).normalize_or_zero()
+            })
+            .collect()
+    }
+
+    /// Area-weighted vertex normals for the given positions (unit length, zero where no
+    /// triangle contributes).
+    pub fn vertex_normals(&self, positions: &[Vec3]) -> Vec<Vec3> {
+        let mut normals = vec![Vec3::ZERO; positions.len()];
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
+            let n = (b - a).cross(c - a);
+            for &i in t {
+                normals[i as usize] += n;
+            }
+        }
+        for n in &mut normals {
+            *n = n.normalize_or_zero();
+        }
+        normals
+    }
+
+    /// The axis-aligned bounding box of the rest positions, as `(min, max)`.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        bounds_of(&self.positions)
+    }
+}
+
+/// The axis-aligned bounding box of a set of points, as `(min, max)`; zero for no points.
+pub fn bounds_of(points: &[Vec3]) -> (Vec3, Vec3) {
+    if points.is_empty() {
+        return (Vec3::ZERO, Vec3::ZERO);
+    }
+    points.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}

@@ -1,0 +1,136 @@
+//! Muscle descriptions: the three muscle kinds of the model and their parameters.
+//!
+//! A muscle here is pure data, placed in mesh coordinates. How it moves skin is computed in
+//! [`crate::model::field`], once per rig and mesh.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// Which side of the face a muscle (or an AU) belongs to.
+///
+/// Left and right are the subject's: the subject's left lies at negative x, as in the classic
+/// Waters data (whose `L_` muscles sit at x < 0).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, Default)]
+pub enum Side {
+    /// The subject's left (x < 0).
+    Left,
+    /// The subject's right (x > 0).
+    Right,
+    /// On the midline, or acting on both sides at once.
+    #[default]
+    Centre,
+}
+
+impl Side {
+    /// The other side (centre stays centre).
+    pub fn mirrored(self) -> Side {
+        match self {
+            Side::Left => Side::Right,
+            Side::Right => Side::Left,
+            Side::Centre => Side::Centre,
+        }
+    }
+
+    /// One letter: `L`, `R` or `C`.
+    pub fn letter(self) -> char {
+        match self {
+            Side::Left => 'L',
+            Side::Right => 'R',
+            Side::Centre => 'C',
+        }
+    }
+}
+
+/// A named muscle of a rig.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Muscle {
+    /// Unique name within the rig, e.g. `L_Zygomatic_Major`.
+    pub name: String,
+    /// The side of the face the muscle lies on.
+    #[serde(default)]
+    pub side: Side,
+    /// The name of the muscle that mirrors this one across x = 0, if any. Editors use it to
+    /// move pairs together.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mirror: Option<String>,
+    /// The muscle's kind and geometry.
+    pub kind: MuscleKind,
+}
+
+/// The three muscle kinds of the model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum MuscleKind {
+    /// Waters' linear (vector) muscle.
+    Linear(Linear),
+    /// An elliptical sphincter (mouth or eye).
+    Sphincter(Sphincter),
+    /// A rectangular sheet muscle (frontalis).
+    Sheet(Sheet),
+}
+
+impl MuscleKind {
+    /// A short lower-case label: `linear`, `sphincter` or `sheet`.
+    pub fn label(&self) -> &'static str {
+        match self {
+            MuscleKind::Linear(_) => "linear",
+            MuscleKind::Sphincter(_) => "sphincter",
+            MuscleKind::Sheet(_) => "sheet",
+        }
+    }
+}
+
+/// Waters' linear muscle: a cone of influence with its apex at the bone attachment, opening
+/// toward the skin insertion (MODEL-NOTES section 1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Linear {
+    /// The fixed end on the bone: the cone's apex and the centre of the falloff distances.
+    pub attachment: Vec3,
+    /// The end in the skin; it only sets the muscle's direction.
+    pub insertion: Vec3,
+    /// Half-angle of the cone of influence, in degrees (0 < zone < 90).
+    pub zone: f32,
+    /// Distance from the attachment where the radial falloff starts.
+    pub falloff_start: f32,
+    /// Distance from the attachment where the radial falloff reaches zero.
+    pub falloff_end: f32,
+}
+
+/// Where a sphincter pulls the skin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Convergence {
+    /// Toward the ellipse's centre (mouth, eqs. 1-5).
+    Centre,
+    /// Straight toward the ellipse's major axis (eye, eqs. 6-9): closes the lids without
+    /// pulling the eye corners in.
+    MajorAxis,
+}
+
+/// An elliptical sphincter in the x-y plane (MODEL-NOTES sections 2 and 3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sphincter {
+    /// Centre of the ellipse (its z is not used by the in-plane pull).
+    pub centre: Vec3,
+    /// Semi-axis along x (`lx`).
+    pub semi_major: f32,
+    /// Semi-axis along y (`ly`).
+    pub semi_minor: f32,
+    /// Toward the centre (mouth) or toward the major axis (eye).
+    pub convergence: Convergence,
+    /// The bulge constant `Z` of eq. 5: the skin moves toward +z by at most activation / Z.
+    /// The paper uses 10 for the mouth and 30 for the eyes.
+    pub bulge: f32,
+}
+
+/// A rectangular sheet muscle (MODEL-NOTES section 4).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sheet {
+    /// The two ends of the attachment line on the bone (A1, A2).
+    pub attachment: [Vec3; 2],
+    /// The two ends of the insertion line in the skin (l1, l2).
+    pub insertion: [Vec3; 2],
+    /// Length `L` of the zone of influence, measured from the attachment line along the axis;
+    /// at least the attachment-to-insertion distance.
+    pub length: f32,
+    /// Width `W` of the zone of influence across the axis.
+    pub width: f32,
+}

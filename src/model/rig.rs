@@ -1,0 +1,52 @@
+//! Rigs: a set of named muscles and a jaw, placed on a mesh.
+
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+use super::jaw::Jaw;
+use super::muscle::Muscle;
+
+/// The rig file format version this build reads and writes.
+pub const RIG_VERSION: u32 = 1;
+
+/// How the displacements of several muscles acting on one vertex combine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Combine {
+    /// Displacements add up (MODEL-NOTES section 0).
+    #[default]
+    Sum,
+    /// Each vertex's summed displacement is divided by the number of active muscles that
+    /// moved it (the paper's section 4.2 remedy).
+    Average,
+}
+
+/// A rig: named muscles and an optional jaw, placed on a mesh.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Rig {
+    /// File format version; see [`RIG_VERSION`].
+    pub version: u32,
+    /// The mesh the rig is placed on: a path relative to the rig file, or `builtin:NAME`.
+    pub mesh: PathBuf,
+    /// How overlapping muscles combine.
+    #[serde(default)]
+    pub combine: Combine,
+    /// The muscles, in display order.
+    pub muscles: Vec<Muscle>,
+    /// The jaw, if the rig has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub jaw: Option<Jaw>,
+}
+
+impl Rig {
+    /// The index of the muscle with this name.
+    pub fn muscle_index(&self, name: &str) -> Option<usize> {
+        self.muscles.iter().position(|m| m.name == name)
+    }
+
+    /// The index of the mirror partner of muscle `index`, if it has one that exists.
+    pub fn mirror_of(&self, index: usize) -> Option<usize> {
+        let partner = self.muscles.get(index)?.mirror.as_deref()?;
+        self.muscle_index(partner)
+    }
+}

@@ -1,0 +1,1 @@
+//! The terminal editor (ratatui + crossterm).
