@@ -7,6 +7,8 @@ pub mod anthropometry;
 pub mod generator;
 pub mod groups;
 pub mod obj;
+pub mod presets;
+pub mod rigs;
 pub mod surface;
 pub mod topology;
 
