@@ -2,7 +2,7 @@
 //! `../shared/golden` (whole positions, unlisted vertices at rest, 1e-5 per coordinate).
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use grimace::model::field::linear_displacement;
@@ -33,7 +33,7 @@ fn golden_dir() -> Option<PathBuf> {
 }
 
 /// The data rows of a CSV file, split on commas, header dropped.
-fn rows(dir: &PathBuf, name: &str) -> Vec<Vec<String>> {
+fn rows(dir: &Path, name: &str) -> Vec<Vec<String>> {
     let path = dir.join(name);
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
@@ -60,7 +60,7 @@ struct Golden {
     moved: BTreeMap<(usize, u32), BTreeMap<u32, Vec3>>,
 }
 
-fn load(dir: &PathBuf) -> Golden {
+fn load(dir: &Path) -> Golden {
     let positions: Vec<Vec3> = rows(dir, "waters-vertices.csv")
         .iter()
         .enumerate()
