@@ -426,3 +426,348 @@ pub fn validate_muscle(muscle: &Muscle) -> Result<(), BindError> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    //! Hand-computed examples (MODEL-NOTES sections 1-4); the arithmetic is in the comments.
+
+    use super::*;
+    use crate::model::muscle::Side;
+
+    fn close(got: Vec3, want: [f32; 3]) {
+        let want = Vec3::from(want);
+        assert!(
+            (got - want).abs().max_element() < 1e-6,
+            "got {got}, want {want}"
+        );
+    }
+
+    /// Axis +z from the origin, zone 60 deg (cos 0.5), falloff 1 to 3.
+    fn linear() -> Linear {
+        Linear {
+            attachment: Vec3::ZERO,
+            insertion: Vec3::Z,
+            zone: 60.0,
+            falloff_start: 1.0,
+            falloff_end: 3.0,
+        }
+    }
+
+    #[test]
+    fn linear_on_axis_inside_falloff_start() {
+        // P = (0,0,0.5): r = 0.5 < fs so t = 1; cos_a = 1, k = 1 - 1/0.5 = -1;
+        // displacement = -1 * (0,0,0.5); at activation 0.5: (0,0,-0.25).
+        close(
+            linear_displacement(&linear(), Vec3::new(0.0, 0.0, 0.5), 1.0),
+            [0.0, 0.0, -0.5],
+        );
+        close(
+            linear_displacement(&linear(), Vec3::new(0.0, 0.0, 0.5), 0.5),
+            [0.0, 0.0, -0.25],
+        );
+    }
+
+    #[test]
+    fn linear_on_axis_in_the_falloff() {
+        // P = (0,0,2): t = cos((2-1)/(3-1) * 90 deg) = cos 45 deg; k = -1;
+        // displacement = -2 cos 45 deg = -1.41421356 along z.
+        close(
+            linear_displacement(&linear(), Vec3::new(0.0, 0.0, 2.0), 1.0),
+            [0.0, 0.0, -std::f32::consts::SQRT_2],
+        );
+    }
+
+    #[test]
+    fn linear_off_axis() {
+        // P = (1,0,1): r = sqrt 2, cos_a = 1/sqrt 2, k = 1 - 0.70711/0.5 = -0.41421;
+        // t = cos((sqrt 2 - 1)/2 * 90 deg) = 0.94755; k t = -0.39249 times (1,0,1).
+        close(
+            linear_displacement(&linear(), Vec3::new(1.0, 0.0, 1.0), 1.0),
+            [-0.392_487_1, 0.0, -0.392_487_1],
+        );
+    }
+
+    #[test]
+    fn linear_outside_cone_reach_and_at_apex_is_zero() {
+        let m = linear();
+        // cos_a = 1/sqrt 5 = 0.447 < 0.5: outside the cone.
+        assert_eq!(
+            linear_displacement(&m, Vec3::new(2.0, 0.0, 1.0), 1.0),
+            Vec3::ZERO
+        );
+        // r = 3.5 > fe.
+        assert_eq!(
+            linear_displacement(&m, Vec3::new(0.0, 0.0, 3.5), 1.0),
+            Vec3::ZERO
+        );
+        // Behind the attachment.
+        assert_eq!(
+            linear_displacement(&m, Vec3::new(0.0, 0.0, -1.0), 1.0),
+            Vec3::ZERO
+        );
+        // On the attachment: no direction.
+        assert_eq!(linear_displacement(&m, Vec3::ZERO, 1.0), Vec3::ZERO);
+        // A muscle of no length moves nothing.
+        let dead = Linear {
+            insertion: Vec3::ZERO,
+            ..m
+        };
+        assert_eq!(
+            linear_displacement(&dead, Vec3::new(0.0, 0.0, 0.5), 1.0),
+            Vec3::ZERO
+        );
+    }
+
+    /// Ellipse at the origin, lx = 2, ly = 1.
+    fn sphincter(convergence: Convergence, bulge: f32) -> Sphincter {
+        Sphincter {
+            centre: Vec3::ZERO,
+            semi_major: 2.0,
+            semi_minor: 1.0,
+            convergence,
+            bulge,
+        }
+    }
+
+    #[test]
+    fn mouth_on_the_major_axis() {
+        // P = (1.5,0): f = 1 - 1.5/2 = 0.25; d = 1.5 > ly;
+        // D = f (d - ly)/(lx - ly) = 0.25 * 0.5 = 0.125 toward the centre; z = f/10 = 0.025.
+        let m = sphincter(Convergence::Centre, 10.0);
+        close(
+            sphincter_displacement(&m, Vec3::new(1.5, 0.0, 0.0), 1.0),
+            [-0.125, 0.0, 0.025],
+        );
+        close(
+            sphincter_displacement(&m, Vec3::new(1.5, 0.0, 0.0), 2.0),
+            [-0.25, 0.0, 0.05],
+        );
+    }
+
+    #[test]
+    fn mouth_off_axis() {
+        // P = (1.2,0.6): f = 1 - |(0.6, 0.6)| = 0.151472; d = 1.341641;
+        // D = 0.151472 * 0.341641 = 0.051749 along -(1.2,0.6)/d = (-0.894427,-0.447214);
+        // z = f/10.
+        let m = sphincter(Convergence::Centre, 10.0);
+        close(
+            sphincter_displacement(&m, Vec3::new(1.2, 0.6, 7.0), 1.0),
+            [-0.046_285_68, -0.023_142_84, 0.015_147_19],
+        );
+    }
+
+    #[test]
+    fn mouth_protected_disc_only_bulges() {
+        // P = (0.5,0): d = 0.5 <= ly, no in-plane pull; f = 0.75, z = 0.075.
+        let m = sphincter(Convergence::Centre, 10.0);
+        close(
+            sphincter_displacement(&m, Vec3::new(0.5, 0.0, 0.0), 1.0),
+            [0.0, 0.0, 0.075],
+        );
+        // The centre itself (d = 0): z = 1/10.
+        close(sphincter_displacement(&m, Vec3::ZERO, 1.0), [0.0, 0.0, 0.1]);
+        // Outside the ellipse.
+        assert_eq!(
+            sphincter_displacement(&m, Vec3::new(3.0, 0.0, 0.0), 1.0),
+            Vec3::ZERO
+        );
+        assert_eq!(
+            sphincter_displacement(&m, Vec3::new(0.0, 1.0, 0.0), 1.0),
+            Vec3::ZERO
+        );
+    }
+
+    #[test]
+    fn eye_on_the_minor_axis_is_t_times_one_minus_t() {
+        // P = (0,0.5): t = 0.5, f = 1 - t = 0.5, g = t, D = 0.25, straight down;
+        // z = f/30 = 0.0166667.
+        let m = sphincter(Convergence::MajorAxis, 30.0);
+        close(
+            sphincter_displacement(&m, Vec3::new(0.0, 0.5, 0.0), 1.0),
+            [0.0, -0.25, 0.016_666_67],
+        );
+        // P = (0,-0.25): f = 0.75, g = 0.25, D = 0.1875, straight up; z = 0.025.
+        close(
+            sphincter_displacement(&m, Vec3::new(0.0, -0.25, 0.0), 1.0),
+            [0.0, 0.1875, 0.025],
+        );
+    }
+
+    #[test]
+    fn eye_off_axis_uses_the_full_ellipse_factor() {
+        // P = (1,0.5): f = 1 - |(0.5,0.5)| = 0.292893, g = 0.5, D = 0.146447; no x pull.
+        let m = sphincter(Convergence::MajorAxis, 30.0);
+        close(
+            sphincter_displacement(&m, Vec3::new(1.0, 0.5, 0.0), 1.0),
+            [0.0, -0.146_446_6, 0.009_763_107],
+        );
+        // On the major axis: only the bulge (f = 0.05 at x = 1.9).
+        close(
+            sphincter_displacement(&m, Vec3::new(1.9, 0.0, 0.0), 1.0),
+            [0.0, 0.0, 0.05 / 30.0],
+        );
+    }
+
+    /// Attachment line y = 2 (x in -1..1), insertion line y = 0: axis -y, pull +y;
+    /// |Ac lc| = 2, L = 3 (delta = 1.5), W = 2 (taper from 0.75 to 1).
+    fn sheet() -> Sheet {
+        Sheet {
+            attachment: [Vec3::new(-1.0, 2.0, 0.0), Vec3::new(1.0, 2.0, 0.0)],
+            insertion: [Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)],
+            length: 3.0,
+            width: 2.0,
+        }
+    }
+
+    #[test]
+    fn sheet_profile_along_the_axis() {
+        let m = sheet();
+        let at = |y: f32| sheet_displacement(&m, Vec3::new(0.0, y, 0.0), 1.0);
+        // y = 1: lambda = 0.5, D = cos(0.5 * 90 deg) = 0.707107, pulled up toward the bone.
+        close(at(1.0), [0.0, std::f32::consts::FRAC_1_SQRT_2, 0.0]);
+        // y = 0: lambda = 1, D = 1.
+        close(at(0.0), [0.0, 1.0, 0.0]);
+        // y = -0.5: lambda = 1.25, D = cos((0.25/0.5) * 90 deg) = 0.707107.
+        close(at(-0.5), [0.0, std::f32::consts::FRAC_1_SQRT_2, 0.0]);
+        // Beyond the far end (lambda = 1.75 > delta) and behind the attachment line.
+        assert_eq!(at(-1.5), Vec3::ZERO);
+        assert_eq!(at(3.0), Vec3::ZERO);
+        // The attachment line itself does not move (lambda = 0).
+        assert!(at(2.0).length() < 1e-7);
+    }
+
+    #[test]
+    fn sheet_lateral_taper_and_depth() {
+        let m = sheet();
+        // x = 0.875: halfway through the taper (0.75..1): 0.5 (1 + cos 90 deg) = 0.5.
+        close(
+            sheet_displacement(&m, Vec3::new(0.875, 0.0, 0.0), 1.0),
+            [0.0, 0.5, 0.0],
+        );
+        close(
+            sheet_displacement(&m, Vec3::new(-0.5, 0.0, 0.0), 1.0),
+            [0.0, 1.0, 0.0],
+        );
+        assert_eq!(
+            sheet_displacement(&m, Vec3::new(1.2, 0.0, 0.0), 1.0),
+            Vec3::ZERO
+        );
+        // Depth is ignored.
+        close(
+            sheet_displacement(&m, Vec3::new(0.0, 0.0, 5.0), 0.4),
+            [0.0, 0.4, 0.0],
+        );
+    }
+
+    fn named(kind: MuscleKind) -> Muscle {
+        Muscle {
+            name: "m".into(),
+            side: Side::Centre,
+            mirror: None,
+            kind,
+        }
+    }
+
+    fn parameter_of(kind: MuscleKind) -> &'static str {
+        match validate_muscle(&named(kind)) {
+            Err(BindError::InvalidParameter { parameter, .. }) => parameter,
+            other => panic!("expected an invalid parameter, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn invalid_parameters_are_named() {
+        let l = linear();
+        assert!(validate_muscle(&named(MuscleKind::Linear(l.clone()))).is_ok());
+        for zone in [0.0, 90.0, f32::NAN, -5.0] {
+            let bad = Linear { zone, ..l.clone() };
+            assert_eq!(parameter_of(MuscleKind::Linear(bad)), "zone");
+        }
+        let bad = Linear {
+            falloff_start: -1.0,
+            ..l.clone()
+        };
+        assert_eq!(parameter_of(MuscleKind::Linear(bad)), "falloff_start");
+        let bad = Linear {
+            falloff_end: 1.0,
+            ..l.clone()
+        };
+        assert_eq!(parameter_of(MuscleKind::Linear(bad)), "falloff_end");
+        let bad = Linear {
+            attachment: Vec3::new(f32::INFINITY, 0.0, 0.0),
+            ..l.clone()
+        };
+        assert_eq!(parameter_of(MuscleKind::Linear(bad)), "attachment");
+        let bad = Linear {
+            insertion: Vec3::ZERO,
+            ..l
+        };
+        assert_eq!(parameter_of(MuscleKind::Linear(bad)), "insertion");
+
+        let s = sphincter(Convergence::Centre, 10.0);
+        assert!(validate_muscle(&named(MuscleKind::Sphincter(s.clone()))).is_ok());
+        let bad = Sphincter {
+            semi_major: 0.0,
+            ..s.clone()
+        };
+        assert_eq!(parameter_of(MuscleKind::Sphincter(bad)), "semi_major");
+        let bad = Sphincter {
+            semi_minor: -1.0,
+            ..s.clone()
+        };
+        assert_eq!(parameter_of(MuscleKind::Sphincter(bad)), "semi_minor");
+        let bad = Sphincter {
+            bulge: 0.0,
+            ..s.clone()
+        };
+        assert_eq!(parameter_of(MuscleKind::Sphincter(bad)), "bulge");
+        let bad = Sphincter {
+            centre: Vec3::NAN,
+            ..s
+        };
+        assert_eq!(parameter_of(MuscleKind::Sphincter(bad)), "centre");
+
+        let h = sheet();
+        assert!(validate_muscle(&named(MuscleKind::Sheet(h.clone()))).is_ok());
+        let bad = Sheet {
+            length: 1.5,
+            ..h.clone()
+        };
+        assert_eq!(parameter_of(MuscleKind::Sheet(bad)), "length");
+        let bad = Sheet {
+            width: 0.0,
+            ..h.clone()
+        };
+        assert_eq!(parameter_of(MuscleKind::Sheet(bad)), "width");
+        let bad = Sheet {
+            insertion: h.attachment,
+            ..h.clone()
+        };
+        assert_eq!(parameter_of(MuscleKind::Sheet(bad)), "insertion");
+        // An attachment line along the axis has no width direction.
+        let along = [Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.0, 3.0, 0.0)];
+        let bad = Sheet {
+            attachment: along,
+            insertion: [Vec3::ZERO, Vec3::ZERO],
+            ..h
+        };
+        assert_eq!(parameter_of(MuscleKind::Sheet(bad)), "attachment");
+    }
+
+    #[test]
+    fn field_lists_only_moved_vertices_in_order() {
+        let rest = [
+            Vec3::new(0.0, 0.0, 0.5),
+            Vec3::new(5.0, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 2.0),
+            Vec3::ZERO,
+        ];
+        let field = Field::of(&MuscleKind::Linear(linear()), &rest);
+        assert_eq!(field.vertices, vec![0, 2]);
+        close(field.displacements[0], [0.0, 0.0, -0.5]);
+        close(
+            field.displacements[1],
+            [0.0, 0.0, -std::f32::consts::SQRT_2],
+        );
+    }
+}
