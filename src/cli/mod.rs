@@ -4,6 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod edit;
+
 /// grimace: shape facial expressions with muscles, in the terminal.
 #[derive(Debug, Parser)]
 #[command(name = "grimace", version, about, long_about = None)]
@@ -15,17 +17,29 @@ pub struct Cli {
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
-pub enum Command {}
+pub enum Command {
+    /// Edit an AU table in the terminal (the default when no subcommand is given).
+    Edit(edit::EditArgs),
+}
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
 /// with 2 on usage errors).
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        None => {
-            eprintln!("grimace: the editor is not built yet; see `grimace --help`");
+        None => run_edit(&edit::EditArgs::default()),
+        Some(command) => match command {
+            Command::Edit(args) => run_edit(&args),
+        },
+    }
+}
+
+fn run_edit(args: &edit::EditArgs) -> ExitCode {
+    match edit::run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("grimace: {e:#}");
             ExitCode::from(1)
         }
-        Some(command) => match command {},
     }
 }
