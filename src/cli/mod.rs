@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod edit;
 pub mod gen_face;
 
 /// grimace: shape facial expressions with muscles, in the terminal.
@@ -18,6 +19,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Edit an AU table in the terminal (the default when no subcommand is given).
+    Edit(edit::EditArgs),
     /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
     GenFace(gen_face::GenFaceArgs),
 }
@@ -27,12 +30,20 @@ pub enum Command {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        None => {
-            eprintln!("grimace: the editor is not built yet; see `grimace --help`");
-            ExitCode::from(1)
-        }
+        None => run_edit(&edit::EditArgs::default()),
         Some(command) => match command {
+            Command::Edit(args) => run_edit(&args),
             Command::GenFace(args) => gen_face::run(&args),
         },
+    }
+}
+
+fn run_edit(args: &edit::EditArgs) -> ExitCode {
+    match edit::run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("grimace: {e:#}");
+            ExitCode::from(1)
+        }
     }
 }

@@ -6,7 +6,9 @@
 
 pub mod atomic;
 pub mod error;
+pub mod lock;
 pub mod obj;
+pub mod recovery;
 pub mod rig_file;
 pub mod table_file;
 pub mod waters;
