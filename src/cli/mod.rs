@@ -1,5 +1,7 @@
 //! The command line: argument parsing and one module per subcommand.
 
+pub mod play;
+
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -15,7 +17,10 @@ pub struct Cli {
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
-pub enum Command {}
+pub enum Command {
+    /// Animate the face from an OpenFace CSV, a timeline, or a live AU stream.
+    Play(play::PlayArgs),
+}
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
 /// with 2 on usage errors).
@@ -26,6 +31,17 @@ pub fn main() -> ExitCode {
             eprintln!("grimace: the editor is not built yet; see `grimace --help`");
             ExitCode::from(1)
         }
-        Some(command) => match command {},
+        Some(command) => {
+            let result = match command {
+                Command::Play(args) => play::run(&args),
+            };
+            match result {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("grimace: {e:#}");
+                    ExitCode::from(1)
+                }
+            }
+        }
     }
 }
