@@ -157,8 +157,16 @@ impl OpenFaceColumns {
         // Rows OpenFace could not track carry placeholder values; they are skipped unread.
         if success {
             for au in &self.aus {
-                let value = number(au.index, &format!("AU{:02}_r", au.number))?;
-                intensities.push(value as f32);
+                let name = format!("AU{:02}_r", au.number);
+                let value = number(au.index, &name)? as f32;
+                if !value.is_finite() {
+                    return Err(RowError {
+                        line,
+                        column: Some(fields[au.index].0),
+                        message: format!("{name} `{}` is far out of range", fields[au.index].1),
+                    });
+                }
+                intensities.push(value);
             }
         }
         Ok(OpenFaceRow {
