@@ -183,21 +183,13 @@ pub fn clamp_activations(act: &mut Activations) {
 }
 
 /// Reads a combination string into (AU, factor) terms: `+` separates terms; a term is an AU
-/// key, an optional FACS intensity letter A-E (A = 1/5 ... E = 5/5; none = full), and an
-/// optional `@x` factor; a `@x` after the last term scales the whole combination when the
-/// string has more than one term (`6+12@0.5` is both AUs at half).
+/// key with an optional FACS intensity letter A-E (A = 1/5 ... E = 5/5) or `@x` scale
+/// (`6+12@0.5` is AU6 as recorded plus AU12 at half); a bare term is the AU as recorded.
 fn parse_terms(text: &str) -> Result<Vec<(AuKey, f32)>, String> {
-    let text = text.trim();
-    let (body, overall) = match text.rsplit_once('@') {
-        Some((body, factor)) if !factor.contains('+') && body.contains('+') => {
-            (body, parse_factor(factor)?)
-        }
-        _ => (text, 1.0),
-    };
-    if body.trim().is_empty() {
+    if text.trim().is_empty() {
         return Err("the AU combination is empty".into());
     }
-    body.split('+')
+    text.split('+')
         .map(|term| {
             let (term, factor) = match term.split_once('@') {
                 Some((term, factor)) => (term, parse_factor(factor)?),
@@ -214,7 +206,7 @@ fn parse_terms(text: &str) -> Result<Vec<(AuKey, f32)>, String> {
             let key: AuKey = key
                 .parse()
                 .map_err(|e: crate::facs::AuKeyError| e.to_string())?;
-            Ok((key, letter * factor * overall))
+            Ok((key, letter * factor))
         })
         .collect()
 }
@@ -319,7 +311,7 @@ mod tests {
         );
         assert_eq!(
             mapper.evaluate("6+12@0.5").unwrap().muscles,
-            vec![1.25, 0.25]
+            vec![1.75, 0.25]
         );
         assert_eq!(mapper.evaluate("6@0.5+12").unwrap().muscles, vec![2.0, 0.5]);
         assert_eq!(mapper.evaluate("smile").unwrap().muscles, vec![2.0, 0.5]);

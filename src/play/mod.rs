@@ -9,10 +9,12 @@
 pub mod clock;
 pub mod json;
 pub mod map;
+pub mod player;
 pub mod source;
 
 pub use clock::{FrameStats, PlayClock};
 pub use map::{AuIntensity, AuMapper, IntensityScale};
+pub use player::{Message, PlayError, Player};
 pub use source::{
     Event, Frame, FrameSource, Input, LiveSource, OpenFaceSource, Poll, SourceError, TimelineSource,
 };
