@@ -1,34 +1,30 @@
-//! The preset files of the default face: the two rigs and the AU table, as RON text.
+//! The files of the default face: the mesh as OBJ, the two rigs and the AU table as RON.
 
-use anyhow::Context;
-use ron::ser::PrettyConfig;
-use serde::Serialize;
-
-use super::rigs;
+use super::{au_table, rigs};
+use crate::io::obj::write_obj;
+use crate::io::{rig_to_ron, table_to_ron};
 use crate::model::Mesh;
 
 /// File name of the paper's rig.
 pub const PAPER_RIG_FILE: &str = "paper.rig.ron";
 /// File name of the default rig.
 pub const DEFAULT_RIG_FILE: &str = "default.rig.ron";
+/// File name of the default AU table.
+pub const DEFAULT_TABLE_FILE: &str = "default.au.ron";
 
-/// The preset files for a generated default face, as `(file name, RON text)`.
-pub fn preset_files(mesh: &Mesh) -> anyhow::Result<Vec<(&'static str, String)>> {
-    let paper = rigs::paper_rig(mesh).context("cannot place the paper's rig")?;
-    let default = rigs::default_rig(mesh).context("cannot place the default rig")?;
-    Ok(vec![
-        (PAPER_RIG_FILE, to_ron(&paper)?),
-        (DEFAULT_RIG_FILE, to_ron(&default)?),
-    ])
+/// The OBJ text of a generated face (vertex groups are not written; they are found again
+/// from the geometry, see [`super::groups::find_groups_in`]).
+pub fn mesh_file(mesh: &Mesh) -> String {
+    write_obj(mesh, &mesh.positions)
 }
 
-/// Pretty RON with a trailing newline; the same value always gives the same text.
-pub fn to_ron<T: Serialize>(value: &T) -> anyhow::Result<String> {
-    let config = PrettyConfig::new()
-        .struct_names(false)
-        .compact_arrays(false)
-        .indentor("  ".to_string());
-    let mut text = ron::ser::to_string_pretty(value, config).context("cannot write RON")?;
-    text.push('\n');
-    Ok(text)
+/// The preset files for a generated default face, as `(file name, RON text)`.
+pub fn preset_files(mesh: &Mesh) -> Result<Vec<(&'static str, String)>, rigs::PlacementError> {
+    let paper = rigs::paper_rig(mesh)?;
+    let default = rigs::default_rig(mesh)?;
+    Ok(vec![
+        (PAPER_RIG_FILE, rig_to_ron(&paper)),
+        (DEFAULT_RIG_FILE, rig_to_ron(&default)),
+        (DEFAULT_TABLE_FILE, table_to_ron(&au_table::default_table())),
+    ])
 }
