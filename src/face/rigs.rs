@@ -85,54 +85,54 @@ const PAPER_LINEAR: [LinearSpec; 9] = [
         name: "Frontalis_Inner",
         attachment: Anchor::Skin(13.0, 50.0, 3.0),
         insertion: Anchor::Skin(16.0, 13.0, 1.0),
-        zone: 30.0,
-        falloff: (0.2, 1.25),
+        zone: 40.0,
+        falloff: (0.55, 1.25),
     },
     LinearSpec {
         name: "Frontalis_Major",
         attachment: Anchor::Skin(30.0, 54.0, 3.0),
         insertion: Anchor::Skin(30.0, 16.0, 1.0),
-        zone: 35.0,
-        falloff: (0.2, 1.25),
+        zone: 40.0,
+        falloff: (0.55, 1.25),
     },
     LinearSpec {
         name: "Frontalis_Outer",
         attachment: Anchor::Skin(44.0, 46.0, 3.0),
         insertion: Anchor::Skin(45.0, 11.0, 1.0),
-        zone: 30.0,
-        falloff: (0.2, 1.25),
+        zone: 40.0,
+        falloff: (0.55, 1.25),
     },
     // levator labii superioris: infraorbital margin to the upper lip beside the philtrum
     LinearSpec {
         name: "Labii_Nasi",
         attachment: Anchor::Skin(25.0, -21.0, 3.0),
         insertion: Anchor::Skin(11.0, -61.0, 1.0),
-        zone: 30.0,
-        falloff: (0.4, 1.2),
+        zone: 40.0,
+        falloff: (0.5, 1.2),
     },
     // levator labii superioris alaeque nasi: beside the nasal bridge to the ala and lip
     LinearSpec {
         name: "Inner_Labii_Nasi",
         attachment: Anchor::Skin(11.0, -5.0, 3.0),
         insertion: Anchor::Skin(15.0, -52.0, 1.0),
-        zone: 25.0,
-        falloff: (0.4, 1.15),
+        zone: 35.0,
+        falloff: (0.5, 1.15),
     },
     // corrugator supercilii: medial brow ridge to the skin of the middle brow
     LinearSpec {
         name: "Lateral_Corrugator",
         attachment: Anchor::Skin(5.0, 5.0, 4.0),
         insertion: Anchor::Skin(30.0, 15.0, 1.0),
-        zone: 30.0,
-        falloff: (0.3, 1.15),
+        zone: 40.0,
+        falloff: (0.6, 1.2),
     },
     // medial frontalis fibres pulling the head of the brow up and out
     LinearSpec {
         name: "Secondary_Frontalis",
         attachment: Anchor::Skin(21.0, 40.0, 3.0),
         insertion: Anchor::Skin(9.0, 12.0, 1.0),
-        zone: 30.0,
-        falloff: (0.2, 1.2),
+        zone: 40.0,
+        falloff: (0.55, 1.25),
     },
 ];
 
@@ -141,18 +141,18 @@ const EXTRA_LINEAR: [LinearSpec; 8] = [
     // levator palpebrae superioris: from the orbit roof, retracts the upper lid up and back
     LinearSpec {
         name: "Levator_Palpebrae",
-        attachment: Anchor::Mark("right_upper_lid_centre", 0.0, 10.0, 12.0),
+        attachment: Anchor::Mark("right_upper_lid_centre", 0.0, 20.0, 15.0),
         insertion: Anchor::Mark("right_upper_lid_centre", 0.0, 0.0, 0.0),
         zone: 45.0,
-        falloff: (0.8, 1.15),
+        falloff: (0.3, 1.28),
     },
     // orbicularis oculi, pars orbitalis: lifts the cheek toward the orbit (AU6)
     LinearSpec {
         name: "Orbicularis_Oculi_Orbital",
-        attachment: Anchor::Mark("right_lower_lid_centre", -2.0, 2.0, 8.0),
-        insertion: Anchor::Skin(42.0, -33.0, 1.0),
-        zone: 40.0,
-        falloff: (0.5, 1.4),
+        attachment: Anchor::Mark("right_lower_lid_centre", 4.0, -3.0, 2.0),
+        insertion: Anchor::Skin(40.0, -34.0, 1.0),
+        zone: 45.0,
+        falloff: (0.6, 1.4),
     },
     // buccinator: draws the mouth corner straight back (AU14)
     LinearSpec {
@@ -176,31 +176,31 @@ const EXTRA_LINEAR: [LinearSpec; 8] = [
         attachment: Anchor::Skin(6.0, -88.0, 4.0),
         insertion: Anchor::Skin(8.0, -112.0, 1.0),
         zone: 35.0,
-        falloff: (0.3, 1.2),
+        falloff: (0.3, 1.05),
     },
     // depressor labii inferioris: mandible to the lower lip, pulls it down and out (AU16)
     LinearSpec {
         name: "Depressor_Labii_Inferioris",
         attachment: Anchor::Skin(20.0, -106.0, 3.0),
         insertion: Anchor::Skin(9.0, -79.0, 1.0),
-        zone: 30.0,
-        falloff: (0.4, 1.15),
+        zone: 40.0,
+        falloff: (0.5, 1.15),
     },
     // depressor supercilii: medial orbit to the head of the brow, pulls it down (AU4)
     LinearSpec {
         name: "Depressor_Supercilii",
         attachment: Anchor::Skin(9.0, -6.0, 3.0),
         insertion: Anchor::Skin(15.0, 12.0, 1.0),
-        zone: 30.0,
-        falloff: (0.3, 1.2),
+        zone: 40.0,
+        falloff: (0.5, 1.25),
     },
     // zygomatic minor: from the zygoma to the upper lip outside the philtrum (AU11)
     LinearSpec {
         name: "Zygomatic_Minor",
         attachment: Anchor::Skin(40.0, -24.0, 4.0),
         insertion: Anchor::Skin(17.0, -62.0, 1.0),
-        zone: 25.0,
-        falloff: (0.4, 1.15),
+        zone: 35.0,
+        falloff: (0.5, 1.15),
     },
 ];
 
@@ -297,17 +297,18 @@ impl Placer<'_> {
     /// The frontalis as two sheets, each from the hairline down to its brow.
     fn frontalis_sheets(&self) -> Result<[Muscle; 2], PlacementError> {
         let name = "Frontalis";
-        let a1 = self.anchor(name, Anchor::Skin(5.0, 56.0, 3.0))?;
-        let a2 = self.anchor(name, Anchor::Skin(46.0, 48.0, 3.0))?;
-        let l1 = self.anchor(name, Anchor::Skin(7.0, 14.0, 1.0))?;
-        let l2 = self.anchor(name, Anchor::Skin(46.0, 11.0, 1.0))?;
+        let a1 = self.anchor(name, Anchor::Skin(4.0, 56.0, 3.0))?;
+        let a2 = self.anchor(name, Anchor::Skin(50.0, 46.0, 3.0))?;
+        let l1 = self.anchor(name, Anchor::Skin(6.0, 8.0, 0.0))?;
+        let l2 = self.anchor(name, Anchor::Skin(50.0, 6.0, 0.0))?;
         let axis = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
         let right = Sheet {
             attachment: [a1, a2],
             insertion: [l1, l2],
-            // the pull fades out 10 mm below the brows, above the upper lids
-            length: round3(axis + units(10.0) as f32),
-            width: round3(units(44.0) as f32),
+            // the insertion runs just under the brows; the pull fades out 8 mm below it,
+            // above the upper lids
+            length: round3(axis + units(8.0) as f32),
+            width: round3(units(52.0) as f32),
         };
         let left = Sheet {
             attachment: [mirror(a2), mirror(a1)],
@@ -334,8 +335,8 @@ impl Placer<'_> {
             mirror: None,
             kind: MuscleKind::Sphincter(Sphincter {
                 centre,
-                semi_major: round3(corner.x + units(10.0) as f32),
-                semi_minor: round3(units(15.0) as f32),
+                semi_major: round3(corner.x + units(14.0) as f32),
+                semi_minor: round3(units(10.0) as f32),
                 convergence: Convergence::Centre,
                 bulge: 10.0,
             }),
@@ -394,8 +395,8 @@ impl Placer<'_> {
                 Linear {
                     attachment,
                     insertion,
-                    zone: 30.0,
-                    falloff_start: round3(0.3 * length),
+                    zone: 35.0,
+                    falloff_start: round3(0.5 * length),
                     falloff_end: round3(1.25 * length),
                 }
             }),
