@@ -56,7 +56,7 @@ const fn sided(number: u8, muscles: &'static [(&'static str, f32)], jaw: f32) ->
 const AUS: &[AuSpec] = &[
     sided(
         1,
-        &[("Frontalis_Inner", 1.4), ("Secondary_Frontalis", 0.8)],
+        &[("Frontalis_Inner", 1.2), ("Secondary_Frontalis", 0.6)],
         0.0,
     ),
     sided(
@@ -77,23 +77,23 @@ const AUS: &[AuSpec] = &[
         ],
         0.0,
     ),
-    au(5, &[("Levator_Palpebrae", 1.6)], 0.0),
+    au(5, &[("Levator_Palpebrae", 1.0)], 0.0),
     sided(
         6,
         &[
             ("Orbicularis_Oculi_Orbital", 1.6),
-            ("Orbicularis_Oculi", 0.25),
+            ("Orbicularis_Oculi", 0.35),
         ],
         0.0,
     ),
     sided(7, &[("Orbicularis_Oculi", 0.9)], 0.0),
-    au(9, &[("Inner_Labii_Nasi", 1.6), ("Procerus", 0.8)], 0.0),
-    sided(10, &[("Labii_Nasi", 1.5)], 0.0),
+    au(9, &[("Inner_Labii_Nasi", 2.0), ("Procerus", 1.0)], 0.0),
+    sided(10, &[("Labii_Nasi", 1.2)], 0.0),
     sided(11, &[("Zygomatic_Minor", 1.4)], 0.0),
     sided(12, &[("Zygomatic_Major", 1.5)], 0.0),
     sided(14, &[("Buccinator", 1.5)], 0.0),
     sided(15, &[("Angular_Depressor", 1.3)], 0.0),
-    au(16, &[("Depressor_Labii_Inferioris", 1.6)], 0.0),
+    au(16, &[("Depressor_Labii_Inferioris", 1.0)], 0.0),
     au(17, &[("Mentalis", 1.6)], 0.0),
     au(18, &[("Orbicularis_Oris", 2.0)], 0.0),
     sided(20, &[("Risorius", 1.6)], 0.0),

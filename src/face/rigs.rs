@@ -83,24 +83,24 @@ const PAPER_LINEAR: [LinearSpec; 9] = [
     // frontalis fibres from the galea at the hairline down into the brow skin
     LinearSpec {
         name: "Frontalis_Inner",
-        attachment: Anchor::Skin(13.0, 50.0, 3.0),
+        attachment: Anchor::Skin(13.0, 60.0, 3.0),
         insertion: Anchor::Skin(16.0, 13.0, 1.0),
-        zone: 40.0,
-        falloff: (0.55, 1.25),
+        zone: 30.0,
+        falloff: (0.7, 1.2),
     },
     LinearSpec {
         name: "Frontalis_Major",
-        attachment: Anchor::Skin(30.0, 54.0, 3.0),
+        attachment: Anchor::Skin(30.0, 60.0, 3.0),
         insertion: Anchor::Skin(30.0, 16.0, 1.0),
-        zone: 40.0,
-        falloff: (0.55, 1.25),
+        zone: 30.0,
+        falloff: (0.7, 1.2),
     },
     LinearSpec {
         name: "Frontalis_Outer",
-        attachment: Anchor::Skin(44.0, 46.0, 3.0),
+        attachment: Anchor::Skin(43.0, 54.0, 3.0),
         insertion: Anchor::Skin(45.0, 11.0, 1.0),
-        zone: 40.0,
-        falloff: (0.55, 1.25),
+        zone: 30.0,
+        falloff: (0.7, 1.2),
     },
     // levator labii superioris: infraorbital margin to the upper lip beside the philtrum
     LinearSpec {
@@ -129,10 +129,10 @@ const PAPER_LINEAR: [LinearSpec; 9] = [
     // medial frontalis fibres pulling the head of the brow up and out
     LinearSpec {
         name: "Secondary_Frontalis",
-        attachment: Anchor::Skin(21.0, 40.0, 3.0),
+        attachment: Anchor::Skin(22.0, 58.0, 3.0),
         insertion: Anchor::Skin(9.0, 12.0, 1.0),
-        zone: 40.0,
-        falloff: (0.55, 1.25),
+        zone: 30.0,
+        falloff: (0.7, 1.2),
     },
 ];
 
