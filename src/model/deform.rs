@@ -101,7 +101,12 @@ struct BoundJaw {
     /// Jaw vertices with a non-zero weight, sorted.
     vertices: Vec<u32>,
     weights: Vec<f32>,
+    /// The CSR row of each jaw vertex, [`NO_ROW`] when no muscle moves it.
+    rows: Vec<u32>,
 }
+
+/// Marks a vertex that no muscle moves (it has no CSR row).
+const NO_ROW: u32 = u32::MAX;
 
 /// The rotation of one deformation: `cos` and `sin` of the jaw angle.
 #[derive(Debug, Clone, Copy)]
@@ -183,7 +188,7 @@ impl BoundRig {
                 counts[v as usize] += 1;
             }
         }
-        let mut row_of = vec![u32::MAX; n];
+        let mut row_of = vec![NO_ROW; n];
         self.row_start.push(0);
         let mut total = 0u32;
         for (v, &c) in counts.iter().enumerate() {
@@ -217,10 +222,10 @@ impl BoundRig {
             self.muscle_rows.push(rows);
         }
         self.row_jaw_weight = vec![0.0; self.row_vertex.len()];
-        if let Some(jaw) = &self.jaw {
-            for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
-                let row = row_of[v as usize];
-                if row != u32::MAX {
+        if let Some(jaw) = &mut self.jaw {
+            jaw.rows = jaw.vertices.iter().map(|&v| row_of[v as usize]).collect();
+            for (&row, &w) in jaw.rows.iter().zip(&jaw.weights) {
+                if row != NO_ROW {
                     self.row_jaw_weight[row as usize] = w;
                 }
             }
@@ -328,6 +333,40 @@ impl BoundRig {
                 p = turn.apply(p, w);
             }
             out[v as usize] = p;
+        }
+        Ok(())
+    }
+
+    /// Recomputes, from rest, exactly the jaw's vertices (muscles included).
+    ///
+    /// `out` must hold a deformation of this rig by activations that differ from `act` in
+    /// the jaw activation only; afterwards it equals `deform(act)` bit for bit.
+    pub fn update_jaw(&self, act: &Activations, out: &mut [Vec3]) -> Result<(), ActivationError> {
+        act.validate(&self.rig)?;
+        if out.len() != self.rest.len() {
+            return Err(ActivationError::VertexCount {
+                given: out.len(),
+                expected: self.rest.len(),
+            });
+        }
+        let Some(jaw) = &self.jaw else {
+            return Ok(());
+        };
+        let average = self.rig.combine == Combine::Average;
+        let turn = self.jaw_turn(act.jaw);
+        for ((&v, &w), &row) in jaw.vertices.iter().zip(&jaw.weights).zip(&jaw.rows) {
+            let v = v as usize;
+            let mut p = if row == NO_ROW {
+                self.rest[v]
+            } else if average {
+                self.row_position::<true>(row as usize, v, &act.muscles)
+            } else {
+                self.row_position::<false>(row as usize, v, &act.muscles)
+            };
+            if let Some(turn) = turn {
+                p = turn.apply(p, w);
+            }
+            out[v] = p;
         }
         Ok(())
     }
@@ -445,6 +484,7 @@ fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
         radians_per_unit: (jaw.degrees_per_unit as f64).to_radians(),
         vertices: weights.iter().map(|&(v, _)| v).collect(),
         weights: weights.iter().map(|&(_, w)| w).collect(),
+        rows: Vec::new(),
     }))
 }
 
