@@ -374,7 +374,7 @@ impl BoundRig {
     /// The post-muscle position of the vertex of CSR row `row` (the one arithmetic shared by
     /// [`BoundRig::deform`] and [`BoundRig::update_muscle`]).
     ///
-    /// Sum mode adds every entry without a branch (an inactive muscle adds an exact zero);
+    /// Every entry is added without a branch (an inactive muscle adds an exact zero);
     /// average mode also counts the active muscles.
     #[inline(always)]
     fn row_position<const AVERAGE: bool>(&self, row: usize, v: usize, muscles: &[f32]) -> Vec3 {
@@ -391,7 +391,10 @@ impl BoundRig {
         if AVERAGE && active > 1 {
             sum /= active as f32;
         }
-        self.rest[v] + sum
+        // Where nothing moved a coordinate, keep the rest value bit for bit (adding a zero
+        // would turn a rest coordinate of -0.0 into +0.0).
+        let rest = self.rest[v];
+        Vec3::select(sum.cmpeq(Vec3::ZERO), rest, rest + sum)
     }
 
     /// The jaw rotation for jaw activation `k`, or `None` when nothing turns.
@@ -804,6 +807,27 @@ mod tests {
             bound.deform(&act, &mut out).unwrap();
             assert_eq!((out.as_ptr(), out.capacity()), (ptr, cap));
         }
+    }
+
+    #[test]
+    fn inactive_muscles_keep_rest_coordinates_bit_for_bit() {
+        // Vertex 0 sits at x = -0.0 on the axis of both muscles; muscle "a" is off and "b"
+        // pulls along z only, so x must stay -0.0 (not become +0.0).
+        let mesh = Mesh::new(
+            vec![Vec3::new(-0.0, 0.0, 0.5), Vec3::X * 9.0, Vec3::Y * 9.0],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        let r = rig(vec![linear("a"), linear("b")], None);
+        let bound = BoundRig::bind(&r, &mesh).unwrap();
+        let mut out = Vec::new();
+        for muscles in [vec![0.0, 0.0], vec![0.0, 1.0]] {
+            bound
+                .deform(&Activations { muscles, jaw: 0.0 }, &mut out)
+                .unwrap();
+            assert_eq!(out[0].x.to_bits(), (-0.0f32).to_bits());
+        }
+        assert_eq!(out[0].z, 0.0);
     }
 
     #[test]
