@@ -4,6 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod gen_face;
+
 /// grimace: shape facial expressions with muscles, in the terminal.
 #[derive(Debug, Parser)]
 #[command(name = "grimace", version, about, long_about = None)]
@@ -15,7 +17,10 @@ pub struct Cli {
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
-pub enum Command {}
+pub enum Command {
+    /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
+    GenFace(gen_face::GenFaceArgs),
+}
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
 /// with 2 on usage errors).
@@ -26,6 +31,8 @@ pub fn main() -> ExitCode {
             eprintln!("grimace: the editor is not built yet; see `grimace --help`");
             ExitCode::from(1)
         }
-        Some(command) => match command {},
+        Some(command) => match command {
+            Command::GenFace(args) => gen_face::run(&args),
+        },
     }
 }
