@@ -183,7 +183,7 @@ fn rig_semantic_errors_name_the_muscle_and_place() {
         .replacen("zone: 95.0", "zone: 45.0", 1);
     assert_eq!(
         rig_error(&zone),
-        "t.ron:26:17: muscle `R_Zygomatic_Major`: zone is 95; expected an angle in degrees above 0 and below 90"
+        "t.ron:26:17: muscle `R_Zygomatic_Major`: zone 95 must lie strictly between 0 and 90 degrees"
     );
     let mirror = good.replace("mirror: \"R_Zygomatic_Major\"", "mirror: \"R_Zygo\"");
     assert_eq!(
