@@ -10,10 +10,12 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod edit;
 pub mod export;
 pub mod gen_face;
 pub mod import_waters;
 pub mod list;
+pub mod play;
 pub mod validate;
 
 /// grimace: shape facial expressions with muscles, in the terminal.
@@ -28,6 +30,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Edit an AU table in the terminal (the default when no subcommand is given).
+    Edit(edit::EditArgs),
     /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
     GenFace(gen_face::GenFaceArgs),
     /// Import the classic Waters face (faceline.dat, index.dat, muscle.dat) as OBJ and rig.
@@ -38,6 +42,8 @@ pub enum Command {
     Validate(validate::ValidateArgs),
     /// List the muscles of a rig, the AUs and expressions of a table, or the FACS catalogue.
     List(list::ListArgs),
+    /// Animate the face from an OpenFace CSV, a timeline, or a live AU stream.
+    Play(play::PlayArgs),
 }
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
@@ -45,16 +51,15 @@ pub enum Command {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        None => {
-            eprintln!("grimace: the editor is not built yet; see `grimace --help`");
-            ExitCode::from(1)
-        }
+        None => finish("edit", edit::run(&edit::EditArgs::default())),
         Some(command) => match command {
+            Command::Edit(args) => finish("edit", edit::run(&args)),
             Command::GenFace(args) => gen_face::run(&args),
             Command::ImportWaters(args) => finish("import-waters", import_waters::run(&args)),
             Command::Export(args) => finish("export", export::run(&args)),
             Command::Validate(args) => validate::run(&args),
             Command::List(args) => finish("list", list::run(&args)),
+            Command::Play(args) => finish("play", play::run(&args)),
         },
     }
 }

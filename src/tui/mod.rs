@@ -1,1 +1,294 @@
-//! The terminal editor (ratatui + crossterm).
+//! The terminal editor: state ([`app`]), intents ([`action`]), key bindings ([`keymap`]), the
+//! pure [`update::update`], the views ([`view`]), terminal hygiene ([`term`]) and the event
+//! loop ([`run`]), which reads events, updates, runs effects, and draws only when something
+//! changed, so an idle editor sends nothing down the line.
+
+pub mod action;
+pub mod app;
+pub mod keymap;
+pub mod scene;
+pub mod table_ops;
+pub mod term;
+pub mod update;
+pub mod view;
+
+use std::fs;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use crossterm::event::{self, Event, KeyEventKind, MouseButton, MouseEvent, MouseEventKind};
+use ratatui::backend::CrosstermBackend;
+use ratatui::layout::{Position, Rect};
+use ratatui::Terminal;
+
+use crate::io::lock::Lock;
+use crate::io::recovery::{self, RecoveryState};
+use action::{Action, Effect};
+use app::{App, FileStamp, Row};
+
+/// How long after the last edit the recovery file is written.
+pub const RECOVERY_DEBOUNCE: Duration = Duration::from_secs(1);
+
+/// What the editor session holds besides the state.
+#[derive(Debug, Default)]
+pub struct Session {
+    /// Where unsaved state is kept, if anywhere.
+    pub recovery: Option<PathBuf>,
+    /// The table's lock, released when the session ends.
+    pub lock: Option<Lock>,
+}
+
+/// Runs the editor until the user quits or a signal stops it.
+pub fn run(mut app: App, session: Session) -> anyhow::Result<()> {
+    let signals = term::Signals::register()?;
+    let _guard = term::enter()?;
+    let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
+    let size = terminal.size()?;
+    app.size = (size.width, size.height);
+    let mut loop_state = LoopState::default();
+    let result = event_loop(&mut app, &session, &signals, &mut terminal, &mut loop_state);
+    if loop_state.recovery_due.is_some() {
+        // Leaving with unwritten state (signal or error): keep it.
+        write_recovery(&mut app, &session);
+    }
+    drop(terminal);
+    term::restore();
+    result
+}
+
+#[derive(Debug, Default)]
+struct LoopState {
+    redraw: bool,
+    recovery_due: Option<Instant>,
+    quit: bool,
+    drag: Option<(u16, u16)>,
+}
+
+fn event_loop<W: Write>(
+    app: &mut App,
+    session: &Session,
+    signals: &term::Signals,
+    terminal: &mut Terminal<CrosstermBackend<W>>,
+    state: &mut LoopState,
+) -> anyhow::Result<()> {
+    state.redraw = true;
+    loop {
+        if state.redraw {
+            draw(terminal, app)?;
+            state.redraw = false;
+        }
+        if let Some(stop) = signals.pending() {
+            if state.recovery_due.is_some() {
+                write_recovery(app, session);
+                state.recovery_due = None;
+            }
+            let _ = stop;
+            return Ok(());
+        }
+        let timeout = match state.recovery_due {
+            Some(due) => due.saturating_duration_since(Instant::now()),
+            None => Duration::from_millis(200),
+        };
+        if event::poll(timeout.min(Duration::from_millis(200)))? {
+            let ev = event::read()?;
+            for action in actions_for(app, &ev, &mut state.drag) {
+                apply(app, session, state, action);
+            }
+            if matches!(ev, Event::Resize(..)) {
+                terminal.autoresize()?;
+                state.redraw = true;
+            }
+        }
+        if state.recovery_due.is_some_and(|due| Instant::now() >= due) {
+            write_recovery(app, session);
+            state.recovery_due = None;
+            state.redraw = true;
+        }
+        if state.quit {
+            return Ok(());
+        }
+    }
+}
+
+/// Draws one frame inside a synchronized update.
+pub fn draw<W: Write>(terminal: &mut Terminal<CrosstermBackend<W>>, app: &App) -> io::Result<()> {
+    term::begin_frame(terminal.backend_mut())?;
+    terminal.draw(|frame| view::draw(app, frame))?;
+    term::end_frame(terminal.backend_mut())
+}
+
+/// Runs one action and its effects (feeding effect outcomes back as actions).
+fn apply(app: &mut App, session: &Session, state: &mut LoopState, action: Action) {
+    let mut queue = vec![action];
+    while let Some(action) = queue.pop() {
+        state.redraw = true;
+        for effect in update::update(app, action) {
+            match effect {
+                Effect::Save {
+                    path,
+                    contents,
+                    expected,
+                    force,
+                    quit_after,
+                } => queue.push(save(&path, &contents, expected, force, quit_after)),
+                Effect::RecoveryDue => {
+                    if session.recovery.is_some() {
+                        state.recovery_due = Some(Instant::now() + RECOVERY_DEBOUNCE);
+                    }
+                }
+                Effect::RemoveRecovery => {
+                    state.recovery_due = None;
+                    if let Some(path) = &session.recovery {
+                        if let Err(e) = recovery::remove(path) {
+                            app.warn(format!("could not remove {}: {e}", path.display()));
+                        }
+                    }
+                }
+                Effect::Quit => state.quit = true,
+            }
+        }
+    }
+}
+
+fn write_recovery(app: &mut App, session: &Session) {
+    let Some(path) = &session.recovery else {
+        return;
+    };
+    let state = RecoveryState::new(app.file.as_deref(), app.rig(), &app.activations, &app.table);
+    if let Err(e) = recovery::write(path, &state) {
+        app.warn(format!(
+            "could not write the recovery file {}: {e}",
+            path.display()
+        ));
+    }
+}
+
+/// Saves a table file unless it changed on disk since `expected` (`None`: it must not exist).
+pub fn save(
+    path: &Path,
+    contents: &str,
+    expected: Option<FileStamp>,
+    force: bool,
+    quit_after: bool,
+) -> Action {
+    let current = match fs::read(path) {
+        Ok(bytes) => Some(FileStamp::of(&bytes)),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
+        Err(e) => {
+            return Action::SaveFailed {
+                path: path.to_path_buf(),
+                error: e.to_string(),
+            }
+        }
+    };
+    let conflict = match (expected, current) {
+        (_, None) => false,
+        (Some(e), Some(c)) => e != c,
+        (None, Some(_)) => true,
+    };
+    if conflict && !force {
+        return Action::SaveConflict {
+            path: path.to_path_buf(),
+            quit_after,
+        };
+    }
+    match recovery::write_atomic(path, contents.as_bytes()) {
+        Ok(()) => Action::Saved {
+            path: path.to_path_buf(),
+            stamp: FileStamp::of(contents.as_bytes()),
+            quit_after,
+        },
+        Err(e) => Action::SaveFailed {
+            path: path.to_path_buf(),
+            error: e.to_string(),
+        },
+    }
+}
+
+/// The actions for a terminal event.
+pub fn actions_for(app: &App, ev: &Event, drag: &mut Option<(u16, u16)>) -> Vec<Action> {
+    match ev {
+        Event::Key(key) if key.kind != KeyEventKind::Release => {
+            keymap::dispatch(&app.mode, *key).into_iter().collect()
+        }
+        Event::Resize(w, h) => vec![Action::Resize(*w, *h)],
+        Event::Mouse(mouse) => mouse_actions(app, *mouse, drag),
+        Event::Paste(text) if matches!(app.mode, app::Mode::Input(_)) => text
+            .chars()
+            .filter(|c| !c.is_control())
+            .map(Action::InputChar)
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+fn mouse_actions(app: &App, mouse: MouseEvent, drag: &mut Option<(u16, u16)>) -> Vec<Action> {
+    if app.mode != app::Mode::Normal {
+        return Vec::new();
+    }
+    let area = Rect::new(0, 0, app.size.0, app.size.1);
+    let Some(panels) = view::layout(area) else {
+        return Vec::new();
+    };
+    let (x, y) = (mouse.column, mouse.row);
+    let at = Position { x, y };
+    match mouse.kind {
+        MouseEventKind::Down(MouseButton::Left) => {
+            *drag = None;
+            if let Some(row) = view::muscles::row_at(app, panels.muscles, x, y) {
+                vec![Action::SelectRow(row)]
+            } else if let Some(i) = view::table::item_at(app, panels.table, x, y) {
+                vec![Action::SelectTableItem(i)]
+            } else if panels.viewport.contains(at) {
+                *drag = Some((x, y));
+                Vec::new()
+            } else {
+                Vec::new()
+            }
+        }
+        MouseEventKind::Drag(MouseButton::Left) => match *drag {
+            Some((x0, y0)) => {
+                *drag = Some((x, y));
+                let dx = f32::from(x) - f32::from(x0);
+                let dy = f32::from(y) - f32::from(y0);
+                vec![Action::Rotate(dx * 3.0, -dy * 6.0)]
+            }
+            None => Vec::new(),
+        },
+        MouseEventKind::Up(_) => {
+            *drag = None;
+            Vec::new()
+        }
+        MouseEventKind::ScrollUp | MouseEventKind::ScrollDown => {
+            let up = mouse.kind == MouseEventKind::ScrollUp;
+            if panels.viewport.contains(at) {
+                vec![Action::Zoom(if up { 1.1 } else { 1.0 / 1.1 })]
+            } else if panels.muscles.contains(at) {
+                // The wheel adjusts the row under the pointer (selecting it first).
+                let mut out = Vec::new();
+                if let Some(row) = view::muscles::row_at(app, panels.muscles, x, y) {
+                    if row != app.selected_row() {
+                        out.push(Action::SelectRow(row));
+                    }
+                }
+                out.push(Action::StepFine(if up { 1 } else { -1 }));
+                out
+            } else if panels.table.contains(at) {
+                vec![if up {
+                    Action::SelectPrev
+                } else {
+                    Action::SelectNext
+                }]
+            } else {
+                Vec::new()
+            }
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// Selects the row of a muscle (helper for callers that know names).
+pub fn row_of(app: &App, name: &str) -> Option<Row> {
+    app.rig().muscle_index(name).map(Row::Muscle)
+}
