@@ -405,3 +405,33 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #[test]
+    fn random_bytes_into_the_classic_parsers_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..300)) {
+        let text = String::from_utf8_lossy(&bytes);
+        let _ = io::waters::parse_faceline(&text, p());
+        let _ = io::waters::parse_index(&text, p(), 10);
+        let _ = io::waters::parse_muscles(&text, p());
+    }
+
+    #[test]
+    fn number_soup_into_the_classic_parsers_never_panics(s in "[0-9 .\n-]{0,200}|1000[0-9 \n]{0,100}") {
+        let _ = io::waters::parse_faceline(&s, p());
+        if let Ok(polygons) = io::waters::parse_index(&s, p(), 6) {
+            let half: Vec<Vec3> = (0..6).map(|i| Vec3::new(-(i as f32), i as f32, 1.0)).collect();
+            let _ = io::waters::build_face(&half, &polygons, true);
+        }
+        let _ = io::waters::parse_muscles(&format!("1\nm {s}"), p());
+    }
+
+    #[test]
+    fn random_files_never_panic_the_loaders(bytes in prop::collection::vec(any::<u8>(), 0..300)) {
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["x.rig.ron", "x.au.ron", "x.obj"] {
+            let path = dir.path().join(name);
+            std::fs::write(&path, &bytes).unwrap();
+            let _ = grimace::cli::validate::check(&path);
+        }
+    }
+}

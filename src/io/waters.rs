@@ -148,6 +148,19 @@ pub fn build_face(
     polygons: &[Polygon],
     drop_duplicates: bool,
 ) -> Result<Mesh, String> {
+    let count = half.len();
+    for polygon in polygons {
+        let indices: &[u32] = match polygon {
+            Polygon::Quad(q) => q,
+            Polygon::Triangle(t) => t,
+        };
+        if let Some(bad) = indices.iter().find(|&&i| i as usize >= count) {
+            return Err(format!(
+                "a polygon refers to vertex {} of {count}",
+                *bad as u64 + 1
+            ));
+        }
+    }
     let mut corners: Vec<[Vec3; 3]> = Vec::with_capacity(polygons.len() * 4);
     let at = |i: u32| half[i as usize];
     let mirrored = |i: u32| {
@@ -551,6 +564,7 @@ mod tests {
         assert_eq!(mesh.positions[3], Vec3::new(1.0, 0.0, 1.0));
         assert_eq!(mesh.positions[5].x.to_bits(), 0.0f32.to_bits());
         assert_eq!(mesh.vertex_count(), 6);
+        assert!(build_face(&half, &[Polygon::Triangle([0, 1, 4])], false).is_err());
     }
 
     #[test]
