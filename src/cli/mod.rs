@@ -5,6 +5,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub mod edit;
+pub mod gen_face;
 
 /// grimace: shape facial expressions with muscles, in the terminal.
 #[derive(Debug, Parser)]
@@ -20,6 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// Edit an AU table in the terminal (the default when no subcommand is given).
     Edit(edit::EditArgs),
+    /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
+    GenFace(gen_face::GenFaceArgs),
 }
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
@@ -30,6 +33,7 @@ pub fn main() -> ExitCode {
         None => run_edit(&edit::EditArgs::default()),
         Some(command) => match command {
             Command::Edit(args) => run_edit(&args),
+            Command::GenFace(args) => gen_face::run(&args),
         },
     }
 }
