@@ -193,7 +193,7 @@ pub fn save(
             quit_after,
         };
     }
-    match recovery::write_atomic(path, contents.as_bytes()) {
+    match crate::io::atomic::write_atomic(path, contents.as_bytes()) {
         Ok(()) => Action::Saved {
             path: path.to_path_buf(),
             stamp: FileStamp::of(contents.as_bytes()),

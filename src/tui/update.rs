@@ -8,7 +8,7 @@ use crate::model::Activations;
 
 use super::action::{Action, Effect};
 use super::app::{
-    App, CellMode, DrawStyle, Focus, Input, InputKind, Mode, Question, Row, TableItem, ViewPreset,
+    App, CellMode, Focus, Input, InputKind, Mode, Question, Row, Style, TableItem, ViewPreset,
     COARSE_STEP, FINE_STEP,
 };
 use super::keymap::COMMAND_NAMES;
@@ -140,8 +140,8 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             app.info(format!("style: {}", app.view.style.name()));
         }
         Action::CycleCells => {
-            app.view.cells = app.view.cells.next();
-            app.info(format!("cells: {}", app.view.cells.name()));
+            app.view.cells = super::app::next_cells(app.view.cells);
+            app.info(format!("cells: {}", super::app::cells_name(app.view.cells)));
         }
         Action::ToggleAscii => {
             app.view.cells = if app.view.cells == CellMode::Ascii {
@@ -149,7 +149,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             } else {
                 CellMode::Ascii
             };
-            app.info(format!("cells: {}", app.view.cells.name()));
+            app.info(format!("cells: {}", super::app::cells_name(app.view.cells)));
         }
         Action::ToggleMuscles => {
             app.view.show_muscles = !app.view.show_muscles;
@@ -591,12 +591,13 @@ fn record(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
 }
 
 fn delete_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
-    if !app.table.aus.contains_key(&key) {
-        app.error(format!("the table has no AU {key}"));
+    let mut table = app.table.clone();
+    if let Err(e) = table_ops::remove(&mut table, key) {
+        app.error(e);
         return;
     }
     begin_edit(app);
-    app.table.aus.remove(&key);
+    app.table = table;
     if app.loaded == Some(key) {
         app.loaded = None;
     }
@@ -655,14 +656,13 @@ fn add_au(app: &mut App, key: AuKey, intensity: f32, fx: &mut Vec<Effect>) {
 }
 
 fn store_expression(app: &mut App, name: &str, combo: &str, fx: &mut Vec<Effect>) {
-    if let Err(e) = table_ops::check_combo(&app.table, combo, app.rig()) {
+    let mut table = app.table.clone();
+    if let Err(e) = table_ops::set_expression(&mut table, name, combo) {
         app.error(e);
         return;
     }
     begin_edit(app);
-    app.table
-        .expressions
-        .insert(name.to_string(), combo.to_string());
+    app.table = table;
     app.info(format!("expression {name} = {combo} stored"));
     edited(app, fx);
 }
@@ -923,9 +923,9 @@ fn run_command(app: &mut App, line: &str, fx: &mut Vec<Effect>) {
             _ => app.error("usage: :view front|side|three-quarter"),
         },
         "style" => match rest {
-            "lines" => app.view.style = DrawStyle::Lines,
-            "shaded" => app.view.style = DrawStyle::Shaded,
-            "wireframe" => app.view.style = DrawStyle::Wireframe,
+            "lines" => app.view.style = Style::Lines,
+            "shaded" => app.view.style = Style::Shaded,
+            "wireframe" => app.view.style = Style::Wireframe,
             _ => app.error("usage: :style lines|shaded|wireframe"),
         },
         other => app.error(format!("unknown command `{other}` (? lists the commands)")),
@@ -1405,12 +1405,23 @@ mod tests {
     #[test]
     fn record_refuses_a_65th_au() {
         let mut app = app();
-        for n in 20..83u8 {
-            command(&mut app, &format!("record {n} x"));
+        let codes: Vec<u8> = (1..=99u8)
+            .filter(|&n| crate::facs::catalogue::is_code(n) && n != 12)
+            .collect();
+        assert!(
+            codes.len() >= 22,
+            "the catalogue has enough codes for this test"
+        );
+        let sides = [None, Some(Side::Left), Some(Side::Right)];
+        let keys = codes
+            .iter()
+            .flat_map(|&n| sides.iter().map(move |&side| AuKey { number: n, side }));
+        for key in keys.take(63) {
+            command(&mut app, &format!("record {key} x"));
         }
         assert_eq!(app.table.aus.len(), 64);
-        command(&mut app, "record 90 x");
-        assert!(error(&app).contains("64 AUs"));
+        command(&mut app, &format!("record {} x", codes[40]));
+        assert!(error(&app).contains("full"), "{}", error(&app));
         assert_eq!(app.table.aus.len(), 64);
     }
 
@@ -1665,7 +1676,7 @@ mod tests {
         run(&mut app, &[Action::ResetView]);
         assert_eq!(app.view.yaw, 0.0);
         run(&mut app, &[Action::CycleStyle]);
-        assert_eq!(app.view.style, DrawStyle::Shaded);
+        assert_eq!(app.view.style, Style::Shaded);
         run(&mut app, &[Action::ToggleAscii]);
         assert_eq!(app.view.cells, CellMode::Ascii);
         run(&mut app, &[Action::CycleCells]);
@@ -1761,6 +1772,32 @@ mod tests {
         assert_eq!(error(&app), "the table has no expression named `smile`");
         command(&mut app, "expr");
         assert!(error(&app).starts_with("usage: :expr"));
+        command(&mut app, "expr smile 12+4");
+        assert!(error(&app).contains('4'), "{}", error(&app));
+        assert!(app.table.expressions.is_empty());
+        command(&mut app, "expr smile 12C");
+        assert_eq!(app.table.expressions["smile"], "12C");
+        assert!(app.dirty());
+        command(&mut app, "expr smile");
+        assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+        command(&mut app, "zero");
+        command(&mut app, "combo 12B");
+        assert!((muscle(&app, "R_Zygomatic_Major") - 0.4).abs() < 1e-6);
+        command(&mut app, "combo 12+");
+        assert!(error(&app).starts_with("`12+`"), "{}", error(&app));
+        // An AU an expression uses cannot be deleted.
+        command(&mut app, "delete 12");
+        assert!(error(&app).contains("smile"), "{}", error(&app));
+        // Expressions are listed after the AUs; Enter loads, d deletes.
+        run(&mut app, &[Action::SwitchFocus, Action::SelectLast]);
+        update(&mut app, Action::Activate);
+        assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+        update(&mut app, Action::DeleteSelected);
+        assert!(app.table.expressions.is_empty());
+        update(&mut app, Action::StartExpression);
+        typed(&mut app, "grin = 12E");
+        update(&mut app, Action::InputSubmit);
+        assert_eq!(app.table.expressions["grin"], "12E");
     }
 
     #[test]

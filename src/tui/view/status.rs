@@ -14,7 +14,11 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     let dirty = if app.dirty() { " [+]" } else { "" };
     let left = format!(" {} ", app.mode.name());
     let file = format!(" {}{dirty} ", app.file_label());
-    let view = format!("| {} {} ", app.view.style.name(), app.view.cells.name());
+    let view = format!(
+        "| {} {} ",
+        app.view.style.name(),
+        crate::tui::app::cells_name(app.view.cells)
+    );
     let used = left.chars().count() + file.chars().count() + view.chars().count();
     let room = (area.width as usize).saturating_sub(used);
     let mut hints = String::new();
