@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 
 pub mod edit;
 pub mod gen_face;
+pub mod play;
 
 /// grimace: shape facial expressions with muscles, in the terminal.
 #[derive(Debug, Parser)]
@@ -23,6 +24,8 @@ pub enum Command {
     Edit(edit::EditArgs),
     /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
     GenFace(gen_face::GenFaceArgs),
+    /// Animate the face from an OpenFace CSV, a timeline, or a live AU stream.
+    Play(play::PlayArgs),
 }
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
@@ -30,16 +33,16 @@ pub enum Command {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        None => run_edit(&edit::EditArgs::default()),
-        Some(command) => match command {
-            Command::Edit(args) => run_edit(&args),
-            Command::GenFace(args) => gen_face::run(&args),
-        },
+        None => report(edit::run(&edit::EditArgs::default())),
+        Some(Command::Edit(args)) => report(edit::run(&args)),
+        Some(Command::GenFace(args)) => gen_face::run(&args),
+        Some(Command::Play(args)) => report(play::run(&args)),
     }
 }
 
-fn run_edit(args: &edit::EditArgs) -> ExitCode {
-    match edit::run(args) {
+/// Prints an error (with its causes) to stderr and turns the result into an exit code.
+fn report(result: anyhow::Result<()>) -> ExitCode {
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("grimace: {e:#}");

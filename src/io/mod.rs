@@ -8,9 +8,11 @@ pub mod atomic;
 pub mod error;
 pub mod lock;
 pub mod obj;
+pub mod openface;
 pub mod recovery;
 pub mod rig_file;
 pub mod table_file;
+pub mod timeline;
 pub mod waters;
 
 mod ron_text;
