@@ -41,6 +41,12 @@ pub struct Session {
 
 /// Runs the editor until the user quits or a signal stops it.
 pub fn run(mut app: App, session: Session) -> anyhow::Result<()> {
+    use std::io::IsTerminal;
+    if !io::stdin().is_terminal() || !io::stdout().is_terminal() {
+        anyhow::bail!(
+            "the editor needs a terminal: run it with standard input and output on a terminal"
+        );
+    }
     let signals = term::Signals::register()?;
     let _guard = term::enter()?;
     let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
