@@ -159,6 +159,13 @@ fn builtin_table() -> Result<AuTable, String> {
     Ok(new_table(None))
 }
 
+/// The built-in default rig, its mesh and the built-in AU table.
+pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
+    let (rig, mesh) =
+        builtin_rig("default").ok_or("the built-in default rig is missing from this build")?;
+    Ok((rig, mesh, builtin_table()?))
+}
+
 /// An embedded rig and its mesh, by the name after `builtin:`.
 fn builtin_rig(name: &str) -> Option<(Rig, Mesh)> {
     let _ = name;
