@@ -121,9 +121,11 @@ fn event_loop<W: Write>(
             }
         }
         if state.recovery_due.is_some_and(|due| Instant::now() >= due) {
+            let before = app.message.clone();
             write_recovery(app, session);
             state.recovery_due = None;
-            state.redraw = true;
+            // Redraw only if writing had something to say (an idle editor sends nothing).
+            state.redraw |= app.message != before;
         }
         if state.quit {
             return Ok(());
