@@ -1161,6 +1161,24 @@ mod tests {
     }
 
     #[test]
+    fn edits_deform_the_face_and_undo_restores_it() {
+        let mut app = app();
+        let rest = app.scene.mesh().positions.clone();
+        run(&mut app, &[Action::ToggleMirror, Action::StepCoarse(1), Action::StepCoarse(1)]);
+        assert_ne!(app.scene.positions(), &rest[..], "the zygomatics move the grid");
+        // The incremental update matches a full deformation.
+        let mut full = app.scene.clone();
+        full.deform(&app.activations);
+        assert_eq!(app.scene.positions(), full.positions());
+        command(&mut app, "jaw 2");
+        let mut full = app.scene.clone();
+        full.deform(&app.activations);
+        assert_eq!(app.scene.positions(), full.positions());
+        run(&mut app, &[Action::Undo, Action::Undo]);
+        assert_eq!(app.scene.positions(), &rest[..]);
+    }
+
+    #[test]
     fn mirror_mode_moves_the_partner() {
         let mut app = app();
         run(&mut app, &[Action::ToggleMirror, Action::StepCoarse(1)]);
