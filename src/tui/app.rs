@@ -96,6 +96,10 @@ pub fn cells_name(mode: CellMode) -> &'static str {
     }
 }
 
+/// The zoom of the initial and preset views: a little room around the rest face, so the chin
+/// stays in view when the jaw opens.
+pub const DEFAULT_ZOOM: f32 = 0.9;
+
 /// Named camera positions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ViewPreset {
@@ -136,7 +140,7 @@ impl View {
         View {
             yaw: 0.0,
             pitch: 0.0,
-            zoom: 1.0,
+            zoom: DEFAULT_ZOOM,
             pan: (0.0, 0.0),
             style: Style::Lines,
             cells: if ascii {
@@ -157,8 +161,11 @@ impl View {
             ViewPreset::Side => 90.0,
             ViewPreset::ThreeQuarter => 35.0,
         };
-        self.pitch = 0.0;
-        self.zoom = 1.0;
+        self.pitch = match preset {
+            ViewPreset::ThreeQuarter => 10.0,
+            _ => 0.0,
+        };
+        self.zoom = DEFAULT_ZOOM;
         self.pan = (0.0, 0.0);
     }
 }

@@ -111,13 +111,20 @@ fn event_loop<W: Write>(
             None => Duration::from_millis(200),
         };
         if event::poll(timeout.min(Duration::from_millis(200)))? {
-            let ev = event::read()?;
-            for action in actions_for(app, &ev, &mut state.drag) {
-                apply(app, session, state, action);
-            }
-            if matches!(ev, Event::Resize(..)) {
-                terminal.autoresize()?;
-                state.redraw = true;
+            // Handle everything already waiting before drawing: typing ahead (or pasting)
+            // over a slow link costs one frame, not one per key.
+            loop {
+                let ev = event::read()?;
+                for action in actions_for(app, &ev, &mut state.drag) {
+                    apply(app, session, state, action);
+                }
+                if matches!(ev, Event::Resize(..)) {
+                    terminal.autoresize()?;
+                    state.redraw = true;
+                }
+                if state.quit || !event::poll(Duration::ZERO)? {
+                    break;
+                }
             }
         }
         if state.recovery_due.is_some_and(|due| Instant::now() >= due) {

@@ -1164,8 +1164,19 @@ mod tests {
     fn edits_deform_the_face_and_undo_restores_it() {
         let mut app = app();
         let rest = app.scene.mesh().positions.clone();
-        run(&mut app, &[Action::ToggleMirror, Action::StepCoarse(1), Action::StepCoarse(1)]);
-        assert_ne!(app.scene.positions(), &rest[..], "the zygomatics move the grid");
+        run(
+            &mut app,
+            &[
+                Action::ToggleMirror,
+                Action::StepCoarse(1),
+                Action::StepCoarse(1),
+            ],
+        );
+        assert_ne!(
+            app.scene.positions(),
+            &rest[..],
+            "the zygomatics move the grid"
+        );
         // The incremental update matches a full deformation.
         let mut full = app.scene.clone();
         full.deform(&app.activations);
@@ -1597,7 +1608,7 @@ mod tests {
         run(&mut app, &[Action::Preset(ViewPreset::Side)]);
         assert_eq!(
             (app.view.yaw, app.view.zoom, app.view.pan),
-            (90.0, 1.0, (0.0, 0.0))
+            (90.0, crate::tui::app::DEFAULT_ZOOM, (0.0, 0.0))
         );
         run(&mut app, &[Action::ResetView]);
         assert_eq!(app.view.yaw, 0.0);

@@ -32,7 +32,7 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         .into_iter()
         .filter(|_| !typing || app.message.is_none())
     {
-        let piece = format!("{key}:{hint} ");
+        let piece = format!("{key} {hint}  ");
         if hints.chars().count() + piece.chars().count() > room {
             break;
         }
