@@ -6,6 +6,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod gen_face;
+
 /// grimace: shape facial expressions with muscles, in the terminal.
 #[derive(Debug, Parser)]
 #[command(name = "grimace", version, about, long_about = None)]
@@ -18,6 +20,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
+    GenFace(gen_face::GenFaceArgs),
     /// Animate the face from an OpenFace CSV, a timeline, or a live AU stream.
     Play(play::PlayArgs),
 }
@@ -31,17 +35,9 @@ pub fn main() -> ExitCode {
             eprintln!("grimace: the editor is not built yet; see `grimace --help`");
             ExitCode::from(1)
         }
-        Some(command) => {
-            let result = match command {
-                Command::Play(args) => play::run(&args),
-            };
-            match result {
-                Ok(()) => ExitCode::SUCCESS,
-                Err(e) => {
-                    eprintln!("grimace: {e:#}");
-                    ExitCode::from(1)
-                }
-            }
-        }
+        Some(command) => match command {
+            Command::GenFace(args) => gen_face::run(&args),
+            Command::Play(args) => play::main(&args),
+        },
     }
 }

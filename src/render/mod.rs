@@ -1,2 +1,92 @@
 //! Rendering to an abstract dot canvas (no terminal dependency): camera, depth-buffered
 //! rasterizer, and conversion to braille, ASCII or half-block cells, SVG and PNG.
+//!
+//! # Orientation: what appears where on screen
+//!
+//! Mesh coordinates follow the project's face convention: y up, z out of the face toward the
+//! viewer, and the subject's **left** at **negative x** (as in the classic Waters data). A
+//! person facing the subject sees the subject's left on *their* right. grimace draws the face
+//! that way, like a photograph of the subject, not like a mirror:
+//!
+//! * Front view ([`Camera::front`]): screen right is mesh **-x**, screen up is +y, and the
+//!   viewer looks along -z. So the subject's left eye (x < 0) is on the right half of the
+//!   screen, and a muscle named `L_...` acts on the viewer's right. FACS coders read faces
+//!   this way.
+//! * [`Camera::side`] (yaw +90 degrees) shows the subject's left profile, nose pointing to the
+//!   screen's left. Positive yaw turns the subject's left cheek toward the viewer; positive
+//!   pitch looks down from above.
+//!
+//! The view matrix therefore contains a reflection (determinant -1); back-face culling uses
+//! the signed screen area with that sign folded in, and each mesh's winding is detected (see
+//! [`Orientation`]): the built-in face's right-hand normals point out of the head, the
+//! classic Waters mesh's point in, and both render the same.
+//!
+//! # Pipeline
+//!
+//! [`Renderer::render`] projects the current positions with a [`Camera`] fitted to the rest
+//! pose ([`Camera::fit`]), culls triangles facing away, rasterizes the rest into the
+//! canvas's depth buffer at dot resolution, then draws the [`Style`]'s lines with a depth
+//! test and a small slope-scaled bias (or, for [`Style::Shaded`], lit and dithered dots),
+//! the rest-pose ghost, and the [`Overlay`]s on top. [`CellGrid::fill`] turns the dots into
+//! braille, ASCII or half-block [`Cell`]s; [`svg`] and [`png`] write files.
+//!
+//! # Styles
+//!
+//! [`Style::Lines`] (feature lines) is the default: at terminal resolution (about 160x96 dots
+//! in 80x24) every-edge wireframe of a face fills in to a blot, while the silhouette, the
+//! borders of eyes and mouth and the creases keep the features distinct and leave the flat
+//! cheeks empty. [`Style::Shaded`] reads well too and suits half-block colour output.
+//!
+//! ```
+//! use grimace::model::Mesh;
+//! use grimace::render::{Camera, CellGrid, CellMode, ColorMode, Renderer, Scene, Style};
+//! use glam::Vec3;
+//!
+//! let mesh = Mesh::new(
+//!     vec![Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)],
+//!     vec![[0, 1, 2]],
+//! )
+//! .unwrap();
+//! let mut renderer = Renderer::new(&mesh);
+//! let mut canvas = CellMode::Braille.canvas(20, 10);
+//! let scene = Scene::new(&mesh, &mesh.positions);
+//! renderer.render(&scene, &Camera::front(), Style::Wireframe, &mut canvas);
+//! let mut grid = CellGrid::default();
+//! grid.fill(&canvas, CellMode::Braille, ColorMode::None);
+//! assert!(grimace::render::to_text(&grid).contains(|c: char| c > '\u{2800}'));
+//! ```
+
+pub mod camera;
+pub mod canvas;
+pub mod cells;
+pub mod png;
+pub mod raster;
+pub mod scene;
+pub mod svg;
+
+pub use camera::{Camera, Projection};
+pub use canvas::{DotCanvas, Layer, Rgb};
+pub use cells::{
+    ascii_char, braille_bit, braille_char, nearest_ansi16, reduce, to_ansi, to_text, Cell,
+    CellGrid, CellMode, ColorMode, ANSI16,
+};
+pub use raster::{render, LitTriangle, Renderer, Run};
+pub use scene::{
+    displacement_ramp, muscle_overlays, Orientation, Overlay, Palette, Scene, Shape, Style,
+};
+
+/// Renders a scene straight to text: `cols` x `rows` cells in `mode`, no colour.
+pub fn render_text(
+    scene: &Scene,
+    camera: &Camera,
+    style: Style,
+    mode: CellMode,
+    cols: usize,
+    rows: usize,
+) -> String {
+    let mut canvas = mode.canvas(cols, rows);
+    render(scene, camera, style, &mut canvas);
+    let mut grid = CellGrid::default();
+    grid.fill(&canvas, mode, ColorMode::None);
+    to_text(&grid)
+}

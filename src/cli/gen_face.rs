@@ -1,0 +1,42 @@
+//! `grimace gen-face`: writes the built-in default face.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::Args;
+
+use crate::face;
+
+/// Arguments of `grimace gen-face`.
+#[derive(Debug, Args)]
+pub struct GenFaceArgs {
+    /// Where to write the face mesh (Wavefront OBJ).
+    #[arg(long, default_value = "assets/face.obj")]
+    pub out: PathBuf,
+}
+
+/// Runs `grimace gen-face`.
+pub fn run(args: &GenFaceArgs) -> ExitCode {
+    match generate(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("grimace gen-face: {err:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn generate(args: &GenFaceArgs) -> anyhow::Result<()> {
+    let mesh = face::generate();
+    write(&args.out, &face::obj::to_obj(&mesh))?;
+    Ok(())
+}
+
+fn write(path: &Path, text: &str) -> anyhow::Result<()> {
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("cannot create folder {}", parent.display()))?;
+    }
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+}

@@ -1,0 +1,179 @@
+//! The camera: view angles, zoom and pan, and the fitted projection onto a dot canvas.
+//!
+//! See the [module documentation](super) for the screen orientation (the subject's left, at
+//! negative x, appears on the viewer's right in the front view).
+
+use glam::{Mat3, Vec2, Vec3};
+
+/// Fraction of the canvas left free around the fitted mesh on each side.
+const MARGIN: f32 = 0.03;
+
+/// An orthographic camera looking at the subject.
+///
+/// `yaw` turns the subject about the vertical axis, `pitch` tilts it about the horizontal
+/// screen axis, `zoom` scales the fitted view (1.0 fits the mesh to the canvas) and `pan`
+/// shifts the view, in mesh units measured on the screen (x right, y up).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    /// Rotation about the vertical axis, in radians. Positive yaw brings the subject's left
+    /// cheek (negative x) toward the viewer; `FRAC_PI_2` shows the left profile.
+    pub yaw: f32,
+    /// Rotation about the horizontal screen axis, in radians. Positive pitch looks down on
+    /// the subject from above.
+    pub pitch: f32,
+    /// Magnification over the fitted view; 1.0 fits the whole mesh.
+    pub zoom: f32,
+    /// Shift of the view in mesh units, x to the screen's right, y up.
+    pub pan: Vec2,
+}
+
+impl Default for Camera {
+    fn default() -> Camera {
+        Camera::front()
+    }
+}
+
+impl Camera {
+    /// Facing the subject, as a person standing in front of them sees them.
+    pub fn front() -> Camera {
+        Camera {
+            yaw: 0.0,
+            pitch: 0.0,
+            zoom: 1.0,
+            pan: Vec2::ZERO,
+        }
+    }
+
+    /// The subject's left profile (nose toward the screen's left).
+    pub fn side() -> Camera {
+        Camera {
+            yaw: std::f32::consts::FRAC_PI_2,
+            ..Camera::front()
+        }
+    }
+
+    /// A three-quarter view: turned 35 degrees toward the subject's left and seen from
+    /// slightly above.
+    pub fn three_quarter() -> Camera {
+        Camera {
+            yaw: 35f32.to_radians(),
+            pitch: 10f32.to_radians(),
+            ..Camera::front()
+        }
+    }
+
+    /// The world-to-view matrix: view x to the screen's right, y up, z toward the viewer.
+    ///
+    /// It includes the mirror that puts the subject's left (negative x) on the viewer's
+    /// right, so its determinant is -1.
+    pub fn view_matrix(&self) -> Mat3 {
+        let mirror = Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
+        mirror * Mat3::from_rotation_x(self.pitch) * Mat3::from_rotation_y(self.yaw)
+    }
+
+    /// The unit vector, in mesh coordinates, pointing from the subject toward the viewer.
+    pub fn toward_viewer(&self) -> Vec3 {
+        self.view_matrix().transpose() * Vec3::Z
+    }
+
+    /// Fits the box `bounds` (min, max in mesh coordinates) into a canvas of `width` x
+    /// `height` dots whose dots are `dot_aspect` times as wide as they are tall, centred,
+    /// with a small margin, then applies zoom and pan.
+    ///
+    /// The fit uses the box's eight corners seen from this camera, so turning the camera
+    /// changes the scale smoothly; pass the rest pose's bounds so deformation does not.
+    pub fn fit(
+        &self,
+        bounds: (Vec3, Vec3),
+        width: usize,
+        height: usize,
+        dot_aspect: f32,
+    ) -> Projection {
+        let view = self.view_matrix();
+        let (lo, hi) = bounds;
+        let mut vlo = Vec3::splat(f32::INFINITY);
+        let mut vhi = Vec3::splat(f32::NEG_INFINITY);
+        for i in 0..8 {
+            let corner = Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
+            let v = view * corner;
+            vlo = vlo.min(v);
+            vhi = vhi.max(v);
+        }
+        let finite = vlo.is_finite() && vhi.is_finite();
+        let (vlo, vhi) = if finite {
+            (vlo, vhi)
+        } else {
+            (Vec3::ZERO, Vec3::ZERO)
+        };
+        let centre = (vlo + vhi) * 0.5;
+        let extent = (vhi - vlo).max(Vec3::splat(f32::EPSILON));
+        let aspect = if dot_aspect.is_finite() && dot_aspect > 0.0 {
+            dot_aspect
+        } else {
+            1.0
+        };
+        // Physical canvas size in units of one dot's height.
+        let phys_w = width as f32 * aspect;
+        let phys_h = height as f32;
+        let usable = 1.0 - 2.0 * MARGIN;
+        let fit_scale = (phys_w * usable / extent.x).min(phys_h * usable / extent.y);
+        let zoom = if self.zoom.is_finite() && self.zoom > 0.0 {
+            self.zoom
+        } else {
+            1.0
+        };
+        let scale_y = fit_scale * zoom;
+        let pan = if self.pan.is_finite() {
+            self.pan
+        } else {
+            Vec2::ZERO
+        };
+        Projection {
+            view,
+            centre: centre - pan.extend(0.0),
+            scale_x: scale_y / aspect,
+            scale_y,
+            origin: Vec2::new(width as f32 * 0.5, height as f32 * 0.5),
+        }
+    }
+}
+
+/// A camera fitted to a canvas: maps mesh points to dot coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Projection {
+    /// World-to-view matrix (see [`Camera::view_matrix`]).
+    pub view: Mat3,
+    /// The view-space point that lands on the canvas centre.
+    pub centre: Vec3,
+    /// Dots per mesh unit horizontally.
+    pub scale_x: f32,
+    /// Dots per mesh unit vertically (also used for depth, so depth is in dot heights).
+    pub scale_y: f32,
+    /// The canvas centre, in dots.
+    pub origin: Vec2,
+}
+
+impl Projection {
+    /// Projects a mesh point: x in dots to the right, y in dots downward (row order), z the
+    /// depth in dot heights, larger nearer the viewer. Non-finite input gives non-finite
+    /// output, which the rasterizer skips.
+    #[inline]
+    pub fn project(&self, p: Vec3) -> Vec3 {
+        let v = self.view * p - self.centre;
+        Vec3::new(
+            self.origin.x + v.x * self.scale_x,
+            self.origin.y - v.y * self.scale_y,
+            v.z * self.scale_y,
+        )
+    }
+
+    /// The point into view space (x right, y up, z toward the viewer), unscaled.
+    #[inline]
+    pub fn to_view(&self, p: Vec3) -> Vec3 {
+        self.view * p
+    }
+}

@@ -1,0 +1,199 @@
+//! The dot canvas: on/off dots with a colour, a drawing layer and a depth buffer.
+
+/// A 24-bit colour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Rgb(pub u8, pub u8, pub u8);
+
+impl Rgb {
+    /// A grey of the given level (0.0 black to 1.0 white, clamped).
+    pub fn grey(level: f32) -> Rgb {
+        let v = (level.clamp(0.0, 1.0) * 255.0).round() as u8;
+        Rgb(v, v, v)
+    }
+
+    /// Linear blend toward `other` by `t` (0.0 gives `self`, 1.0 gives `other`).
+    pub fn mix(self, other: Rgb, t: f32) -> Rgb {
+        let t = if t.is_finite() {
+            t.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let f = |a: u8, b: u8| (a as f32 + (b as f32 - a as f32) * t).round() as u8;
+        Rgb(f(self.0, other.0), f(self.1, other.1), f(self.2, other.2))
+    }
+
+    /// Relative brightness, 0.0 to 1.0 (Rec. 601 weights).
+    pub fn luma(self) -> f32 {
+        (0.299 * self.0 as f32 + 0.587 * self.1 as f32 + 0.114 * self.2 as f32) / 255.0
+    }
+}
+
+/// What a dot belongs to; when several dots share a terminal cell, the cell takes the
+/// colour of the highest layer among its lit dots.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+pub enum Layer {
+    /// Nothing drawn.
+    #[default]
+    Empty,
+    /// The rest pose drawn faintly behind the mesh.
+    Ghost,
+    /// The mesh surface or its lines.
+    Mesh,
+    /// An overlay (muscles, pivot).
+    Overlay,
+    /// The selected overlay.
+    Selected,
+}
+
+/// A grid of dots, each on or off with a colour and a layer, plus a depth buffer at dot
+/// resolution (larger depth is nearer the viewer).
+///
+/// [`DotCanvas::clear`] and [`DotCanvas::resize`] reuse the buffers, so an editor can redraw
+/// every frame without allocating.
+#[derive(Debug, Clone, Default)]
+pub struct DotCanvas {
+    width: usize,
+    height: usize,
+    /// Width of one dot over its height: 1.0 for braille and half-block cells on a terminal
+    /// whose cells are twice as tall as wide.
+    pub dot_aspect: f32,
+    /// Whether shaded surfaces are dithered into on/off dots (braille, ASCII) or every
+    /// surface dot is lit with its grey level (half-block colour, PNG).
+    pub dither: bool,
+    on: Vec<bool>,
+    color: Vec<Rgb>,
+    layer: Vec<Layer>,
+    depth: Vec<f32>,
+}
+
+impl DotCanvas {
+    /// A blank canvas of `width` x `height` square dots that dithers shading.
+    pub fn new(width: usize, height: usize) -> DotCanvas {
+        let mut canvas = DotCanvas {
+            dot_aspect: 1.0,
+            dither: true,
+            ..DotCanvas::default()
+        };
+        canvas.resize(width, height);
+        canvas
+    }
+
+    /// Width in dots.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Height in dots.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// Changes the size and clears, reusing the allocation when it is large enough.
+    pub fn resize(&mut self, width: usize, height: usize) {
+        self.width = width;
+        self.height = height;
+        let n = width.saturating_mul(height);
+        self.on.resize(n, false);
+        self.color.resize(n, Rgb::default());
+        self.layer.resize(n, Layer::Empty);
+        self.depth.resize(n, f32::NEG_INFINITY);
+        self.clear();
+    }
+
+    /// Turns every dot off and resets the depth buffer to "infinitely far".
+    pub fn clear(&mut self) {
+        self.on.fill(false);
+        self.color.fill(Rgb::default());
+        self.layer.fill(Layer::Empty);
+        self.depth.fill(f32::NEG_INFINITY);
+    }
+
+    #[inline]
+    fn index(&self, x: usize, y: usize) -> Option<usize> {
+        (x < self.width && y < self.height).then(|| y * self.width + x)
+    }
+
+    /// Whether the dot at (x, y) is lit (false outside the canvas).
+    pub fn is_on(&self, x: usize, y: usize) -> bool {
+        self.index(x, y).is_some_and(|i| self.on[i])
+    }
+
+    /// The colour of the dot at (x, y), if it is lit.
+    pub fn color(&self, x: usize, y: usize) -> Option<Rgb> {
+        self.index(x, y)
+            .filter(|&i| self.on[i])
+            .map(|i| self.color[i])
+    }
+
+    /// The layer of the dot at (x, y) (`Empty` when off or outside).
+    pub fn layer(&self, x: usize, y: usize) -> Layer {
+        self.index(x, y)
+            .filter(|&i| self.on[i])
+            .map_or(Layer::Empty, |i| self.layer[i])
+    }
+
+    /// The depth buffer at (x, y): the nearest surface drawn there, or negative infinity.
+    pub fn depth(&self, x: usize, y: usize) -> f32 {
+        self.index(x, y)
+            .map_or(f32::NEG_INFINITY, |i| self.depth[i])
+    }
+
+    /// Number of lit dots.
+    pub fn count_on(&self) -> usize {
+        self.on.iter().filter(|&&b| b).count()
+    }
+
+    /// Lights the dot at (x, y) with `color` on `layer`. A dot already lit on a higher layer
+    /// keeps its colour. Out-of-range coordinates are ignored.
+    #[inline]
+    pub fn plot(&mut self, x: i32, y: i32, color: Rgb, layer: Layer) {
+        if x < 0 || y < 0 {
+            return;
+        }
+        if let Some(i) = self.index(x as usize, y as usize) {
+            if !self.on[i] || self.layer[i] <= layer {
+                self.color[i] = color;
+                self.layer[i] = layer;
+            }
+            self.on[i] = true;
+        }
+    }
+
+    /// Lights the dot only if it is still dark (used for faint layers drawn last).
+    #[inline]
+    pub fn plot_if_dark(&mut self, x: i32, y: i32, color: Rgb, layer: Layer) {
+        if x < 0 || y < 0 {
+            return;
+        }
+        if let Some(i) = self.index(x as usize, y as usize) {
+            if !self.on[i] {
+                self.on[i] = true;
+                self.color[i] = color;
+                self.layer[i] = layer;
+            }
+        }
+    }
+
+    /// Turns the dot at (x, y) off.
+    pub fn unplot(&mut self, x: usize, y: usize) {
+        if let Some(i) = self.index(x, y) {
+            self.on[i] = false;
+            self.layer[i] = Layer::Empty;
+        }
+    }
+
+    /// Raw access for the rasterizer: depth, on, colour and layer slices, row-major.
+    pub(crate) fn buffers_mut(&mut self) -> (&mut [f32], &mut [bool], &mut [Rgb], &mut [Layer]) {
+        (
+            &mut self.depth,
+            &mut self.on,
+            &mut self.color,
+            &mut self.layer,
+        )
+    }
+
+    /// Raw read access: on, colour and layer slices, row-major.
+    pub(crate) fn buffers(&self) -> (&[bool], &[Rgb], &[Layer]) {
+        (&self.on, &self.color, &self.layer)
+    }
+}

@@ -1,0 +1,472 @@
+//! From dots to terminal cells: braille, ASCII and half-block, with colours reduced to what
+//! the terminal can show.
+
+use std::fmt::Write as _;
+use std::str::FromStr;
+
+use super::canvas::{DotCanvas, Layer, Rgb};
+
+/// How dots become characters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum CellMode {
+    /// Unicode braille, 2x4 dots per cell.
+    #[default]
+    Braille,
+    /// Plain ASCII for fonts without braille: each cell's 2x4 dot pattern becomes the
+    /// character that looks most like it (`|`, `/`, `\`, `-`, `_`, `.`, ...).
+    Ascii,
+    /// Upper and lower half blocks with foreground and background colours, 1x2 dots per
+    /// cell (for colour terminals).
+    HalfBlock,
+}
+
+impl CellMode {
+    /// Dots per cell, as (columns, rows).
+    pub fn dots_per_cell(self) -> (usize, usize) {
+        match self {
+            CellMode::Braille | CellMode::Ascii => (2, 4),
+            CellMode::HalfBlock => (1, 2),
+        }
+    }
+
+    /// The width of one dot over its height, for terminal cells `cell_aspect` times as wide
+    /// as they are tall (about 0.5 on most terminals).
+    pub fn dot_aspect(self, cell_aspect: f32) -> f32 {
+        let (dx, dy) = self.dots_per_cell();
+        cell_aspect * dy as f32 / dx as f32
+    }
+
+    /// A canvas sized for `cols` x `rows` cells of this mode on a terminal with the usual
+    /// 1:2 cells (dithering shading except in half-block mode, which shows grey levels).
+    pub fn canvas(self, cols: usize, rows: usize) -> DotCanvas {
+        let mut canvas = DotCanvas::new(0, 0);
+        self.prepare(&mut canvas, cols, rows);
+        canvas
+    }
+
+    /// Resizes `canvas` for `cols` x `rows` cells of this mode (reusing its buffers) and sets
+    /// its dot aspect and dithering.
+    pub fn prepare(self, canvas: &mut DotCanvas, cols: usize, rows: usize) {
+        let (dx, dy) = self.dots_per_cell();
+        canvas.resize(cols.saturating_mul(dx), rows.saturating_mul(dy));
+        canvas.dot_aspect = self.dot_aspect(0.5);
+        canvas.dither = self != CellMode::HalfBlock;
+    }
+}
+
+impl FromStr for CellMode {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<CellMode, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "braille" => Ok(CellMode::Braille),
+            "ascii" => Ok(CellMode::Ascii),
+            "halfblock" | "half-block" | "block" => Ok(CellMode::HalfBlock),
+            other => Err(format!(
+                "unknown cell mode `{other}` (expected braille, ascii or half-block)"
+            )),
+        }
+    }
+}
+
+/// How many colours the output may use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ColorMode {
+    /// No colour at all (`NO_COLOR`, pipes).
+    None,
+    /// The 16 ANSI colours; every colour is snapped to the nearest of [`ANSI16`].
+    Ansi16,
+    /// 24-bit colour.
+    #[default]
+    TrueColor,
+}
+
+/// One terminal cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Cell {
+    /// The character.
+    pub ch: char,
+    /// Foreground colour, `None` for the terminal's default.
+    pub fg: Option<Rgb>,
+    /// Background colour, `None` for the terminal's default.
+    pub bg: Option<Rgb>,
+}
+
+impl Cell {
+    /// A blank cell in default colours.
+    pub const BLANK: Cell = Cell {
+        ch: ' ',
+        fg: None,
+        bg: None,
+    };
+}
+
+impl Default for Cell {
+    fn default() -> Cell {
+        Cell::BLANK
+    }
+}
+
+/// A reusable grid of cells, row-major.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CellGrid {
+    /// Columns.
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+    /// `width * height` cells, row by row.
+    pub cells: Vec<Cell>,
+}
+
+impl CellGrid {
+    /// A blank grid.
+    pub fn new(width: usize, height: usize) -> CellGrid {
+        let mut grid = CellGrid::default();
+        grid.resize(width, height);
+        grid
+    }
+
+    /// Resizes and blanks the grid, reusing its allocation.
+    pub fn resize(&mut self, width: usize, height: usize) {
+        self.width = width;
+        self.height = height;
+        self.cells.clear();
+        self.cells.resize(width.saturating_mul(height), Cell::BLANK);
+    }
+
+    /// The cell at (col, row), if inside.
+    pub fn get(&self, col: usize, row: usize) -> Option<&Cell> {
+        (col < self.width && row < self.height).then(|| &self.cells[row * self.width + col])
+    }
+
+    /// One row of cells.
+    pub fn row(&self, row: usize) -> &[Cell] {
+        if row >= self.height {
+            return &[];
+        }
+        &self.cells[row * self.width..(row + 1) * self.width]
+    }
+
+    /// Fills the grid from `canvas` (resizing the grid to fit it) in `mode`, with colours
+    /// reduced to `colors`.
+    pub fn fill(&mut self, canvas: &DotCanvas, mode: CellMode, colors: ColorMode) {
+        let (dx, dy) = mode.dots_per_cell();
+        let cols = canvas.width() / dx;
+        let rows = canvas.height() / dy;
+        if self.width != cols || self.height != rows {
+            self.resize(cols, rows);
+        }
+        let (on, color, layer) = canvas.buffers();
+        let cw = canvas.width();
+        for row in 0..rows {
+            for col in 0..cols {
+                let cell = match mode {
+                    CellMode::Braille | CellMode::Ascii => {
+                        let (bits, fg) = gather_2x4(on, color, layer, cw, col * 2, row * 4);
+                        let ch = if mode == CellMode::Braille {
+                            braille_char(bits)
+                        } else {
+                            ascii_char(bits)
+                        };
+                        Cell {
+                            ch,
+                            fg: if bits == 0 { None } else { reduce(fg, colors) },
+                            bg: None,
+                        }
+                    }
+                    CellMode::HalfBlock => {
+                        let top = row * 2 * cw + col;
+                        let bottom = top + cw;
+                        let t = on[top].then_some(color[top]);
+                        let b = on[bottom].then_some(color[bottom]);
+                        half_block(t, b, colors)
+                    }
+                };
+                self.cells[row * cols + col] = cell;
+            }
+        }
+    }
+}
+
+/// The 2x4 dot pattern of a cell in braille bit order, and the colour of its highest-layer
+/// lit dot.
+fn gather_2x4(
+    on: &[bool],
+    color: &[Rgb],
+    layer: &[Layer],
+    width: usize,
+    x: usize,
+    y: usize,
+) -> (u8, Rgb) {
+    let mut bits = 0u8;
+    let mut best = (Layer::Empty, Rgb::default());
+    for dy in 0..4 {
+        let row = (y + dy) * width + x;
+        for dx in 0..2 {
+            let i = row + dx;
+            if on[i] {
+                bits |= braille_bit(dx, dy);
+                if layer[i] > best.0 || best.0 == Layer::Empty {
+                    best = (layer[i], color[i]);
+                }
+            }
+        }
+    }
+    (bits, best.1)
+}
+
+/// The braille bit of the dot at column `dx` (0-1), row `dy` (0-3) of a cell (Unicode's
+/// dot numbering: dots 1-3 and 7 down the left column, 4-6 and 8 down the right).
+pub const fn braille_bit(dx: usize, dy: usize) -> u8 {
+    match (dx, dy) {
+        (0, 0) => 0x01,
+        (0, 1) => 0x02,
+        (0, 2) => 0x04,
+        (1, 0) => 0x08,
+        (1, 1) => 0x10,
+        (1, 2) => 0x20,
+        (0, 3) => 0x40,
+        (1, 3) => 0x80,
+        _ => 0,
+    }
+}
+
+/// The braille character for a pattern of dot bits (`U+2800 + bits`; blank is a space so
+/// text output trims cleanly).
+pub fn braille_char(bits: u8) -> char {
+    if bits == 0 {
+        ' '
+    } else {
+        char::from_u32(0x2800 + bits as u32).unwrap_or(' ')
+    }
+}
+
+/// Candidate ASCII characters with the 2x4 dot patterns (as rows of two dots, top first)
+/// they resemble. Ties go to the earlier entry.
+const ASCII_SHAPES: &[(char, [&str; 4])] = &[
+    ('|', ["#.", "#.", "#.", "#."]),
+    ('|', [".#", ".#", ".#", ".#"]),
+    ('-', ["..", "##", "..", ".."]),
+    ('-', ["..", "..", "##", ".."]),
+    ('_', ["..", "..", "..", "##"]),
+    ('\'', ["##", "..", "..", ".."]),
+    ('/', [".#", ".#", "#.", "#."]),
+    ('/', ["..", ".#", "#.", ".."]),
+    ('\\', ["#.", "#.", ".#", ".#"]),
+    ('\\', ["..", "#.", ".#", ".."]),
+    ('.', ["..", "..", "..", "#."]),
+    ('.', ["..", "..", "..", ".#"]),
+    ('\'', ["#.", "..", "..", ".."]),
+    ('\'', [".#", "..", "..", ".."]),
+    ('-', ["..", "#.", "..", ".."]),
+    ('-', ["..", ".#", "..", ".."]),
+    ('-', ["..", "..", "#.", ".."]),
+    ('-', ["..", "..", ".#", ".."]),
+    (':', ["#.", "..", "#.", ".."]),
+    (':', [".#", "..", ".#", ".."]),
+    ('=', ["##", "..", "##", ".."]),
+    ('=', ["..", "##", "..", "##"]),
+    ('L', ["#.", "#.", "#.", "##"]),
+    ('J', [".#", ".#", ".#", "##"]),
+    ('7', ["##", ".#", ".#", ".#"]),
+    ('r', ["##", "#.", "#.", "#."]),
+    ('(', [".#", "#.", "#.", ".#"]),
+    (')', ["#.", ".#", ".#", "#."]),
+    ('v', ["#.", "#.", ".#", ".."]),
+    ('^', [".#", "#.", "..", ".."]),
+    ('+', ["#.", "##", "#.", ".."]),
+    ('o', ["..", "##", "##", ".."]),
+    ('#', ["##", "##", "##", "##"]),
+];
+
+const fn shape_bits(rows: [&str; 4]) -> u8 {
+    let mut bits = 0u8;
+    let mut dy = 0;
+    while dy < 4 {
+        let row = rows[dy].as_bytes();
+        let mut dx = 0;
+        while dx < 2 {
+            if row[dx] == b'#' {
+                bits |= braille_bit(dx, dy);
+            }
+            dx += 1;
+        }
+        dy += 1;
+    }
+    bits
+}
+
+const fn build_ascii_table() -> [u8; 256] {
+    let mut table = [b' '; 256];
+    let mut pattern = 1;
+    while pattern < 256 {
+        let mut best = b'#';
+        let mut best_cost = u32::MAX;
+        let mut k = 0;
+        while k < ASCII_SHAPES.len() {
+            let (ch, rows) = ASCII_SHAPES[k];
+            let bits = shape_bits(rows);
+            // Missing a dot the character has costs a little less than showing a dot that
+            // is not there, so sparse patterns pick light characters.
+            let extra = (bits & !(pattern as u8)).count_ones() * 2;
+            let missing = ((pattern as u8) & !bits).count_ones() * 3;
+            let cost = extra + missing;
+            if cost < best_cost {
+                best_cost = cost;
+                best = ch as u8;
+            }
+            k += 1;
+        }
+        table[pattern] = best;
+        pattern += 1;
+    }
+    table
+}
+
+static ASCII_TABLE: [u8; 256] = build_ascii_table();
+
+/// The ASCII character that best resembles a 2x4 dot pattern given in braille bits.
+pub fn ascii_char(bits: u8) -> char {
+    ASCII_TABLE[bits as usize] as char
+}
+
+fn half_block(top: Option<Rgb>, bottom: Option<Rgb>, colors: ColorMode) -> Cell {
+    match (top, bottom) {
+        (None, None) => Cell::BLANK,
+        (Some(t), None) => Cell {
+            ch: '▀',
+            fg: reduce(t, colors),
+            bg: None,
+        },
+        (None, Some(b)) => Cell {
+            ch: '▄',
+            fg: reduce(b, colors),
+            bg: None,
+        },
+        (Some(t), Some(b)) => {
+            let (t, b) = (reduce(t, colors), reduce(b, colors));
+            if t == b {
+                Cell {
+                    ch: '█',
+                    fg: t,
+                    bg: None,
+                }
+            } else {
+                Cell {
+                    ch: '▀',
+                    fg: t,
+                    bg: b,
+                }
+            }
+        }
+    }
+}
+
+/// The 16 ANSI colours (xterm's defaults), indexed 0-15: black, red, green, yellow, blue,
+/// magenta, cyan, white, then their bright forms.
+pub const ANSI16: [Rgb; 16] = [
+    Rgb(0, 0, 0),
+    Rgb(205, 0, 0),
+    Rgb(0, 205, 0),
+    Rgb(205, 205, 0),
+    Rgb(0, 0, 238),
+    Rgb(205, 0, 205),
+    Rgb(0, 205, 205),
+    Rgb(229, 229, 229),
+    Rgb(127, 127, 127),
+    Rgb(255, 0, 0),
+    Rgb(0, 255, 0),
+    Rgb(255, 255, 0),
+    Rgb(92, 92, 255),
+    Rgb(255, 0, 255),
+    Rgb(0, 255, 255),
+    Rgb(255, 255, 255),
+];
+
+/// The index (0-15) of the ANSI colour nearest to `c` (squared distance, weighted toward
+/// green as the eye is).
+pub fn nearest_ansi16(c: Rgb) -> u8 {
+    let dist = |p: Rgb| {
+        let d = |a: u8, b: u8| (a as i32 - b as i32).pow(2);
+        2 * d(c.0, p.0) + 4 * d(c.1, p.1) + 3 * d(c.2, p.2)
+    };
+    (0..16u8)
+        .min_by_key(|&i| dist(ANSI16[i as usize]))
+        .unwrap_or(7)
+}
+
+/// A colour as the output may show it: unchanged, snapped to [`ANSI16`], or none.
+pub fn reduce(c: Rgb, colors: ColorMode) -> Option<Rgb> {
+    match colors {
+        ColorMode::None => None,
+        ColorMode::Ansi16 => Some(ANSI16[nearest_ansi16(c) as usize]),
+        ColorMode::TrueColor => Some(c),
+    }
+}
+
+/// The grid's characters as text, one line per row, trailing spaces trimmed, colours
+/// dropped.
+pub fn to_text(grid: &CellGrid) -> String {
+    let mut out = String::with_capacity(grid.cells.len() * 3 + grid.height);
+    for row in 0..grid.height {
+        let line: String = grid.row(row).iter().map(|c| c.ch).collect();
+        out.push_str(line.trim_end());
+        out.push('\n');
+    }
+    out
+}
+
+/// The grid as text with ANSI colour escapes (24-bit, or the 16-colour codes for colours
+/// in [`ANSI16`]), resetting at the end of each line.
+pub fn to_ansi(grid: &CellGrid, colors: ColorMode) -> String {
+    if colors == ColorMode::None {
+        return to_text(grid);
+    }
+    let mut out = String::new();
+    for row in 0..grid.height {
+        let cells = grid.row(row);
+        let used = cells
+            .iter()
+            .rposition(|c| *c != Cell::BLANK)
+            .map_or(0, |i| i + 1);
+        let mut current: (Option<Rgb>, Option<Rgb>) = (None, None);
+        for cell in &cells[..used] {
+            if (cell.fg, cell.bg) != current {
+                out.push_str("\x1b[0m");
+                if let Some(fg) = cell.fg {
+                    push_sgr(&mut out, fg, colors, false);
+                }
+                if let Some(bg) = cell.bg {
+                    push_sgr(&mut out, bg, colors, true);
+                }
+                current = (cell.fg, cell.bg);
+            }
+            out.push(cell.ch);
+        }
+        if current != (None, None) {
+            out.push_str("\x1b[0m");
+        }
+        out.push('\n');
+    }
+    out
+}
+
+fn push_sgr(out: &mut String, c: Rgb, colors: ColorMode, background: bool) {
+    match colors {
+        ColorMode::None => {}
+        ColorMode::Ansi16 => {
+            let i = nearest_ansi16(c);
+            let base = match (background, i < 8) {
+                (false, true) => 30,
+                (false, false) => 90 - 8,
+                (true, true) => 40,
+                (true, false) => 100 - 8,
+            };
+            let _ = write!(out, "\x1b[{}m", base + i as u32);
+        }
+        ColorMode::TrueColor => {
+            let code = if background { 48 } else { 38 };
+            let _ = write!(out, "\x1b[{code};2;{};{};{}m", c.0, c.1, c.2);
+        }
+    }
+}

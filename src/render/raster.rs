@@ -1,0 +1,844 @@
+//! The rasterizer: back-face culling, a depth buffer at dot resolution, depth-tested lines,
+//! feature-line extraction, shading and overlays.
+
+use glam::{Vec2, Vec3};
+
+use super::camera::{Camera, Projection};
+use super::canvas::{DotCanvas, Layer, Rgb};
+use super::scene::{displacement_ramp, Orientation, Overlay, Scene, Shape, Style};
+use crate::model::Mesh;
+
+/// No second triangle on this edge (a mesh border).
+const NONE: u32 = u32::MAX;
+/// Light direction in view space: from the upper front, a little from the viewer's left.
+const LIGHT: Vec3 = Vec3::new(-0.30, 0.55, 0.78);
+/// Shading floor, so surfaces turned away from the light still show a few dots.
+const AMBIENT: f32 = 0.08;
+/// Depth bias (in dot heights) that lets a line lying on a surface pass the depth test.
+const BASE_BIAS: f32 = 1.0;
+/// Extra bias per unit of the adjacent faces' depth slope (dots of depth per dot).
+const SLOPE_BIAS: f32 = 0.8;
+/// Cap on the slope part of the bias, so steep faces do not let hidden lines through.
+const MAX_SLOPE_BIAS: f32 = 6.0;
+
+/// A 4x4 ordered-dither (Bayer) matrix, thresholds 0..16.
+const BAYER: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+
+/// One undirected mesh edge and the (up to two) triangles sharing it.
+#[derive(Debug, Clone, Copy)]
+struct Edge {
+    a: u32,
+    b: u32,
+    t0: u32,
+    t1: u32,
+}
+
+/// A visible piece of a line, in canvas dot coordinates (for vector output).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Run {
+    /// Start point, in dots (x right, y down).
+    pub from: Vec2,
+    /// End point, in dots.
+    pub to: Vec2,
+    /// Colour.
+    pub color: Rgb,
+    /// What the line belongs to.
+    pub layer: Layer,
+}
+
+/// A visible, lit triangle in canvas dot coordinates (for vector output of shaded views).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LitTriangle {
+    /// Corners in dots (x right, y down).
+    pub corners: [Vec2; 3],
+    /// Mean depth (larger is nearer), for painter's ordering.
+    pub depth: f32,
+    /// Lambert intensity, 0.0 to 1.0.
+    pub shade: f32,
+}
+
+/// Renders scenes of one mesh, keeping its edge topology and scratch buffers between frames.
+///
+/// Build one per mesh and call [`Renderer::render`] every frame; nothing is allocated once
+/// the buffers have grown to the mesh's size. A scene whose mesh has different triangles
+/// makes the renderer rebuild its topology first.
+#[derive(Debug, Clone, Default)]
+pub struct Renderer {
+    triangles: Vec<[u32; 3]>,
+    edges: Vec<Edge>,
+    /// +1 when right-hand normals point outward, -1 when inward (auto-detected at build).
+    auto_sign: f32,
+    projected: Vec<Vec3>,
+    facing: Vec<bool>,
+    normals: Vec<Vec3>,
+    slope: Vec<f32>,
+    vertex_shade: Vec<f32>,
+    vertex_heat: Vec<f32>,
+    rest_projected: Vec<Vec3>,
+    rest_facing: Vec<bool>,
+    light_mesh: Vec3,
+    runs: Option<Vec<Run>>,
+}
+
+impl Renderer {
+    /// A renderer for `mesh`: builds its edge list and detects its winding.
+    pub fn new(mesh: &Mesh) -> Renderer {
+        let mut renderer = Renderer::default();
+        renderer.rebuild(mesh);
+        renderer
+    }
+
+    fn rebuild(&mut self, mesh: &Mesh) {
+        self.triangles.clear();
+        self.triangles.extend_from_slice(&mesh.triangles);
+        self.edges = build_edges(&mesh.triangles, mesh.positions.len());
+        self.auto_sign = detect_orientation(mesh);
+    }
+
+    /// The winding the renderer detected for its mesh: `Outward` or `Inward`.
+    pub fn detected_orientation(&self) -> Orientation {
+        if self.auto_sign < 0.0 {
+            Orientation::Inward
+        } else {
+            Orientation::Outward
+        }
+    }
+
+    /// Draws `scene` seen by `camera` in `style` into `canvas` (cleared first), fitting the
+    /// rest pose's bounds to the canvas.
+    pub fn render(&mut self, scene: &Scene, camera: &Camera, style: Style, canvas: &mut DotCanvas) {
+        self.runs = None;
+        self.draw(scene, camera, style, canvas);
+    }
+
+    /// Like [`Renderer::render`], and also returns every visible piece of every line drawn
+    /// (mesh lines, ghost, overlays) in dot coordinates, for vector output.
+    pub fn render_runs(
+        &mut self,
+        scene: &Scene,
+        camera: &Camera,
+        style: Style,
+        canvas: &mut DotCanvas,
+    ) -> Vec<Run> {
+        self.runs = Some(Vec::new());
+        self.draw(scene, camera, style, canvas);
+        self.runs.take().unwrap_or_default()
+    }
+
+    /// The front-facing triangles of `scene` as lit 2D triangles in dot coordinates, sorted
+    /// back to front (for painter's-algorithm vector output). Uses the same projection as
+    /// [`Renderer::render`] on a canvas of this size.
+    pub fn lit_triangles(
+        &mut self,
+        scene: &Scene,
+        camera: &Camera,
+        width: usize,
+        height: usize,
+        dot_aspect: f32,
+    ) -> Vec<LitTriangle> {
+        if self
+            .prepare(scene, camera, width, height, dot_aspect)
+            .is_none()
+        {
+            return Vec::new();
+        }
+        self.compute_shading(scene);
+        let mut out = Vec::new();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if !self.facing[t] {
+                continue;
+            }
+            let p = tri.map(|i| self.projected[i as usize]);
+            let shade = tri
+                .iter()
+                .map(|&i| self.vertex_shade[i as usize])
+                .sum::<f32>()
+                / 3.0;
+            out.push(LitTriangle {
+                corners: p.map(|v| v.truncate()),
+                depth: (p[0].z + p[1].z + p[2].z) / 3.0,
+                shade,
+            });
+        }
+        out.sort_by(|a, b| a.depth.total_cmp(&b.depth));
+        out
+    }
+
+    /// Projects the scene and decides facing; `None` when there is nothing to draw.
+    fn prepare(
+        &mut self,
+        scene: &Scene,
+        camera: &Camera,
+        width: usize,
+        height: usize,
+        dot_aspect: f32,
+    ) -> Option<Projection> {
+        if scene.mesh.triangles != self.triangles {
+            self.rebuild(scene.mesh);
+        }
+        if width == 0 || height == 0 {
+            return None;
+        }
+        let proj = camera.fit(
+            finite_bounds(scene.rest_positions()),
+            width,
+            height,
+            dot_aspect,
+        );
+        let sign = self.sign(scene.orientation);
+        self.light_mesh = proj.view.transpose() * LIGHT.normalize();
+        project_all(
+            &proj,
+            scene.positions,
+            scene.mesh.positions.len(),
+            &mut self.projected,
+        );
+        classify(
+            &self.triangles,
+            &self.projected,
+            sign,
+            &mut self.facing,
+            &mut self.slope,
+        );
+        Some(proj)
+    }
+
+    fn sign(&self, orientation: Orientation) -> f32 {
+        match orientation {
+            Orientation::Auto => self.auto_sign,
+            Orientation::Outward => 1.0,
+            Orientation::Inward => -1.0,
+        }
+    }
+
+    fn draw(&mut self, scene: &Scene, camera: &Camera, style: Style, canvas: &mut DotCanvas) {
+        canvas.clear();
+        let (w, h, aspect) = (canvas.width(), canvas.height(), canvas.dot_aspect);
+        let Some(proj) = self.prepare(scene, camera, w, h, aspect) else {
+            return;
+        };
+        if style == Style::Shaded {
+            self.compute_shading(scene);
+            self.fill_shaded(scene, canvas);
+        } else {
+            self.fill_depth(canvas);
+            self.compute_heat(scene);
+            self.draw_edges(scene, style, canvas);
+            if style == Style::Lines && scene.contours > 0 {
+                self.draw_contours(scene, canvas);
+            }
+        }
+        if scene.ghost {
+            self.draw_ghost(scene, &proj, canvas);
+        }
+        self.draw_overlays(scene.overlays, &proj, canvas);
+    }
+
+    /// Rasterizes front-facing triangles into the depth buffer only.
+    fn fill_depth(&self, canvas: &mut DotCanvas) {
+        let (w, h) = (canvas.width(), canvas.height());
+        let (depth, _, _, _) = canvas.buffers_mut();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if self.facing[t] {
+                let p = tri.map(|i| self.projected[i as usize]);
+                raster_triangle(p, [0.0; 3], w, h, |i, z, _| {
+                    if z > depth[i] {
+                        depth[i] = z;
+                    }
+                });
+            }
+        }
+    }
+
+    /// Rasterizes front-facing triangles with depth and Gouraud-interpolated Lambert shading,
+    /// dithered when the canvas asks for it.
+    fn fill_shaded(&self, scene: &Scene, canvas: &mut DotCanvas) {
+        let (w, h, dither) = (canvas.width(), canvas.height(), canvas.dither);
+        let base = scene.palette.mesh;
+        let (depth, on, color, layer) = canvas.buffers_mut();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if !self.facing[t] {
+                continue;
+            }
+            let p = tri.map(|i| self.projected[i as usize]);
+            let s = tri.map(|i| self.vertex_shade[i as usize]);
+            raster_triangle(p, s, w, h, |i, z, shade| {
+                if z > depth[i] {
+                    depth[i] = z;
+                    let lit = if dither {
+                        let (x, y) = (i % w, i / w);
+                        shade * 16.0 > BAYER[y & 3][x & 3] as f32 + 0.5
+                    } else {
+                        true
+                    };
+                    on[i] = lit;
+                    color[i] =
+                        Rgb::default().mix(base, if dither { 0.35 + 0.65 * shade } else { shade });
+                    layer[i] = if lit { Layer::Mesh } else { Layer::Empty };
+                }
+            });
+        }
+    }
+
+    /// Per-vertex Lambert intensity from oriented, area-weighted vertex normals in view space.
+    fn compute_shading(&mut self, scene: &Scene) {
+        let n = self.projected.len();
+        self.normals.clear();
+        self.normals.resize(n, Vec3::ZERO);
+        let sign = self.sign(scene.orientation);
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if !self.facing[t] {
+                continue;
+            }
+            let [a, b, c] = tri.map(|i| scene.positions[i as usize]);
+            let normal = (b - a).cross(c - a) * sign;
+            for &i in tri {
+                self.normals[i as usize] += normal;
+            }
+        }
+        // The light is fixed to the viewer; it was turned into mesh coordinates once in
+        // `prepare`, instead of turning every normal into view space.
+        self.vertex_shade.clear();
+        self.vertex_shade.resize(n, 0.0);
+        for (shade, normal) in self.vertex_shade.iter_mut().zip(&self.normals) {
+            *shade = normal.normalize_or_zero().dot(self.light_mesh);
+        }
+        for shade in &mut self.vertex_shade {
+            *shade = AMBIENT + (1.0 - AMBIENT) * shade.max(0.0);
+        }
+    }
+}
+
+impl Renderer {
+    /// The projected position of vertex `i`, NaN when missing.
+    #[inline]
+    fn vert(&self, i: u32) -> Vec3 {
+        self.projected.get(i as usize).copied().unwrap_or(Vec3::NAN)
+    }
+
+    /// How far each vertex moved from rest, as a fraction of the full-colour displacement.
+    fn compute_heat(&mut self, scene: &Scene) {
+        self.vertex_heat.clear();
+        if !scene.displacement {
+            return;
+        }
+        let rest = scene.rest_positions();
+        let (lo, hi) = finite_bounds(rest);
+        let full = (scene.displacement_full * (hi - lo).length()).max(f32::EPSILON);
+        self.vertex_heat.extend(
+            scene
+                .positions
+                .iter()
+                .zip(rest)
+                .map(|(p, r)| (*p - *r).length() / full),
+        );
+    }
+
+    fn edge_color(&self, scene: &Scene, e: &Edge) -> Rgb {
+        let heat = |i: u32| self.vertex_heat.get(i as usize).copied().unwrap_or(0.0);
+        let h = heat(e.a).max(heat(e.b));
+        if self.vertex_heat.is_empty() || h.is_nan() || h < 0.02 {
+            scene.palette.mesh
+        } else {
+            displacement_ramp(h)
+        }
+    }
+
+    /// The depth bias for a line lying on the given triangles (the steeper, the larger).
+    fn bias(&self, tris: [u32; 2]) -> f32 {
+        let slope = tris
+            .iter()
+            .filter(|&&t| t != NONE && self.facing.get(t as usize) == Some(&true))
+            .map(|&t| self.slope[t as usize])
+            .fold(0.0f32, f32::max);
+        BASE_BIAS + (SLOPE_BIAS * slope).min(MAX_SLOPE_BIAS)
+    }
+
+    /// Whether an edge belongs to the style's line set.
+    fn wanted(&self, scene: &Scene, style: Style, e: &Edge, cos_crease: f32) -> bool {
+        let f0 = self.facing[e.t0 as usize];
+        let f1 = e.t1 != NONE && self.facing[e.t1 as usize];
+        match style {
+            Style::Wireframe => f0 || f1,
+            Style::Shaded => false,
+            Style::Lines => {
+                if e.t1 == NONE {
+                    return true;
+                }
+                if f0 != f1 {
+                    return true;
+                }
+                f0 && f1 && {
+                    let n0 = face_normal(scene.positions, self.triangles[e.t0 as usize]);
+                    let n1 = face_normal(scene.positions, self.triangles[e.t1 as usize]);
+                    n0.dot(n1) < cos_crease
+                }
+            }
+        }
+    }
+
+    /// Draws the style's edges with the depth test.
+    fn draw_edges(&mut self, scene: &Scene, style: Style, canvas: &mut DotCanvas) {
+        let cos_crease = scene.crease_degrees.to_radians().cos();
+        let mut runs = self.runs.take();
+        for e in &self.edges {
+            if !self.wanted(scene, style, e, cos_crease) {
+                continue;
+            }
+            let (a, b) = (self.vert(e.a), self.vert(e.b));
+            let bias = self.bias([e.t0, e.t1]);
+            let color = self.edge_color(scene, e);
+            draw_line(
+                canvas,
+                runs.as_mut(),
+                a,
+                b,
+                Some(bias),
+                color,
+                Layer::Mesh,
+                false,
+            );
+        }
+        self.runs = runs;
+    }
+
+    /// Iso-depth contours across the front-facing triangles.
+    fn draw_contours(&mut self, scene: &Scene, canvas: &mut DotCanvas) {
+        let (zmin, zmax) = self
+            .projected
+            .iter()
+            .filter(|p| p.is_finite())
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.z), hi.max(p.z))
+            });
+        if zmin >= zmax {
+            return;
+        }
+        let step = (zmax - zmin) / (scene.contours + 1) as f32;
+        let mut runs = self.runs.take();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if !self.facing[t] {
+                continue;
+            }
+            let p = tri.map(|i| self.vert(i));
+            let lo = p[0].z.min(p[1].z).min(p[2].z);
+            let hi = p[0].z.max(p[1].z).max(p[2].z);
+            let first = (((lo - zmin) / step).floor() as i64 + 1).max(1);
+            let last = (((hi - zmin) / step).ceil() as i64 - 1).min(scene.contours as i64);
+            for k in first..=last {
+                let level = zmin + step * k as f32;
+                if let Some((a, b)) = level_crossing(p, level) {
+                    let bias = self.bias([t as u32, NONE]);
+                    draw_line(
+                        canvas,
+                        runs.as_mut(),
+                        a,
+                        b,
+                        Some(bias),
+                        scene.palette.contour,
+                        Layer::Mesh,
+                        false,
+                    );
+                }
+            }
+        }
+        self.runs = runs;
+    }
+
+    /// The rest pose's borders and silhouette, faint, only where the canvas is still dark.
+    fn draw_ghost(&mut self, scene: &Scene, proj: &Projection, canvas: &mut DotCanvas) {
+        let n = scene.mesh.positions.len();
+        project_all(proj, scene.rest_positions(), n, &mut self.rest_projected);
+        let sign = self.sign(scene.orientation);
+        let mut scratch = std::mem::take(&mut self.vertex_shade);
+        classify(
+            &self.triangles,
+            &self.rest_projected,
+            sign,
+            &mut self.rest_facing,
+            &mut scratch,
+        );
+        self.vertex_shade = scratch;
+        let mut runs = self.runs.take();
+        for e in &self.edges {
+            let f0 = self.rest_facing[e.t0 as usize];
+            let f1 = e.t1 != NONE && self.rest_facing[e.t1 as usize];
+            let border = e.t1 == NONE && f0;
+            if border || (e.t1 != NONE && f0 != f1) {
+                let get = |i: u32| {
+                    self.rest_projected
+                        .get(i as usize)
+                        .copied()
+                        .unwrap_or(Vec3::NAN)
+                };
+                draw_line(
+                    canvas,
+                    runs.as_mut(),
+                    get(e.a),
+                    get(e.b),
+                    None,
+                    scene.palette.ghost,
+                    Layer::Ghost,
+                    true,
+                );
+            }
+        }
+        self.runs = runs;
+    }
+
+    fn draw_overlays(&mut self, overlays: &[Overlay], proj: &Projection, canvas: &mut DotCanvas) {
+        let mut runs = self.runs.take();
+        for overlay in overlays {
+            let layer = if overlay.selected {
+                Layer::Selected
+            } else {
+                Layer::Overlay
+            };
+            let mut line = |a: Vec3, b: Vec3| {
+                draw_line(
+                    canvas,
+                    runs.as_mut(),
+                    a,
+                    b,
+                    None,
+                    overlay.color,
+                    layer,
+                    false,
+                );
+            };
+            match overlay.shape {
+                Shape::Segment { from, to } => {
+                    line(proj.project(from), proj.project(to));
+                    cross(proj.project(from), 1.5, &mut line);
+                }
+                Shape::Ellipse {
+                    centre,
+                    semi_x,
+                    semi_y,
+                } => {
+                    const STEPS: usize = 48;
+                    let at = |k: usize| {
+                        let a = k as f32 / STEPS as f32 * std::f32::consts::TAU;
+                        proj.project(centre + Vec3::new(semi_x * a.cos(), semi_y * a.sin(), 0.0))
+                    };
+                    for k in 0..STEPS {
+                        line(at(k), at(k + 1));
+                    }
+                }
+                Shape::Quad { corners } => {
+                    for k in 0..4 {
+                        line(proj.project(corners[k]), proj.project(corners[(k + 1) % 4]));
+                    }
+                }
+                Shape::Point { at } => cross(proj.project(at), 2.0, &mut line),
+            }
+        }
+        self.runs = runs;
+    }
+}
+
+/// Draws a small + centred on `p` (in dots).
+fn cross(p: Vec3, r: f32, line: &mut impl FnMut(Vec3, Vec3)) {
+    line(p - Vec3::new(r, 0.0, 0.0), p + Vec3::new(r, 0.0, 0.0));
+    line(p - Vec3::new(0.0, r, 0.0), p + Vec3::new(0.0, r, 0.0));
+}
+
+/// The unit right-hand normal of a triangle (zero when degenerate or out of range).
+fn face_normal(positions: &[Vec3], tri: [u32; 3]) -> Vec3 {
+    let get = |i: u32| positions.get(i as usize).copied().unwrap_or(Vec3::NAN);
+    let [a, b, c] = tri.map(get);
+    let n = (b - a).cross(c - a).normalize_or_zero();
+    if n.is_finite() {
+        n
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// Where the plane `z = level` cuts a triangle, as a segment (depth included).
+fn level_crossing(p: [Vec3; 3], level: f32) -> Option<(Vec3, Vec3)> {
+    let mut hits = [Vec3::ZERO; 2];
+    let mut n = 0;
+    for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+        let (a, b) = (p[i], p[j]);
+        if (a.z < level) != (b.z < level) && n < 2 {
+            let t = (level - a.z) / (b.z - a.z);
+            hits[n] = a + (b - a) * t;
+            n += 1;
+        }
+    }
+    (n == 2).then_some((hits[0], hits[1]))
+}
+
+/// The sorted unique edges of `triangles` with the triangles on each side.
+fn build_edges(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<Edge> {
+    let mut half: Vec<(u32, u32, u32)> = Vec::with_capacity(triangles.len() * 3);
+    for (t, tri) in triangles.iter().enumerate() {
+        if tri.iter().any(|&i| i as usize >= vertex_count) {
+            continue;
+        }
+        for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+            let (a, b) = (tri[i].min(tri[j]), tri[i].max(tri[j]));
+            if a != b {
+                half.push((a, b, t as u32));
+            }
+        }
+    }
+    half.sort_unstable();
+    let mut edges: Vec<Edge> = Vec::with_capacity(half.len() / 2 + 1);
+    for (a, b, t) in half {
+        match edges.last_mut() {
+            Some(e) if e.a == a && e.b == b => {
+                // A third triangle on one edge (non-manifold) is ignored.
+                if e.t1 == NONE {
+                    e.t1 = t;
+                }
+            }
+            _ => edges.push(Edge {
+                a,
+                b,
+                t0: t,
+                t1: NONE,
+            }),
+        }
+    }
+    edges
+}
+
+/// +1 when most of the surface's right-hand normals point away from the centroid, -1 when
+/// they point toward it. An even split falls back to the z convention (faces look toward +z).
+fn detect_orientation(mesh: &Mesh) -> f32 {
+    let finite: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .copied()
+        .filter(|p| p.is_finite())
+        .collect();
+    if finite.is_empty() {
+        return 1.0;
+    }
+    let centroid = finite.iter().copied().sum::<Vec3>() / finite.len() as f32;
+    let mut outward = 0.0f64;
+    let mut toward_z = 0.0f64;
+    for tri in &mesh.triangles {
+        let Some([a, b, c]) = tri_positions(&mesh.positions, *tri) else {
+            continue;
+        };
+        let n = (b - a).cross(c - a);
+        if !n.is_finite() {
+            continue;
+        }
+        outward += n.dot((a + b + c) / 3.0 - centroid) as f64;
+        toward_z += n.z as f64;
+    }
+    let decisive = if outward.abs() > 1e-9 {
+        outward
+    } else {
+        toward_z
+    };
+    if decisive < 0.0 {
+        -1.0
+    } else {
+        1.0
+    }
+}
+
+fn tri_positions(positions: &[Vec3], tri: [u32; 3]) -> Option<[Vec3; 3]> {
+    let a = *positions.get(tri[0] as usize)?;
+    let b = *positions.get(tri[1] as usize)?;
+    let c = *positions.get(tri[2] as usize)?;
+    Some([a, b, c])
+}
+
+/// Bounds of the finite points; zero when there are none.
+pub(crate) fn finite_bounds(points: &[Vec3]) -> (Vec3, Vec3) {
+    let (lo, hi) = points.iter().filter(|p| p.is_finite()).fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    if lo.is_finite() {
+        (lo, hi)
+    } else {
+        (Vec3::ZERO, Vec3::ZERO)
+    }
+}
+
+/// Projects `count` vertices (missing ones become NaN, so they are skipped).
+fn project_all(proj: &Projection, positions: &[Vec3], count: usize, out: &mut Vec<Vec3>) {
+    out.clear();
+    out.extend((0..count).map(|i| positions.get(i).map_or(Vec3::NAN, |&p| proj.project(p))));
+}
+
+/// Decides which triangles face the viewer (signed screen area times the winding sign) and
+/// each one's depth slope in dots of depth per dot.
+fn classify(
+    triangles: &[[u32; 3]],
+    projected: &[Vec3],
+    sign: f32,
+    facing: &mut Vec<bool>,
+    slope: &mut Vec<f32>,
+) {
+    facing.clear();
+    slope.clear();
+    for tri in triangles {
+        let Some([a, b, c]) =
+            tri_positions(projected, *tri).filter(|p| p.iter().all(|v| v.is_finite()))
+        else {
+            facing.push(false);
+            slope.push(0.0);
+            continue;
+        };
+        let (ab, ac) = (b - a, c - a);
+        let area = ab.x * ac.y - ab.y * ac.x;
+        facing.push(sign * area > 0.0);
+        let gx = (ab.z * ac.y - ac.z * ab.y) / area;
+        let gy = (ab.x * ac.z - ac.x * ab.z) / area;
+        let g = (gx * gx + gy * gy).sqrt();
+        slope.push(if g.is_finite() { g } else { f32::MAX });
+    }
+}
+
+/// Rasterizes a screen triangle: calls `f(index, depth, attribute)` for every dot whose
+/// centre lies inside it (either winding), with depth and attribute interpolated.
+fn raster_triangle(
+    p: [Vec3; 3],
+    attr: [f32; 3],
+    w: usize,
+    h: usize,
+    mut f: impl FnMut(usize, f32, f32),
+) {
+    let [a, b, c] = p;
+    let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if !area.is_finite() || area.abs() < 1e-9 {
+        return;
+    }
+    let min_x = a.x.min(b.x).min(c.x).floor().max(0.0);
+    let min_y = a.y.min(b.y).min(c.y).floor().max(0.0);
+    let max_x = a.x.max(b.x).max(c.x).ceil().min(w as f32);
+    let max_y = a.y.max(b.y).max(c.y).ceil().min(h as f32);
+    if min_x >= max_x || min_y >= max_y {
+        return;
+    }
+    // Barycentric weight of each corner as a linear function of the dot centre.
+    let inv = 1.0 / area;
+    let weight = |p: Vec3, q: Vec3| {
+        // Edge function of the edge p->q, normalised: (q.x-p.x)(y-p.y) - (q.y-p.y)(x-p.x).
+        let kx = -(q.y - p.y) * inv;
+        let ky = (q.x - p.x) * inv;
+        let k0 = -(kx * p.x + ky * p.y);
+        (kx, ky, k0)
+    };
+    let (w0x, w0y, w00) = weight(b, c);
+    let (w1x, w1y, w10) = weight(c, a);
+    const EPS: f32 = -1e-5;
+    let (x0, x1, y0, y1) = (
+        min_x as usize,
+        max_x as usize,
+        min_y as usize,
+        max_y as usize,
+    );
+    for y in y0..y1 {
+        let py = y as f32 + 0.5;
+        let row = y * w;
+        for x in x0..x1 {
+            let px = x as f32 + 0.5;
+            let l0 = w0x * px + w0y * py + w00;
+            let l1 = w1x * px + w1y * py + w10;
+            let l2 = 1.0 - l0 - l1;
+            if l0 >= EPS && l1 >= EPS && l2 >= EPS {
+                let z = l0 * a.z + l1 * b.z + l2 * c.z;
+                let s = l0 * attr[0] + l1 * attr[1] + l2 * attr[2];
+                f(row + x, z, s);
+            }
+        }
+    }
+}
+
+/// Clips the segment a-b (x, y in dots, z depth) to the rectangle [0, w] x [0, h].
+fn clip(a: Vec3, b: Vec3, w: f32, h: f32) -> Option<(Vec3, Vec3)> {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f32, 1.0f32);
+    for (p, q) in [(-d.x, a.x), (d.x, w - a.x), (-d.y, a.y), (d.y, h - a.y)] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    (t0 <= t1).then(|| (a + d * t0, a + d * t1))
+}
+
+/// Draws a line in dot coordinates. With `bias`, each dot is depth-tested against the depth
+/// buffer (visible when the line is no more than `bias` behind the surface there); without,
+/// it is always drawn. `if_dark` only lights dots that are still dark. Visible pieces are
+/// appended to `runs` when given.
+#[allow(clippy::too_many_arguments)]
+fn draw_line(
+    canvas: &mut DotCanvas,
+    mut runs: Option<&mut Vec<Run>>,
+    a: Vec3,
+    b: Vec3,
+    bias: Option<f32>,
+    color: Rgb,
+    layer: Layer,
+    if_dark: bool,
+) {
+    if !a.is_finite() || !b.is_finite() {
+        return;
+    }
+    let (w, h) = (canvas.width(), canvas.height());
+    if w == 0 || h == 0 {
+        return;
+    }
+    let Some((a, b)) = clip(a, b, w as f32, h as f32) else {
+        return;
+    };
+    let d = b - a;
+    let steps = d.x.abs().max(d.y.abs()).ceil().max(1.0) as usize;
+    let mut run_start: Option<Vec3> = None;
+    let mut last = a;
+    for k in 0..=steps {
+        let p = a + d * (k as f32 / steps as f32);
+        let x = (p.x.floor() as usize).min(w - 1);
+        let y = (p.y.floor() as usize).min(h - 1);
+        let visible = bias.is_none_or(|bias| p.z + bias >= canvas.depth(x, y));
+        if visible {
+            if if_dark {
+                canvas.plot_if_dark(x as i32, y as i32, color, layer);
+            } else {
+                canvas.plot(x as i32, y as i32, color, layer);
+            }
+            run_start.get_or_insert(p);
+        } else if let Some(start) = run_start.take() {
+            push_run(runs.as_deref_mut(), start, last, color, layer);
+        }
+        last = p;
+    }
+    if let Some(start) = run_start {
+        push_run(runs, start, last, color, layer);
+    }
+}
+
+fn push_run(runs: Option<&mut Vec<Run>>, from: Vec3, to: Vec3, color: Rgb, layer: Layer) {
+    if let Some(runs) = runs {
+        runs.push(Run {
+            from: from.truncate(),
+            to: to.truncate(),
+            color,
+            layer,
+        });
+    }
+}
+
+/// Draws `scene` into `canvas` with a renderer built for this call (convenient for one-off
+/// images; an editor should keep a [`Renderer`]).
+pub fn render(scene: &Scene, camera: &Camera, style: Style, canvas: &mut DotCanvas) {
+    Renderer::new(scene.mesh).render(scene, camera, style, canvas);
+}

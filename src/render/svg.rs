@@ -1,0 +1,76 @@
+//! SVG output: visible lines as line segments (and, for the shaded style, lit triangles
+//! painted back to front), with a viewBox in pixels.
+
+use std::fmt::Write as _;
+
+use super::camera::Camera;
+use super::canvas::{DotCanvas, Rgb};
+use super::raster::Renderer;
+use super::scene::{Scene, Style};
+
+/// The background colour of image output.
+pub const BACKGROUND: Rgb = Rgb(16, 16, 16);
+
+/// Renders `scene` as a standalone SVG document of `width` x `height` pixels.
+///
+/// Lines are hidden-line-removed at pixel resolution, so the SVG shows what the terminal
+/// shows, only sharper. A zero size gives an empty (but well-formed) document.
+pub fn render_svg(
+    scene: &Scene,
+    camera: &Camera,
+    style: Style,
+    width: usize,
+    height: usize,
+) -> String {
+    let mut renderer = Renderer::new(scene.mesh);
+    let mut canvas = DotCanvas::new(width, height);
+    canvas.dither = false;
+    let mut out = String::new();
+    let _ = writeln!(out, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        out,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}">"#
+    );
+    let _ = writeln!(
+        out,
+        r#"<rect width="100%" height="100%" fill="{}"/>"#,
+        hex(BACKGROUND)
+    );
+    if style == Style::Shaded {
+        let base = scene.palette.mesh;
+        let _ = writeln!(out, r#"<g stroke-width="0.5" stroke-linejoin="round">"#);
+        for t in renderer.lit_triangles(scene, camera, width, height, 1.0) {
+            let fill = hex(Rgb::default().mix(base, t.shade));
+            let [a, b, c] = t.corners;
+            let _ = writeln!(
+                out,
+                r#"<polygon points="{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}" fill="{fill}" stroke="{fill}"/>"#,
+                a.x, a.y, b.x, b.y, c.x, c.y
+            );
+        }
+        let _ = writeln!(out, "</g>");
+    }
+    let runs = renderer.render_runs(scene, camera, style, &mut canvas);
+    let _ = writeln!(
+        out,
+        r#"<g stroke-width="1" stroke-linecap="round" fill="none">"#
+    );
+    for run in runs {
+        let _ = writeln!(
+            out,
+            r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{}"/>"#,
+            run.from.x,
+            run.from.y,
+            run.to.x,
+            run.to.y,
+            hex(run.color)
+        );
+    }
+    let _ = writeln!(out, "</g>");
+    out.push_str("</svg>\n");
+    out
+}
+
+fn hex(c: Rgb) -> String {
+    format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2)
+}
