@@ -6,12 +6,15 @@
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
 use crate::facs::AuTable;
+use crate::io::parse_rig;
+use crate::io::table_file::load_table_for;
 use crate::io::timeline::load_timeline;
 use crate::model::Rig;
 use crate::play::source::DEFAULT_FRAME_RATE;
@@ -85,16 +88,27 @@ pub struct PlayArgs {
     pub stats: bool,
 }
 
-/// Runs `grimace play`.
+/// Runs `grimace play`: 0 when the input was played, 1 on an error (named on stderr).
+pub fn main(args: &PlayArgs) -> ExitCode {
+    match run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("grimace play: {err:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// Runs `grimace play`, returning the first error.
 pub fn run(args: &PlayArgs) -> Result<()> {
     check_args(args)?;
     let (rig, table) = load_face(args)?;
     let mapper = AuMapper::new(&table, &rig);
-    let source = open_source(args, &rig, &mapper)?;
+    let source = open_source(args, &rig, &table, &mapper)?;
     if args.headless {
         let stdout = io::stdout();
         let mut out = BufWriter::new(stdout.lock());
-        let summary = play_headless(args, source, &rig, &mapper, &mut out)?;
+        let summary = play_headless(args, source, &rig, &table, &mapper, &mut out)?;
         if args.stats {
             eprintln!("{}", summary.stats.summary());
         }
@@ -121,32 +135,22 @@ fn check_args(args: &PlayArgs) -> Result<()> {
     Ok(())
 }
 
-/// The rig and table: from files when given, else the built-in default face.
+/// The rig and table: from files when given, else the built-in default face. Headless play
+/// needs no mesh, so a rig file is only parsed then; the table is checked against the rig.
 fn load_face(args: &PlayArgs) -> Result<(Rig, AuTable)> {
     let rig = match &args.rig {
-        Some(path) => read_ron::<Rig>(path, "rig")?,
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read rig {}", path.display()))?;
+            parse_rig(&text, path)?
+        }
         None => bail!("no --rig given and this build has no built-in face yet"),
     };
     let table = match &args.table {
-        Some(path) => read_ron::<AuTable>(path, "AU table")?,
+        Some(path) => load_table_for(path, &rig)?,
         None => bail!("no --table given and this build has no built-in AU table yet"),
     };
     Ok((rig, table))
-}
-
-/// Reads a RON file into a model type, naming file, line and column on error.
-fn read_ron<T: serde::de::DeserializeOwned>(path: &Path, what: &str) -> Result<T> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read {what} {}", path.display()))?;
-    ron::from_str(&text).map_err(|e| {
-        anyhow::anyhow!(
-            "{}:{}:{}: not a valid {what}: {}",
-            path.display(),
-            e.span.start.line,
-            e.span.start.col,
-            e.code
-        )
-    })
 }
 
 fn is_timeline(path: &Path) -> bool {
@@ -155,7 +159,12 @@ fn is_timeline(path: &Path) -> bool {
 }
 
 /// Opens the input the arguments name.
-fn open_source(args: &PlayArgs, rig: &Rig, mapper: &AuMapper) -> Result<Box<dyn FrameSource>> {
+fn open_source(
+    args: &PlayArgs,
+    rig: &Rig,
+    table: &AuTable,
+    mapper: &AuMapper,
+) -> Result<Box<dyn FrameSource>> {
     let scale = if args.scale {
         IntensityScale::ZeroToOne
     } else {
@@ -165,7 +174,7 @@ fn open_source(args: &PlayArgs, rig: &Rig, mapper: &AuMapper) -> Result<Box<dyn 
     if let Some(path) = &args.file {
         if is_timeline(path) {
             let timeline = load_timeline(path)?;
-            return Ok(Box::new(TimelineSource::new(timeline, path, mapper, rig)?));
+            return Ok(Box::new(TimelineSource::new(timeline, path, table, rig)?));
         }
         return Ok(Box::new(OpenFaceSource::open(
             path,
@@ -202,6 +211,7 @@ fn play_headless(
     args: &PlayArgs,
     mut source: Box<dyn FrameSource>,
     rig: &Rig,
+    table: &AuTable,
     mapper: &AuMapper,
     out: &mut impl Write,
 ) -> Result<Summary> {
@@ -253,7 +263,7 @@ fn play_headless(
             }
             Poll::End => {
                 if args.repeat && !live && summary.played > 0 {
-                    source = open_source(args, rig, mapper)?;
+                    source = open_source(args, rig, table, mapper)?;
                     clock = None;
                     continue;
                 }
