@@ -219,7 +219,7 @@ proptest! {
         lx in 0.01f32..5.0,
         ly in 0.01f32..5.0,
         bulge in 0.01f32..50.0,
-        extra in 0.0f32..5.0,
+        extra in 0.01f32..5.0,
         width in 0.01f32..8.0,
         a in 0.0f32..=2.0,
         jaw in 0.0f32..=4.0,
