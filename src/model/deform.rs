@@ -76,6 +76,9 @@ pub enum BindError {
     /// A jaw vertex is listed twice.
     #[error("jaw: vertex {0} is listed twice")]
     JawDuplicateVertex(u32),
+    /// The rig and mesh together have more `(vertex, muscle)` pairs than can be indexed.
+    #[error("the muscles influence more than {} (vertex, muscle) pairs", u32::MAX)]
+    TooManyPairs,
     /// A muscle would move vertices to astronomically large coordinates.
     #[error("muscle `{muscle}` moves vertex {vertex} beyond any usable coordinate")]
     OutOfReach {
@@ -175,12 +178,12 @@ impl BoundRig {
             row_jaw_weight: Vec::new(),
             jaw,
         };
-        bound.build_rows();
+        bound.build_rows()?;
         Ok(bound)
     }
 
     /// Lays the fields out per vertex (CSR), entries of a row in muscle order.
-    fn build_rows(&mut self) {
+    fn build_rows(&mut self) -> Result<(), BindError> {
         let n = self.rest.len();
         let mut counts = vec![0u32; n];
         for field in &self.fields {
@@ -195,7 +198,7 @@ impl BoundRig {
             if c > 0 {
                 row_of[v] = self.row_vertex.len() as u32;
                 self.row_vertex.push(v as u32);
-                total += c;
+                total = total.checked_add(c).ok_or(BindError::TooManyPairs)?;
                 self.row_start.push(total);
             }
         }
@@ -230,6 +233,7 @@ impl BoundRig {
                 }
             }
         }
+        Ok(())
     }
 
     /// The rig as bound.
