@@ -11,12 +11,18 @@
 use std::collections::BTreeSet;
 
 use glam::Vec3;
+use rayon::prelude::*;
 use thiserror::Error;
 
 use super::activations::{ActivationError, Activations, MUSCLE_RANGE};
 use super::field::{validate_muscle, Field};
 use super::mesh::{Mesh, MeshError};
 use super::rig::{Combine, Rig};
+
+/// Meshes with at least this many vertices are deformed in parallel chunks.
+pub const PARALLEL_MIN_VERTICES: usize = 32_768;
+/// Vertices per parallel chunk.
+const PARALLEL_CHUNK: usize = 16_384;
 
 /// Largest coordinate magnitude a bound rig may reach at full activation. Far beyond any
 /// face, and far enough from `f32::MAX` that sums and the jaw rotation stay finite.
@@ -275,21 +281,17 @@ impl BoundRig {
             out.resize(n, Vec3::ZERO);
         }
         let average = self.rig.combine == Combine::Average;
-        let muscles = &act.muscles;
-        // Walk the vertices once: runs of uninfluenced vertices are copied from rest, each
-        // influenced vertex is written once.
-        let mut next = 0usize;
-        for (row, &v) in self.row_vertex.iter().enumerate() {
-            let v = v as usize;
-            out[next..v].copy_from_slice(&self.rest[next..v]);
-            out[v] = if average {
-                self.row_position::<true>(row, v, muscles)
-            } else {
-                self.row_position::<false>(row, v, muscles)
-            };
-            next = v + 1;
+        if n >= PARALLEL_MIN_VERTICES {
+            // Large meshes: independent vertex ranges on the rayon pool. Each vertex's
+            // arithmetic is the same as on one thread, so the result is identical.
+            out.par_chunks_mut(PARALLEL_CHUNK)
+                .enumerate()
+                .for_each(|(i, chunk)| {
+                    self.fill_range(i * PARALLEL_CHUNK, chunk, &act.muscles, average)
+                });
+        } else {
+            self.fill_range(0, out, &act.muscles, average);
         }
-        out[next..].copy_from_slice(&self.rest[next..]);
         if let (Some(jaw), Some(turn)) = (&self.jaw, self.jaw_turn(act.jaw)) {
             for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
                 let p = &mut out[v as usize];
@@ -297,6 +299,27 @@ impl BoundRig {
             }
         }
         Ok(())
+    }
+
+    /// Writes the post-muscle positions of the vertices `start..start + out.len()` into `out`:
+    /// runs of uninfluenced vertices are copied from rest, each influenced vertex is written
+    /// once.
+    fn fill_range(&self, start: usize, out: &mut [Vec3], muscles: &[f32], average: bool) {
+        let end = start + out.len();
+        let first = self.row_vertex.partition_point(|&v| (v as usize) < start);
+        let last = self.row_vertex.partition_point(|&v| (v as usize) < end);
+        let mut next = start;
+        for (row, &v) in self.row_vertex[first..last].iter().enumerate() {
+            let (row, v) = (first + row, v as usize);
+            out[next - start..v - start].copy_from_slice(&self.rest[next..v]);
+            out[v - start] = if average {
+                self.row_position::<true>(row, v, muscles)
+            } else {
+                self.row_position::<false>(row, v, muscles)
+            };
+            next = v + 1;
+        }
+        out[next - start..].copy_from_slice(&self.rest[next..end]);
     }
 
     /// Recomputes, from rest, exactly the vertices in the field of `muscle`, jaw included.
