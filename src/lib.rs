@@ -23,5 +23,6 @@ pub mod face;
 pub mod facs;
 pub mod io;
 pub mod model;
+pub mod play;
 pub mod render;
 pub mod tui;

@@ -1,3 +1,23 @@
 //! Files: RON rigs and AU tables, Wavefront OBJ meshes, the classic Waters data, atomic saves.
 //!
-//! Every load error names the file and, where the format gives them, line and column.
+//! Every load error names the file and, where the format gives them, line and column
+//! ([`LoadError`]). No input makes a loader panic; every file is size-checked before it is
+//! read. Saves go through [`atomic::write_atomic`], which never leaves a partial file.
+
+pub mod atomic;
+pub mod builtin;
+pub mod error;
+pub mod lock;
+pub mod obj;
+pub mod openface;
+pub mod recovery;
+pub mod rig_file;
+pub mod table_file;
+pub mod timeline;
+pub mod waters;
+
+mod ron_text;
+
+pub use error::{line_column, LoadError, SaveError, MAX_FILE_BYTES};
+pub use rig_file::{load_rig, parse_rig, rig_to_ron, save_rig, LoadedRig};
+pub use table_file::{load_table, parse_table, save_table, table_to_ron};

@@ -45,6 +45,22 @@ pub enum ActivationError {
     /// A muscle name the rig does not have.
     #[error("the rig has no muscle named `{0}`")]
     UnknownMuscle(String),
+    /// A muscle number the rig does not have.
+    #[error("the rig has no muscle number {index}; it has {count} muscles")]
+    NoSuchMuscle {
+        /// The muscle number asked for (0-based).
+        index: usize,
+        /// Number of muscles in the rig.
+        count: usize,
+    },
+    /// A mesh or position buffer whose size does not match the bound mesh.
+    #[error("{given} vertices given, but the rig is bound to a mesh of {expected} vertices")]
+    VertexCount {
+        /// Number of vertices given.
+        given: usize,
+        /// Number of vertices of the bound mesh.
+        expected: usize,
+    },
 }
 
 /// One activation per muscle of a rig (in the rig's order) plus the jaw.

@@ -1,1 +1,844 @@
 //! The deformation: a sparse blend of muscle fields, then the jaw.
+//!
+//! [`BoundRig::bind`] places a rig on a mesh once: it checks every parameter, computes each
+//! muscle's [`Field`] from the rest positions and lays the fields out per vertex (a CSR table:
+//! for each influenced vertex, its `(muscle, displacement)` entries). [`BoundRig::deform`] is
+//! then a pure function of the activations: rest positions plus the activation-weighted
+//! displacements (summed or averaged), then the weighted jaw rotation. Its cost is the number
+//! of influenced `(vertex, muscle)` pairs plus one copy of the rest positions; it allocates
+//! nothing once the output buffer has the mesh's size.
+
+use std::collections::BTreeSet;
+
+use glam::Vec3;
+use thiserror::Error;
+
+use super::activations::{ActivationError, Activations, MUSCLE_RANGE};
+use super::field::{validate_muscle, Field};
+use super::mesh::{Mesh, MeshError};
+use super::rig::{Combine, Rig};
+
+/// Largest coordinate magnitude a bound rig may reach at full activation. Far beyond any
+/// face, and far enough from `f32::MAX` that sums and the jaw rotation stay finite.
+pub const MAX_REACH: f64 = 1e30;
+
+/// Why a rig cannot be placed on a mesh.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum BindError {
+    /// The mesh itself is unusable.
+    #[error("the mesh is unusable: {0}")]
+    Mesh(#[from] MeshError),
+    /// A muscle parameter is out of its range or not finite.
+    #[error("muscle `{muscle}`: {parameter} {message}")]
+    InvalidParameter {
+        /// The muscle's name.
+        muscle: String,
+        /// The parameter's name as written in rig files.
+        parameter: &'static str,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// Two muscles share a name.
+    #[error("two muscles are named `{0}`; muscle names must be unique")]
+    DuplicateMuscle(String),
+    /// A muscle names a mirror partner the rig does not have.
+    #[error("muscle `{muscle}` names `{mirror}` as its mirror, but the rig has no such muscle")]
+    MissingMirror {
+        /// The muscle naming the partner.
+        muscle: String,
+        /// The missing partner's name.
+        mirror: String,
+    },
+    /// A jaw parameter is not finite (or the pivot lies beyond any usable coordinate).
+    #[error("jaw: {parameter} {value} is not a usable finite value")]
+    JawParameter {
+        /// `pivot` or `degrees_per_unit`.
+        parameter: &'static str,
+        /// The value as written.
+        value: String,
+    },
+    /// A jaw weight lies outside 0.0-1.0 or is not finite.
+    #[error("jaw: vertex {vertex} has weight {weight}, outside 0.0 to 1.0")]
+    JawWeight {
+        /// The vertex.
+        vertex: u32,
+        /// The weight given.
+        weight: f32,
+    },
+    /// A jaw weight names a vertex the mesh does not have.
+    #[error("jaw: vertex {vertex} does not exist; the mesh has {count} vertices")]
+    JawVertex {
+        /// The vertex.
+        vertex: u32,
+        /// Number of vertices in the mesh.
+        count: usize,
+    },
+    /// A jaw vertex is listed twice.
+    #[error("jaw: vertex {0} is listed twice")]
+    JawDuplicateVertex(u32),
+    /// A muscle would move vertices to astronomically large coordinates.
+    #[error("muscle `{muscle}` moves vertex {vertex} beyond any usable coordinate")]
+    OutOfReach {
+        /// The muscle's name.
+        muscle: String,
+        /// The vertex.
+        vertex: u32,
+    },
+}
+
+/// One `(muscle, displacement)` entry of a vertex's CSR row: 16 bytes, read in one stream.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Entry {
+    displacement: Vec3,
+    muscle: u32,
+}
+
+/// The jaw prepared for evaluation.
+#[derive(Debug, Clone, PartialEq)]
+struct BoundJaw {
+    pivot: Vec3,
+    radians_per_unit: f64,
+    /// Jaw vertices with a non-zero weight, sorted.
+    vertices: Vec<u32>,
+    weights: Vec<f32>,
+    /// The CSR row of each jaw vertex, [`NO_ROW`] when no muscle moves it.
+    rows: Vec<u32>,
+}
+
+/// Marks a vertex that no muscle moves (it has no CSR row).
+const NO_ROW: u32 = u32::MAX;
+
+/// The rotation of one deformation: `cos` and `sin` of the jaw angle.
+#[derive(Debug, Clone, Copy)]
+struct JawTurn {
+    pivot: Vec3,
+    cos: f32,
+    sin: f32,
+}
+
+impl JawTurn {
+    /// Eqs. 16-19: rotate `p` about the x axis through the pivot, then blend by `weight`.
+    #[inline]
+    fn apply(&self, p: Vec3, weight: f32) -> Vec3 {
+        let y = p.y - self.pivot.y;
+        let z = p.z - self.pivot.z;
+        let ry = self.pivot.y + (self.cos * y - self.sin * z);
+        let rz = self.pivot.z + (self.sin * y + self.cos * z);
+        let keep = 1.0 - weight;
+        Vec3::new(p.x, ry * weight + p.y * keep, rz * weight + p.z * keep)
+    }
+}
+
+/// A rig placed on a mesh, with every muscle's field precomputed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundRig {
+    rig: Rig,
+    rest: Vec<Vec3>,
+    fields: Vec<Field>,
+    /// CSR rows: the influenced vertices, sorted.
+    row_vertex: Vec<u32>,
+    /// CSR row starts into the entry arrays (`row_vertex.len() + 1` items).
+    row_start: Vec<u32>,
+    /// The CSR entries, rows one after another, each row in muscle order.
+    entries: Vec<Entry>,
+    /// Per muscle: the CSR rows of the vertices in its field.
+    muscle_rows: Vec<Vec<u32>>,
+    /// Per CSR row: the jaw weight of its vertex (0 when not a jaw vertex).
+    row_jaw_weight: Vec<f32>,
+    jaw: Option<BoundJaw>,
+}
+
+impl BoundRig {
+    /// Checks the rig against the mesh and precomputes every muscle's field.
+    pub fn bind(rig: &Rig, mesh: &Mesh) -> Result<BoundRig, BindError> {
+        mesh.validate()?;
+        validate_names(rig)?;
+        for muscle in &rig.muscles {
+            validate_muscle(muscle)?;
+        }
+        let rest = mesh.positions.clone();
+        let jaw = bind_jaw(rig, rest.len())?;
+        let fields: Vec<Field> = rig
+            .muscles
+            .iter()
+            .map(|m| Field::of(&m.kind, &rest))
+            .collect();
+        check_reach(rig, &rest, &fields)?;
+        let mut bound = BoundRig {
+            rig: rig.clone(),
+            rest,
+            fields,
+            row_vertex: Vec::new(),
+            row_start: Vec::new(),
+            entries: Vec::new(),
+            muscle_rows: Vec::new(),
+            row_jaw_weight: Vec::new(),
+            jaw,
+        };
+        bound.build_rows();
+        Ok(bound)
+    }
+
+    /// Lays the fields out per vertex (CSR), entries of a row in muscle order.
+    fn build_rows(&mut self) {
+        let n = self.rest.len();
+        let mut counts = vec![0u32; n];
+        for field in &self.fields {
+            for &v in &field.vertices {
+                counts[v as usize] += 1;
+            }
+        }
+        let mut row_of = vec![NO_ROW; n];
+        self.row_start.push(0);
+        let mut total = 0u32;
+        for (v, &c) in counts.iter().enumerate() {
+            if c > 0 {
+                row_of[v] = self.row_vertex.len() as u32;
+                self.row_vertex.push(v as u32);
+                total += c;
+                self.row_start.push(total);
+            }
+        }
+        let mut fill: Vec<u32> = self.row_start[..self.row_vertex.len()].to_vec();
+        self.entries = vec![
+            Entry {
+                displacement: Vec3::ZERO,
+                muscle: 0
+            };
+            total as usize
+        ];
+        for (m, field) in self.fields.iter().enumerate() {
+            let mut rows = Vec::with_capacity(field.len());
+            for (&v, &d) in field.vertices.iter().zip(&field.displacements) {
+                let row = row_of[v as usize];
+                let slot = fill[row as usize] as usize;
+                fill[row as usize] += 1;
+                self.entries[slot] = Entry {
+                    displacement: d,
+                    muscle: m as u32,
+                };
+                rows.push(row);
+            }
+            self.muscle_rows.push(rows);
+        }
+        self.row_jaw_weight = vec![0.0; self.row_vertex.len()];
+        if let Some(jaw) = &mut self.jaw {
+            jaw.rows = jaw.vertices.iter().map(|&v| row_of[v as usize]).collect();
+            for (&row, &w) in jaw.rows.iter().zip(&jaw.weights) {
+                if row != NO_ROW {
+                    self.row_jaw_weight[row as usize] = w;
+                }
+            }
+        }
+    }
+
+    /// The rig as bound.
+    pub fn rig(&self) -> &Rig {
+        &self.rig
+    }
+
+    /// The rest positions of the mesh the rig is bound to.
+    pub fn rest(&self) -> &[Vec3] {
+        &self.rest
+    }
+
+    /// The field of muscle `index` (displacement per unit activation), if it exists.
+    pub fn field(&self, index: usize) -> Option<&Field> {
+        self.fields.get(index)
+    }
+
+    /// Number of muscles.
+    pub fn muscle_count(&self) -> usize {
+        self.fields.len()
+    }
+
+    /// Number of influenced `(vertex, muscle)` pairs: the work of one deformation.
+    pub fn pair_count(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Deforms the rest mesh by `act` into `out` (resized to the vertex count).
+    ///
+    /// Each vertex becomes its rest position plus the sum over muscles of activation times
+    /// field displacement ([`Combine::Average`] divides that sum by the number of active
+    /// muscles that moved the vertex); then the jaw turns its vertices. Allocates nothing
+    /// when `out` already has the capacity.
+    pub fn deform(&self, act: &Activations, out: &mut Vec<Vec3>) -> Result<(), ActivationError> {
+        act.validate(&self.rig)?;
+        let n = self.rest.len();
+        if out.len() != n {
+            out.clear();
+            out.resize(n, Vec3::ZERO);
+        }
+        let average = self.rig.combine == Combine::Average;
+        let muscles = &act.muscles;
+        // Walk the vertices once: runs of uninfluenced vertices are copied from rest, each
+        // influenced vertex is written once.
+        let mut next = 0usize;
+        for (row, &v) in self.row_vertex.iter().enumerate() {
+            let v = v as usize;
+            out[next..v].copy_from_slice(&self.rest[next..v]);
+            out[v] = if average {
+                self.row_position::<true>(row, v, muscles)
+            } else {
+                self.row_position::<false>(row, v, muscles)
+            };
+            next = v + 1;
+        }
+        out[next..].copy_from_slice(&self.rest[next..]);
+        if let (Some(jaw), Some(turn)) = (&self.jaw, self.jaw_turn(act.jaw)) {
+            for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
+                let p = &mut out[v as usize];
+                *p = turn.apply(*p, w);
+            }
+        }
+        Ok(())
+    }
+
+    /// Recomputes, from rest, exactly the vertices in the field of `muscle`, jaw included.
+    ///
+    /// `out` must hold a deformation of this rig by activations that differ from `act` in
+    /// this muscle's activation only; afterwards it equals `deform(act)` bit for bit.
+    pub fn update_muscle(
+        &self,
+        act: &Activations,
+        muscle: usize,
+        out: &mut [Vec3],
+    ) -> Result<(), ActivationError> {
+        act.validate(&self.rig)?;
+        if out.len() != self.rest.len() {
+            return Err(ActivationError::VertexCount {
+                given: out.len(),
+                expected: self.rest.len(),
+            });
+        }
+        let Some(rows) = self.muscle_rows.get(muscle) else {
+            return Err(ActivationError::NoSuchMuscle {
+                index: muscle,
+                count: self.muscle_count(),
+            });
+        };
+        let average = self.rig.combine == Combine::Average;
+        let turn = self.jaw.as_ref().and(self.jaw_turn(act.jaw));
+        for &row in rows {
+            let row = row as usize;
+            let v = self.row_vertex[row];
+            let mut p = if average {
+                self.row_position::<true>(row, v as usize, &act.muscles)
+            } else {
+                self.row_position::<false>(row, v as usize, &act.muscles)
+            };
+            let w = self.row_jaw_weight[row];
+            if let Some(turn) = turn.filter(|_| w > 0.0) {
+                p = turn.apply(p, w);
+            }
+            out[v as usize] = p;
+        }
+        Ok(())
+    }
+
+    /// Recomputes, from rest, exactly the jaw's vertices (muscles included).
+    ///
+    /// `out` must hold a deformation of this rig by activations that differ from `act` in
+    /// the jaw activation only; afterwards it equals `deform(act)` bit for bit.
+    pub fn update_jaw(&self, act: &Activations, out: &mut [Vec3]) -> Result<(), ActivationError> {
+        act.validate(&self.rig)?;
+        if out.len() != self.rest.len() {
+            return Err(ActivationError::VertexCount {
+                given: out.len(),
+                expected: self.rest.len(),
+            });
+        }
+        let Some(jaw) = &self.jaw else {
+            return Ok(());
+        };
+        let average = self.rig.combine == Combine::Average;
+        let turn = self.jaw_turn(act.jaw);
+        for ((&v, &w), &row) in jaw.vertices.iter().zip(&jaw.weights).zip(&jaw.rows) {
+            let v = v as usize;
+            let mut p = if row == NO_ROW {
+                self.rest[v]
+            } else if average {
+                self.row_position::<true>(row as usize, v, &act.muscles)
+            } else {
+                self.row_position::<false>(row as usize, v, &act.muscles)
+            };
+            if let Some(turn) = turn {
+                p = turn.apply(p, w);
+            }
+            out[v] = p;
+        }
+        Ok(())
+    }
+
+    /// The post-muscle position of the vertex of CSR row `row` (the one arithmetic shared by
+    /// [`BoundRig::deform`] and [`BoundRig::update_muscle`]).
+    ///
+    /// Every entry is added without a branch (an inactive muscle adds an exact zero);
+    /// average mode also counts the active muscles.
+    #[inline(always)]
+    fn row_position<const AVERAGE: bool>(&self, row: usize, v: usize, muscles: &[f32]) -> Vec3 {
+        let span = self.row_start[row] as usize..self.row_start[row + 1] as usize;
+        let mut sum = Vec3::ZERO;
+        let mut active = 0u32;
+        for e in &self.entries[span] {
+            let a = muscles[e.muscle as usize];
+            sum += e.displacement * a;
+            if AVERAGE {
+                active += u32::from(a != 0.0);
+            }
+        }
+        if AVERAGE && active > 1 {
+            sum /= active as f32;
+        }
+        // Where nothing moved a coordinate, keep the rest value bit for bit (adding a zero
+        // would turn a rest coordinate of -0.0 into +0.0).
+        let rest = self.rest[v];
+        Vec3::select(sum.cmpeq(Vec3::ZERO), rest, rest + sum)
+    }
+
+    /// The jaw rotation for jaw activation `k`, or `None` when nothing turns.
+    fn jaw_turn(&self, k: f32) -> Option<JawTurn> {
+        let jaw = self.jaw.as_ref()?;
+        let angle = k as f64 * jaw.radians_per_unit;
+        (angle != 0.0).then(|| JawTurn {
+            pivot: jaw.pivot,
+            cos: angle.cos() as f32,
+            sin: angle.sin() as f32,
+        })
+    }
+}
+
+/// Deforms `rest` by the bound rig: the free-function form of [`BoundRig::deform`].
+///
+/// `rest` must be the mesh the rig was bound to (checked by vertex count); the positions used
+/// are the bound rest positions.
+pub fn deform(
+    rest: &Mesh,
+    rig: &BoundRig,
+    act: &Activations,
+    out: &mut Vec<Vec3>,
+) -> Result<(), ActivationError> {
+    if rest.positions.len() != rig.rest.len() {
+        return Err(ActivationError::VertexCount {
+            given: rest.positions.len(),
+            expected: rig.rest.len(),
+        });
+    }
+    rig.deform(act, out)
+}
+
+/// Unique muscle names, and every mirror partner present.
+fn validate_names(rig: &Rig) -> Result<(), BindError> {
+    let mut seen = BTreeSet::new();
+    for m in &rig.muscles {
+        if !seen.insert(m.name.as_str()) {
+            return Err(BindError::DuplicateMuscle(m.name.clone()));
+        }
+    }
+    for m in &rig.muscles {
+        if let Some(mirror) = &m.mirror {
+            if !seen.contains(mirror.as_str()) {
+                return Err(BindError::MissingMirror {
+                    muscle: m.name.clone(),
+                    mirror: mirror.clone(),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks the jaw and keeps its vertices of non-zero weight, sorted.
+fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
+    let Some(jaw) = &rig.jaw else {
+        return Ok(None);
+    };
+    if !(jaw.pivot.is_finite() && jaw.pivot.as_dvec3().length() <= MAX_REACH) {
+        return Err(BindError::JawParameter {
+            parameter: "pivot",
+            value: jaw.pivot.to_string(),
+        });
+    }
+    if !jaw.degrees_per_unit.is_finite() {
+        return Err(BindError::JawParameter {
+            parameter: "degrees_per_unit",
+            value: jaw.degrees_per_unit.to_string(),
+        });
+    }
+    let mut weights = jaw.weights.clone();
+    weights.sort_by_key(|&(v, _)| v);
+    for pair in weights.windows(2) {
+        if pair[0].0 == pair[1].0 {
+            return Err(BindError::JawDuplicateVertex(pair[0].0));
+        }
+    }
+    for &(vertex, weight) in &weights {
+        if vertex as usize >= count {
+            return Err(BindError::JawVertex { vertex, count });
+        }
+        if !(0.0..=1.0).contains(&weight) {
+            return Err(BindError::JawWeight { vertex, weight });
+        }
+    }
+    weights.retain(|&(_, w)| w > 0.0);
+    Ok(Some(BoundJaw {
+        pivot: jaw.pivot,
+        radians_per_unit: (jaw.degrees_per_unit as f64).to_radians(),
+        vertices: weights.iter().map(|&(v, _)| v).collect(),
+        weights: weights.iter().map(|&(_, w)| w).collect(),
+        rows: Vec::new(),
+    }))
+}
+
+/// Refuses rigs whose full activation would leave the range where `f32` sums stay finite.
+fn check_reach(rig: &Rig, rest: &[Vec3], fields: &[Field]) -> Result<(), BindError> {
+    let max = *MUSCLE_RANGE.end() as f64;
+    let mut reach: Vec<f64> = rest.iter().map(|p| p.as_dvec3().length()).collect();
+    for (muscle, field) in rig.muscles.iter().zip(fields) {
+        for (&v, d) in field.vertices.iter().zip(&field.displacements) {
+            let r = &mut reach[v as usize];
+            *r += max * d.as_dvec3().length();
+            if !r.is_finite() || *r > MAX_REACH {
+                return Err(BindError::OutOfReach {
+                    muscle: muscle.name.clone(),
+                    vertex: v,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+
+    use super::*;
+    use crate::model::jaw::Jaw;
+    use crate::model::muscle::{Linear, Muscle, MuscleKind, Side};
+    use crate::model::rig::RIG_VERSION;
+
+    /// Four vertices: two on a linear muscle's axis, one chin-like, one far away.
+    fn mesh() -> Mesh {
+        Mesh::new(
+            vec![
+                Vec3::new(0.0, 0.0, 0.5),
+                Vec3::new(0.0, 0.0, 2.0),
+                Vec3::new(0.0, -8.0, 6.0),
+                Vec3::new(50.0, 50.0, 50.0),
+            ],
+            vec![[0, 1, 2], [1, 2, 3]],
+        )
+        .expect("valid mesh")
+    }
+
+    fn linear(name: &str) -> Muscle {
+        Muscle {
+            name: name.into(),
+            side: Side::Centre,
+            mirror: None,
+            kind: MuscleKind::Linear(Linear {
+                attachment: Vec3::ZERO,
+                insertion: Vec3::Z,
+                zone: 60.0,
+                falloff_start: 1.0,
+                falloff_end: 3.0,
+            }),
+        }
+    }
+
+    fn rig(muscles: Vec<Muscle>, jaw: Option<Jaw>) -> Rig {
+        Rig {
+            version: RIG_VERSION,
+            mesh: PathBuf::from("test.obj"),
+            combine: Combine::Sum,
+            muscles,
+            jaw,
+        }
+    }
+
+    fn jaw(weight: f32) -> Jaw {
+        Jaw {
+            pivot: Vec3::ZERO,
+            degrees_per_unit: 1.0,
+            weights: vec![(2, weight)],
+        }
+    }
+
+    #[test]
+    fn jaw_opens_down_and_back() {
+        // Chin (0,-8,6) about the origin by 4 degrees:
+        // y' = cos4 (-8) - sin4 (6) = -8.399051, z' = sin4 (-8) + cos4 (6) = 5.427333.
+        let r = rig(vec![], Some(jaw(1.0)));
+        let bound = BoundRig::bind(&r, &mesh()).expect("binds");
+        let mut out = Vec::new();
+        let act = Activations {
+            muscles: vec![],
+            jaw: 4.0,
+        };
+        bound.deform(&act, &mut out).expect("in range");
+        let chin = out[2];
+        assert!(
+            (chin - Vec3::new(0.0, -8.399_051, 5.427_333)).length() < 1e-5,
+            "{chin}"
+        );
+        assert!(
+            chin.y < -8.0 && chin.z < 6.0,
+            "the chin moves down and back"
+        );
+        assert_eq!(out[0], mesh().positions[0]);
+    }
+
+    #[test]
+    fn jaw_weight_blends_and_zero_weight_stays() {
+        // Weight 0.5: halfway between rest and the fully turned chin.
+        let mut out = Vec::new();
+        let act = Activations {
+            muscles: vec![],
+            jaw: 4.0,
+        };
+        let half = BoundRig::bind(&rig(vec![], Some(jaw(0.5))), &mesh()).expect("binds");
+        half.deform(&act, &mut out).expect("in range");
+        let want = (Vec3::new(0.0, -8.399_051, 5.427_333) + Vec3::new(0.0, -8.0, 6.0)) * 0.5;
+        assert!((out[2] - want).length() < 1e-5);
+        let none = BoundRig::bind(&rig(vec![], Some(jaw(0.0))), &mesh()).expect("binds");
+        none.deform(&act, &mut out).expect("in range");
+        assert_eq!(out, mesh().positions);
+    }
+
+    #[test]
+    fn jaw_turns_the_post_muscle_position() {
+        // The muscle moves vertex 0 from (0,0,0.5) to (0,0,0) at activation 1 (k = -1, t = 1);
+        // a jaw of weight 1 with 90 degrees per unit then turns (0,0,0) about the origin: it
+        // stays. Put the pivot at (0,1,0) instead: (0,-1,0) relative turns by 90 degrees to
+        // (0,0,-1) relative, i.e. (0,1,-1).
+        let mut r = rig(vec![linear("a")], None);
+        r.jaw = Some(Jaw {
+            pivot: Vec3::Y,
+            degrees_per_unit: 90.0,
+            weights: vec![(0, 1.0)],
+        });
+        let bound = BoundRig::bind(&r, &mesh()).expect("binds");
+        let mut out = Vec::new();
+        let act = Activations {
+            muscles: vec![1.0],
+            jaw: 1.0,
+        };
+        bound.deform(&act, &mut out).expect("in range");
+        assert!(
+            (out[0] - Vec3::new(0.0, 1.0, -1.0)).length() < 1e-6,
+            "{}",
+            out[0]
+        );
+    }
+
+    #[test]
+    fn sum_and_average_combine() {
+        // Two identical muscles at 1.0 and 0.5: vertex 0 moves by -0.5 z per unit;
+        // sum: -0.75; average over the two active muscles: -0.375.
+        let mut r = rig(vec![linear("a"), linear("b")], None);
+        let act = Activations {
+            muscles: vec![1.0, 0.5],
+            jaw: 0.0,
+        };
+        let mut out = Vec::new();
+        BoundRig::bind(&r, &mesh())
+            .unwrap()
+            .deform(&act, &mut out)
+            .unwrap();
+        assert!((out[0].z - (0.5 - 0.75)).abs() < 1e-6);
+        r.combine = Combine::Average;
+        let bound = BoundRig::bind(&r, &mesh()).unwrap();
+        bound.deform(&act, &mut out).unwrap();
+        assert!((out[0].z - (0.5 - 0.375)).abs() < 1e-6);
+        // One active muscle: average equals sum (nothing to divide by).
+        let one = Activations {
+            muscles: vec![0.0, 0.5],
+            jaw: 0.0,
+        };
+        bound.deform(&one, &mut out).unwrap();
+        assert!((out[0].z - (0.5 - 0.25)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn bind_refuses_bad_rigs() {
+        let m = mesh();
+        let dup = rig(vec![linear("a"), linear("a")], None);
+        assert_eq!(
+            BoundRig::bind(&dup, &m),
+            Err(BindError::DuplicateMuscle("a".into()))
+        );
+        let mut lonely = linear("a");
+        lonely.mirror = Some("b".into());
+        assert!(matches!(
+            BoundRig::bind(&rig(vec![lonely], None), &m),
+            Err(BindError::MissingMirror { .. })
+        ));
+        assert!(matches!(
+            BoundRig::bind(&rig(vec![], Some(jaw(1.5))), &m),
+            Err(BindError::JawWeight { vertex: 2, .. })
+        ));
+        assert!(matches!(
+            BoundRig::bind(&rig(vec![], Some(jaw(f32::NAN))), &m),
+            Err(BindError::JawWeight { .. })
+        ));
+        let far = Jaw {
+            weights: vec![(9, 1.0)],
+            ..jaw(1.0)
+        };
+        assert_eq!(
+            BoundRig::bind(&rig(vec![], Some(far)), &m),
+            Err(BindError::JawVertex {
+                vertex: 9,
+                count: 4
+            })
+        );
+        let twice = Jaw {
+            weights: vec![(2, 1.0), (1, 0.5), (2, 0.2)],
+            ..jaw(1.0)
+        };
+        assert_eq!(
+            BoundRig::bind(&rig(vec![], Some(twice)), &m),
+            Err(BindError::JawDuplicateVertex(2))
+        );
+        let lost = Jaw {
+            pivot: Vec3::new(f32::NAN, 0.0, 0.0),
+            ..jaw(1.0)
+        };
+        assert!(matches!(
+            BoundRig::bind(&rig(vec![], Some(lost)), &m),
+            Err(BindError::JawParameter {
+                parameter: "pivot",
+                ..
+            })
+        ));
+        let spin = Jaw {
+            degrees_per_unit: f32::INFINITY,
+            ..jaw(1.0)
+        };
+        assert!(matches!(
+            BoundRig::bind(&rig(vec![], Some(spin)), &m),
+            Err(BindError::JawParameter {
+                parameter: "degrees_per_unit",
+                ..
+            })
+        ));
+        let message = BoundRig::bind(&dup, &m).unwrap_err().to_string();
+        assert!(message.contains("`a`"), "{message}");
+    }
+
+    #[test]
+    fn bind_refuses_a_muscle_that_reaches_too_far() {
+        // A zone of nearly 90 degrees makes k = 1 - cos_a/cos_zone enormous.
+        let mut m = linear("wide");
+        if let MuscleKind::Linear(l) = &mut m.kind {
+            l.zone = 89.999_99;
+            l.falloff_end = 3.0e38;
+        }
+        let mesh = Mesh::new(
+            vec![Vec3::new(0.0, 0.0, 3.0e37), Vec3::Z, Vec3::X],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        assert!(matches!(
+            BoundRig::bind(&rig(vec![m], None), &mesh),
+            Err(BindError::OutOfReach { .. })
+        ));
+    }
+
+    #[test]
+    fn deform_refuses_bad_activations_and_meshes() {
+        let r = rig(vec![linear("a")], Some(jaw(1.0)));
+        let bound = BoundRig::bind(&r, &mesh()).unwrap();
+        let mut out = Vec::new();
+        for (muscles, jaw) in [
+            (vec![2.5], 0.0),
+            (vec![-0.1], 0.0),
+            (vec![f32::NAN], 0.0),
+            (vec![1.0], 4.5),
+            (vec![1.0], f32::INFINITY),
+            (vec![], 0.0),
+        ] {
+            let act = Activations { muscles, jaw };
+            assert!(bound.deform(&act, &mut out).is_err(), "{act:?}");
+        }
+        let act = Activations {
+            muscles: vec![1.0],
+            jaw: 1.0,
+        };
+        let mut short = vec![Vec3::ZERO; 2];
+        assert_eq!(
+            bound.update_muscle(&act, 0, &mut short),
+            Err(ActivationError::VertexCount {
+                given: 2,
+                expected: 4
+            })
+        );
+        let mut full = vec![Vec3::ZERO; 4];
+        assert_eq!(
+            bound.update_muscle(&act, 3, &mut full),
+            Err(ActivationError::NoSuchMuscle { index: 3, count: 1 })
+        );
+        let other = Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]).unwrap();
+        assert_eq!(
+            deform(&other, &bound, &act, &mut out),
+            Err(ActivationError::VertexCount {
+                given: 3,
+                expected: 4
+            })
+        );
+        deform(&mesh(), &bound, &act, &mut out).expect("matching mesh");
+    }
+
+    #[test]
+    fn deform_does_not_reallocate() {
+        let r = rig(vec![linear("a"), linear("b")], Some(jaw(0.7)));
+        let bound = BoundRig::bind(&r, &mesh()).unwrap();
+        let mut out = Vec::new();
+        bound.deform(&Activations::zero(&r), &mut out).unwrap();
+        let (ptr, cap) = (out.as_ptr(), out.capacity());
+        for step in 0..20 {
+            let a = step as f32 * 0.1;
+            let act = Activations {
+                muscles: vec![a, 2.0 - a],
+                jaw: a * 2.0,
+            };
+            bound.deform(&act, &mut out).unwrap();
+            assert_eq!((out.as_ptr(), out.capacity()), (ptr, cap));
+        }
+    }
+
+    #[test]
+    fn inactive_muscles_keep_rest_coordinates_bit_for_bit() {
+        // Vertex 0 sits at x = -0.0 on the axis of both muscles; muscle "a" is off and "b"
+        // pulls along z only, so x must stay -0.0 (not become +0.0).
+        let mesh = Mesh::new(
+            vec![Vec3::new(-0.0, 0.0, 0.5), Vec3::X * 9.0, Vec3::Y * 9.0],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        let r = rig(vec![linear("a"), linear("b")], None);
+        let bound = BoundRig::bind(&r, &mesh).unwrap();
+        let mut out = Vec::new();
+        for muscles in [vec![0.0, 0.0], vec![0.0, 1.0]] {
+            bound
+                .deform(&Activations { muscles, jaw: 0.0 }, &mut out)
+                .unwrap();
+            assert_eq!(out[0].x.to_bits(), (-0.0f32).to_bits());
+        }
+        assert_eq!(out[0].z, 0.0);
+    }
+
+    #[test]
+    fn layout_matches_the_fields() {
+        let r = rig(vec![linear("a"), linear("b")], None);
+        let bound = BoundRig::bind(&r, &mesh()).unwrap();
+        assert_eq!(bound.muscle_count(), 2);
+        assert_eq!(bound.field(0).unwrap().vertices, vec![0, 1]);
+        assert_eq!(bound.pair_count(), 4);
+        assert!(bound.field(2).is_none());
+        assert_eq!(bound.rest(), &mesh().positions[..]);
+        assert_eq!(bound.rig(), &r);
+    }
+}

@@ -12,7 +12,9 @@ pub enum MeshError {
     #[error("the mesh has no faces")]
     NoFaces,
     /// A triangle refers to a vertex that does not exist.
-    #[error("triangle {triangle} refers to vertex {index}, but the mesh has only {count} vertices")]
+    #[error(
+        "triangle {triangle} refers to vertex {index}, but the mesh has only {count} vertices"
+    )]
     IndexOutOfRange {
         /// Triangle number (0-based).
         triangle: usize,
@@ -30,7 +32,9 @@ pub enum MeshError {
         position: [f32; 3],
     },
     /// A named vertex group refers to a vertex that does not exist.
-    #[error("vertex group `{group}` refers to vertex {index}, but the mesh has only {count} vertices")]
+    #[error(
+        "vertex group `{group}` refers to vertex {index}, but the mesh has only {count} vertices"
+    )]
     GroupOutOfRange {
         /// The group's name.
         group: String,

@@ -11,6 +11,8 @@ pub mod muscle;
 pub mod rig;
 
 pub use activations::{ActivationError, Activations, JAW_RANGE, MUSCLE_RANGE};
+pub use deform::{deform, BindError, BoundRig};
+pub use field::Field;
 pub use jaw::Jaw;
 pub use mesh::{Mesh, MeshError};
 pub use muscle::{Convergence, Linear, Muscle, MuscleKind, Sheet, Side, Sphincter};

@@ -10,7 +10,9 @@ use serde::{Deserialize, Serialize};
 ///
 /// Left and right are the subject's: the subject's left lies at negative x, as in the classic
 /// Waters data (whose `L_` muscles sit at x < 0).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, Default,
+)]
 pub enum Side {
     /// The subject's left (x < 0).
     Left,

@@ -1,0 +1,456 @@
+//! The default face's mesh: a grid over the head's cylinder, split open along the lid lines
+//! and the mouth line.
+//!
+//! Columns run round the head (angle `theta`, subject's left at negative x), rows run up
+//! the face. The rows below the mouth bend down to follow the jaw line; the row through the
+//! eye corners and the row through the mouth corners are split: between the corners each
+//! vertex has an upper copy (used by the triangles above) and a lower copy (used below), so
+//! the lids and lips are separate skin that muscles and the jaw can part. The corners
+//! themselves are shared, so nothing tears there.
+//!
+//! Only the subject's right half (x >= 0) is computed; the left half is its exact mirror and
+//! the midline column has x = 0 exactly.
+//!
+//! Winding: every triangle is counter-clockwise seen from outside the face, so its
+//! right-hand normal points out of the skin (toward the viewer on the front of the face).
+
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+
+use glam::Vec3;
+
+use super::anthropometry::*;
+use super::surface::{self, THETA_MAX};
+use crate::model::Mesh;
+
+/// Columns on each side of the midline column.
+const HALF_COLUMNS: usize = 30;
+/// Rows strictly between the mouth line and the jaw line (plus the jaw line itself).
+const JAW_ROWS: usize = 13;
+/// Rows strictly between the mouth line and the eye line.
+const MID_ROWS: usize = 20;
+/// Rows above the eye line (the last one is the top edge).
+const UPPER_ROWS: usize = 21;
+/// Half the gap between the lips at the middle of the mouth line (mm): close, not touching.
+const LIP_GAP: f64 = 0.3;
+
+/// How a row's height is found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Row {
+    /// Below the mouth: this fraction of the way from the mouth line down to the jaw line.
+    Jaw(f64),
+    /// The mouth line (split between the mouth corners).
+    Mouth,
+    /// Between the mouth and eye lines, at this height (mm).
+    Level(f64),
+    /// The eye line (split between each eye's corners).
+    Eye,
+    /// Above the eye line: this fraction of the way up to the top edge.
+    Upper(f64),
+}
+
+/// Which copy of a split vertex is meant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Copy {
+    /// The only vertex (not split), or the upper copy of a split one.
+    Upper,
+    /// The lower copy of a split vertex.
+    Lower,
+}
+
+/// The grid's layout: column angles, rows, and where the slits are.
+struct Layout {
+    /// Column angles for columns 0..=2*HALF_COLUMNS (subject's left first).
+    thetas: Vec<f64>,
+    rows: Vec<Row>,
+    mouth_row: usize,
+    eye_row: usize,
+    /// Column offsets from the midline of the inner and outer eye corners (right eye).
+    eye_corners: (usize, usize),
+    /// Column offset of the mouth corner.
+    mouth_corner: usize,
+    /// x (mm) of the inner and outer eye corners and of the mouth corner (right side).
+    en_x: f64,
+    ex_x: f64,
+    ch_x: f64,
+}
+
+/// Builds the default face mesh with its named vertex groups (see [`super::groups`]).
+pub fn generate() -> Mesh {
+    let layout = Layout::new();
+    let mut builder = Builder::new(&layout);
+    builder.place_vertices();
+    builder.build_triangles();
+    let mut mesh = Mesh {
+        positions: builder.positions,
+        triangles: builder.triangles,
+        groups: BTreeMap::new(),
+    };
+    mesh.groups = super::groups::find_groups(&mesh, &builder.slits);
+    mesh
+}
+
+impl Layout {
+    fn new() -> Layout {
+        let thetas = column_angles();
+        let rows = row_layout();
+        let mouth_row = rows.iter().position(|r| *r == Row::Mouth).unwrap_or(0);
+        let eye_row = rows.iter().position(|r| *r == Row::Eye).unwrap_or(0);
+        let eye_width = surface::half_width(EYE_LINE_Y);
+        let mouth_width = surface::half_width(STOMION_Y);
+        let en = nearest_column(&thetas, eye_width, ENDOCANTHION_X);
+        let ex = nearest_column(&thetas, eye_width, EXOCANTHION_X);
+        let ch = nearest_column(&thetas, mouth_width, CHEILION_X);
+        let column_x = |width: f64, offset: usize| width * thetas[HALF_COLUMNS + offset].sin();
+        Layout {
+            en_x: column_x(eye_width, en),
+            ex_x: column_x(eye_width, ex),
+            ch_x: column_x(mouth_width, ch),
+            thetas,
+            rows,
+            mouth_row,
+            eye_row,
+            eye_corners: (en, ex),
+            mouth_corner: ch,
+        }
+    }
+
+    /// Column offset from the midline (`0..=HALF_COLUMNS`) of column `i`.
+    fn offset(&self, i: usize) -> usize {
+        i.abs_diff(HALF_COLUMNS)
+    }
+
+    /// True when vertex `(i, j)` is split into an upper and a lower copy.
+    fn is_split(&self, i: usize, j: usize) -> bool {
+        let k = self.offset(i);
+        (j == self.eye_row && k > self.eye_corners.0 && k < self.eye_corners.1)
+            || (j == self.mouth_row && k < self.mouth_corner)
+    }
+
+    /// Which slit (if any) vertex `(i, j)` borders, for the vertex groups.
+    fn slit_of(&self, i: usize, j: usize) -> Option<Slit> {
+        if !self.is_split(i, j) {
+            return None;
+        }
+        if j == self.mouth_row {
+            return Some(Slit::Mouth);
+        }
+        Some(if i < HALF_COLUMNS {
+            Slit::LeftEye
+        } else {
+            Slit::RightEye
+        })
+    }
+}
+
+/// The three openings of the face.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Slit {
+    /// The subject's left eye (x < 0).
+    LeftEye,
+    /// The subject's right eye (x > 0).
+    RightEye,
+    /// The mouth.
+    Mouth,
+}
+
+/// The vertices along each slit, for naming groups: `(slit, upper copy, lower copy)`
+/// ordered from the subject's left to right, and the corners `(slit, left, right)`.
+#[derive(Debug, Default, Clone)]
+pub struct Slits {
+    /// Upper and lower copies of each split vertex.
+    pub pairs: Vec<(Slit, u32, u32)>,
+    /// The two corner vertices of each slit (left, right).
+    pub corners: Vec<(Slit, u32, u32)>,
+}
+
+/// Column angles: denser on the front of the face, sparser round the sides.
+fn column_angles() -> Vec<f64> {
+    const ALPHA: f64 = 0.6;
+    let n = HALF_COLUMNS as f64;
+    (0..=2 * HALF_COLUMNS)
+        .map(|i| {
+            let s = (i as f64 - n) / n;
+            let sa = s.abs();
+            let theta = THETA_MAX * (sa + ALPHA * sa * sa * sa) / (1.0 + ALPHA);
+            if i < HALF_COLUMNS {
+                -theta
+            } else {
+                theta
+            }
+        })
+        .collect()
+}
+
+/// The column offset (from the midline) whose x at this half-width is nearest `x`.
+fn nearest_column(thetas: &[f64], half_width: f64, x: f64) -> usize {
+    (0..=HALF_COLUMNS)
+        .min_by(|&a, &b| {
+            let da = (half_width * thetas[HALF_COLUMNS + a].sin() - x).abs();
+            let db = (half_width * thetas[HALF_COLUMNS + b].sin() - x).abs();
+            da.total_cmp(&db)
+        })
+        .unwrap_or(0)
+}
+
+/// The rows from the jaw line (row 0) to the top edge, denser at the lips, the nose base,
+/// the eyes and the brows.
+fn row_layout() -> Vec<Row> {
+    let mut rows = Vec::new();
+    let jaw = distribute(JAW_ROWS, |f| 1.0 + 1.5 * surface::gauss((f - 0.12) / 0.15));
+    rows.extend(jaw.iter().rev().map(|&f| Row::Jaw(f)));
+    rows.push(Row::Mouth);
+    let mid = distribute(MID_ROWS + 1, |t| {
+        let y = STOMION_Y + t * (EYE_LINE_Y - STOMION_Y);
+        1.0 + 1.2 * surface::gauss((y - STOMION_Y) / 9.0)
+            + 1.2 * surface::gauss((y - (SUBNASALE_Y + 5.0)) / 8.0)
+            + 1.0 * surface::gauss((y - EYE_LINE_Y) / 10.0)
+    });
+    rows.extend(
+        mid.iter()
+            .take(MID_ROWS)
+            .map(|&t| Row::Level(STOMION_Y + t * (EYE_LINE_Y - STOMION_Y))),
+    );
+    rows.push(Row::Eye);
+    let upper = distribute(UPPER_ROWS, |t| {
+        1.0 + 1.5 * surface::gauss(t / 0.25) + 1.2 * surface::gauss((t - 0.3) / 0.12)
+    });
+    rows.extend(upper.iter().map(|&t| Row::Upper(t)));
+    rows
+}
+
+/// `n` fractions in (0, 1], the last exactly 1, spaced inversely to `density` on [0, 1].
+fn distribute(n: usize, density: impl Fn(f64) -> f64) -> Vec<f64> {
+    const STEPS: usize = 2000;
+    let mut cumulative = Vec::with_capacity(STEPS + 1);
+    let mut total = 0.0;
+    cumulative.push(0.0);
+    for k in 0..STEPS {
+        let t = (k as f64 + 0.5) / STEPS as f64;
+        total += density(t) / STEPS as f64;
+        cumulative.push(total);
+    }
+    (1..=n)
+        .map(|m| {
+            let target = total * m as f64 / n as f64;
+            let k = cumulative.partition_point(|&c| c < target).clamp(1, STEPS);
+            let (c0, c1) = (cumulative[k - 1], cumulative[k]);
+            let frac = if c1 > c0 {
+                (target - c0) / (c1 - c0)
+            } else {
+                0.0
+            };
+            if m == n {
+                1.0
+            } else {
+                ((k - 1) as f64 + frac) / STEPS as f64
+            }
+        })
+        .collect()
+}
+
+struct Builder<'a> {
+    layout: &'a Layout,
+    positions: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    /// Vertex index per (row, column) for the triangles above the row (upper copy).
+    above: Vec<Vec<u32>>,
+    /// Vertex index per (row, column) for the triangles below the row (lower copy).
+    below: Vec<Vec<u32>>,
+    slits: Slits,
+}
+
+impl<'a> Builder<'a> {
+    fn new(layout: &'a Layout) -> Builder<'a> {
+        Builder {
+            layout,
+            positions: Vec::new(),
+            triangles: Vec::new(),
+            above: Vec::new(),
+            below: Vec::new(),
+            slits: Slits::default(),
+        }
+    }
+
+    fn place_vertices(&mut self) {
+        let columns = self.layout.thetas.len();
+        for j in 0..self.layout.rows.len() {
+            let mut above = Vec::with_capacity(columns);
+            let mut below = Vec::with_capacity(columns);
+            for i in 0..columns {
+                let upper = self.push(i, j, Copy::Upper);
+                let lower = if self.layout.is_split(i, j) {
+                    let lower = self.push(i, j, Copy::Lower);
+                    if let Some(slit) = self.layout.slit_of(i, j) {
+                        self.slits.pairs.push((slit, upper, lower));
+                    }
+                    lower
+                } else {
+                    upper
+                };
+                above.push(upper);
+                below.push(lower);
+            }
+            self.above.push(above);
+            self.below.push(below);
+        }
+        self.record_corners();
+    }
+
+    fn record_corners(&mut self) {
+        let l = self.layout;
+        let (en, ex) = l.eye_corners;
+        let row = &self.above[l.eye_row];
+        let eye = |k: usize, left: bool| {
+            if left {
+                row[HALF_COLUMNS - k]
+            } else {
+                row[HALF_COLUMNS + k]
+            }
+        };
+        self.slits
+            .corners
+            .push((Slit::LeftEye, eye(ex, true), eye(en, true)));
+        self.slits
+            .corners
+            .push((Slit::RightEye, eye(en, false), eye(ex, false)));
+        let mouth = &self.above[l.mouth_row];
+        self.slits.corners.push((
+            Slit::Mouth,
+            mouth[HALF_COLUMNS - l.mouth_corner],
+            mouth[HALF_COLUMNS + l.mouth_corner],
+        ));
+    }
+
+    fn push(&mut self, i: usize, j: usize, copy: Copy) -> u32 {
+        let k = self.layout.offset(i);
+        let p = point(self.layout, HALF_COLUMNS + k, j, copy);
+        let x = if i < HALF_COLUMNS { -p[0] } else { p[0] };
+        let index = self.positions.len() as u32;
+        self.positions.push(Vec3::new(
+            units(x) as f32,
+            y_units(p[1]) as f32,
+            units(p[2]) as f32,
+        ));
+        index
+    }
+
+    fn build_triangles(&mut self) {
+        let columns = self.layout.thetas.len();
+        for j in 0..self.layout.rows.len() - 1 {
+            for i in 0..columns - 1 {
+                let a = self.above[j][i];
+                let b = self.above[j][i + 1];
+                let c = self.below[j + 1][i + 1];
+                let d = self.below[j + 1][i];
+                // diagonals mirror across the midline so the triangulation is symmetric too
+                if i < HALF_COLUMNS {
+                    self.triangles.push([a, b, c]);
+                    self.triangles.push([a, c, d]);
+                } else {
+                    self.triangles.push([a, b, d]);
+                    self.triangles.push([b, c, d]);
+                }
+            }
+        }
+    }
+}
+
+/// The position (mm, x >= 0) of the vertex at column `i` (right half) and row `j`.
+fn point(layout: &Layout, i: usize, j: usize, copy: Copy) -> [f64; 3] {
+    let theta = layout.thetas[i];
+    let y0 = row_height(layout.rows[j], theta);
+    let x = surface::half_width(y0) * theta.sin();
+    let y = y0 + slit_shift(layout, x, y0, j, copy);
+    let fade = 1.0 - surface::smoothstep(0.28 * PI, 0.45 * PI, theta.abs());
+    let z = surface::midline_z(y)
+        + surface::depth_radius(y) * (theta.cos() - 1.0)
+        + surface::relief(x, y) * fade;
+    [x, y, z]
+}
+
+/// The height (mm) of a row before the lids and lips are opened.
+fn row_height(row: Row, theta: f64) -> f64 {
+    match row {
+        Row::Jaw(f) => STOMION_Y + f * (surface::bottom_y(theta) - STOMION_Y),
+        Row::Mouth => STOMION_Y,
+        Row::Level(y) => y,
+        Row::Eye => EYE_LINE_Y,
+        Row::Upper(t) => EYE_LINE_Y + t * (surface::top_y(theta) - EYE_LINE_Y),
+    }
+}
+
+/// How far a vertex moves up to open the eye into an almond and part the lips: the lid
+/// margins move apart by the lid opening, the rows around follow with a smooth falloff so
+/// no row crosses another, and the outer eye corner rises by the canthal tilt.
+fn slit_shift(layout: &Layout, x: f64, y: f64, j: usize, copy: Copy) -> f64 {
+    if j == layout.mouth_row {
+        let t = (x / layout.ch_x).min(1.0);
+        let gap = LIP_GAP * (1.0 - t * t).max(0.0).sqrt();
+        return match copy {
+            Copy::Upper => gap,
+            Copy::Lower => -gap,
+        };
+    }
+    let s = (x - layout.en_x) / (layout.ex_x - layout.en_x);
+    let upper = UPPER_LID_OPENING * almond(s, 0.42);
+    let lower = LOWER_LID_OPENING * almond(s, 0.6);
+    let tilt = CANTHAL_TILT
+        * surface::smoothstep(0.0, 1.0, s)
+        * (1.0 - surface::smoothstep(layout.ex_x, layout.ex_x + 20.0, x));
+    let d = y - EYE_LINE_Y;
+    if j == layout.eye_row {
+        let lid = match copy {
+            Copy::Upper => upper,
+            Copy::Lower => -lower,
+        };
+        // corners (not split) have s = 0 or 1 where both lid openings vanish
+        return lid + tilt;
+    }
+    let lid = if d > 0.0 {
+        upper * bump(d / 16.0)
+    } else {
+        -lower * bump(-d / 12.0)
+    };
+    lid + tilt * bump(d.abs() / 22.0)
+}
+
+/// The lid margin's shape across the eye: 0 at the corners, 1 at `peak` (a fraction of the
+/// way from the inner to the outer corner), blunt like an almond.
+fn almond(s: f64, peak: f64) -> f64 {
+    if s <= 0.0 || s >= 1.0 {
+        return 0.0;
+    }
+    let p = 0.5f64.ln() / peak.ln();
+    (PI * s.powf(p)).sin().powf(0.8)
+}
+
+/// A raised-cosine falloff: 1 at 0, 0 from 1 on.
+fn bump(t: f64) -> f64 {
+    if t >= 1.0 {
+        0.0
+    } else {
+        0.5 * (1.0 + (PI * t).cos())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distribute_ends_at_one_and_increases() {
+        let f = distribute(10, |t| 1.0 + t);
+        assert_eq!(f.len(), 10);
+        assert_eq!(f[9], 1.0);
+        assert!(f.windows(2).all(|w| w[0] < w[1]));
+        assert!(f[0] > 0.0);
+    }
+
+    #[test]
+    fn almond_vanishes_at_the_corners_and_peaks_where_asked() {
+        assert_eq!(almond(0.0, 0.42), 0.0);
+        assert_eq!(almond(1.0, 0.42), 0.0);
+        assert!((almond(0.42, 0.42) - 1.0).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,276 @@
+//! Named vertex groups of the default face: landmarks (single vertices) and regions.
+//!
+//! Rigs are placed from these, and tests check muscle actions on them. Names use the
+//! subject's sides (`left_` at x < 0). Single-vertex landmarks: `nasion`, `nose_tip`,
+//! `subnasale`, `upper_lip_centre`, `lower_lip_centre`, `chin`, `gnathion`,
+//! `forehead_centre`, and per side `*_inner_eye_corner`, `*_outer_eye_corner`,
+//! `*_upper_lid_centre`, `*_lower_lid_centre`, `*_mouth_corner`, `*_brow_inner`,
+//! `*_brow_centre`, `*_brow_outer`, `*_cheekbone`, `*_alare`, `*_forehead`. Regions:
+//! `upper_lip`, `lower_lip`, `*_upper_lid`, `*_lower_lid`, `*_brow`.
+//!
+//! The groups are recomputed from the mesh's positions and slit structure, so they follow
+//! the generator; [`find_groups_in`] finds them again in a mesh read back from a file.
+
+use std::collections::BTreeMap;
+
+use glam::{Vec2, Vec3};
+
+use super::anthropometry::*;
+use super::generator::{Slit, Slits};
+use super::surface;
+use crate::model::Mesh;
+
+/// Finds every named group of the default face.
+pub fn find_groups(mesh: &Mesh, slits: &Slits) -> BTreeMap<String, Vec<u32>> {
+    let mut groups = BTreeMap::new();
+    slit_groups(slits, &mut groups);
+    landmark_groups(&mesh.positions, &mut groups);
+    region_groups(&mesh.positions, &groups.clone(), &mut groups);
+    for members in groups.values_mut() {
+        members.sort_unstable();
+        members.dedup();
+    }
+    groups
+}
+
+/// Finds the groups again in a mesh that has the default face's vertices but lost its
+/// groups (for example after a round trip through OBJ): the slits are recovered from the
+/// boundary edges that are not on the outer rim.
+pub fn find_groups_in(mesh: &Mesh) -> BTreeMap<String, Vec<u32>> {
+    find_groups(mesh, &recover_slits(mesh))
+}
+
+fn slit_groups(slits: &Slits, groups: &mut BTreeMap<String, Vec<u32>>) {
+    for &(slit, upper, lower) in &slits.pairs {
+        let (up, low) = match slit {
+            Slit::LeftEye => ("left_upper_lid", "left_lower_lid"),
+            Slit::RightEye => ("right_upper_lid", "right_lower_lid"),
+            Slit::Mouth => ("upper_lip", "lower_lip"),
+        };
+        groups.entry(up.to_string()).or_default().push(upper);
+        groups.entry(low.to_string()).or_default().push(lower);
+    }
+    for &(slit, left, right) in &slits.corners {
+        let names: [&str; 2] = match slit {
+            Slit::LeftEye => ["left_outer_eye_corner", "left_inner_eye_corner"],
+            Slit::RightEye => ["right_inner_eye_corner", "right_outer_eye_corner"],
+            Slit::Mouth => ["left_mouth_corner", "right_mouth_corner"],
+        };
+        groups.insert(names[0].to_string(), vec![left]);
+        groups.insert(names[1].to_string(), vec![right]);
+    }
+}
+
+/// Point in mesh units on the front of the face from millimetres (x, height above nasion).
+fn mm(x: f64, y: f64) -> Vec2 {
+    Vec2::new(units(x) as f32, y_units(y) as f32)
+}
+
+/// The front-facing vertex nearest `target` in the x-y plane (front view). Vertices round
+/// the sides are skipped so a landmark never lands behind the face.
+fn nearest(positions: &[Vec3], target: Vec2) -> u32 {
+    let front = units(-45.0) as f32;
+    let mut best = (f32::INFINITY, 0u32);
+    for (i, p) in positions.iter().enumerate() {
+        if p.z < front {
+            continue;
+        }
+        let d = (Vec2::new(p.x, p.y) - target).length_squared();
+        if d < best.0 {
+            best = (d, i as u32);
+        }
+    }
+    best.1
+}
+
+/// The midline vertex (x = 0) that maximises `score`.
+fn best_on_midline(positions: &[Vec3], score: impl Fn(Vec3) -> f32) -> u32 {
+    let mut best = (f32::NEG_INFINITY, 0u32);
+    for (i, p) in positions.iter().enumerate() {
+        if p.x == 0.0 && score(*p) > best.0 {
+            best = (score(*p), i as u32);
+        }
+    }
+    best.1
+}
+
+fn landmark_groups(positions: &[Vec3], groups: &mut BTreeMap<String, Vec<u32>>) {
+    let mut put = |name: &str, v: u32| {
+        groups.insert(name.to_string(), vec![v]);
+    };
+    let at_height = |y_mm: f64| {
+        let y = y_units(y_mm) as f32;
+        move |p: Vec3| -(p.y - y).abs()
+    };
+    put("nasion", best_on_midline(positions, at_height(0.0)));
+    put("nose_tip", best_on_midline(positions, |p| p.z));
+    put(
+        "subnasale",
+        best_on_midline(positions, at_height(SUBNASALE_Y)),
+    );
+    put("chin", best_on_midline(positions, at_height(POGONION_Y)));
+    put("gnathion", best_on_midline(positions, |p| -p.y));
+    put(
+        "forehead_centre",
+        best_on_midline(positions, at_height(40.0)),
+    );
+    for (side, sign) in [("left", -1.0), ("right", 1.0)] {
+        let s = |x: f64| sign * x;
+        let mut side_put = |name: &str, x: f64, y: f64| {
+            put(&format!("{side}_{name}"), nearest(positions, mm(s(x), y)));
+        };
+        side_put("brow_inner", ENDOCANTHION_X + 2.0, BROW_Y - 1.0);
+        side_put(
+            "brow_centre",
+            0.5 * (ENDOCANTHION_X + EXOCANTHION_X),
+            BROW_Y + 1.0,
+        );
+        side_put("brow_outer", EXOCANTHION_X, BROW_Y - 2.0);
+        side_put("cheekbone", 46.0, -30.0);
+        side_put("alare", ALARE_X - 1.0, SUBNASALE_Y + 5.0);
+        side_put("forehead", 25.0, 38.0);
+    }
+}
+
+/// Lid centres, lip centres, lip vermilion and brow bands.
+fn region_groups(
+    positions: &[Vec3],
+    found: &BTreeMap<String, Vec<u32>>,
+    groups: &mut BTreeMap<String, Vec<u32>>,
+) {
+    for side in ["left", "right"] {
+        let lid = |which: &str, pick: fn(f32, f32) -> bool| -> Option<u32> {
+            let members = found.get(&format!("{side}_{which}_lid"))?;
+            members.iter().copied().reduce(|a, b| {
+                if pick(positions[b as usize].y, positions[a as usize].y) {
+                    b
+                } else {
+                    a
+                }
+            })
+        };
+        if let Some(v) = lid("upper", |b, a| b > a) {
+            groups.insert(format!("{side}_upper_lid_centre"), vec![v]);
+        }
+        if let Some(v) = lid("lower", |b, a| b < a) {
+            groups.insert(format!("{side}_lower_lid_centre"), vec![v]);
+        }
+    }
+    let midline_of = |name: &str| -> Option<u32> {
+        found
+            .get(name)?
+            .iter()
+            .copied()
+            .find(|&v| positions[v as usize].x == 0.0)
+    };
+    if let Some(v) = midline_of("upper_lip") {
+        groups.insert("upper_lip_centre".into(), vec![v]);
+    }
+    if let Some(v) = midline_of("lower_lip") {
+        groups.insert("lower_lip_centre".into(), vec![v]);
+    }
+    vermilion(positions, found, groups);
+    brows(positions, groups);
+}
+
+/// Adds the vermilion of each lip (between the mouth line and the vermilion border) to the
+/// `upper_lip` and `lower_lip` groups.
+fn vermilion(
+    positions: &[Vec3],
+    found: &BTreeMap<String, Vec<u32>>,
+    groups: &mut BTreeMap<String, Vec<u32>>,
+) {
+    let on_slit: Vec<u32> = ["upper_lip", "lower_lip"]
+        .iter()
+        .filter_map(|n| found.get(*n))
+        .flatten()
+        .copied()
+        .collect();
+    let sto = y_units(STOMION_Y) as f32;
+    let corner = units(CHEILION_X) as f32;
+    for (i, p) in positions.iter().enumerate() {
+        let i = i as u32;
+        if p.x.abs() >= corner || on_slit.contains(&i) || p.z < units(-45.0) as f32 {
+            continue;
+        }
+        let x_mm = f64::from(p.x.abs()) * MM_PER_UNIT;
+        let up = units(surface::upper_vermilion_height(x_mm) + 0.5) as f32;
+        let down = units(surface::lower_vermilion_height(x_mm) + 0.5) as f32;
+        if p.y > sto && p.y <= sto + up {
+            groups.entry("upper_lip".into()).or_default().push(i);
+        } else if p.y < sto && p.y >= sto - down {
+            groups.entry("lower_lip".into()).or_default().push(i);
+        }
+    }
+}
+
+/// The brow bands: skin along the brow line over each eye.
+fn brows(positions: &[Vec3], groups: &mut BTreeMap<String, Vec<u32>>) {
+    let lo = y_units(BROW_Y - 5.0) as f32;
+    let hi = y_units(BROW_Y + 4.0) as f32;
+    let inner = units(ENDOCANTHION_X - 4.0) as f32;
+    let outer = units(EXOCANTHION_X + 4.0) as f32;
+    for (i, p) in positions.iter().enumerate() {
+        if p.y < lo || p.y > hi || p.x.abs() < inner || p.x.abs() > outer {
+            continue;
+        }
+        let name = if p.x < 0.0 { "left_brow" } else { "right_brow" };
+        groups.entry(name.into()).or_default().push(i as u32);
+    }
+}
+
+/// Recovers the slits of a default-face mesh from its boundary: every boundary loop but the
+/// longest (the outer rim) is an eye or the mouth; the upper copies are the loop's vertices
+/// above the line through its two corners (its leftmost and rightmost vertices).
+fn recover_slits(mesh: &Mesh) -> Slits {
+    let mut slits = Slits::default();
+    let mut loops = crate::face::topology::boundary_loops(mesh);
+    loops.sort_by_key(|l| std::cmp::Reverse(l.len()));
+    for lp in loops.iter().skip(1) {
+        let p = |v: u32| mesh.positions[v as usize];
+        let Some(left) = lp
+            .iter()
+            .copied()
+            .min_by(|&a, &b| p(a).x.total_cmp(&p(b).x))
+        else {
+            continue;
+        };
+        let Some(right) = lp
+            .iter()
+            .copied()
+            .max_by(|&a, &b| p(a).x.total_cmp(&p(b).x))
+        else {
+            continue;
+        };
+        let centre = 0.5 * (p(left) + p(right));
+        let slit = if centre.x.abs() < 1e-6 {
+            Slit::Mouth
+        } else if centre.x < 0.0 {
+            Slit::LeftEye
+        } else {
+            Slit::RightEye
+        };
+        slits.corners.push((slit, left, right));
+        let mut uppers = Vec::new();
+        let mut lowers = Vec::new();
+        for &v in lp {
+            if v == left || v == right {
+                continue;
+            }
+            let t = (p(v).x - p(left).x) / (p(right).x - p(left).x);
+            let line_y = p(left).y + t * (p(right).y - p(left).y);
+            if p(v).y > line_y {
+                uppers.push(v);
+            } else {
+                lowers.push(v);
+            }
+        }
+        let by_x = |a: &u32, b: &u32| p(*a).x.total_cmp(&p(*b).x);
+        uppers.sort_by(by_x);
+        lowers.sort_by(by_x);
+        for (u, l) in uppers.into_iter().zip(lowers) {
+            slits.pairs.push((slit, u, l));
+        }
+    }
+    slits
+}

@@ -1,0 +1,549 @@
+//! OpenFace 2.0 CSV output: per-frame AU intensities written by OpenFace's FeatureExtraction.
+//!
+//! The reader takes what real files contain as normal:
+//! - header names separated by `", "` (names are trimmed), data fields padded with spaces;
+//! - CRLF or LF line ends, a missing final newline, blank lines (ignored), a UTF-8 BOM;
+//! - older column layouts: only `AUxx_r` intensity columns are required; `frame`,
+//!   `timestamp` and `success` are used when present (without `success`, every row counts);
+//!   everything else (`AUxx_c` presence, gaze, pose, landmarks, `face_id`) is ignored.
+//!
+//! Rows are read one at a time, so the same reader serves a file and a live stream on stdin.
+//! A row that cannot be read is reported as [`RowOutcome::Malformed`] with its line number and
+//! column, never as a panic; the caller decides whether to skip it or stop.
+
+use std::fmt;
+use std::io::BufRead;
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+/// The highest AU intensity OpenFace writes (`AUxx_r` runs from 0 to 5).
+pub const OPENFACE_MAX_INTENSITY: f32 = 5.0;
+
+/// The longest line the reader accepts, in bytes (a real row is under 16 KiB).
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// An error that stops reading: the header is unusable, or the input cannot be read.
+#[derive(Debug, Error)]
+pub struct OpenFaceError {
+    /// The file read (`-` for stdin).
+    pub path: PathBuf,
+    /// 1-based line number, when the error belongs to a line.
+    pub line: Option<usize>,
+    /// 1-based column (in characters), when known.
+    pub column: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for OpenFaceError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.path.display())?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+            if let Some(column) = self.column {
+                write!(f, ":{column}")?;
+            }
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+/// One AU intensity column of the header.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AuColumn {
+    /// The FACS AU number (`AU12_r` is 12).
+    pub number: u8,
+    /// 0-based field index in each row.
+    pub index: usize,
+}
+
+/// The columns the player uses, found by name in the header line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct OpenFaceColumns {
+    /// `frame` (1-based in OpenFace output), if present.
+    pub frame: Option<usize>,
+    /// `timestamp` in seconds, if present.
+    pub timestamp: Option<usize>,
+    /// `success` (0 or 1), if present; without it every row counts as tracked.
+    pub success: Option<usize>,
+    /// The `AUxx_r` intensity columns, in header order.
+    pub aus: Vec<AuColumn>,
+    /// The number of fields every row must have.
+    pub field_count: usize,
+}
+
+/// The reason a header line is unusable.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum HeaderError {
+    /// The line has no `AUxx_r` column.
+    #[error("the header has no AU intensity column (AU01_r ... AU45_r); is this OpenFace output?")]
+    NoAuColumns,
+    /// A column name appears twice.
+    #[error("column `{0}` appears twice in the header")]
+    Duplicate(String),
+}
+
+impl OpenFaceColumns {
+    /// Finds the used columns in a header line (`frame, face_id, timestamp, ...`).
+    pub fn from_header(line: &str) -> Result<OpenFaceColumns, HeaderError> {
+        let line = line
+            .trim_end_matches(['\r', '\n'])
+            .trim_start_matches('\u{feff}');
+        let names: Vec<&str> = line.split(',').map(str::trim).collect();
+        let mut columns = OpenFaceColumns {
+            frame: None,
+            timestamp: None,
+            success: None,
+            aus: Vec::new(),
+            field_count: names.len(),
+        };
+        for (index, name) in names.iter().enumerate() {
+            let slot = match name.to_ascii_lowercase().as_str() {
+                "frame" => &mut columns.frame,
+                "timestamp" => &mut columns.timestamp,
+                "success" => &mut columns.success,
+                _ => {
+                    if let Some(number) = au_intensity_number(name) {
+                        if columns.aus.iter().any(|c| c.number == number) {
+                            return Err(HeaderError::Duplicate(name.to_string()));
+                        }
+                        columns.aus.push(AuColumn { number, index });
+                    }
+                    continue;
+                }
+            };
+            if slot.is_some() {
+                return Err(HeaderError::Duplicate(name.to_string()));
+            }
+            *slot = Some(index);
+        }
+        if columns.aus.is_empty() {
+            return Err(HeaderError::NoAuColumns);
+        }
+        Ok(columns)
+    }
+
+    /// Reads one data line (without its line end) into a row; `line` is its 1-based number.
+    pub fn parse_row(&self, text: &str, line: usize) -> Result<OpenFaceRow, RowError> {
+        let text = text.trim_end_matches(['\r', '\n']);
+        let fields = split_fields(text);
+        if fields.len() != self.field_count {
+            return Err(RowError {
+                line,
+                column: None,
+                message: format!(
+                    "{} fields, but the header has {}",
+                    fields.len(),
+                    self.field_count
+                ),
+            });
+        }
+        let number = |index: usize, what: &str| -> Result<f64, RowError> {
+            let (column, field) = fields[index];
+            parse_number(field).ok_or_else(|| RowError {
+                line,
+                column: Some(column),
+                message: format!("{what} `{}` is not a number", shorten(field)),
+            })
+        };
+        let frame = self.frame.map(|i| number(i, "frame")).transpose()?;
+        let timestamp = self.timestamp.map(|i| number(i, "timestamp")).transpose()?;
+        let success = match self.success {
+            Some(i) => number(i, "success")? != 0.0,
+            None => true,
+        };
+        let mut intensities = Vec::with_capacity(self.aus.len());
+        // Rows OpenFace could not track carry placeholder values; they are skipped unread.
+        if success {
+            for au in &self.aus {
+                let name = format!("AU{:02}_r", au.number);
+                let value = number(au.index, &name)? as f32;
+                if !value.is_finite() {
+                    return Err(RowError {
+                        line,
+                        column: Some(fields[au.index].0),
+                        message: format!("{name} `{}` is far out of range", fields[au.index].1),
+                    });
+                }
+                intensities.push(value);
+            }
+        }
+        Ok(OpenFaceRow {
+            line,
+            frame,
+            timestamp,
+            success,
+            intensities,
+        })
+    }
+}
+
+/// `AU12_r` -> 12 (any case); other names -> `None`.
+fn au_intensity_number(name: &str) -> Option<u8> {
+    let bytes = name.as_bytes();
+    if bytes.len() < 5 || !bytes[..2].eq_ignore_ascii_case(b"AU") {
+        return None;
+    }
+    let digits = &name[2..name.len() - 2];
+    if !name[name.len() - 2..].eq_ignore_ascii_case("_r")
+        || digits.is_empty()
+        || digits.len() > 2
+        || !digits.bytes().all(|b| b.is_ascii_digit())
+    {
+        return None;
+    }
+    let number: u8 = digits.parse().ok()?;
+    (number >= 1).then_some(number)
+}
+
+/// Splits a CSV line on commas, trimming each field; each field comes with its 1-based column.
+fn split_fields(text: &str) -> Vec<(usize, &str)> {
+    let mut fields = Vec::new();
+    let mut column = 1;
+    for raw in text.split(',') {
+        let padding = raw.len() - raw.trim_start().len();
+        let lead = raw[..padding].chars().count();
+        fields.push((column + lead, raw.trim()));
+        column += raw.chars().count() + 1;
+    }
+    fields
+}
+
+/// A finite decimal number (OpenFace writes plain decimals; `nan` and `inf` are refused).
+fn parse_number(field: &str) -> Option<f64> {
+    let value: f64 = field.parse().ok()?;
+    value.is_finite().then_some(value)
+}
+
+/// The first characters of a field, for messages.
+fn shorten(field: &str) -> String {
+    const MAX: usize = 24;
+    if field.chars().count() <= MAX {
+        field.to_string()
+    } else {
+        let head: String = field.chars().take(MAX).collect();
+        format!("{head}...")
+    }
+}
+
+/// One data row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OpenFaceRow {
+    /// 1-based line number in the input.
+    pub line: usize,
+    /// The `frame` value, if the layout has one.
+    pub frame: Option<f64>,
+    /// The `timestamp` value in seconds, if the layout has one.
+    pub timestamp: Option<f64>,
+    /// Whether OpenFace tracked a face in this frame (`success` 1, or no `success` column).
+    pub success: bool,
+    /// Raw intensities, one per [`OpenFaceColumns::aus`] entry (empty when not `success`).
+    pub intensities: Vec<f32>,
+}
+
+/// A data row that cannot be read.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("line {line}{}: {message}", column.map(|c| format!(", column {c}")).unwrap_or_default())]
+pub struct RowError {
+    /// 1-based line number.
+    pub line: usize,
+    /// 1-based column of the bad field, when one field is to blame.
+    pub column: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// What one data line held.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RowOutcome {
+    /// A row; see [`OpenFaceRow::success`] for whether it carries AU values.
+    Row(OpenFaceRow),
+    /// A row that cannot be read.
+    Malformed(RowError),
+}
+
+/// Reads an OpenFace CSV row by row from any buffered input (a file or stdin).
+#[derive(Debug)]
+pub struct OpenFaceReader<R> {
+    input: R,
+    path: PathBuf,
+    line: usize,
+    columns: OpenFaceColumns,
+    buffer: Vec<u8>,
+}
+
+impl<R: BufRead> OpenFaceReader<R> {
+    /// Reads the header line (blank lines before it are skipped); `path` names the input in
+    /// messages (`-` for stdin).
+    pub fn new(mut input: R, path: &Path) -> Result<OpenFaceReader<R>, OpenFaceError> {
+        let mut buffer = Vec::new();
+        let mut line = 0;
+        let header = loop {
+            let read = read_line(&mut input, &mut buffer).map_err(|e| OpenFaceError {
+                path: path.to_path_buf(),
+                line: Some(line + 1),
+                column: None,
+                message: format!("cannot read: {e}"),
+            })?;
+            line += 1;
+            let Some(text) = read else {
+                return Err(OpenFaceError {
+                    path: path.to_path_buf(),
+                    line: None,
+                    column: None,
+                    message: "empty input: no header line".into(),
+                });
+            };
+            if !text.trim().is_empty() {
+                break text;
+            }
+        };
+        let columns = OpenFaceColumns::from_header(&header).map_err(|e| OpenFaceError {
+            path: path.to_path_buf(),
+            line: Some(line),
+            column: None,
+            message: e.to_string(),
+        })?;
+        Ok(OpenFaceReader {
+            input,
+            path: path.to_path_buf(),
+            line,
+            columns,
+            buffer,
+        })
+    }
+
+    /// The columns found in the header.
+    pub fn columns(&self) -> &OpenFaceColumns {
+        &self.columns
+    }
+
+    /// The input's name in messages.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The next row, `Ok(None)` at the end of the input; blank lines are passed over.
+    pub fn next_row(&mut self) -> Result<Option<RowOutcome>, OpenFaceError> {
+        loop {
+            let read = read_line(&mut self.input, &mut self.buffer).map_err(|e| OpenFaceError {
+                path: self.path.clone(),
+                line: Some(self.line + 1),
+                column: None,
+                message: format!("cannot read: {e}"),
+            })?;
+            self.line += 1;
+            let Some(text) = read else {
+                return Ok(None);
+            };
+            if text.trim().is_empty() {
+                continue;
+            }
+            let outcome = match self.columns.parse_row(&text, self.line) {
+                Ok(row) => RowOutcome::Row(row),
+                Err(e) => RowOutcome::Malformed(e),
+            };
+            return Ok(Some(outcome));
+        }
+    }
+}
+
+impl<R: BufRead> Iterator for OpenFaceReader<R> {
+    type Item = Result<RowOutcome, OpenFaceError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        self.next_row().transpose()
+    }
+}
+
+/// Reads one line into `buffer`; `None` at the end of input. Bytes that are not UTF-8 are
+/// replaced (the row then fails to parse as numbers and is reported, not lost silently).
+/// Lines longer than [`MAX_LINE_BYTES`] are cut there; the rest is read and dropped so the
+/// next line starts where it should.
+fn read_line<R: BufRead>(input: &mut R, buffer: &mut Vec<u8>) -> std::io::Result<Option<String>> {
+    buffer.clear();
+    let mut total = 0usize;
+    loop {
+        let available = match input.fill_buf() {
+            Ok(bytes) => bytes,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if available.is_empty() {
+            break;
+        }
+        let (chunk, done) = match available.iter().position(|&b| b == b'\n') {
+            Some(end) => (&available[..=end], true),
+            None => (available, false),
+        };
+        let room = MAX_LINE_BYTES.saturating_sub(buffer.len());
+        buffer.extend_from_slice(&chunk[..chunk.len().min(room)]);
+        let used = chunk.len();
+        total += used;
+        input.consume(used);
+        if done {
+            break;
+        }
+    }
+    if total == 0 {
+        return Ok(None);
+    }
+    Ok(Some(String::from_utf8_lossy(buffer).into_owned()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read_all(text: &str) -> (OpenFaceColumns, Vec<RowOutcome>) {
+        let mut reader = OpenFaceReader::new(text.as_bytes(), Path::new("t.csv")).unwrap();
+        let rows = reader.by_ref().map(Result::unwrap).collect();
+        (reader.columns().clone(), rows)
+    }
+
+    #[test]
+    fn header_names_are_trimmed_and_au_columns_found() {
+        let columns = OpenFaceColumns::from_header(
+            "frame, face_id, timestamp, confidence, success, AU01_r, AU12_r, AU01_c\r\n",
+        )
+        .unwrap();
+        assert_eq!(columns.frame, Some(0));
+        assert_eq!(columns.timestamp, Some(2));
+        assert_eq!(columns.success, Some(4));
+        assert_eq!(
+            columns.aus,
+            vec![
+                AuColumn {
+                    number: 1,
+                    index: 5
+                },
+                AuColumn {
+                    number: 12,
+                    index: 6
+                }
+            ]
+        );
+        assert_eq!(columns.field_count, 8);
+    }
+
+    #[test]
+    fn header_without_au_columns_is_refused() {
+        assert_eq!(
+            OpenFaceColumns::from_header("frame, timestamp, AU01_c"),
+            Err(HeaderError::NoAuColumns)
+        );
+        assert!(matches!(
+            OpenFaceColumns::from_header("AU01_r, AU01_r"),
+            Err(HeaderError::Duplicate(_))
+        ));
+    }
+
+    #[test]
+    fn padded_fields_crlf_and_missing_final_newline_are_read() {
+        let (_, rows) = read_all(
+            "frame, timestamp, success, AU06_r, AU12_r\r\n1,  0.000,  1,  1.50,  2.25\r\n2, 0.040, 1, 0, 5",
+        );
+        assert_eq!(rows.len(), 2);
+        let RowOutcome::Row(first) = &rows[0] else {
+            panic!("{rows:?}")
+        };
+        assert_eq!(first.line, 2);
+        assert_eq!(first.timestamp, Some(0.0));
+        assert_eq!(first.intensities, vec![1.5, 2.25]);
+        let RowOutcome::Row(last) = &rows[1] else {
+            panic!("{rows:?}")
+        };
+        assert_eq!(last.line, 3);
+        assert_eq!(last.frame, Some(2.0));
+        assert_eq!(last.intensities, vec![0.0, 5.0]);
+    }
+
+    #[test]
+    fn success_zero_rows_carry_no_values() {
+        let (_, rows) = read_all("success,AU01_r\n0,junk\n1,2\n");
+        assert_eq!(
+            rows[0],
+            RowOutcome::Row(OpenFaceRow {
+                line: 2,
+                frame: None,
+                timestamp: None,
+                success: false,
+                intensities: vec![]
+            })
+        );
+        assert!(matches!(&rows[1], RowOutcome::Row(r) if r.success && r.intensities == [2.0]));
+    }
+
+    #[test]
+    fn without_success_column_every_row_counts() {
+        let (columns, rows) = read_all("AU04_r\n1\n\n2\n");
+        assert_eq!(columns.success, None);
+        assert_eq!(rows.len(), 2, "the blank line is passed over");
+        assert!(rows
+            .iter()
+            .all(|r| matches!(r, RowOutcome::Row(r) if r.success)));
+    }
+
+    #[test]
+    fn malformed_rows_name_line_and_column() {
+        let (_, rows) = read_all("frame, AU01_r, AU02_r\n1, 0.5\n2, 0.5, abc\n3, 0.5, nan\n");
+        assert_eq!(
+            rows[0],
+            RowOutcome::Malformed(RowError {
+                line: 2,
+                column: None,
+                message: "2 fields, but the header has 3".into()
+            })
+        );
+        let RowOutcome::Malformed(e) = &rows[1] else {
+            panic!("{rows:?}")
+        };
+        assert_eq!((e.line, e.column), (3, Some(9)));
+        assert_eq!(
+            e.to_string(),
+            "line 3, column 9: AU02_r `abc` is not a number"
+        );
+        assert!(matches!(&rows[2], RowOutcome::Malformed(e) if e.line == 4));
+    }
+
+    #[test]
+    fn empty_input_and_bad_header_are_errors_with_the_path() {
+        let e = OpenFaceReader::new(&b""[..], Path::new("x.csv")).unwrap_err();
+        assert_eq!(e.to_string(), "x.csv: empty input: no header line");
+        let e = OpenFaceReader::new(&b"\nframe, x\n"[..], Path::new("x.csv")).unwrap_err();
+        assert!(
+            e.to_string().starts_with("x.csv:2: the header has no AU"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn bom_and_au_name_variants() {
+        let columns =
+            OpenFaceColumns::from_header("\u{feff}frame,au9_R,AU100_r,AU_r,AU00_r").unwrap();
+        assert_eq!(columns.frame, Some(0));
+        assert_eq!(
+            columns.aus,
+            vec![AuColumn {
+                number: 9,
+                index: 1
+            }]
+        );
+    }
+
+    #[test]
+    fn invalid_utf8_is_a_malformed_row_not_an_error() {
+        let input: &[u8] = b"AU01_r\n\xff\xfe\n1\n";
+        let mut reader = OpenFaceReader::new(input, Path::new("b.csv")).unwrap();
+        assert!(matches!(
+            reader.next_row().unwrap(),
+            Some(RowOutcome::Malformed(RowError { line: 2, .. }))
+        ));
+        assert!(matches!(
+            reader.next_row().unwrap(),
+            Some(RowOutcome::Row(_))
+        ));
+        assert_eq!(reader.next_row().unwrap(), None);
+    }
+}

@@ -1,0 +1,663 @@
+//! Rig files (`*.rig.ron`): muscles and jaw placed on a mesh, in RON.
+//!
+//! The file is read through private mirror types that refuse unknown fields, then checked
+//! (version first, then every muscle's parameters, names and mirror partners), and written by
+//! hand in a fixed layout so that a save is stable, readable and reads back bit for bit. The
+//! format is documented in `docs/formats.md`.
+//!
+//! The `mesh` field is a path relative to the rig file, or `builtin:NAME` for a mesh embedded
+//! in grimace. Built-in names are resolved by a [`BuiltinMeshes`] function passed to
+//! [`load_rig_with`], so this module does not depend on where the embedded meshes live.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use serde::{Deserialize, Deserializer};
+
+use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
+use super::{atomic, obj, ron_text};
+use crate::model::field::validate_muscle;
+use crate::model::{
+    BindError, Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side,
+    Sphincter, RIG_VERSION,
+};
+
+/// The prefix of a mesh (or rig) reference that names an embedded preset instead of a file.
+pub const BUILTIN_PREFIX: &str = "builtin:";
+
+/// Resolves the name after `builtin:` to an embedded mesh, or `None` if there is no such mesh.
+pub type BuiltinMeshes = fn(&str) -> Option<Mesh>;
+
+/// A rig loaded from a file, with its mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadedRig {
+    /// The rig, checked.
+    pub rig: Rig,
+    /// The mesh the rig names (or the override given), checked against the rig.
+    pub mesh: Mesh,
+    /// The rig file it came from.
+    pub path: PathBuf,
+    /// The mesh file read, or `None` for a built-in mesh.
+    pub mesh_path: Option<PathBuf>,
+}
+
+/// Where a rig's mesh comes from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum MeshRef {
+    /// An embedded mesh, by the name after `builtin:`.
+    Builtin(String),
+    /// A file, already resolved against the rig file's folder.
+    File(PathBuf),
+}
+
+/// Resolves a rig's `mesh` field: `builtin:NAME`, or a path relative to the rig file's
+/// folder (absolute paths are kept).
+pub fn mesh_ref(rig_path: &Path, mesh: &Path) -> MeshRef {
+    if let Some(name) = mesh.to_str().and_then(|s| s.strip_prefix(BUILTIN_PREFIX)) {
+        return MeshRef::Builtin(name.to_string());
+    }
+    let folder = rig_path.parent().unwrap_or(Path::new(""));
+    MeshRef::File(folder.join(mesh))
+}
+
+/// The built-in meshes known to [`load_rig`]. None are wired in yet; callers that have
+/// embedded meshes pass their own resolver to [`load_rig_with`].
+fn default_builtin_meshes(_name: &str) -> Option<Mesh> {
+    None
+}
+
+/// Loads a rig file and the mesh it names, and checks them against each other.
+pub fn load_rig(path: &Path) -> Result<LoadedRig, LoadError> {
+    load_rig_with(path, None, default_builtin_meshes)
+}
+
+/// Loads a rig file; `mesh_override` replaces the mesh the rig names (as `--mesh` does on the
+/// command line); `builtin` resolves `builtin:NAME` mesh references.
+pub fn load_rig_with(
+    path: &Path,
+    mesh_override: Option<&Path>,
+    builtin: BuiltinMeshes,
+) -> Result<LoadedRig, LoadError> {
+    let text = read_text(path, MAX_FILE_BYTES)?;
+    let rig = parse_rig(&text, path)?;
+    let (mesh, mesh_path) = match mesh_override {
+        Some(file) => (obj::read_obj(file)?, Some(file.to_path_buf())),
+        None => load_named_mesh(&rig, &text, path, builtin)?,
+    };
+    if let Err(issue) = check_rig_mesh(&rig, &mesh) {
+        return Err(locate(path, &text, &issue));
+    }
+    Ok(LoadedRig {
+        rig,
+        mesh,
+        path: path.to_path_buf(),
+        mesh_path,
+    })
+}
+
+fn load_named_mesh(
+    rig: &Rig,
+    text: &str,
+    path: &Path,
+    builtin: BuiltinMeshes,
+) -> Result<(Mesh, Option<PathBuf>), LoadError> {
+    let at_mesh = |message: String| {
+        let issue = RigIssue {
+            muscle: None,
+            field: Some("mesh"),
+            message,
+        };
+        locate(path, text, &issue)
+    };
+    match mesh_ref(path, &rig.mesh) {
+        MeshRef::Builtin(name) => match builtin(&name) {
+            Some(mesh) => Ok((mesh, None)),
+            None => Err(at_mesh(format!(
+                "there is no built-in mesh named `{name}` in this context"
+            ))),
+        },
+        MeshRef::File(file) => {
+            if !file.is_file() {
+                return Err(at_mesh(format!(
+                    "the mesh file `{}` does not exist (paths are relative to the rig file)",
+                    file.display()
+                )));
+            }
+            let mesh = obj::read_obj(&file)
+                .map_err(|e| at_mesh(format!("the mesh it names does not load: {e}")))?;
+            Ok((mesh, Some(file)))
+        }
+    }
+}
+
+/// Parses and checks the text of a rig file (the mesh is not loaded). `path` is used in
+/// error messages only.
+pub fn parse_rig(text: &str, path: &Path) -> Result<Rig, LoadError> {
+    ron_text::check_version(path, text, RIG_VERSION, "rig")?;
+    let file: RigFile = ron_text::parse(path, text, "a rig")?;
+    let rig = file.into_rig();
+    if let Err(issue) = check_rig(&rig) {
+        return Err(locate(path, text, &issue));
+    }
+    Ok(rig)
+}
+
+/// Writes a rig file atomically (see [`atomic::write_atomic`]), after checking the rig.
+pub fn save_rig(path: &Path, rig: &Rig) -> Result<(), SaveError> {
+    check_rig(rig).map_err(|issue| SaveError::new(path, issue.to_string()))?;
+    if rig.mesh.to_str().is_none() {
+        return Err(SaveError::new(path, "the mesh path is not valid UTF-8"));
+    }
+    atomic::write_atomic(path, rig_to_ron(rig).as_bytes()).map_err(|e| SaveError::io(path, &e))
+}
+
+/// A problem with a rig's contents, naming the muscle (and field) where it lies.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RigIssue {
+    /// The muscle concerned, if the problem is in one muscle.
+    pub muscle: Option<String>,
+    /// The field concerned (`zone`, `mirror`, `weights`...), if known.
+    pub field: Option<&'static str>,
+    /// What is wrong and what was expected.
+    pub message: String,
+}
+
+impl fmt::Display for RigIssue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.muscle {
+            Some(name) => write!(f, "muscle `{name}`: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+impl std::error::Error for RigIssue {}
+
+fn issue(muscle: Option<&str>, field: &'static str, message: String) -> RigIssue {
+    RigIssue {
+        muscle: muscle.map(str::to_string),
+        field: Some(field),
+        message,
+    }
+}
+
+/// Checks a rig's contents: version, unique well-formed names, mirror partners that exist and
+/// point back, and finite, in-range parameters for every muscle and the jaw.
+pub fn check_rig(rig: &Rig) -> Result<(), RigIssue> {
+    if rig.version != RIG_VERSION {
+        return Err(issue(
+            None,
+            "version",
+            format!(
+                "rig version {} is not supported; this grimace reads version {RIG_VERSION}",
+                rig.version
+            ),
+        ));
+    }
+    if rig.mesh.as_os_str().is_empty() {
+        return Err(issue(
+            None,
+            "mesh",
+            "the mesh path is empty; expected a file path or builtin:NAME".to_string(),
+        ));
+    }
+    for (i, muscle) in rig.muscles.iter().enumerate() {
+        check_name(&muscle.name)?;
+        if rig.muscles[..i].iter().any(|m| m.name == muscle.name) {
+            return Err(issue(
+                Some(&muscle.name),
+                "name",
+                "the name is used by an earlier muscle; names must be unique".to_string(),
+            ));
+        }
+    }
+    // Partners that do not exist first: a one-sided pair is only worth reporting once both
+    // names are real.
+    for muscle in &rig.muscles {
+        check_partner_exists(rig, muscle)?;
+    }
+    for muscle in &rig.muscles {
+        check_mirror(rig, muscle)?;
+        check_kind(muscle)?;
+    }
+    if let Some(jaw) = &rig.jaw {
+        check_jaw(jaw)?;
+    }
+    Ok(())
+}
+
+/// Names are used as keys in AU tables and on the command line (`--set NAME=VALUE`).
+fn check_name(name: &str) -> Result<(), RigIssue> {
+    let bad = |why: &str| {
+        Err(RigIssue {
+            muscle: None,
+            field: Some("name"),
+            message: format!("muscle name {name:?} {why}"),
+        })
+    };
+    if name.is_empty() {
+        return bad("is empty");
+    }
+    if name.trim() != name {
+        return bad("starts or ends with a space");
+    }
+    if name.contains('=') || name.contains('+') || name.chars().any(char::is_control) {
+        return bad("contains `=`, `+` or a control character");
+    }
+    Ok(())
+}
+
+fn check_partner_exists(rig: &Rig, muscle: &Muscle) -> Result<(), RigIssue> {
+    match &muscle.mirror {
+        Some(partner) if rig.muscle_index(partner).is_none() => Err(issue(
+            Some(&muscle.name),
+            "mirror",
+            format!("the mirror partner `{partner}` is not a muscle of this rig"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+fn check_mirror(rig: &Rig, muscle: &Muscle) -> Result<(), RigIssue> {
+    let Some(partner) = &muscle.mirror else {
+        return Ok(());
+    };
+    let name = Some(muscle.name.as_str());
+    if *partner == muscle.name {
+        return Err(issue(
+            name,
+            "mirror",
+            "a muscle cannot mirror itself".into(),
+        ));
+    }
+    let Some(other) = rig.muscles.iter().find(|m| &m.name == partner) else {
+        return Err(issue(
+            name,
+            "mirror",
+            format!("the mirror partner `{partner}` is not a muscle of this rig"),
+        ));
+    };
+    if other.mirror.as_deref() != Some(muscle.name.as_str()) {
+        return Err(issue(
+            name,
+            "mirror",
+            format!(
+                "the mirror partner `{partner}` does not name `{}` as its mirror",
+                muscle.name
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Muscle parameters are checked by the model itself, so a rig file accepts exactly the
+/// muscles the deformation can bind.
+fn check_kind(muscle: &Muscle) -> Result<(), RigIssue> {
+    match validate_muscle(muscle) {
+        Ok(()) => Ok(()),
+        Err(BindError::InvalidParameter {
+            muscle,
+            parameter,
+            message,
+        }) => Err(RigIssue {
+            muscle: Some(muscle),
+            field: Some(parameter),
+            message: format!("{parameter} {message}"),
+        }),
+        Err(other) => Err(RigIssue {
+            muscle: Some(muscle.name.clone()),
+            field: None,
+            message: other.to_string(),
+        }),
+    }
+}
+
+fn check_jaw(jaw: &Jaw) -> Result<(), RigIssue> {
+    if !jaw.pivot.is_finite() {
+        return Err(issue(
+            None,
+            "pivot",
+            format!("the jaw pivot {} is not finite", jaw.pivot),
+        ));
+    }
+    if !jaw.degrees_per_unit.is_finite() {
+        return Err(issue(
+            None,
+            "degrees_per_unit",
+            format!(
+                "the jaw's degrees_per_unit is {}; expected a finite number",
+                jaw.degrees_per_unit
+            ),
+        ));
+    }
+    for (i, &(vertex, weight)) in jaw.weights.iter().enumerate() {
+        if !(weight.is_finite() && (0.0..=1.0).contains(&weight)) {
+            return Err(issue(
+                None,
+                "weights",
+                format!("jaw weight of vertex {vertex} is {weight}; expected 0.0 to 1.0"),
+            ));
+        }
+        if i > 0 && jaw.weights[i - 1].0 >= vertex {
+            return Err(issue(
+                None,
+                "weights",
+                format!(
+                    "jaw weights must be sorted by vertex with no repeats; vertex {vertex} comes after {}",
+                    jaw.weights[i - 1].0
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Checks a rig against the mesh it is placed on: every jaw weight names a vertex of the mesh.
+pub fn check_rig_mesh(rig: &Rig, mesh: &Mesh) -> Result<(), RigIssue> {
+    let count = mesh.vertex_count();
+    if let Some(jaw) = &rig.jaw {
+        if let Some(&(vertex, _)) = jaw.weights.iter().find(|(v, _)| *v as usize >= count) {
+            return Err(issue(
+                None,
+                "weights",
+                format!("jaw weight for vertex {vertex}, but the mesh has only {count} vertices"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Turns an issue into a load error at the muscle's (or field's) place in the text.
+fn locate(path: &Path, text: &str, issue: &RigIssue) -> LoadError {
+    let muscle_at = match &issue.muscle {
+        Some(name) => ron_text::find_field(text, 0, "muscles")
+            .and_then(|from| find_name_field(text, from, name)),
+        None => Some(0),
+    };
+    let offset = match (muscle_at, issue.field) {
+        (Some(from), Some(field)) => ron_text::find_field(text, from, field).or(Some(from)),
+        (at, None) => at,
+        (None, Some(_)) => None,
+    };
+    let message = issue.to_string();
+    match offset {
+        Some(offset) if issue.muscle.is_some() || issue.field.is_some() => {
+            LoadError::at_offset(path, text, offset, message)
+        }
+        _ => LoadError::new(path, message),
+    }
+}
+
+/// The offset of `name: "NAME"` for a muscle (its last definition, so a duplicate name points
+/// at the duplicate).
+fn find_name_field(text: &str, from: usize, name: &str) -> Option<usize> {
+    let mut found = None;
+    let mut search = from;
+    while let Some(at) = ron_text::find_field(text, search, "name") {
+        let after_colon = text[at..].find(':').map(|i| at + i + 1)?;
+        let value_at =
+            after_colon + (text[after_colon..].len() - text[after_colon..].trim_start().len());
+        if ron_text::find_string(text, value_at, name) == Some(value_at) {
+            found = Some(at);
+        }
+        search = at + 4;
+    }
+    found
+}
+
+/// Writes a rig as pretty RON in the stable layout of `docs/formats.md`. Every number is
+/// written so that it reads back as exactly the same `f32`.
+pub fn rig_to_ron(rig: &Rig) -> String {
+    use ron_text::{float, point, string};
+    // Destructured in full so that a field added to the model fails to compile here rather
+    // than being silently dropped from saved files.
+    let Rig {
+        version,
+        mesh,
+        combine,
+        muscles,
+        jaw,
+    } = rig;
+    let mut out = String::new();
+    out.push_str("// grimace rig: muscles placed on a mesh; see docs/formats.md\n(\n");
+    out.push_str(&format!("    version: {version},\n"));
+    out.push_str(&format!("    mesh: {},\n", string(&mesh.to_string_lossy())));
+    out.push_str(&format!("    combine: {combine:?},\n"));
+    out.push_str("    muscles: [\n");
+    for muscle in muscles {
+        let Muscle {
+            name,
+            side,
+            mirror,
+            kind,
+        } = muscle;
+        out.push_str("        (\n");
+        out.push_str(&format!("            name: {},\n", string(name)));
+        out.push_str(&format!("            side: {side:?},\n"));
+        if let Some(mirror) = mirror {
+            out.push_str(&format!("            mirror: {},\n", string(mirror)));
+        }
+        let fields: Vec<(&str, String)> = match kind {
+            MuscleKind::Linear(Linear {
+                attachment,
+                insertion,
+                zone,
+                falloff_start,
+                falloff_end,
+            }) => vec![
+                ("attachment", point(*attachment)),
+                ("insertion", point(*insertion)),
+                ("zone", float(*zone)),
+                ("falloff_start", float(*falloff_start)),
+                ("falloff_end", float(*falloff_end)),
+            ],
+            MuscleKind::Sphincter(Sphincter {
+                centre,
+                semi_major,
+                semi_minor,
+                convergence,
+                bulge,
+            }) => vec![
+                ("centre", point(*centre)),
+                ("semi_major", float(*semi_major)),
+                ("semi_minor", float(*semi_minor)),
+                ("convergence", format!("{convergence:?}")),
+                ("bulge", float(*bulge)),
+            ],
+            MuscleKind::Sheet(Sheet {
+                attachment,
+                insertion,
+                length,
+                width,
+            }) => vec![
+                (
+                    "attachment",
+                    format!("({}, {})", point(attachment[0]), point(attachment[1])),
+                ),
+                (
+                    "insertion",
+                    format!("({}, {})", point(insertion[0]), point(insertion[1])),
+                ),
+                ("length", float(*length)),
+                ("width", float(*width)),
+            ],
+        };
+        out.push_str(&format!("            kind: {}(\n", kind_name(kind)));
+        for (field, value) in fields {
+            out.push_str(&format!("                {field}: {value},\n"));
+        }
+        out.push_str("            ),\n        ),\n");
+    }
+    out.push_str("    ],\n");
+    if let Some(Jaw {
+        pivot,
+        degrees_per_unit,
+        weights,
+    }) = jaw
+    {
+        out.push_str("    jaw: (\n");
+        out.push_str(&format!("        pivot: {},\n", point(*pivot)));
+        out.push_str(&format!(
+            "        degrees_per_unit: {},\n",
+            float(*degrees_per_unit)
+        ));
+        out.push_str("        weights: [\n");
+        // Six `(vertex, weight)` pairs per line keep a dense jaw readable.
+        for chunk in weights.chunks(6) {
+            let pairs: Vec<String> = chunk
+                .iter()
+                .map(|(v, w)| format!("({v}, {})", float(*w)))
+                .collect();
+            out.push_str(&format!("            {},\n", pairs.join(", ")));
+        }
+        out.push_str("        ],\n    ),\n");
+    }
+    out.push_str(")\n");
+    out
+}
+
+fn kind_name(kind: &MuscleKind) -> &'static str {
+    match kind {
+        MuscleKind::Linear(_) => "Linear",
+        MuscleKind::Sphincter(_) => "Sphincter",
+        MuscleKind::Sheet(_) => "Sheet",
+    }
+}
+
+// ---- The file's shape, as read. Private so that the model types stay free of file
+// concerns (unknown fields are refused here, and optional values are written bare).
+
+type P3 = [f32; 3];
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename = "rig")]
+struct RigFile {
+    version: u32,
+    mesh: String,
+    #[serde(default)]
+    combine: Combine,
+    muscles: Vec<MuscleFile>,
+    #[serde(default, deserialize_with = "bare_some")]
+    jaw: Option<JawFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename = "muscle")]
+struct MuscleFile {
+    name: String,
+    #[serde(default)]
+    side: Side,
+    #[serde(default, deserialize_with = "bare_some")]
+    mirror: Option<String>,
+    kind: KindFile,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename = "kind")]
+enum KindFile {
+    Linear {
+        attachment: P3,
+        insertion: P3,
+        zone: f32,
+        falloff_start: f32,
+        falloff_end: f32,
+    },
+    Sphincter {
+        centre: P3,
+        semi_major: f32,
+        semi_minor: f32,
+        convergence: Convergence,
+        bulge: f32,
+    },
+    Sheet {
+        attachment: [P3; 2],
+        insertion: [P3; 2],
+        length: f32,
+        width: f32,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename = "jaw")]
+struct JawFile {
+    pivot: P3,
+    degrees_per_unit: f32,
+    #[serde(default)]
+    weights: Vec<(u32, f32)>,
+}
+
+/// An optional field written as its bare value (`mirror: "R_x"` rather than `Some("R_x")`).
+fn bare_some<'de, D: Deserializer<'de>, T: Deserialize<'de>>(d: D) -> Result<Option<T>, D::Error> {
+    T::deserialize(d).map(Some)
+}
+
+impl RigFile {
+    fn into_rig(self) -> Rig {
+        Rig {
+            version: self.version,
+            mesh: PathBuf::from(self.mesh),
+            combine: self.combine,
+            muscles: self
+                .muscles
+                .into_iter()
+                .map(MuscleFile::into_muscle)
+                .collect(),
+            jaw: self.jaw.map(|j| Jaw {
+                pivot: Vec3::from(j.pivot),
+                degrees_per_unit: j.degrees_per_unit,
+                weights: j.weights,
+            }),
+        }
+    }
+}
+
+impl MuscleFile {
+    fn into_muscle(self) -> Muscle {
+        let kind = match self.kind {
+            KindFile::Linear {
+                attachment,
+                insertion,
+                zone,
+                falloff_start,
+                falloff_end,
+            } => MuscleKind::Linear(Linear {
+                attachment: attachment.into(),
+                insertion: insertion.into(),
+                zone,
+                falloff_start,
+                falloff_end,
+            }),
+            KindFile::Sphincter {
+                centre,
+                semi_major,
+                semi_minor,
+                convergence,
+                bulge,
+            } => MuscleKind::Sphincter(Sphincter {
+                centre: centre.into(),
+                semi_major,
+                semi_minor,
+                convergence,
+                bulge,
+            }),
+            KindFile::Sheet {
+                attachment,
+                insertion,
+                length,
+                width,
+            } => MuscleKind::Sheet(Sheet {
+                attachment: attachment.map(Vec3::from),
+                insertion: insertion.map(Vec3::from),
+                length,
+                width,
+            }),
+        };
+        Muscle {
+            name: self.name,
+            side: self.side,
+            mirror: self.mirror,
+            kind,
+        }
+    }
+}

@@ -1,0 +1,20 @@
+//! Playback: frames of AU intensities or activations from files and live streams, mapped
+//! through an AU table, on a clock that keeps the source's frame rate.
+//!
+//! - [`source`]: OpenFace CSV files, timelines, stdin (CSV or JSON lines), loopback UDP JSON;
+//! - [`map`]: AU intensities to activations through an [`crate::facs::AuTable`];
+//! - [`clock`]: source time against wall time (speed, pause, steps) and dropped-frame counts;
+//! - [`json`]: the flat `{"AU1": 0.0, ...}` objects live streams send.
+
+pub mod clock;
+pub mod json;
+pub mod map;
+pub mod player;
+pub mod source;
+
+pub use clock::{FrameStats, PlayClock};
+pub use map::{AuIntensity, AuMapper, IntensityScale};
+pub use player::{Message, PlayError, Player};
+pub use source::{
+    Event, Frame, FrameSource, Input, LiveSource, OpenFaceSource, Poll, SourceError, TimelineSource,
+};
