@@ -77,6 +77,8 @@ pub struct Renderer {
     rest_projected: Vec<Vec3>,
     rest_facing: Vec<bool>,
     light_mesh: Vec3,
+    viewer_mesh: Vec3,
+    vertex_facing: Vec<f32>,
     runs: Option<Vec<Run>>,
 }
 
@@ -187,6 +189,7 @@ impl Renderer {
         );
         let sign = self.sign(scene.orientation);
         self.light_mesh = proj.view.transpose() * LIGHT.normalize();
+        self.viewer_mesh = proj.view.transpose() * Vec3::Z;
         project_all(
             &proj,
             scene.positions,
@@ -226,6 +229,9 @@ impl Renderer {
             self.draw_edges(scene, style, canvas);
             if style == Style::Lines && scene.contours > 0 {
                 self.draw_contours(scene, canvas);
+            }
+            if style == Style::Lines && !scene.facing_contours.is_empty() {
+                self.draw_facing_contours(scene, canvas);
             }
         }
         if scene.ghost {
@@ -306,8 +312,24 @@ impl Renderer {
         }
     }
 
-    /// Per-vertex Lambert intensity from oriented, area-weighted vertex normals in view space.
+    /// Per-vertex Lambert intensity from oriented, area-weighted vertex normals.
     fn compute_shading(&mut self, scene: &Scene) {
+        self.compute_normals(scene);
+        let n = self.projected.len();
+        // The light is fixed to the viewer; it was turned into mesh coordinates once in
+        // `prepare`, instead of turning every normal into view space.
+        self.vertex_shade.clear();
+        self.vertex_shade.resize(n, 0.0);
+        for (shade, normal) in self.vertex_shade.iter_mut().zip(&self.normals) {
+            *shade = normal.normalize_or_zero().dot(self.light_mesh);
+        }
+        for shade in &mut self.vertex_shade {
+            *shade = AMBIENT + (1.0 - AMBIENT) * shade.max(0.0);
+        }
+    }
+
+    /// Oriented, area-weighted vertex normals (unnormalised) from the front-facing triangles.
+    fn compute_normals(&mut self, scene: &Scene) {
         let n = self.projected.len();
         self.normals.clear();
         self.normals.resize(n, Vec3::ZERO);
@@ -321,16 +343,6 @@ impl Renderer {
             for &i in tri {
                 self.normals[i as usize] += normal;
             }
-        }
-        // The light is fixed to the viewer; it was turned into mesh coordinates once in
-        // `prepare`, instead of turning every normal into view space.
-        self.vertex_shade.clear();
-        self.vertex_shade.resize(n, 0.0);
-        for (shade, normal) in self.vertex_shade.iter_mut().zip(&self.normals) {
-            *shade = normal.normalize_or_zero().dot(self.light_mesh);
-        }
-        for shade in &mut self.vertex_shade {
-            *shade = AMBIENT + (1.0 - AMBIENT) * shade.max(0.0);
         }
     }
 }
@@ -424,6 +436,45 @@ impl Renderer {
                 Layer::Mesh,
                 false,
             );
+        }
+        self.runs = runs;
+    }
+
+    /// Lines where the surface turns away from the viewer by a given amount: iso-lines of
+    /// (vertex normal . direction to the viewer), drawn across front-facing triangles. They
+    /// outline the sides of the nose, the eye sockets and the lips, which are smooth (no
+    /// crease) and not on the silhouette.
+    fn draw_facing_contours(&mut self, scene: &Scene, canvas: &mut DotCanvas) {
+        self.compute_normals(scene);
+        self.vertex_facing.clear();
+        let viewer = self.viewer_mesh;
+        self.vertex_facing.extend(
+            self.normals
+                .iter()
+                .map(|n| n.normalize_or_zero().dot(viewer)),
+        );
+        let mut runs = self.runs.take();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if !self.facing[t] {
+                continue;
+            }
+            let p = tri.map(|i| self.vert(i));
+            let f = tri.map(|i| self.vertex_facing[i as usize]);
+            for &level in scene.facing_contours {
+                if let Some((a, b)) = iso_crossing(p, f, level) {
+                    let bias = self.bias([t as u32, NONE]);
+                    draw_line(
+                        canvas,
+                        runs.as_mut(),
+                        a,
+                        b,
+                        Some(bias),
+                        scene.palette.contour,
+                        Layer::Mesh,
+                        false,
+                    );
+                }
+            }
         }
         self.runs = runs;
     }
@@ -583,13 +634,18 @@ fn face_normal(positions: &[Vec3], tri: [u32; 3]) -> Vec3 {
 
 /// Where the plane `z = level` cuts a triangle, as a segment (depth included).
 fn level_crossing(p: [Vec3; 3], level: f32) -> Option<(Vec3, Vec3)> {
+    iso_crossing(p, [p[0].z, p[1].z, p[2].z], level)
+}
+
+/// Where a per-corner scalar `f` crosses `level` inside a triangle, as a segment between
+/// points interpolated on its edges.
+fn iso_crossing(p: [Vec3; 3], f: [f32; 3], level: f32) -> Option<(Vec3, Vec3)> {
     let mut hits = [Vec3::ZERO; 2];
     let mut n = 0;
     for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-        let (a, b) = (p[i], p[j]);
-        if (a.z < level) != (b.z < level) && n < 2 {
-            let t = (level - a.z) / (b.z - a.z);
-            hits[n] = a + (b - a) * t;
+        if (f[i] < level) != (f[j] < level) && n < 2 {
+            let t = (level - f[i]) / (f[j] - f[i]);
+            hits[n] = p[i] + (p[j] - p[i]) * t;
             n += 1;
         }
     }
