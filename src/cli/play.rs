@@ -14,9 +14,10 @@ use clap::Args;
 
 use crate::facs::AuTable;
 use crate::io::parse_rig;
+use crate::io::rig_file::load_rig_with;
 use crate::io::table_file::load_table_for;
 use crate::io::timeline::load_timeline;
-use crate::model::Rig;
+use crate::model::{Mesh, Rig};
 use crate::play::source::DEFAULT_FRAME_RATE;
 use crate::play::{
     AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, OpenFaceSource,
@@ -86,6 +87,9 @@ pub struct PlayArgs {
     /// Report frames shown, dropped and late at the end (on stderr).
     #[arg(long)]
     pub stats: bool,
+    /// Draw with ASCII characters instead of braille.
+    #[arg(long)]
+    pub ascii: bool,
 }
 
 /// Runs `grimace play`: 0 when the input was played, 1 on an error (named on stderr).
@@ -114,8 +118,33 @@ pub fn run(args: &PlayArgs) -> Result<()> {
         }
         Ok(())
     } else {
-        bail!("the terminal view is not available yet; use --headless")
+        let face = load_mesh(args, &rig)?;
+        let summary = view::play(args, source, face, &rig, &table, &mapper)?;
+        println!(
+            "played {} frames, skipped {}",
+            summary.played, summary.skipped
+        );
+        if args.stats {
+            eprintln!("{}", summary.stats.summary());
+        }
+        Ok(())
     }
+}
+
+/// The mesh to draw: the rig file's mesh (the default face for `builtin:default`).
+fn load_mesh(args: &PlayArgs, rig: &Rig) -> Result<Mesh> {
+    match &args.rig {
+        Some(path) => Ok(load_rig_with(path, None, builtin_mesh)?.mesh),
+        None => {
+            let _ = rig;
+            bail!("no --rig given and this build has no built-in face yet")
+        }
+    }
+}
+
+/// `builtin:face` (or `builtin:default`) is the generated default face.
+fn builtin_mesh(name: &str) -> Option<Mesh> {
+    matches!(name, "default" | "face").then(crate::face::generate)
 }
 
 fn check_args(args: &PlayArgs) -> Result<()> {
@@ -294,18 +323,20 @@ fn quiet_on_broken_pipe(result: io::Result<()>) -> Result<bool> {
 /// given, and its non-zero activations (`rest` when none).
 pub fn frame_line(frame: &Frame, rig: &Rig) -> String {
     let mut line = format!("{:.3}", frame.time);
-    for au in frame.aus.iter().filter(|a| a.value != 0.0) {
+    // Values that print as 0.00 are left out with the zeros.
+    let shows = |v: f32| v.abs() >= 0.005;
+    for au in frame.aus.iter().filter(|a| shows(a.value)) {
         line.push_str(&format!(" AU{}={:.2}", au.key, au.value));
     }
     line.push_str(" |");
     let mut any = false;
     for (muscle, value) in rig.muscles.iter().zip(&frame.activations.muscles) {
-        if *value != 0.0 {
+        if shows(*value) {
             line.push_str(&format!(" {}={value:.2}", muscle.name));
             any = true;
         }
     }
-    if frame.activations.jaw != 0.0 {
+    if shows(frame.activations.jaw) {
         line.push_str(&format!(" jaw={:.2}", frame.activations.jaw));
         any = true;
     }
@@ -313,4 +344,347 @@ pub fn frame_line(frame: &Frame, rig: &Rig) -> String {
         line.push_str(" rest");
     }
     line
+}
+
+/// The full-screen terminal view.
+mod view {
+    use std::io;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    use std::time::{Duration, Instant};
+
+    use anyhow::{Context, Result};
+    use crossterm::event::{self, Event as TermEvent, KeyCode, KeyEventKind, KeyModifiers};
+    use ratatui::buffer::Buffer;
+    use ratatui::layout::{Constraint, Layout, Rect};
+    use ratatui::style::{Color, Modifier, Style as TextStyle};
+    use ratatui::text::{Line, Span};
+    use ratatui::widgets::{Block, Borders, Paragraph};
+    use ratatui::Frame as TermFrame;
+
+    use super::{PlayArgs, Summary};
+    use crate::facs::AuTable;
+    use crate::model::deform::BoundRig;
+    use crate::model::{Activations, Mesh, Rig};
+    use crate::play::{AuMapper, Frame, FrameSource, Message, Player};
+    use crate::render::{
+        Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Rgb, Scene, Style,
+    };
+
+    /// Restores the terminal however the view ends (return, error or panic unwinding).
+    struct TerminalGuard;
+
+    impl Drop for TerminalGuard {
+        fn drop(&mut self) {
+            ratatui::restore();
+            let _ = crossterm::execute!(io::stdout(), crossterm::cursor::Show);
+        }
+    }
+
+    /// What the view draws from.
+    struct Face {
+        mesh: Mesh,
+        bound: BoundRig,
+        renderer: Renderer,
+        positions: Vec<glam::Vec3>,
+        canvas: DotCanvas,
+        grid: CellGrid,
+        mode: CellMode,
+        colors: ColorMode,
+    }
+
+    impl Face {
+        /// Deforms the mesh to `act` and renders it into `area` of `buffer`.
+        fn draw(&mut self, act: &Activations, area: Rect, buffer: &mut Buffer) {
+            if self.bound.deform(act, &mut self.positions).is_err() {
+                // Mapped activations are clamped to range; a failure leaves the last pose.
+                return;
+            }
+            let (cols, rows) = (usize::from(area.width), usize::from(area.height));
+            self.mode.prepare(&mut self.canvas, cols, rows);
+            let scene = Scene::new(&self.mesh, &self.positions).with_rest(self.bound.rest());
+            self.renderer
+                .render(&scene, &Camera::front(), Style::Lines, &mut self.canvas);
+            self.grid.fill(&self.canvas, self.mode, self.colors);
+            for row in 0..self.grid.height.min(rows) {
+                for (col, cell) in self.grid.row(row).iter().enumerate().take(cols) {
+                    let x = area.x + col as u16;
+                    let y = area.y + row as u16;
+                    if let Some(target) = buffer.cell_mut((x, y)) {
+                        target.set_char(cell.ch);
+                        if let Some(Rgb(r, g, b)) = cell.fg {
+                            target.set_fg(Color::Rgb(r, g, b));
+                        }
+                        if let Some(Rgb(r, g, b)) = cell.bg {
+                            target.set_bg(Color::Rgb(r, g, b));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// What the status lines show.
+    struct Status {
+        current: Option<Frame>,
+        messages: Vec<String>,
+        malformed: Vec<String>,
+        ended: bool,
+    }
+
+    /// Plays in the terminal until `q` (or the frame limit); returns the counts.
+    pub fn play(
+        args: &PlayArgs,
+        source: Box<dyn FrameSource>,
+        mesh: Mesh,
+        rig: &Rig,
+        table: &AuTable,
+        mapper: &AuMapper,
+    ) -> Result<Summary> {
+        let bound = BoundRig::bind(rig, &mesh).context("cannot place the rig on its mesh")?;
+        let rest = bound.rest().to_vec();
+        let mut face = Face {
+            renderer: Renderer::new(&mesh),
+            mesh,
+            bound,
+            positions: rest,
+            canvas: DotCanvas::new(0, 0),
+            grid: CellGrid::default(),
+            mode: if args.ascii {
+                CellMode::Ascii
+            } else {
+                CellMode::Braille
+            },
+            colors: if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()) {
+                ColorMode::None
+            } else {
+                ColorMode::Ansi16
+            },
+        };
+        let reopen = {
+            let (args, rig, table, mapper) =
+                (args.clone(), rig.clone(), table.clone(), mapper.clone());
+            Box::new(move || {
+                super::open_source(&args, &rig, &table, &mapper).map_err(|e| {
+                    crate::play::SourceError::Io {
+                        what: "cannot reopen the input".into(),
+                        source: io::Error::other(format!("{e:#}")),
+                    }
+                })
+            }) as crate::play::player::Reopen
+        };
+        let reopen = args.repeat.then_some(reopen);
+        let mut player = Player::new(source, reopen, args.speed, args.strict, args.frames);
+
+        let stop = Arc::new(AtomicBool::new(false));
+        for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
+            signal_hook::flag::register(signal, Arc::clone(&stop))
+                .context("cannot watch for termination signals")?;
+        }
+        let guard = TerminalGuard;
+        let mut terminal = ratatui::try_init().context("cannot open the terminal")?;
+        let mut status = Status {
+            current: None,
+            messages: Vec::new(),
+            malformed: Vec::new(),
+            ended: false,
+        };
+        let result = run_loop(
+            &mut terminal,
+            &mut player,
+            &mut face,
+            &mut status,
+            rig,
+            &stop,
+            args,
+        );
+        drop(guard);
+        for line in &status.malformed {
+            eprintln!("{line} (row skipped)");
+        }
+        result?;
+        Ok(Summary {
+            played: player.played,
+            skipped: player.skipped,
+            stats: player.stats,
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn run_loop(
+        terminal: &mut ratatui::DefaultTerminal,
+        player: &mut Player,
+        face: &mut Face,
+        status: &mut Status,
+        rig: &Rig,
+        stop: &AtomicBool,
+        args: &PlayArgs,
+    ) -> Result<()> {
+        let mut redraw = true;
+        let mut due: Option<Instant> = None;
+        loop {
+            if stop.load(Ordering::Relaxed) {
+                return Ok(());
+            }
+            if let Some((frame, when)) = player.tick(Instant::now())? {
+                status.current = Some(frame);
+                due = Some(when);
+                redraw = true;
+            }
+            collect(player, status);
+            if player.is_finished() && !status.ended {
+                status.ended = true;
+                redraw = true;
+                if args.frames.is_some_and(|n| player.played >= n) {
+                    return Ok(());
+                }
+            }
+            if redraw {
+                let started = Instant::now();
+                terminal
+                    .draw(|f| draw(f, face, status, player, rig))
+                    .context("cannot draw")?;
+                let done = Instant::now();
+                if let Some(when) = due.take() {
+                    player.shown(when, done, done - started);
+                }
+                redraw = false;
+            }
+            let now = Instant::now();
+            let wait = match player.next_due() {
+                Some(when) => when.saturating_duration_since(now),
+                None if player.is_live() && !player.is_paused() => Duration::from_millis(4),
+                None => Duration::from_millis(250),
+            };
+            if !event::poll(wait).context("cannot read the keyboard")? {
+                continue;
+            }
+            match event::read().context("cannot read the keyboard")? {
+                TermEvent::Key(key) if key.kind != KeyEventKind::Release => {
+                    let now = Instant::now();
+                    match key.code {
+                        KeyCode::Char('q') | KeyCode::Esc => return Ok(()),
+                        KeyCode::Char('c') if key.modifiers.contains(KeyModifiers::CONTROL) => {
+                            return Ok(())
+                        }
+                        KeyCode::Char(' ') => player.toggle_pause(now),
+                        KeyCode::Char('.' | 'n') | KeyCode::Right => {
+                            if let Some(frame) = player.step(now)? {
+                                status.current = Some(frame);
+                            }
+                        }
+                        KeyCode::Char('+' | '=') | KeyCode::Up => player.change_speed(2.0, now),
+                        KeyCode::Char('-' | '_') | KeyCode::Down => player.change_speed(0.5, now),
+                        _ => continue,
+                    }
+                    redraw = true;
+                }
+                TermEvent::Resize(..) => redraw = true,
+                _ => {}
+            }
+        }
+    }
+
+    /// Moves the player's messages into the status (malformed rows are kept for stderr).
+    fn collect(player: &mut Player, status: &mut Status) {
+        for message in player.take_messages() {
+            let text = match message {
+                Message::Notice(text) => format!("warning: {text}"),
+                Message::Malformed(text) => {
+                    status.malformed.push(text.clone());
+                    format!("{text} (row skipped)")
+                }
+            };
+            status.messages.push(text);
+        }
+        let excess = status.messages.len().saturating_sub(2);
+        status.messages.drain(..excess);
+    }
+
+    fn draw(f: &mut TermFrame, face: &mut Face, status: &Status, player: &Player, rig: &Rig) {
+        let [main, bottom] =
+            Layout::vertical([Constraint::Min(3), Constraint::Length(3)]).areas(f.area());
+        let side_width = if main.width >= 70 { 30 } else { 0 };
+        let [viewport, side] =
+            Layout::horizontal([Constraint::Min(10), Constraint::Length(side_width)]).areas(main);
+        let rest = Activations::zero(rig);
+        let act = status.current.as_ref().map_or(&rest, |c| &c.activations);
+        face.draw(act, viewport, f.buffer_mut());
+        if side_width > 0 {
+            f.render_widget(side_panel(status, rig), side);
+        }
+        f.render_widget(status_lines(status, player), bottom);
+    }
+
+    fn side_panel<'a>(status: &'a Status, rig: &'a Rig) -> Paragraph<'a> {
+        let mut lines = Vec::new();
+        let bar = |value: f32, full: f32| {
+            let n = ((value / full).clamp(0.0, 1.0) * 10.0).round() as usize;
+            format!("{}{}", "#".repeat(n), ".".repeat(10 - n))
+        };
+        if let Some(frame) = &status.current {
+            for au in frame.aus.iter().filter(|a| a.value >= 0.005) {
+                lines.push(Line::from(format!(
+                    "AU{:<4}{:5.2} {}",
+                    au.key.to_string(),
+                    au.value,
+                    bar(au.factor, 1.0)
+                )));
+            }
+            if !frame.aus.is_empty() {
+                lines.push(Line::from(""));
+            }
+            for (muscle, value) in rig.muscles.iter().zip(&frame.activations.muscles) {
+                if *value >= 0.005 {
+                    let name: String = muscle.name.chars().take(13).collect();
+                    lines.push(Line::from(format!(
+                        "{name:<13} {value:4.2} {}",
+                        bar(*value, 2.0)
+                    )));
+                }
+            }
+            if frame.activations.jaw >= 0.005 {
+                let jaw = frame.activations.jaw;
+                lines.push(Line::from(format!(
+                    "{:<13} {jaw:4.2} {}",
+                    "jaw",
+                    bar(jaw, 4.0)
+                )));
+            }
+        }
+        Paragraph::new(lines).block(Block::default().borders(Borders::LEFT).title(" AUs "))
+    }
+
+    fn status_lines<'a>(status: &'a Status, player: &'a Player) -> Paragraph<'a> {
+        let state = if status.ended {
+            "end"
+        } else if player.is_paused() {
+            "paused"
+        } else {
+            "playing"
+        };
+        let time = status
+            .current
+            .as_ref()
+            .map_or("-".to_string(), |c| format!("{:.3} s", c.time));
+        let stats = &player.stats;
+        let first = Line::from(vec![
+            Span::styled(
+                format!(" {state} "),
+                TextStyle::default().add_modifier(Modifier::REVERSED),
+            ),
+            Span::raw(format!(
+                " {time}  x{:.2}  frames {}  shown {}  dropped {}  late {}  skipped {}",
+                player.speed(),
+                player.played,
+                stats.shown,
+                stats.dropped,
+                stats.late,
+                player.skipped
+            )),
+        ]);
+        let keys = Line::from(" space pause   . or n step   + - speed   q quit");
+        let message = Line::from(status.messages.last().cloned().unwrap_or_default());
+        Paragraph::new(vec![first, message, keys])
+    }
 }
