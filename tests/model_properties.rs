@@ -212,7 +212,7 @@ proptest! {
     }
 
     #[test]
-    fn random_valid_muscles_stay_finite(
+    fn random_valid_muscles_stay_finite_and_rest_at_zero(
         zone in 1.0f32..89.0,
         fs in 0.0f32..3.0,
         reach in 0.01f32..6.0,
@@ -238,6 +238,9 @@ proptest! {
         let bound = BoundRig::bind(&rig, &mesh).expect("valid parameters bind");
         let act = Activations { muscles: vec![a; 4], jaw };
         prop_assert!(deformed(&bound, &act).iter().all(|p| p.is_finite()));
+        // Zero activation is the identity whatever the parameters.
+        let rest = Activations { muscles: vec![0.0; 4], jaw: 0.0 };
+        prop_assert_eq!(deformed(&bound, &rest), mesh.positions);
     }
 
     #[test]
@@ -346,6 +349,18 @@ proptest! {
         let mut after = before.clone();
         after.muscles[m] = value;
         bound.update_muscle(&after, m, &mut out).expect("in range");
+        let full = deformed(&bound, &after);
+        for (v, (a, b)) in out.iter().zip(&full).enumerate() {
+            prop_assert_eq!(a.to_array().map(f32::to_bits), b.to_array().map(f32::to_bits), "vertex {}", v);
+        }
+    }
+
+    #[test]
+    fn update_jaw_equals_a_full_deform(before in activations(), jaw in 0.0f32..=4.0, c in combine()) {
+        let bound = BoundRig::bind(&symmetric_rig(c), &dome()).expect("binds");
+        let mut out = deformed(&bound, &before);
+        let after = Activations { jaw, ..before.clone() };
+        bound.update_jaw(&after, &mut out).expect("in range");
         let full = deformed(&bound, &after);
         for (v, (a, b)) in out.iter().zip(&full).enumerate() {
             prop_assert_eq!(a.to_array().map(f32::to_bits), b.to_array().map(f32::to_bits), "vertex {}", v);

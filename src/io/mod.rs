@@ -5,9 +5,12 @@
 //! read. Saves go through [`atomic::write_atomic`], which never leaves a partial file.
 
 pub mod atomic;
+pub mod builtin;
 pub mod error;
+pub mod lock;
 pub mod obj;
 pub mod openface;
+pub mod recovery;
 pub mod rig_file;
 pub mod table_file;
 pub mod timeline;

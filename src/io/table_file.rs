@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
-use super::rig_file::BUILTIN_PREFIX;
+use super::rig_file::{load_rig_with, LoadedRig, BUILTIN_PREFIX};
 use super::{atomic, ron_text};
 use crate::facs::table::TableError;
 use crate::facs::{AuKey, AuTable, TABLE_VERSION};
@@ -46,6 +46,40 @@ pub fn load_table_for(path: &Path, rig: &Rig) -> Result<AuTable, LoadError> {
     Ok(table)
 }
 
+/// Loads a table file and the rig file it names (with that rig's mesh, or `mesh_override`),
+/// and checks them against each other. Errors about the rig reference point at the table's
+/// `rig` field; a table naming a built-in rig is refused here (callers that have built-in
+/// rigs resolve [`rig_ref`] themselves).
+pub fn load_table_and_rig(
+    path: &Path,
+    mesh_override: Option<&Path>,
+) -> Result<(AuTable, LoadedRig), LoadError> {
+    let text = read_text(path, MAX_FILE_BYTES)?;
+    let table = parse_table(&text, path)?;
+    let at_rig = |message: String| match ron_text::find_field(&text, 0, "rig") {
+        Some(offset) => LoadError::at_offset(path, &text, offset, message),
+        None => LoadError::new(path, message),
+    };
+    let rig_path = match rig_ref(path, &table.rig) {
+        RigRef::File(file) => file,
+        RigRef::Builtin(name) => {
+            return Err(at_rig(format!(
+                "the built-in rig `{name}` cannot be loaded here; give a rig file"
+            )))
+        }
+    };
+    if !rig_path.is_file() {
+        return Err(at_rig(format!(
+            "the rig file `{}` does not exist (paths are relative to the table file)",
+            rig_path.display()
+        )));
+    }
+    let rig = load_rig_with(&rig_path, mesh_override, |_| None)
+        .map_err(|e| at_rig(format!("the rig it names does not load: {e}")))?;
+    check_table_rig(&table, &rig.rig, &text, path)?;
+    Ok((table, rig))
+}
+
 /// Checks a parsed table against a rig, locating the error in the table's text.
 pub fn check_table_rig(
     table: &AuTable,
@@ -59,7 +93,7 @@ pub fn check_table_rig(
 /// Parses and checks the text of a table file. `path` is used in error messages only.
 pub fn parse_table(text: &str, path: &Path) -> Result<AuTable, LoadError> {
     ron_text::check_version(path, text, TABLE_VERSION, "table")?;
-    let table: AuTable = ron_text::parse(path, text)?;
+    let table: AuTable = ron_text::parse(path, text, "an AU table")?;
     table.check().map_err(|e| locate(path, text, &e))?;
     Ok(table)
 }

@@ -86,6 +86,13 @@ pub enum BindError {
     },
 }
 
+/// One `(muscle, displacement)` entry of a vertex's CSR row: 16 bytes, read in one stream.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Entry {
+    displacement: Vec3,
+    muscle: u32,
+}
+
 /// The jaw prepared for evaluation.
 #[derive(Debug, Clone, PartialEq)]
 struct BoundJaw {
@@ -94,7 +101,12 @@ struct BoundJaw {
     /// Jaw vertices with a non-zero weight, sorted.
     vertices: Vec<u32>,
     weights: Vec<f32>,
+    /// The CSR row of each jaw vertex, [`NO_ROW`] when no muscle moves it.
+    rows: Vec<u32>,
 }
+
+/// Marks a vertex that no muscle moves (it has no CSR row).
+const NO_ROW: u32 = u32::MAX;
 
 /// The rotation of one deformation: `cos` and `sin` of the jaw angle.
 #[derive(Debug, Clone, Copy)]
@@ -127,10 +139,8 @@ pub struct BoundRig {
     row_vertex: Vec<u32>,
     /// CSR row starts into the entry arrays (`row_vertex.len() + 1` items).
     row_start: Vec<u32>,
-    /// Per entry: the muscle.
-    entry_muscle: Vec<u32>,
-    /// Per entry: the displacement per unit activation.
-    entry_displacement: Vec<Vec3>,
+    /// The CSR entries, rows one after another, each row in muscle order.
+    entries: Vec<Entry>,
     /// Per muscle: the CSR rows of the vertices in its field.
     muscle_rows: Vec<Vec<u32>>,
     /// Per CSR row: the jaw weight of its vertex (0 when not a jaw vertex).
@@ -160,8 +170,7 @@ impl BoundRig {
             fields,
             row_vertex: Vec::new(),
             row_start: Vec::new(),
-            entry_muscle: Vec::new(),
-            entry_displacement: Vec::new(),
+            entries: Vec::new(),
             muscle_rows: Vec::new(),
             row_jaw_weight: Vec::new(),
             jaw,
@@ -179,7 +188,7 @@ impl BoundRig {
                 counts[v as usize] += 1;
             }
         }
-        let mut row_of = vec![u32::MAX; n];
+        let mut row_of = vec![NO_ROW; n];
         self.row_start.push(0);
         let mut total = 0u32;
         for (v, &c) in counts.iter().enumerate() {
@@ -191,25 +200,32 @@ impl BoundRig {
             }
         }
         let mut fill: Vec<u32> = self.row_start[..self.row_vertex.len()].to_vec();
-        self.entry_muscle = vec![0; total as usize];
-        self.entry_displacement = vec![Vec3::ZERO; total as usize];
+        self.entries = vec![
+            Entry {
+                displacement: Vec3::ZERO,
+                muscle: 0
+            };
+            total as usize
+        ];
         for (m, field) in self.fields.iter().enumerate() {
             let mut rows = Vec::with_capacity(field.len());
             for (&v, &d) in field.vertices.iter().zip(&field.displacements) {
                 let row = row_of[v as usize];
                 let slot = fill[row as usize] as usize;
                 fill[row as usize] += 1;
-                self.entry_muscle[slot] = m as u32;
-                self.entry_displacement[slot] = d;
+                self.entries[slot] = Entry {
+                    displacement: d,
+                    muscle: m as u32,
+                };
                 rows.push(row);
             }
             self.muscle_rows.push(rows);
         }
         self.row_jaw_weight = vec![0.0; self.row_vertex.len()];
-        if let Some(jaw) = &self.jaw {
-            for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
-                let row = row_of[v as usize];
-                if row != u32::MAX {
+        if let Some(jaw) = &mut self.jaw {
+            jaw.rows = jaw.vertices.iter().map(|&v| row_of[v as usize]).collect();
+            for (&row, &w) in jaw.rows.iter().zip(&jaw.weights) {
+                if row != NO_ROW {
                     self.row_jaw_weight[row as usize] = w;
                 }
             }
@@ -238,7 +254,7 @@ impl BoundRig {
 
     /// Number of influenced `(vertex, muscle)` pairs: the work of one deformation.
     pub fn pair_count(&self) -> usize {
-        self.entry_muscle.len()
+        self.entries.len()
     }
 
     /// Deforms the rest mesh by `act` into `out` (resized to the vertex count).
@@ -249,13 +265,27 @@ impl BoundRig {
     /// when `out` already has the capacity.
     pub fn deform(&self, act: &Activations, out: &mut Vec<Vec3>) -> Result<(), ActivationError> {
         act.validate(&self.rig)?;
-        out.clear();
-        out.extend_from_slice(&self.rest);
+        let n = self.rest.len();
+        if out.len() != n {
+            out.clear();
+            out.resize(n, Vec3::ZERO);
+        }
         let average = self.rig.combine == Combine::Average;
         let muscles = &act.muscles;
+        // Walk the vertices once: runs of uninfluenced vertices are copied from rest, each
+        // influenced vertex is written once.
+        let mut next = 0usize;
         for (row, &v) in self.row_vertex.iter().enumerate() {
-            out[v as usize] = self.row_position(row, v, muscles, average);
+            let v = v as usize;
+            out[next..v].copy_from_slice(&self.rest[next..v]);
+            out[v] = if average {
+                self.row_position::<true>(row, v, muscles)
+            } else {
+                self.row_position::<false>(row, v, muscles)
+            };
+            next = v + 1;
         }
+        out[next..].copy_from_slice(&self.rest[next..]);
         if let (Some(jaw), Some(turn)) = (&self.jaw, self.jaw_turn(act.jaw)) {
             for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
                 let p = &mut out[v as usize];
@@ -293,7 +323,11 @@ impl BoundRig {
         for &row in rows {
             let row = row as usize;
             let v = self.row_vertex[row];
-            let mut p = self.row_position(row, v, &act.muscles, average);
+            let mut p = if average {
+                self.row_position::<true>(row, v as usize, &act.muscles)
+            } else {
+                self.row_position::<false>(row, v as usize, &act.muscles)
+            };
             let w = self.row_jaw_weight[row];
             if let Some(turn) = turn.filter(|_| w > 0.0) {
                 p = turn.apply(p, w);
@@ -303,27 +337,64 @@ impl BoundRig {
         Ok(())
     }
 
+    /// Recomputes, from rest, exactly the jaw's vertices (muscles included).
+    ///
+    /// `out` must hold a deformation of this rig by activations that differ from `act` in
+    /// the jaw activation only; afterwards it equals `deform(act)` bit for bit.
+    pub fn update_jaw(&self, act: &Activations, out: &mut [Vec3]) -> Result<(), ActivationError> {
+        act.validate(&self.rig)?;
+        if out.len() != self.rest.len() {
+            return Err(ActivationError::VertexCount {
+                given: out.len(),
+                expected: self.rest.len(),
+            });
+        }
+        let Some(jaw) = &self.jaw else {
+            return Ok(());
+        };
+        let average = self.rig.combine == Combine::Average;
+        let turn = self.jaw_turn(act.jaw);
+        for ((&v, &w), &row) in jaw.vertices.iter().zip(&jaw.weights).zip(&jaw.rows) {
+            let v = v as usize;
+            let mut p = if row == NO_ROW {
+                self.rest[v]
+            } else if average {
+                self.row_position::<true>(row as usize, v, &act.muscles)
+            } else {
+                self.row_position::<false>(row as usize, v, &act.muscles)
+            };
+            if let Some(turn) = turn {
+                p = turn.apply(p, w);
+            }
+            out[v] = p;
+        }
+        Ok(())
+    }
+
     /// The post-muscle position of the vertex of CSR row `row` (the one arithmetic shared by
     /// [`BoundRig::deform`] and [`BoundRig::update_muscle`]).
-    #[inline]
-    fn row_position(&self, row: usize, v: u32, muscles: &[f32], average: bool) -> Vec3 {
+    ///
+    /// Every entry is added without a branch (an inactive muscle adds an exact zero);
+    /// average mode also counts the active muscles.
+    #[inline(always)]
+    fn row_position<const AVERAGE: bool>(&self, row: usize, v: usize, muscles: &[f32]) -> Vec3 {
         let span = self.row_start[row] as usize..self.row_start[row + 1] as usize;
         let mut sum = Vec3::ZERO;
         let mut active = 0u32;
-        for (&m, &d) in self.entry_muscle[span.clone()]
-            .iter()
-            .zip(&self.entry_displacement[span])
-        {
-            let a = muscles[m as usize];
-            if a != 0.0 {
-                sum += d * a;
-                active += 1;
+        for e in &self.entries[span] {
+            let a = muscles[e.muscle as usize];
+            sum += e.displacement * a;
+            if AVERAGE {
+                active += u32::from(a != 0.0);
             }
         }
-        if average && active > 1 {
+        if AVERAGE && active > 1 {
             sum /= active as f32;
         }
-        self.rest[v as usize] + sum
+        // Where nothing moved a coordinate, keep the rest value bit for bit (adding a zero
+        // would turn a rest coordinate of -0.0 into +0.0).
+        let rest = self.rest[v];
+        Vec3::select(sum.cmpeq(Vec3::ZERO), rest, rest + sum)
     }
 
     /// The jaw rotation for jaw activation `k`, or `None` when nothing turns.
@@ -416,6 +487,7 @@ fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
         radians_per_unit: (jaw.degrees_per_unit as f64).to_radians(),
         vertices: weights.iter().map(|&(v, _)| v).collect(),
         weights: weights.iter().map(|&(_, w)| w).collect(),
+        rows: Vec::new(),
     }))
 }
 
@@ -735,6 +807,27 @@ mod tests {
             bound.deform(&act, &mut out).unwrap();
             assert_eq!((out.as_ptr(), out.capacity()), (ptr, cap));
         }
+    }
+
+    #[test]
+    fn inactive_muscles_keep_rest_coordinates_bit_for_bit() {
+        // Vertex 0 sits at x = -0.0 on the axis of both muscles; muscle "a" is off and "b"
+        // pulls along z only, so x must stay -0.0 (not become +0.0).
+        let mesh = Mesh::new(
+            vec![Vec3::new(-0.0, 0.0, 0.5), Vec3::X * 9.0, Vec3::Y * 9.0],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        let r = rig(vec![linear("a"), linear("b")], None);
+        let bound = BoundRig::bind(&r, &mesh).unwrap();
+        let mut out = Vec::new();
+        for muscles in [vec![0.0, 0.0], vec![0.0, 1.0]] {
+            bound
+                .deform(&Activations { muscles, jaw: 0.0 }, &mut out)
+                .unwrap();
+            assert_eq!(out[0].x.to_bits(), (-0.0f32).to_bits());
+        }
+        assert_eq!(out[0].z, 0.0);
     }
 
     #[test]

@@ -407,7 +407,8 @@ pub fn validate_muscle(muscle: &Muscle) -> Result<(), BindError> {
                     "the insertion line's midpoint coincides with the attachment line's".into(),
                 ));
             }
-            if !(m.length.is_finite() && m.length as f64 >= shape.span) {
+            // A relative slack of 1e-6 accepts a length written as the hand-computed distance.
+            if !(m.length.is_finite() && m.length as f64 >= shape.span * (1.0 - 1e-6)) {
                 return Err(bad(
                     "length",
                     format!(
@@ -729,8 +730,14 @@ mod tests {
 
         let h = sheet();
         assert!(validate_muscle(&named(MuscleKind::Sheet(h.clone()))).is_ok());
+        // |Ac lc| = 2 exactly: a length of 2 is accepted, 1.99 is not.
+        let exact = Sheet {
+            length: 2.0,
+            ..h.clone()
+        };
+        assert!(validate_muscle(&named(MuscleKind::Sheet(exact))).is_ok());
         let bad = Sheet {
-            length: 1.5,
+            length: 1.99,
             ..h.clone()
         };
         assert_eq!(parameter_of(MuscleKind::Sheet(bad)), "length");

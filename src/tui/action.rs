@@ -1,0 +1,162 @@
+//! Every user intent the editor knows, and the effects `update` asks the event loop to run.
+
+use std::path::PathBuf;
+
+use super::app::{FileStamp, Row, ViewPreset};
+
+/// Something the user (or the outcome of an effect) asks of the editor.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// Move the selection down (muscles or AU table, by focus).
+    SelectNext,
+    /// Move the selection up.
+    SelectPrev,
+    /// Select the first line.
+    SelectFirst,
+    /// Select the last line.
+    SelectLast,
+    /// Select a muscle panel row (mouse click).
+    SelectRow(Row),
+    /// Select an AU table line (mouse click).
+    SelectTableItem(usize),
+    /// Switch focus between the muscle panel and the AU table.
+    SwitchFocus,
+    /// Open `/` find.
+    StartFind,
+    /// Change the selected row by this many fine steps.
+    StepFine(i8),
+    /// Change the selected row by this many coarse steps.
+    StepCoarse(i8),
+    /// Type an exact value for the selected row.
+    StartSetValue,
+    /// Set the selected row to zero.
+    ZeroSelected,
+    /// Set every muscle and the jaw to zero.
+    ResetAll,
+    /// Turn mirror mode on or off.
+    ToggleMirror,
+    /// Record the current state as an AU (asks for the AU and its name).
+    StartRecord,
+    /// Enter: in the AU table, load the selected AU or expression; in the muscle panel, type a value.
+    Activate,
+    /// Overwrite the selected AU with the current state (asks first).
+    OverwriteSelected,
+    /// Delete the selected AU or expression (asks first for an AU).
+    DeleteSelected,
+    /// Rename the selected AU.
+    RenameSelected,
+    /// Add an AU at an intensity to the current state.
+    StartAddAu,
+    /// Store a combination as a named expression.
+    StartExpression,
+    /// Turn the camera (degrees of yaw, degrees of pitch).
+    Rotate(f32, f32),
+    /// Multiply the zoom.
+    Zoom(f32),
+    /// Shift the picture (fractions of the viewport).
+    Pan(f32, f32),
+    /// Back to the front view.
+    ResetView,
+    /// A preset view.
+    Preset(ViewPreset),
+    /// Next drawing style.
+    CycleStyle,
+    /// Next cell mode (braille, half-block, ASCII).
+    CycleCells,
+    /// Toggle ASCII cells.
+    ToggleAscii,
+    /// Toggle the muscle overlay.
+    ToggleMuscles,
+    /// Toggle the rest-pose ghost.
+    ToggleGhost,
+    /// Toggle displacement colours.
+    ToggleDisplacement,
+    /// Undo the last edit.
+    Undo,
+    /// Redo the last undone edit.
+    Redo,
+    /// Save to the table file.
+    Save,
+    /// Quit (asks when there are unsaved changes).
+    Quit,
+    /// Open the `:` command line.
+    StartCommand,
+    /// Open or close the help overlay.
+    ToggleHelp,
+    /// Run a command line (without the `:`).
+    Command(String),
+    /// Type a character into the input line.
+    InputChar(char),
+    /// Delete the character before the cursor.
+    InputBackspace,
+    /// Delete the character under the cursor.
+    InputDelete,
+    /// Cursor left.
+    InputLeft,
+    /// Cursor right.
+    InputRight,
+    /// Cursor to the start.
+    InputHome,
+    /// Cursor to the end.
+    InputEnd,
+    /// Complete the word before the cursor (muscle names, AU numbers, commands).
+    InputComplete,
+    /// Accept the input line.
+    InputSubmit,
+    /// Close the input line, help or question without acting.
+    Cancel,
+    /// Answer a question.
+    Answer(bool),
+    /// Scroll the help overlay.
+    HelpScroll(i16),
+    /// The terminal changed size.
+    Resize(u16, u16),
+    /// A save finished.
+    Saved {
+        /// The file written.
+        path: PathBuf,
+        /// Its new stamp.
+        stamp: FileStamp,
+        /// Quit now.
+        quit_after: bool,
+    },
+    /// A save failed.
+    SaveFailed {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        error: String,
+    },
+    /// A save found the file changed on disk (or present where a new file was expected).
+    SaveConflict {
+        /// The file.
+        path: PathBuf,
+        /// Quit after saving.
+        quit_after: bool,
+    },
+}
+
+/// Input and output `update` asks for; the event loop runs them.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Effect {
+    /// Write a table file: atomically, and only if the file on disk still matches `expected`
+    /// (`None`: the file must not exist) unless `force`.
+    Save {
+        /// Where.
+        path: PathBuf,
+        /// The file's contents.
+        contents: String,
+        /// What the file should look like now.
+        expected: Option<FileStamp>,
+        /// Write even if it does not.
+        force: bool,
+        /// Quit after a successful save.
+        quit_after: bool,
+    },
+    /// The unsaved state changed: write the recovery file (debounced by the loop).
+    RecoveryDue,
+    /// Remove the recovery file (after a save or an explicit discard).
+    RemoveRecovery,
+    /// Leave the editor.
+    Quit,
+}

@@ -1,0 +1,585 @@
+//! The editor's state. [`crate::tui::update::update`] changes it; the views only read it.
+
+use std::path::PathBuf;
+
+use crate::facs::{AuKey, AuTable};
+use crate::model::{Activations, MuscleKind, Rig};
+
+use super::scene::Scene;
+
+/// Smallest terminal the editor draws in; below it, it says so instead.
+pub const MIN_SIZE: (u16, u16) = (60, 16);
+
+/// Fine adjustment step (h/l, arrows, mouse wheel).
+pub const FINE_STEP: f32 = 0.05;
+/// Coarse adjustment step (H/L).
+pub const COARSE_STEP: f32 = 0.25;
+
+/// One row of the muscle panel: a muscle (index into the rig) or the jaw.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Row {
+    /// A muscle, by its index in [`Rig::muscles`].
+    Muscle(usize),
+    /// The jaw.
+    Jaw,
+}
+
+/// The groups of the muscle panel, in display order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Group {
+    /// Linear (vector) muscles.
+    Linear,
+    /// Sheet muscles.
+    Sheet,
+    /// Sphincters.
+    Sphincter,
+    /// The jaw.
+    Jaw,
+}
+
+impl Group {
+    /// The heading shown in the panel.
+    pub fn title(self) -> &'static str {
+        match self {
+            Group::Linear => "linear",
+            Group::Sheet => "sheet",
+            Group::Sphincter => "sphincter",
+            Group::Jaw => "jaw",
+        }
+    }
+
+    /// The group of a muscle kind.
+    pub fn of(kind: &MuscleKind) -> Group {
+        match kind {
+            MuscleKind::Linear(_) => Group::Linear,
+            MuscleKind::Sheet(_) => Group::Sheet,
+            MuscleKind::Sphincter(_) => Group::Sphincter,
+        }
+    }
+}
+
+/// Which panel the selection keys act on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Focus {
+    /// The muscle panel.
+    Muscles,
+    /// The AU table panel.
+    Table,
+}
+
+/// One selectable line of the AU table panel.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum TableItem {
+    /// A recorded AU.
+    Au(AuKey),
+    /// A named expression.
+    Expression(String),
+}
+
+pub use crate::render::{CellMode, Style};
+
+/// The next cell mode in the cycle: braille, half-block colour, ASCII.
+pub fn next_cells(mode: CellMode) -> CellMode {
+    match mode {
+        CellMode::Braille => CellMode::HalfBlock,
+        CellMode::HalfBlock => CellMode::Ascii,
+        CellMode::Ascii => CellMode::Braille,
+    }
+}
+
+/// The name of a cell mode, as shown in the status line.
+pub fn cells_name(mode: CellMode) -> &'static str {
+    match mode {
+        CellMode::Braille => "braille",
+        CellMode::Ascii => "ascii",
+        CellMode::HalfBlock => "half-block",
+    }
+}
+
+/// The zoom of the initial and preset views: a little room around the rest face, so the chin
+/// stays in view when the jaw opens.
+pub const DEFAULT_ZOOM: f32 = 0.9;
+
+/// Named camera positions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ViewPreset {
+    /// Straight on.
+    Front,
+    /// From the subject's right side.
+    Side,
+    /// Halfway between.
+    ThreeQuarter,
+}
+
+/// The camera and drawing options of the viewport.
+#[derive(Debug, Clone, PartialEq)]
+pub struct View {
+    /// Turn about the vertical axis, degrees.
+    pub yaw: f32,
+    /// Tilt about the horizontal axis, degrees.
+    pub pitch: f32,
+    /// Magnification, 1.0 fits the face.
+    pub zoom: f32,
+    /// Shift of the picture, as fractions of the viewport (x right, y up).
+    pub pan: (f32, f32),
+    /// Drawing style.
+    pub style: Style,
+    /// Dots to cells.
+    pub cells: CellMode,
+    /// Draw the muscles over the face.
+    pub show_muscles: bool,
+    /// Draw the rest pose as a faint ghost.
+    pub show_ghost: bool,
+    /// Colour edges by how far they moved.
+    pub show_displacement: bool,
+}
+
+impl View {
+    /// The initial view: front, feature lines, braille.
+    pub fn new(ascii: bool) -> View {
+        View {
+            yaw: 0.0,
+            pitch: 0.0,
+            zoom: DEFAULT_ZOOM,
+            pan: (0.0, 0.0),
+            style: Style::Lines,
+            cells: if ascii {
+                CellMode::Ascii
+            } else {
+                CellMode::Braille
+            },
+            show_muscles: false,
+            show_ghost: false,
+            show_displacement: false,
+        }
+    }
+
+    /// Puts the camera at a preset (zoom and pan back to the start).
+    pub fn preset(&mut self, preset: ViewPreset) {
+        self.yaw = match preset {
+            ViewPreset::Front => 0.0,
+            ViewPreset::Side => 90.0,
+            ViewPreset::ThreeQuarter => 35.0,
+        };
+        self.pitch = match preset {
+            ViewPreset::ThreeQuarter => 10.0,
+            _ => 0.0,
+        };
+        self.zoom = DEFAULT_ZOOM;
+        self.pan = (0.0, 0.0);
+    }
+}
+
+/// What the terminal can show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Colors {
+    /// No colour at all (NO_COLOR, or a dumb terminal): emphasis by reverse video and bold.
+    None,
+    /// The 16 ANSI colours.
+    Ansi16,
+    /// 24-bit colour.
+    TrueColor,
+}
+
+impl Colors {
+    /// Reads NO_COLOR and COLORTERM the way most terminal programs do.
+    pub fn from_env() -> Colors {
+        if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()) {
+            return Colors::None;
+        }
+        match std::env::var("COLORTERM").as_deref() {
+            Ok("truecolor") | Ok("24bit") => Colors::TrueColor,
+            _ => Colors::Ansi16,
+        }
+    }
+}
+
+/// The kind of a status message.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Severity {
+    /// Something happened as asked.
+    Info,
+    /// Worth noticing (another editor has the file open, ...).
+    Warning,
+    /// Rejected input or a failed operation.
+    Error,
+}
+
+/// A message for the status line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Message {
+    /// What to say.
+    pub text: String,
+    /// How loudly.
+    pub severity: Severity,
+}
+
+/// What a line of typed input is for.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum InputKind {
+    /// A `:` command.
+    Command,
+    /// `/`: find a muscle by name.
+    Find,
+    /// `=`: an exact value for the selected row.
+    Value,
+    /// Record: the AU to record the current state as.
+    RecordKey,
+    /// Record: the name of the AU (the FACS name is suggested).
+    RecordName(AuKey),
+    /// Rename an AU.
+    Rename(AuKey),
+    /// Add an AU (with an intensity) to the current state.
+    AddAu,
+    /// The name under which the current combination is stored as an expression.
+    ExpressionName,
+}
+
+impl InputKind {
+    /// The prompt shown before the typed text.
+    pub fn prompt(&self) -> String {
+        match self {
+            InputKind::Command => ":".into(),
+            InputKind::Find => "/".into(),
+            InputKind::Value => "value: ".into(),
+            InputKind::RecordKey => "record as AU (e.g. 12, L12): ".into(),
+            InputKind::RecordName(key) => format!("name of AU {key}: "),
+            InputKind::Rename(key) => format!("rename AU {key}: "),
+            InputKind::AddAu => "add AU [intensity 0-2] (e.g. 12 0.5): ".into(),
+            InputKind::ExpressionName => "expression name = combination (e.g. smile 6+12): ".into(),
+        }
+    }
+}
+
+/// A line being typed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Input {
+    /// What it is for.
+    pub kind: InputKind,
+    /// The text so far.
+    pub text: String,
+    /// Cursor position in characters.
+    pub cursor: usize,
+}
+
+impl Input {
+    /// An input line holding `text`, the cursor at its end.
+    pub fn new(kind: InputKind, text: impl Into<String>) -> Input {
+        let text = text.into();
+        Input {
+            kind,
+            cursor: text.chars().count(),
+            text,
+        }
+    }
+}
+
+/// A question waiting for yes or no.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Question {
+    /// Quit with unsaved changes?
+    QuitUnsaved,
+    /// Replace a recorded AU?
+    OverwriteAu {
+        /// The AU.
+        key: AuKey,
+        /// The name to record it under.
+        name: String,
+    },
+    /// Delete a recorded AU?
+    DeleteAu(AuKey),
+    /// Overwrite a file that changed on disk (or that is not ours)?
+    OverwriteFile {
+        /// The file.
+        path: PathBuf,
+        /// Quit after saving.
+        quit_after: bool,
+    },
+    /// Restore the state found in a recovery file?
+    Recover(Box<Recovered>),
+}
+
+/// Unsaved state found in a recovery file at start.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recovered {
+    /// Activations as they were.
+    pub activations: Activations,
+    /// The table as it was.
+    pub table: AuTable,
+    /// When it was written, for the question.
+    pub when: String,
+}
+
+/// The editor's mode.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Mode {
+    /// Keys are commands.
+    Normal,
+    /// Keys edit a line of text.
+    Input(Input),
+    /// The help overlay is open (scrolled by this many lines).
+    Help(u16),
+    /// A yes/no question is open.
+    Confirm(Question),
+}
+
+impl Mode {
+    /// The name shown in the status line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Mode::Normal => "NORMAL",
+            Mode::Input(input) if input.kind == InputKind::Command => "COMMAND",
+            Mode::Input(_) => "INPUT",
+            Mode::Help(_) => "HELP",
+            Mode::Confirm(_) => "CONFIRM",
+        }
+    }
+}
+
+/// An undoable state: the activations and the table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// Activations.
+    pub activations: Activations,
+    /// AU table.
+    pub table: AuTable,
+    /// The AU marked as loaded.
+    pub loaded: Option<AuKey>,
+}
+
+/// A file's identity when it was loaded or saved: used to notice changes made by others.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FileStamp {
+    /// Length in bytes.
+    pub len: u64,
+    /// A hash of the contents.
+    pub hash: u64,
+}
+
+impl FileStamp {
+    /// The stamp of some file contents.
+    pub fn of(bytes: &[u8]) -> FileStamp {
+        use std::hash::{Hash, Hasher};
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        bytes.hash(&mut hasher);
+        FileStamp {
+            len: bytes.len() as u64,
+            hash: hasher.finish(),
+        }
+    }
+}
+
+/// Everything the editor knows.
+#[derive(Debug, Clone)]
+pub struct App {
+    /// Rig, mesh and deformed positions.
+    pub scene: Scene,
+    /// The activations being edited.
+    pub activations: Activations,
+    /// The AU table being edited.
+    pub table: AuTable,
+    /// The table as last loaded or saved (unsaved changes = difference from it).
+    pub saved_table: AuTable,
+    /// Where `:w` writes; `None` for the built-in table until saved as a file.
+    pub file: Option<PathBuf>,
+    /// The file as loaded or last saved; `None` when it does not exist yet.
+    pub file_stamp: Option<FileStamp>,
+    /// The muscle panel's rows in display order.
+    pub rows: Vec<Row>,
+    /// Index into `rows`.
+    pub selected: usize,
+    /// Which panel the selection keys act on.
+    pub focus: Focus,
+    /// Index into [`App::table_items`].
+    pub table_selected: usize,
+    /// The AU last loaded (marked in the table panel).
+    pub loaded: Option<AuKey>,
+    /// Mode.
+    pub mode: Mode,
+    /// Camera and drawing options.
+    pub view: View,
+    /// Move mirror partners together.
+    pub mirror: bool,
+    /// States to go back to.
+    pub undo: Vec<Snapshot>,
+    /// States undone.
+    pub redo: Vec<Snapshot>,
+    /// The row last adjusted by a step: consecutive steps on one row undo together.
+    pub last_step: Option<Row>,
+    /// The status message.
+    pub message: Option<Message>,
+    /// Terminal size (columns, rows).
+    pub size: (u16, u16),
+    /// Colour support.
+    pub colors: Colors,
+    /// Counts edits; the event loop writes the recovery file when it moves.
+    pub edits: u64,
+    /// The renderer's buffers, reused between frames (not part of the editing state).
+    pub render_cache: super::view::viewport::SharedCache,
+}
+
+impl App {
+    /// A new editor on a scene and a table.
+    pub fn new(scene: Scene, table: AuTable, file: Option<PathBuf>) -> App {
+        let rows = rows_of(scene.rig());
+        let activations = Activations::zero(scene.rig());
+        App {
+            scene,
+            activations,
+            saved_table: table.clone(),
+            table,
+            file,
+            file_stamp: None,
+            rows,
+            selected: 0,
+            focus: Focus::Muscles,
+            table_selected: 0,
+            loaded: None,
+            mode: Mode::Normal,
+            view: View::new(false),
+            mirror: false,
+            undo: Vec::new(),
+            redo: Vec::new(),
+            last_step: None,
+            message: None,
+            size: (80, 24),
+            colors: Colors::Ansi16,
+            edits: 0,
+            render_cache: Default::default(),
+        }
+    }
+
+    /// The rig.
+    pub fn rig(&self) -> &Rig {
+        self.scene.rig()
+    }
+
+    /// True when the table differs from the file.
+    pub fn dirty(&self) -> bool {
+        self.table != self.saved_table || (self.file_stamp.is_none() && self.file.is_some())
+    }
+
+    /// The selected row.
+    pub fn selected_row(&self) -> Row {
+        self.rows.get(self.selected).copied().unwrap_or(Row::Jaw)
+    }
+
+    /// The value of a row.
+    pub fn value(&self, row: Row) -> f32 {
+        match row {
+            Row::Muscle(i) => self.activations.muscles.get(i).copied().unwrap_or(0.0),
+            Row::Jaw => self.activations.jaw,
+        }
+    }
+
+    /// The name of a row (`jaw` for the jaw).
+    pub fn row_name(&self, row: Row) -> &str {
+        match row {
+            Row::Muscle(i) => self.rig().muscles.get(i).map_or("?", |m| m.name.as_str()),
+            Row::Jaw => "jaw",
+        }
+    }
+
+    /// The allowed range of a row.
+    pub fn range(&self, row: Row) -> (f32, f32) {
+        let range = match row {
+            Row::Muscle(_) => crate::model::MUSCLE_RANGE,
+            Row::Jaw => crate::model::JAW_RANGE,
+        };
+        (*range.start(), *range.end())
+    }
+
+    /// The row mirrored to `row` when mirror mode is on.
+    pub fn partner(&self, row: Row) -> Option<Row> {
+        match row {
+            Row::Muscle(i) => self.rig().mirror_of(i).map(Row::Muscle),
+            Row::Jaw => None,
+        }
+    }
+
+    /// The AU table panel's lines: AUs in order, then expressions.
+    pub fn table_items(&self) -> Vec<TableItem> {
+        self.table
+            .aus
+            .keys()
+            .map(|k| TableItem::Au(*k))
+            .chain(
+                self.table
+                    .expressions
+                    .keys()
+                    .map(|n| TableItem::Expression(n.clone())),
+            )
+            .collect()
+    }
+
+    /// The current undoable state.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            activations: self.activations.clone(),
+            table: self.table.clone(),
+            loaded: self.loaded,
+        }
+    }
+
+    /// The file name shown in the status line.
+    pub fn file_label(&self) -> String {
+        match &self.file {
+            Some(path) => path.display().to_string(),
+            None => "[built-in table]".into(),
+        }
+    }
+
+    /// Sets an info message.
+    pub fn info(&mut self, text: impl Into<String>) {
+        self.message = Some(Message {
+            text: text.into(),
+            severity: Severity::Info,
+        });
+    }
+
+    /// Sets a warning.
+    pub fn warn(&mut self, text: impl Into<String>) {
+        self.message = Some(Message {
+            text: text.into(),
+            severity: Severity::Warning,
+        });
+    }
+
+    /// Sets an error message.
+    pub fn error(&mut self, text: impl Into<String>) {
+        self.message = Some(Message {
+            text: text.into(),
+            severity: Severity::Error,
+        });
+    }
+}
+
+/// The muscle panel's rows: linear, sheet, sphincter muscles (rig order within a group), then
+/// the jaw if the rig has one.
+pub fn rows_of(rig: &Rig) -> Vec<Row> {
+    let mut rows = Vec::with_capacity(rig.muscles.len() + 1);
+    for group in [Group::Linear, Group::Sheet, Group::Sphincter] {
+        rows.extend(
+            rig.muscles
+                .iter()
+                .enumerate()
+                .filter(|(_, m)| Group::of(&m.kind) == group)
+                .map(|(i, _)| Row::Muscle(i)),
+        );
+    }
+    if rig.jaw.is_some() {
+        rows.push(Row::Jaw);
+    }
+    rows
+}
+
+/// The group a row belongs to.
+pub fn group_of(rig: &Rig, row: Row) -> Group {
+    match row {
+        Row::Muscle(i) => rig
+            .muscles
+            .get(i)
+            .map_or(Group::Linear, |m| Group::of(&m.kind)),
+        Row::Jaw => Group::Jaw,
+    }
+}

@@ -1,0 +1,627 @@
+//! The one table of key bindings. It drives dispatch, the `?` help overlay and the status
+//! line hints, so the three never disagree.
+
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+use super::action::Action;
+use super::app::{Mode, ViewPreset};
+
+/// One key binding in normal mode.
+#[derive(Debug, Clone)]
+pub struct Binding {
+    /// The key.
+    pub code: KeyCode,
+    /// Modifiers that must be held (Shift is implied by upper-case letters and ignored).
+    pub mods: KeyModifiers,
+    /// What it does.
+    pub action: Action,
+    /// Said in the help overlay.
+    pub description: &'static str,
+    /// The help overlay's section.
+    pub section: &'static str,
+    /// A short hint for the status line, for the most useful keys.
+    pub hint: Option<&'static str>,
+}
+
+const NONE: KeyModifiers = KeyModifiers::NONE;
+const CTRL: KeyModifiers = KeyModifiers::CONTROL;
+
+const fn bind(
+    code: KeyCode,
+    mods: KeyModifiers,
+    action: Action,
+    section: &'static str,
+    description: &'static str,
+    hint: Option<&'static str>,
+) -> Binding {
+    Binding {
+        code,
+        mods,
+        action,
+        description,
+        section,
+        hint,
+    }
+}
+
+const fn ch(c: char) -> KeyCode {
+    KeyCode::Char(c)
+}
+
+/// Every normal-mode binding, in help order.
+pub fn bindings() -> &'static [Binding] {
+    use Action as A;
+    static TABLE: &[Binding] = &[
+        bind(
+            ch('j'),
+            NONE,
+            A::SelectNext,
+            "select",
+            "next muscle (or AU)",
+            Some("select"),
+        ),
+        bind(
+            KeyCode::Down,
+            NONE,
+            A::SelectNext,
+            "select",
+            "next muscle (or AU)",
+            None,
+        ),
+        bind(
+            ch('k'),
+            NONE,
+            A::SelectPrev,
+            "select",
+            "previous muscle (or AU)",
+            None,
+        ),
+        bind(
+            KeyCode::Up,
+            NONE,
+            A::SelectPrev,
+            "select",
+            "previous muscle (or AU)",
+            None,
+        ),
+        bind(ch('g'), NONE, A::SelectFirst, "select", "first line", None),
+        bind(ch('G'), NONE, A::SelectLast, "select", "last line", None),
+        bind(
+            ch('/'),
+            NONE,
+            A::StartFind,
+            "select",
+            "find a muscle by name",
+            Some("find"),
+        ),
+        bind(
+            KeyCode::Tab,
+            NONE,
+            A::SwitchFocus,
+            "select",
+            "switch between muscles and AU table",
+            Some("table"),
+        ),
+        bind(
+            ch('l'),
+            NONE,
+            A::StepFine(1),
+            "adjust",
+            "increase by a fine step (0.05)",
+            Some("adjust"),
+        ),
+        bind(
+            KeyCode::Right,
+            NONE,
+            A::StepFine(1),
+            "adjust",
+            "increase by a fine step",
+            None,
+        ),
+        bind(
+            ch('h'),
+            NONE,
+            A::StepFine(-1),
+            "adjust",
+            "decrease by a fine step",
+            None,
+        ),
+        bind(
+            KeyCode::Left,
+            NONE,
+            A::StepFine(-1),
+            "adjust",
+            "decrease by a fine step",
+            None,
+        ),
+        bind(
+            ch('L'),
+            NONE,
+            A::StepCoarse(1),
+            "adjust",
+            "increase by a coarse step (0.25)",
+            None,
+        ),
+        bind(
+            ch('H'),
+            NONE,
+            A::StepCoarse(-1),
+            "adjust",
+            "decrease by a coarse step",
+            None,
+        ),
+        bind(
+            ch('='),
+            NONE,
+            A::StartSetValue,
+            "adjust",
+            "type an exact value",
+            None,
+        ),
+        bind(
+            ch('0'),
+            NONE,
+            A::ZeroSelected,
+            "adjust",
+            "zero the selected muscle",
+            None,
+        ),
+        bind(
+            ch('X'),
+            NONE,
+            A::ResetAll,
+            "adjust",
+            "reset every muscle and the jaw to zero",
+            None,
+        ),
+        bind(
+            ch('m'),
+            NONE,
+            A::ToggleMirror,
+            "adjust",
+            "mirror mode: move left/right pairs together",
+            Some("mirror"),
+        ),
+        bind(ch('u'), NONE, A::Undo, "adjust", "undo", Some("undo")),
+        bind(ch('r'), CTRL, A::Redo, "adjust", "redo", None),
+        bind(ch('U'), NONE, A::Redo, "adjust", "redo", None),
+        bind(
+            ch('r'),
+            NONE,
+            A::StartRecord,
+            "AU table",
+            "record the current state as an AU",
+            Some("record"),
+        ),
+        bind(
+            KeyCode::Enter,
+            NONE,
+            A::Activate,
+            "AU table",
+            "load the selected AU or expression (muscles: type a value)",
+            None,
+        ),
+        bind(
+            ch('w'),
+            NONE,
+            A::OverwriteSelected,
+            "AU table",
+            "overwrite the selected AU with the current state",
+            None,
+        ),
+        bind(
+            ch('d'),
+            NONE,
+            A::DeleteSelected,
+            "AU table",
+            "delete the selected AU or expression",
+            None,
+        ),
+        bind(
+            ch('n'),
+            NONE,
+            A::RenameSelected,
+            "AU table",
+            "rename the selected AU",
+            None,
+        ),
+        bind(
+            ch('a'),
+            NONE,
+            A::StartAddAu,
+            "AU table",
+            "add an AU at an intensity to the current state",
+            None,
+        ),
+        bind(
+            ch('e'),
+            NONE,
+            A::StartExpression,
+            "AU table",
+            "store a combination as a named expression",
+            None,
+        ),
+        bind(
+            ch('['),
+            NONE,
+            A::Rotate(-15.0, 0.0),
+            "view",
+            "turn left",
+            None,
+        ),
+        bind(
+            ch(']'),
+            NONE,
+            A::Rotate(15.0, 0.0),
+            "view",
+            "turn right",
+            None,
+        ),
+        bind(
+            ch('{'),
+            NONE,
+            A::Rotate(0.0, -10.0),
+            "view",
+            "tilt down",
+            None,
+        ),
+        bind(ch('}'), NONE, A::Rotate(0.0, 10.0), "view", "tilt up", None),
+        bind(ch('+'), NONE, A::Zoom(1.25), "view", "zoom in", None),
+        bind(ch('-'), NONE, A::Zoom(0.8), "view", "zoom out", None),
+        bind(
+            KeyCode::Left,
+            CTRL,
+            A::Pan(-0.1, 0.0),
+            "view",
+            "pan left",
+            None,
+        ),
+        bind(
+            KeyCode::Right,
+            CTRL,
+            A::Pan(0.1, 0.0),
+            "view",
+            "pan right",
+            None,
+        ),
+        bind(KeyCode::Up, CTRL, A::Pan(0.0, 0.1), "view", "pan up", None),
+        bind(
+            KeyCode::Down,
+            CTRL,
+            A::Pan(0.0, -0.1),
+            "view",
+            "pan down",
+            None,
+        ),
+        bind(ch('v'), NONE, A::ResetView, "view", "reset the view", None),
+        bind(
+            ch('1'),
+            NONE,
+            A::Preset(ViewPreset::Front),
+            "view",
+            "front view",
+            None,
+        ),
+        bind(
+            ch('2'),
+            NONE,
+            A::Preset(ViewPreset::Side),
+            "view",
+            "side view",
+            None,
+        ),
+        bind(
+            ch('3'),
+            NONE,
+            A::Preset(ViewPreset::ThreeQuarter),
+            "view",
+            "three-quarter view",
+            None,
+        ),
+        bind(
+            ch('s'),
+            NONE,
+            A::CycleStyle,
+            "view",
+            "next style: lines, shaded, wireframe",
+            Some("style"),
+        ),
+        bind(
+            ch('c'),
+            NONE,
+            A::CycleCells,
+            "view",
+            "next cells: braille, half-block colour, ASCII",
+            None,
+        ),
+        bind(
+            ch('A'),
+            NONE,
+            A::ToggleAscii,
+            "view",
+            "ASCII mode on/off",
+            None,
+        ),
+        bind(
+            ch('M'),
+            NONE,
+            A::ToggleMuscles,
+            "view",
+            "show the muscles",
+            None,
+        ),
+        bind(
+            ch('o'),
+            NONE,
+            A::ToggleGhost,
+            "view",
+            "show the rest pose as a ghost",
+            None,
+        ),
+        bind(
+            ch('D'),
+            NONE,
+            A::ToggleDisplacement,
+            "view",
+            "colour edges by displacement",
+            None,
+        ),
+        bind(
+            ch(':'),
+            NONE,
+            A::StartCommand,
+            "file",
+            "command line (:w, :q, :record ...)",
+            Some("cmd"),
+        ),
+        bind(ch('s'), CTRL, A::Save, "file", "save", Some("save")),
+        bind(
+            ch('q'),
+            NONE,
+            A::Quit,
+            "file",
+            "quit (asks when there are unsaved changes)",
+            Some("quit"),
+        ),
+        bind(
+            ch('c'),
+            CTRL,
+            A::Quit,
+            "file",
+            "quit (asks when there are unsaved changes)",
+            None,
+        ),
+        bind(
+            ch('?'),
+            NONE,
+            A::ToggleHelp,
+            "file",
+            "this help",
+            Some("help"),
+        ),
+    ];
+    TABLE
+}
+
+/// The keys of the input line, the help overlay and questions, for the help overlay.
+pub const OTHER_KEYS: &[(&str, &str)] = &[
+    (
+        "Tab",
+        "complete a muscle name, AU number or command (input line)",
+    ),
+    ("Enter / Esc", "accept / cancel the input line"),
+    ("y / n", "answer a question (Esc = no)"),
+];
+
+/// The commands of the `:` line, for the help overlay and completion.
+pub const COMMANDS: &[(&str, &str)] = &[
+    ("w [FILE]", "save (to FILE: save as)"),
+    ("wq", "save and quit"),
+    ("q", "quit (asks when there are unsaved changes)"),
+    ("q!", "quit, discarding unsaved changes"),
+    (
+        "record N [NAME]",
+        "record the current state as AU N (e.g. 12, R12)",
+    ),
+    ("load N", "load AU N"),
+    ("delete N", "delete AU N"),
+    ("rename N NAME", "rename AU N"),
+    (
+        "add N [INTENSITY]",
+        "add AU N at an intensity (default 1) to the current state",
+    ),
+    (
+        "combo STR",
+        "set the state from an AU combination, e.g. 1+2+5B+26",
+    ),
+    (
+        "expr NAME [COMBO]",
+        "store an expression, or load it when no combination is given",
+    ),
+    ("set MUSCLE VALUE", "set a muscle's activation (0-2)"),
+    ("jaw VALUE", "set the jaw (0-4)"),
+    ("zero", "reset every muscle and the jaw"),
+    ("undo / redo", "undo or redo"),
+    ("view front|side|three-quarter", "preset views"),
+    ("style lines|shaded|wireframe", "drawing style"),
+    ("help", "this help"),
+];
+
+/// The command names, for completion.
+pub const COMMAND_NAMES: &[&str] = &[
+    "w", "wq", "x", "q", "q!", "record", "load", "delete", "rename", "add", "combo", "expr", "set",
+    "jaw", "zero", "undo", "redo", "view", "style", "help",
+];
+
+/// The action for a key press in the given mode, if any.
+pub fn dispatch(mode: &Mode, key: KeyEvent) -> Option<Action> {
+    match mode {
+        Mode::Normal => normal(key),
+        Mode::Input(_) => input(key),
+        Mode::Help(_) => match key.code {
+            KeyCode::Char('j') | KeyCode::Down => Some(Action::HelpScroll(1)),
+            KeyCode::Char('k') | KeyCode::Up => Some(Action::HelpScroll(-1)),
+            KeyCode::PageDown | KeyCode::Char(' ') => Some(Action::HelpScroll(10)),
+            KeyCode::PageUp => Some(Action::HelpScroll(-10)),
+            _ => Some(Action::Cancel),
+        },
+        Mode::Confirm(_) => match key.code {
+            KeyCode::Char('y') | KeyCode::Char('Y') => Some(Action::Answer(true)),
+            KeyCode::Char('n') | KeyCode::Char('N') | KeyCode::Esc => Some(Action::Answer(false)),
+            _ => None,
+        },
+    }
+}
+
+fn normal(key: KeyEvent) -> Option<Action> {
+    let mods = significant(key);
+    bindings()
+        .iter()
+        .find(|b| b.code == key.code && b.mods == mods)
+        .map(|b| b.action.clone())
+}
+
+/// The modifiers that matter: Shift is part of the character for printable keys.
+fn significant(key: KeyEvent) -> KeyModifiers {
+    let mut mods =
+        key.modifiers & (KeyModifiers::CONTROL | KeyModifiers::ALT | KeyModifiers::SHIFT);
+    if matches!(key.code, KeyCode::Char(_)) {
+        mods.remove(KeyModifiers::SHIFT);
+    }
+    mods
+}
+
+fn input(key: KeyEvent) -> Option<Action> {
+    let ctrl = key.modifiers.contains(KeyModifiers::CONTROL);
+    Some(match key.code {
+        KeyCode::Enter => Action::InputSubmit,
+        KeyCode::Esc => Action::Cancel,
+        KeyCode::Char('c') if ctrl => Action::Cancel,
+        KeyCode::Char('a') if ctrl => Action::InputHome,
+        KeyCode::Char('e') if ctrl => Action::InputEnd,
+        KeyCode::Char('h') if ctrl => Action::InputBackspace,
+        KeyCode::Char(c) if !ctrl => Action::InputChar(c),
+        KeyCode::Backspace => Action::InputBackspace,
+        KeyCode::Delete => Action::InputDelete,
+        KeyCode::Left => Action::InputLeft,
+        KeyCode::Right => Action::InputRight,
+        KeyCode::Home => Action::InputHome,
+        KeyCode::End => Action::InputEnd,
+        KeyCode::Tab => Action::InputComplete,
+        _ => return None,
+    })
+}
+
+/// How a key is written in the help overlay.
+pub fn key_label(code: KeyCode, mods: KeyModifiers) -> String {
+    let base = match code {
+        KeyCode::Char(' ') => "Space".to_string(),
+        KeyCode::Char(c) => c.to_string(),
+        KeyCode::Up => "Up".into(),
+        KeyCode::Down => "Down".into(),
+        KeyCode::Left => "Left".into(),
+        KeyCode::Right => "Right".into(),
+        KeyCode::Enter => "Enter".into(),
+        KeyCode::Tab => "Tab".into(),
+        KeyCode::Esc => "Esc".into(),
+        other => format!("{other:?}"),
+    };
+    if mods.contains(KeyModifiers::CONTROL) {
+        format!("Ctrl-{base}")
+    } else {
+        base
+    }
+}
+
+/// The help overlay's lines for the bindings: keys doing the same thing share a line.
+pub fn help_lines() -> Vec<(String, String, &'static str)> {
+    let mut lines: Vec<(String, String, &'static str)> = Vec::new();
+    for b in bindings() {
+        let label = key_label(b.code, b.mods);
+        match lines
+            .iter_mut()
+            .find(|(_, desc, section)| desc == b.description && *section == b.section)
+        {
+            Some(line) => {
+                line.0.push_str(" / ");
+                line.0.push_str(&label);
+            }
+            None => lines.push((label, b.description.to_string(), b.section)),
+        }
+    }
+    lines
+}
+
+/// The status line hints: `key hint` for the bindings that have one.
+pub fn hints() -> Vec<(String, &'static str)> {
+    bindings()
+        .iter()
+        .filter_map(|b| b.hint.map(|h| (key_label(b.code, b.mods), h)))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(code: KeyCode, mods: KeyModifiers) -> KeyEvent {
+        KeyEvent::new(code, mods)
+    }
+
+    #[test]
+    fn upper_case_letters_with_shift_map_to_their_binding() {
+        let action = dispatch(&Mode::Normal, key(KeyCode::Char('L'), KeyModifiers::SHIFT));
+        assert_eq!(action, Some(Action::StepCoarse(1)));
+    }
+
+    #[test]
+    fn control_keys_are_distinct_from_plain_ones() {
+        assert_eq!(
+            dispatch(&Mode::Normal, key(KeyCode::Char('s'), CTRL)),
+            Some(Action::Save)
+        );
+        assert_eq!(
+            dispatch(&Mode::Normal, key(KeyCode::Char('s'), NONE)),
+            Some(Action::CycleStyle)
+        );
+    }
+
+    #[test]
+    fn no_key_is_bound_twice() {
+        let table = bindings();
+        for (i, a) in table.iter().enumerate() {
+            for b in &table[i + 1..] {
+                assert!(
+                    !(a.code == b.code && a.mods == b.mods),
+                    "{:?} bound twice",
+                    a.code
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn every_binding_appears_in_help() {
+        let help = help_lines();
+        for b in bindings() {
+            let label = key_label(b.code, b.mods);
+            assert!(
+                help.iter()
+                    .any(|(keys, _, _)| keys.split(" / ").any(|k| k == label)),
+                "{label} missing from help"
+            );
+        }
+    }
+
+    #[test]
+    fn input_mode_types_letters_that_are_commands_in_normal_mode() {
+        let mode = Mode::Input(super::super::app::Input::new(
+            super::super::app::InputKind::Command,
+            "",
+        ));
+        assert_eq!(
+            dispatch(&mode, key(KeyCode::Char('q'), NONE)),
+            Some(Action::InputChar('q'))
+        );
+    }
+}

@@ -1,0 +1,67 @@
+//! The editor's link to the model: the bound rig, its mesh and the current deformed positions.
+//!
+//! All deformation is done by the core library ([`crate::model::BoundRig`]); this module only
+//! keeps the results.
+
+use glam::Vec3;
+
+use crate::model::{Activations, BoundRig, Mesh, Rig};
+
+/// The face being edited: bound rig, rest mesh and the deformed positions for the current
+/// activations.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    bound: BoundRig,
+    mesh: Mesh,
+    positions: Vec<Vec3>,
+}
+
+impl Scene {
+    /// Binds a rig to its mesh. Fails with a message when the rig does not fit the mesh.
+    pub fn new(rig: Rig, mesh: Mesh) -> Result<Scene, String> {
+        let bound = BoundRig::bind(&rig, &mesh)
+            .map_err(|e| format!("the rig does not fit its mesh: {e}"))?;
+        let positions = mesh.positions.clone();
+        Ok(Scene {
+            bound,
+            mesh,
+            positions,
+        })
+    }
+
+    /// The rig.
+    pub fn rig(&self) -> &Rig {
+        self.bound.rig()
+    }
+
+    /// The rest mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The deformed vertex positions for the last activations given.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// Recomputes every deformed position. Activations the model refuses (the editor keeps
+    /// them in range, so this does not happen) leave the face as it was.
+    pub fn deform(&mut self, activations: &Activations) {
+        let _ = self.bound.deform(activations, &mut self.positions);
+    }
+
+    /// Recomputes the region of one muscle (or everything for the jaw, `None`), after
+    /// `activations` changed in that muscle only.
+    pub fn update_muscle(&mut self, activations: &Activations, muscle: Option<usize>) {
+        let updated = match muscle {
+            Some(i) => self
+                .bound
+                .update_muscle(activations, i, &mut self.positions)
+                .is_ok(),
+            None => false,
+        };
+        if !updated {
+            self.deform(activations);
+        }
+    }
+}

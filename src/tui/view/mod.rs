@@ -1,0 +1,102 @@
+//! Drawing: one file per panel. `draw` only reads the state.
+
+pub mod help;
+pub mod muscles;
+pub mod prompt;
+pub mod status;
+pub mod table;
+pub mod theme;
+pub mod viewport;
+
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::Line;
+use ratatui::widgets::{Paragraph, Wrap};
+use ratatui::Frame;
+
+use super::app::{App, Mode, MIN_SIZE};
+use theme::Theme;
+
+/// Where each panel goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Panels {
+    /// The muscle list.
+    pub muscles: Rect,
+    /// The AU table.
+    pub table: Rect,
+    /// The face.
+    pub viewport: Rect,
+    /// The status line.
+    pub status: Rect,
+    /// The message / input / question line.
+    pub line: Rect,
+}
+
+/// The panels for a terminal area, or `None` when it is too small to be useful.
+pub fn layout(area: Rect) -> Option<Panels> {
+    if area.width < MIN_SIZE.0 || area.height < MIN_SIZE.1 {
+        return None;
+    }
+    let [body, status, line] = Layout::vertical([
+        Constraint::Min(1),
+        Constraint::Length(1),
+        Constraint::Length(1),
+    ])
+    .areas(area);
+    if area.width >= 110 {
+        // Wide: muscles | face | table.
+        let side = (area.width / 6).clamp(28, 40);
+        let [muscles, viewport, table] = Layout::horizontal([
+            Constraint::Length(side + 6),
+            Constraint::Min(20),
+            Constraint::Length(side),
+        ])
+        .areas(body);
+        Some(Panels {
+            muscles,
+            table,
+            viewport,
+            status,
+            line,
+        })
+    } else {
+        // Narrow: muscles above table on the left, face on the right.
+        let [left, viewport] =
+            Layout::horizontal([Constraint::Length(32), Constraint::Min(20)]).areas(body);
+        let table_height = (left.height / 3).max(5);
+        let [muscles, table] =
+            Layout::vertical([Constraint::Min(5), Constraint::Length(table_height)]).areas(left);
+        Some(Panels {
+            muscles,
+            table,
+            viewport,
+            status,
+            line,
+        })
+    }
+}
+
+/// Draws the whole screen.
+pub fn draw(app: &App, frame: &mut Frame) {
+    let area = frame.area();
+    let theme = Theme::new(app.colors);
+    let Some(panels) = layout(area) else {
+        let text = format!(
+            "Terminal too small: {}x{}. grimace needs at least {}x{}. Enlarge the window (q quits).",
+            area.width, area.height, MIN_SIZE.0, MIN_SIZE.1
+        );
+        frame.render_widget(
+            Paragraph::new(Line::from(text)).wrap(Wrap { trim: true }),
+            area,
+        );
+        return;
+    };
+    let buf = frame.buffer_mut();
+    viewport::draw(app, &theme, panels.viewport, buf);
+    muscles::draw(app, &theme, panels.muscles, buf);
+    table::draw(app, &theme, panels.table, buf);
+    status::draw(app, &theme, panels.status, buf);
+    prompt::draw(app, &theme, panels.line, frame);
+    if let Mode::Help(scroll) = app.mode {
+        help::draw(&theme, scroll, area, frame.buffer_mut());
+    }
+}
