@@ -6,16 +6,16 @@
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
 use crate::facs::AuTable;
+use crate::io::builtin::{self, builtin_name};
 use crate::io::parse_rig;
 use crate::io::rig_file::load_rig_with;
-use crate::io::table_file::load_table_for;
+use crate::io::table_file::{load_table, load_table_for, rig_ref, RigRef};
 use crate::io::timeline::load_timeline;
 use crate::model::{Mesh, Rig};
 use crate::play::source::DEFAULT_FRAME_RATE;
@@ -92,21 +92,10 @@ pub struct PlayArgs {
     pub ascii: bool,
 }
 
-/// Runs `grimace play`: 0 when the input was played, 1 on an error (named on stderr).
-pub fn main(args: &PlayArgs) -> ExitCode {
-    match run(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(err) => {
-            eprintln!("grimace play: {err:#}");
-            ExitCode::from(1)
-        }
-    }
-}
-
-/// Runs `grimace play`, returning the first error.
+/// Runs `grimace play`, returning the first error (named with file, line and column).
 pub fn run(args: &PlayArgs) -> Result<()> {
     check_args(args)?;
-    let (rig, table) = load_face(args)?;
+    let (rig, table, mesh) = load_face(args, !args.headless)?;
     let mapper = AuMapper::new(&table, &rig);
     let source = open_source(args, &rig, &table, &mapper)?;
     if args.headless {
@@ -118,8 +107,8 @@ pub fn run(args: &PlayArgs) -> Result<()> {
         }
         Ok(())
     } else {
-        let face = load_mesh(args, &rig)?;
-        let summary = view::play(args, source, face, &rig, &table, &mapper)?;
+        let mesh = mesh.context("no mesh to draw")?;
+        let summary = view::play(args, source, mesh, &rig, &table, &mapper)?;
         println!(
             "played {} frames, skipped {}",
             summary.played, summary.skipped
@@ -129,22 +118,6 @@ pub fn run(args: &PlayArgs) -> Result<()> {
         }
         Ok(())
     }
-}
-
-/// The mesh to draw: the rig file's mesh (the default face for `builtin:default`).
-fn load_mesh(args: &PlayArgs, rig: &Rig) -> Result<Mesh> {
-    match &args.rig {
-        Some(path) => Ok(load_rig_with(path, None, builtin_mesh)?.mesh),
-        None => {
-            let _ = rig;
-            bail!("no --rig given and this build has no built-in face yet")
-        }
-    }
-}
-
-/// `builtin:face` (or `builtin:default`) is the generated default face.
-fn builtin_mesh(name: &str) -> Option<Mesh> {
-    matches!(name, "default" | "face").then(crate::face::generate)
 }
 
 fn check_args(args: &PlayArgs) -> Result<()> {
@@ -164,22 +137,70 @@ fn check_args(args: &PlayArgs) -> Result<()> {
     Ok(())
 }
 
-/// The rig and table: from files when given, else the built-in default face. Headless play
-/// needs no mesh, so a rig file is only parsed then; the table is checked against the rig.
-fn load_face(args: &PlayArgs) -> Result<(Rig, AuTable)> {
-    let rig = match &args.rig {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read rig {}", path.display()))?;
-            parse_rig(&text, path)?
+/// The rig, the table and (when `need_mesh`) the mesh.
+///
+/// The rig is `--rig` (a file or `builtin:NAME`), else the rig the `--table` file names, else
+/// the built-in default rig. The table is `--table` (a file or `builtin:NAME`), else the
+/// built-in default table; it is checked against the rig. Headless play draws nothing, so a
+/// rig file's mesh is not read then.
+fn load_face(args: &PlayArgs, need_mesh: bool) -> Result<(Rig, AuTable, Option<Mesh>)> {
+    // A table file names its rig; it is read here for that, and checked against the rig below.
+    let table_file = match &args.table {
+        Some(path) if builtin_name(path).is_none() => Some((path, load_table(path)?.rig)),
+        _ => None,
+    };
+    let rig_source = match (&args.rig, &table_file) {
+        (Some(path), _) => match builtin_name(path) {
+            Some(name) => RigRef::Builtin(name.to_string()),
+            None => RigRef::File(path.clone()),
+        },
+        (None, Some((path, table_rig))) => rig_ref(path, table_rig),
+        (None, None) => RigRef::Builtin("default".into()),
+    };
+    let (rig, mesh) = match rig_source {
+        RigRef::Builtin(name) => {
+            let rig = builtin::rig(&name).with_context(|| {
+                format!("there is no built-in rig `builtin:{name}` (built-in rigs: default, paper)")
+            })?;
+            let mesh = builtin_name(&rig.mesh).and_then(builtin::mesh);
+            (rig, mesh)
         }
-        None => bail!("no --rig given and this build has no built-in face yet"),
+        RigRef::File(path) if need_mesh => {
+            let loaded = load_rig_with(&path, None, builtin::mesh)?;
+            (loaded.rig, Some(loaded.mesh))
+        }
+        RigRef::File(path) => {
+            let text = std::fs::read_to_string(&path)
+                .with_context(|| format!("cannot read rig {}", path.display()))?;
+            (parse_rig(&text, &path)?, None)
+        }
     };
-    let table = match &args.table {
-        Some(path) => load_table_for(path, &rig)?,
-        None => bail!("no --table given and this build has no built-in AU table yet"),
+    let table = match (&args.table, table_file) {
+        (_, Some((path, _))) => load_table_for(path, &rig)?,
+        (Some(path), None) => {
+            let name = builtin_name(path).unwrap_or_default();
+            let table = builtin::table(name).with_context(|| {
+                format!("there is no built-in AU table `builtin:{name}` (built-in tables: default)")
+            })?;
+            check_builtin_table(table, &rig)?
+        }
+        (None, None) => check_builtin_table(builtin::default_table(), &rig)?,
     };
-    Ok((rig, table))
+    if need_mesh && mesh.is_none() {
+        bail!(
+            "the rig's mesh `{}` is not a built-in mesh",
+            rig.mesh.display()
+        );
+    }
+    Ok((rig, table, mesh))
+}
+
+/// A built-in table must fit the rig (a custom rig needs its own `--table`).
+fn check_builtin_table(table: AuTable, rig: &Rig) -> Result<AuTable> {
+    table.check_rig(rig).map_err(|e| {
+        anyhow::anyhow!("the built-in AU table does not fit this rig ({e}); give --table")
+    })?;
+    Ok(table)
 }
 
 fn is_timeline(path: &Path) -> bool {
