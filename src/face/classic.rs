@@ -39,10 +39,6 @@ pub const CLASSIC_JAW_DEGREES_PER_UNIT: f32 = 2.5;
 /// opening's height (the classic brows sit a little more than half an opening above the lid).
 const BROW_ABOVE_LID: f32 = 0.6;
 
-/// How far below the brow line the frontalis pull reaches, as a fraction of the brow's
-/// height above the upper lid: it fades out just above the lid, which the eye sphincter owns.
-const FRONTALIS_REACH_BELOW_BROW: f32 = 0.8;
-
 /// Height of the jaw pivot between the mouth line (0) and the eye line (1): the
 /// temporomandibular joint sits at about the height of the nose's base.
 const PIVOT_HEIGHT: f32 = 0.45;
@@ -311,7 +307,8 @@ impl SkinSampler {
 
 /// The frontalis as two sheets: from the top of the forehead (the highest vertex's height
 /// and depth, where the galea begins) down to a brow line above each eye, as wide as from
-/// the midline to as far beyond the eye's centre; the pull fades out just above the lid.
+/// the midline to as far beyond the eye's centre; the pull fades out at the upper lid, which
+/// the eye sphincter owns.
 fn frontalis_sheets(
     marks: &Landmarks,
     skin: &SkinSampler,
@@ -335,11 +332,26 @@ fn frontalis_sheets(
     let l2 = rounded(skin.at(name, outer.x, brow_y)?);
     let a1 = rounded(Vec3::new(inner.x, marks.top.y, marks.top.z));
     let a2 = rounded(Vec3::new(outer.x, marks.top.y, marks.top.z));
-    let span = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
+    let (ac, lc) = (0.5 * (a1 + a2), 0.5 * (l1 + l2));
+    let span = ac.distance(lc);
+    // The pull fades out at the upper lid: the sheet ends where its axis reaches the lid
+    // margin's nearest vertex (the lid is recessed under the brow, so this is measured
+    // along the axis, not in height).
+    let axis = (lc - ac).normalize_or_zero();
+    let lid_reach = eye
+        .upper
+        .iter()
+        .map(|&v| (p[v as usize] - ac).dot(axis))
+        .fold(f32::INFINITY, f32::min);
+    let length = if lid_reach > span * 1.01 {
+        lid_reach
+    } else {
+        span * 1.05
+    };
     let right = Sheet {
         attachment: [a1, a2],
         insertion: [l1, l2],
-        length: round3(span + FRONTALIS_REACH_BELOW_BROW * (brow_y - lid_top)),
+        length: round3(length),
         width: round3(inner.x + outer.x),
     };
     let left = Sheet {
