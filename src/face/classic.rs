@@ -43,6 +43,10 @@ const BROW_ABOVE_LID: f32 = 0.6;
 /// temporomandibular joint sits at about the height of the nose's base.
 const PIVOT_HEIGHT: f32 = 0.45;
 
+/// The middle of the lower lip that turns fully with the jaw, as a fraction of the mouth's
+/// half-width; from there the weight falls smoothly to 0 at the corner.
+const LIP_MIDDLE: f64 = 0.3;
+
 /// Why the extra muscles cannot be placed on a mesh.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ClassicError {
@@ -497,7 +501,8 @@ fn jaw(marks: &Landmarks, p: &[Vec3]) -> Result<Jaw, ClassicError> {
         let depth = f64::from((below / depth_scale).clamp(0.0, 1.0));
         let ease = smoothstep(0.0, 0.6, depth);
         let jaw_half = f64::from(jaw_half);
-        let inner = ease * 0.75 * jaw_half;
+        // the middle third of the lower lip moves fully, so the mouth opens round, not in a V
+        let inner = LIP_MIDDLE * f64::from(corner_x) * (1.0 - ease) + ease * 0.75 * jaw_half;
         let outer = f64::from(corner_x) + ease * (1.25 * jaw_half - f64::from(corner_x));
         let w = round3((1.0 - smoothstep(inner, outer, f64::from(ax))) as f32);
         if w > 0.0 {
