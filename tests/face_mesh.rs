@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::Vec3;
 use grimace::face::anthropometry::{units, MM_PER_UNIT};
 use grimace::face::topology::{boundary_loops, edge_uses};
-use grimace::face::{generate, groups, obj};
+use grimace::face::{generate, groups, presets};
 use grimace::model::Mesh;
 
 fn face() -> Mesh {
@@ -222,26 +222,10 @@ fn lids_and_lips_are_separate_and_close() {
 #[test]
 fn groups_are_found_again_after_an_obj_round_trip() {
     let mesh = face();
-    let text = obj::to_obj(&mesh);
-    let mut positions = Vec::new();
-    let mut triangles = Vec::new();
-    for line in text.lines() {
-        let mut parts = line.split_whitespace();
-        match parts.next() {
-            Some("v") => {
-                let v: Vec<f32> = parts.map(|s| s.parse().expect("number")).collect();
-                positions.push(Vec3::new(v[0], v[1], v[2]));
-            }
-            Some("f") => {
-                let f: Vec<u32> = parts
-                    .map(|s| s.parse::<u32>().expect("index") - 1)
-                    .collect();
-                triangles.push([f[0], f[1], f[2]]);
-            }
-            _ => {}
-        }
-    }
-    let read = Mesh::new(positions, triangles).expect("valid");
+    let text = presets::mesh_file(&mesh);
+    let read = grimace::io::obj::parse_obj(&text, std::path::Path::new("face.obj"))
+        .expect("the written face reads back");
+    assert_eq!(read.positions, mesh.positions);
     assert_eq!(groups::find_groups_in(&read), mesh.groups);
 }
 
@@ -249,7 +233,7 @@ fn groups_are_found_again_after_an_obj_round_trip() {
 fn committed_asset_is_exactly_what_the_generator_writes() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/face.obj");
     let committed = std::fs::read_to_string(&path).expect("assets/face.obj is readable");
-    let generated = obj::to_obj(&face());
+    let generated = presets::mesh_file(&face());
     assert!(
         committed == generated,
         "assets/face.obj differs from the generator: run `grimace gen-face --out assets/face.obj`"

@@ -183,7 +183,7 @@ fn rig_semantic_errors_name_the_muscle_and_place() {
         .replacen("zone: 95.0", "zone: 45.0", 1);
     assert_eq!(
         rig_error(&zone),
-        "t.ron:26:17: muscle `R_Zygomatic_Major`: zone is 95; expected an angle in degrees above 0 and below 90"
+        "t.ron:26:17: muscle `R_Zygomatic_Major`: zone 95 must lie strictly between 0 and 90 degrees"
     );
     let mirror = good.replace("mirror: \"R_Zygomatic_Major\"", "mirror: \"R_Zygo\"");
     assert_eq!(
@@ -308,11 +308,22 @@ fn read_only_folder_fails_cleanly() {
     std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o555)).unwrap();
     let probe = dir.path().join("probe");
     if std::fs::write(&probe, b"x").is_ok() {
-        // Running as root: permissions do not bind, so this case cannot be produced here.
-        // The failure of every save step is covered by the unit tests of io::atomic.
+        // Running as root: permissions do not bind. A folder no one can create files in
+        // still exists: /proc. Saving over an existing file there must fail the same way.
         let _ = std::fs::remove_file(&probe);
         std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
-        eprintln!("skipped: the folder stays writable (running as root)");
+        let target = Path::new("/proc/version");
+        let Ok(before) = std::fs::read(target) else {
+            eprintln!("skipped: running as root and /proc is not available");
+            return;
+        };
+        let err = io::save_table(target, &sample_table()).unwrap_err();
+        assert!(
+            err.to_string().starts_with("/proc/version: cannot save: "),
+            "{err}"
+        );
+        assert_eq!(std::fs::read(target).unwrap(), before);
+        assert!(!Path::new("/proc/version~").exists());
         return;
     }
     let mut changed = sample_table();
@@ -402,6 +413,36 @@ proptest! {
             let truncated = &good[..at];
             let _ = io::parse_rig(truncated, p());
             let _ = io::parse_table(truncated, p());
+        }
+    }
+}
+
+proptest! {
+    #[test]
+    fn random_bytes_into_the_classic_parsers_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..300)) {
+        let text = String::from_utf8_lossy(&bytes);
+        let _ = io::waters::parse_faceline(&text, p());
+        let _ = io::waters::parse_index(&text, p(), 10);
+        let _ = io::waters::parse_muscles(&text, p());
+    }
+
+    #[test]
+    fn number_soup_into_the_classic_parsers_never_panics(s in "[0-9 .\n-]{0,200}|1000[0-9 \n]{0,100}") {
+        let _ = io::waters::parse_faceline(&s, p());
+        if let Ok(polygons) = io::waters::parse_index(&s, p(), 6) {
+            let half: Vec<Vec3> = (0..6).map(|i| Vec3::new(-(i as f32), i as f32, 1.0)).collect();
+            let _ = io::waters::build_face(&half, &polygons, true);
+        }
+        let _ = io::waters::parse_muscles(&format!("1\nm {s}"), p());
+    }
+
+    #[test]
+    fn random_files_never_panic_the_loaders(bytes in prop::collection::vec(any::<u8>(), 0..300)) {
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["x.rig.ron", "x.au.ron", "x.obj"] {
+            let path = dir.path().join(name);
+            std::fs::write(&path, &bytes).unwrap();
+            let _ = grimace::cli::validate::check(&path);
         }
     }
 }

@@ -10,6 +10,7 @@ use clap::Args;
 use crate::facs::{AuTable, TABLE_VERSION};
 use crate::io::lock::{self, LockOutcome};
 use crate::io::recovery;
+use crate::io::table_file::RigRef;
 use crate::model::{Mesh, Rig};
 use crate::tui::app::{App, Colors, FileStamp, Mode, Question, Recovered, View};
 use crate::tui::scene::Scene;
@@ -45,18 +46,20 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         Some(path) => load_table_file(path)?,
         None => None,
     };
-    let (table, stamp, new_file) = match (&args.file, loaded) {
-        (_, Some((table, stamp))) => (table, Some(stamp), false),
+    let table_path = args
+        .file
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("builtin.au.ron"));
+    let (table, stamp, new_file) = match (&args.file, &loaded) {
+        (_, Some(loaded)) => (loaded.table.clone(), Some(loaded.stamp), false),
         (Some(_), None) => (new_table(args.rig.as_deref()), None, true),
         (None, None) => (builtin_table()?, None, false),
     };
-    let table_dir = args
-        .file
-        .as_deref()
-        .and_then(Path::parent)
-        .map(Path::to_path_buf)
-        .unwrap_or_default();
-    let (rig, mesh) = load_face(args, &table, &table_dir)?;
+    let (rig, mesh) = load_face(args, &table, &table_path)?;
+    if let Some(loaded) = &loaded {
+        crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
+            .map_err(|e| e.to_string())?;
+    }
     let scene = Scene::new(rig, mesh)?;
     let mut app = App::new(scene, table, args.file.clone());
     app.file_stamp = stamp;
@@ -133,32 +136,79 @@ fn new_table(rig: Option<&Path>) -> AuTable {
     }
 }
 
+/// A table file as loaded: the table, its text (for locating later errors) and its stamp.
+struct LoadedTable {
+    table: AuTable,
+    text: String,
+    stamp: FileStamp,
+}
+
 /// Reads a table file: `Ok(None)` when it does not exist.
-fn load_table_file(path: &Path) -> Result<Option<(AuTable, FileStamp)>, String> {
-    let bytes = match std::fs::read(path) {
-        Ok(bytes) => bytes,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(format!("{}: {e}", path.display())),
-    };
-    let text = String::from_utf8(bytes.clone())
-        .map_err(|e| format!("{}: not UTF-8 text ({e})", path.display()))?;
-    let table: AuTable = ron::from_str(&text).map_err(|e| {
-        format!(
-            "{}:{}:{}: {}",
-            path.display(),
-            e.span.start.line,
-            e.span.start.col,
-            e.code
-        )
-    })?;
-    Ok(Some((table, FileStamp::of(&bytes))))
+fn load_table_file(path: &Path) -> Result<Option<LoadedTable>, String> {
+    if !path.exists() {
+        return Ok(None);
+    }
+    let text =
+        crate::io::error::read_text(path, crate::io::MAX_FILE_BYTES).map_err(|e| e.to_string())?;
+    let table = crate::io::parse_table(&text, path).map_err(|e| e.to_string())?;
+    let stamp = FileStamp::of(text.as_bytes());
+    Ok(Some(LoadedTable { table, text, stamp }))
 }
 
 fn builtin_table() -> Result<AuTable, String> {
-    Ok(new_table(None))
+    crate::io::builtin::table("default").ok_or_else(|| "the built-in table is missing".to_string())
 }
 
-fn load_face(args: &EditArgs, table: &AuTable, table_dir: &Path) -> Result<(Rig, Mesh), String> {
-    let _ = (args, table, table_dir);
-    Err("the built-in face is not part of this build".to_string())
+/// The built-in default rig, its mesh and the built-in AU table.
+pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
+    let (rig, mesh) =
+        builtin_rig("default").ok_or("the built-in default rig is missing from this build")?;
+    Ok((rig, mesh, builtin_table()?))
+}
+
+/// An embedded rig and its mesh, by the name after `builtin:`.
+fn builtin_rig(name: &str) -> Option<(Rig, Mesh)> {
+    let rig = crate::io::builtin::rig(name)?;
+    let mesh_name = crate::io::builtin::builtin_name(&rig.mesh)?;
+    let mesh = crate::io::builtin::mesh(mesh_name)?;
+    Some((rig, mesh))
+}
+
+/// An embedded mesh, by the name after `builtin:`.
+fn builtin_mesh(name: &str) -> Option<Mesh> {
+    crate::io::builtin::mesh(name)
+}
+
+/// The rig and mesh to edit with: `--rig` if given, else the table's rig; `--mesh` replaces
+/// the rig's mesh.
+fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<(Rig, Mesh), String> {
+    let reference = match &args.rig {
+        Some(rig) => rig_ref(Path::new("."), rig).unwrap_or_else(|| RigRef::File(rig.clone())),
+        None => rig_ref(table_path, &table.rig).unwrap_or(RigRef::File(table.rig.clone())),
+    };
+    let (rig, mesh) = match reference {
+        RigRef::Builtin(name) => {
+            let (rig, mesh) = builtin_rig(&name)
+                .ok_or_else(|| format!("there is no built-in rig named `{name}`"))?;
+            match &args.mesh {
+                Some(path) => (
+                    rig,
+                    crate::io::obj::read_obj(path).map_err(|e| e.to_string())?,
+                ),
+                None => (rig, mesh),
+            }
+        }
+        RigRef::File(path) => {
+            let loaded =
+                crate::io::rig_file::load_rig_with(&path, args.mesh.as_deref(), builtin_mesh)
+                    .map_err(|e| e.to_string())?;
+            (loaded.rig, loaded.mesh)
+        }
+    };
+    Ok((rig, mesh))
+}
+
+/// Resolves a rig reference (`builtin:NAME` or a path relative to `base`'s folder).
+fn rig_ref(base: &Path, rig: &Path) -> Option<RigRef> {
+    Some(crate::io::table_file::rig_ref(base, rig))
 }

@@ -1,4 +1,4 @@
-//! `grimace gen-face`: writes the built-in default face.
+//! `grimace gen-face`: writes the built-in default face (and optionally its presets).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -14,6 +14,10 @@ pub struct GenFaceArgs {
     /// Where to write the face mesh (Wavefront OBJ).
     #[arg(long, default_value = "assets/face.obj")]
     pub out: PathBuf,
+    /// Also write the rigs and the AU table (paper.rig.ron, default.rig.ron,
+    /// default.au.ron) into this folder.
+    #[arg(long)]
+    pub presets: Option<PathBuf>,
 }
 
 /// Runs `grimace gen-face`.
@@ -29,7 +33,12 @@ pub fn run(args: &GenFaceArgs) -> ExitCode {
 
 fn generate(args: &GenFaceArgs) -> anyhow::Result<()> {
     let mesh = face::generate();
-    write(&args.out, &face::obj::to_obj(&mesh))?;
+    write(&args.out, &face::presets::mesh_file(&mesh))?;
+    if let Some(dir) = &args.presets {
+        for (name, text) in face::presets::preset_files(&mesh).context("cannot place the rigs")? {
+            write(&dir.join(name), &text)?;
+        }
+    }
     Ok(())
 }
 

@@ -1,12 +1,22 @@
 //! The command line: argument parsing and one module per subcommand.
+//!
+//! Exit status: 0 on success, 1 on errors (a file that does not load, a value out of range),
+//! 2 on usage errors (clap's own exit code for bad arguments). Errors are printed to stderr
+//! as `grimace COMMAND: FILE:LINE:COL: message`.
 
+use std::fmt::Display;
+use std::io::Write;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
 pub mod edit;
+pub mod export;
 pub mod gen_face;
+pub mod import_waters;
+pub mod list;
 pub mod play;
+pub mod validate;
 
 /// grimace: shape facial expressions with muscles, in the terminal.
 #[derive(Debug, Parser)]
@@ -24,6 +34,14 @@ pub enum Command {
     Edit(edit::EditArgs),
     /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
     GenFace(gen_face::GenFaceArgs),
+    /// Import the classic Waters face (faceline.dat, index.dat, muscle.dat) as OBJ and rig.
+    ImportWaters(import_waters::ImportWatersArgs),
+    /// Write the mesh deformed by an AU, expression, combination or muscle values as OBJ.
+    Export(export::ExportArgs),
+    /// Check rig (*.rig.ron), AU table (*.au.ron) and mesh (*.obj) files.
+    Validate(validate::ValidateArgs),
+    /// List the muscles of a rig, the AUs and expressions of a table, or the FACS catalogue.
+    List(list::ListArgs),
     /// Animate the face from an OpenFace CSV, a timeline, or a live AU stream.
     Play(play::PlayArgs),
 }
@@ -33,20 +51,39 @@ pub enum Command {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        None => report(edit::run(&edit::EditArgs::default())),
-        Some(Command::Edit(args)) => report(edit::run(&args)),
-        Some(Command::GenFace(args)) => gen_face::run(&args),
-        Some(Command::Play(args)) => report(play::run(&args)),
+        None => finish("edit", edit::run(&edit::EditArgs::default())),
+        Some(command) => match command {
+            Command::Edit(args) => finish("edit", edit::run(&args)),
+            Command::GenFace(args) => gen_face::run(&args),
+            Command::ImportWaters(args) => finish("import-waters", import_waters::run(&args)),
+            Command::Export(args) => finish("export", export::run(&args)),
+            Command::Validate(args) => validate::run(&args),
+            Command::List(args) => finish("list", list::run(&args)),
+            Command::Play(args) => finish("play", play::run(&args)),
+        },
     }
 }
 
-/// Prints an error (with its causes) to stderr and turns the result into an exit code.
-fn report(result: anyhow::Result<()>) -> ExitCode {
+/// Maps a command's result to the exit status, printing the error as
+/// `grimace COMMAND: message` (the message names file, line and column where known).
+pub fn finish<E: Display>(command: &str, result: Result<(), E>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("grimace: {e:#}");
+        Err(err) => {
+            report(command, &err);
             ExitCode::from(1)
         }
     }
+}
+
+/// Prints an error of a command to stderr.
+pub fn report(command: &str, err: &dyn Display) {
+    let _ = writeln!(std::io::stderr(), "grimace {command}: {err:#}");
+}
+
+/// Writes text to stdout, ignoring a closed pipe (`grimace list | head` must not fail).
+pub fn print(text: &str) {
+    let mut out = std::io::stdout().lock();
+    let _ = out.write_all(text.as_bytes());
+    let _ = out.flush();
 }

@@ -30,7 +30,7 @@ const JAW_ROWS: usize = 13;
 /// Rows strictly between the mouth line and the eye line.
 const MID_ROWS: usize = 20;
 /// Rows above the eye line (the last one is the top edge).
-const UPPER_ROWS: usize = 17;
+const UPPER_ROWS: usize = 21;
 /// Half the gap between the lips at the middle of the mouth line (mm): close, not touching.
 const LIP_GAP: f64 = 0.3;
 
@@ -213,7 +213,7 @@ fn row_layout() -> Vec<Row> {
     );
     rows.push(Row::Eye);
     let upper = distribute(UPPER_ROWS, |t| {
-        1.0 + 1.5 * surface::gauss(t / 0.25) + 0.5 * surface::gauss((t - 0.3) / 0.12)
+        1.0 + 1.5 * surface::gauss(t / 0.25) + 1.2 * surface::gauss((t - 0.3) / 0.12)
     });
     rows.extend(upper.iter().map(|&t| Row::Upper(t)));
     rows

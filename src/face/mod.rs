@@ -1,12 +1,15 @@
 //! The built-in default face: a procedural neutral adult face mesh and its rigs.
 //!
 //! [`generate`] builds the mesh from published facial proportions ([`anthropometry`]) and
-//! smooth anatomical features ([`surface`]); [`obj`] writes it deterministically.
+//! smooth anatomical features ([`surface`]); [`rigs`] places the paper's and the default rig on
+//! it, [`au_table`] holds the default AU table and [`presets`] writes them all as files.
 
 pub mod anthropometry;
+pub mod au_table;
 pub mod generator;
 pub mod groups;
-pub mod obj;
+pub mod presets;
+pub mod rigs;
 pub mod surface;
 pub mod topology;
 

@@ -17,7 +17,7 @@ pub const THETA_MAX: f64 = 0.5 * PI;
 /// gnathion on the midline, rising past the gonion to the ear lobe at the side.
 pub fn bottom_y(theta: f64) -> f64 {
     let side_y = -75.0;
-    let t = (1.0 - theta.abs().cos()).max(0.0).powf(0.65);
+    let t = (1.0 - theta.abs().cos()).max(0.0).powf(0.85);
     GNATHION_Y + (side_y - GNATHION_Y) * t
 }
 
@@ -79,6 +79,7 @@ pub fn midline_z(y: f64) -> f64 {
 pub fn relief(x: f64, y: f64) -> f64 {
     let x = x.abs();
     brow(x, y)
+        + eyebrow(x, y)
         + orbit(x, y)
         + nose(x, y)
         + cheek(x, y)
@@ -97,6 +98,24 @@ fn brow(x: f64, y: f64) -> f64 {
     5.0 * band * arch + glabella
 }
 
+/// The eyebrow: a low pad of brow hair along the brow ridge, thick at its head beside the
+/// nose and tapering to its tail, arching highest over the outer third of the eye. It gives
+/// the brows an outline, so their movement shows.
+fn eyebrow(x: f64, y: f64) -> f64 {
+    let (head, tail) = (ENDOCANTHION_X - 3.0, EXOCANTHION_X + 6.0);
+    let along = ((x - head) / (tail - head)).clamp(0.0, 1.0);
+    let centre = eyebrow_y(x);
+    let half_height = 3.2 - 1.6 * along;
+    let across = ((y - centre) / half_height).abs();
+    let profile = (1.0 - across * across).max(0.0).powf(0.7);
+    2.0 * profile * window(x, head, tail, 3.0)
+}
+
+/// Height (mm above the nasion) of the middle of the eyebrow at `x`.
+pub fn eyebrow_y(x: f64) -> f64 {
+    BROW_Y + 1.0 + 3.5 * gauss((x - 33.0) / 13.0)
+}
+
 /// The orbit: a socket under the brow with the lids rounded over the eyeball.
 fn orbit(x: f64, y: f64) -> f64 {
     let cx = 0.5 * (ENDOCANTHION_X + EXOCANTHION_X);
@@ -113,9 +132,9 @@ fn nose(x: f64, y: f64) -> f64 {
     const HEIGHT: [(f64, f64); 9] = [
         (-54.0, 0.0),
         (SUBNASALE_Y, 4.0),
-        (-47.0, 17.0),
-        (PRONASALE_Y, 22.0),
-        (-38.0, 19.0),
+        (-47.0, 20.0),
+        (PRONASALE_Y, 26.0),
+        (-38.0, 21.5),
         (-28.0, 13.5),
         (-12.0, 8.0),
         (0.0, 3.5),

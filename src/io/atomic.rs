@@ -25,7 +25,13 @@ pub fn backup_path(path: &Path) -> PathBuf {
 ///
 /// On error the file at `path` is left exactly as it was and no temporary file remains.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    write_atomic_steps(path, bytes, &mut |_| Ok(()))
+    write_atomic_steps(path, bytes, true, &mut |_| Ok(()))
+}
+
+/// Writes `bytes` to `path` atomically without keeping a backup: for outputs that are
+/// regenerated (exported meshes), where `FILE~` copies would only be clutter.
+pub fn write_atomic_no_backup(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    write_atomic_steps(path, bytes, false, &mut |_| Ok(()))
 }
 
 /// The steps of a save, named so tests can make each one fail.
@@ -57,6 +63,7 @@ fn temp_path(path: &Path) -> io::Result<PathBuf> {
 fn write_atomic_steps(
     path: &Path,
     bytes: &[u8],
+    keep_backup: bool,
     fail: &mut dyn FnMut(Step) -> io::Result<()>,
 ) -> io::Result<()> {
     if path.is_dir() {
@@ -66,7 +73,7 @@ fn write_atomic_steps(
         ));
     }
     let temp = temp_path(path)?;
-    let result = write_and_rename(path, &temp, bytes, fail);
+    let result = write_and_rename(path, &temp, bytes, keep_backup, fail);
     if result.is_err() {
         // Best effort: the temporary file may not exist if creating it failed.
         let _ = fs::remove_file(&temp);
@@ -78,6 +85,7 @@ fn write_and_rename(
     path: &Path,
     temp: &Path,
     bytes: &[u8],
+    keep_backup: bool,
     fail: &mut dyn FnMut(Step) -> io::Result<()>,
 ) -> io::Result<()> {
     fail(Step::Create)?;
@@ -92,7 +100,7 @@ fn write_and_rename(
     fail(Step::Sync)?;
     file.sync_all()?;
     drop(file);
-    if path.is_file() {
+    if keep_backup && path.is_file() {
         fail(Step::Backup)?;
         backup(path)?;
     }
@@ -171,7 +179,7 @@ mod tests {
             let dir = tempfile::tempdir().unwrap();
             let path = dir.path().join("rig.rig.ron");
             fs::write(&path, b"old").unwrap();
-            let err = write_atomic_steps(&path, b"new", &mut |s| {
+            let err = write_atomic_steps(&path, b"new", true, &mut |s| {
                 if s == step {
                     Err(io::Error::other("no space left on device"))
                 } else {
@@ -189,6 +197,16 @@ mod tests {
                 assert_eq!(fs::read(backup_path(&path)).unwrap(), b"old", "{step:?}");
             }
         }
+    }
+
+    #[test]
+    fn no_backup_variant_leaves_no_copy() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.obj");
+        write_atomic_no_backup(&path, b"one").unwrap();
+        write_atomic_no_backup(&path, b"two").unwrap();
+        assert_eq!(fs::read(&path).unwrap(), b"two");
+        assert_eq!(files_in(dir.path()), ["out.obj"]);
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! read. Saves go through [`atomic::write_atomic`], which never leaves a partial file.
 
 pub mod atomic;
+pub mod builtin;
 pub mod error;
 pub mod lock;
 pub mod obj;

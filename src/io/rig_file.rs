@@ -16,10 +16,11 @@ use glam::Vec3;
 use serde::{Deserialize, Deserializer};
 
 use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
-use super::{atomic, obj, ron_text};
+use super::{atomic, builtin, obj, ron_text};
+use crate::model::field::validate_muscle;
 use crate::model::{
-    Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
-    RIG_VERSION,
+    BindError, Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side,
+    Sphincter, RIG_VERSION,
 };
 
 /// The prefix of a mesh (or rig) reference that names an embedded preset instead of a file.
@@ -60,15 +61,51 @@ pub fn mesh_ref(rig_path: &Path, mesh: &Path) -> MeshRef {
     MeshRef::File(folder.join(mesh))
 }
 
-/// The built-in meshes known to [`load_rig`]. None are wired in yet; callers that have
-/// embedded meshes pass their own resolver to [`load_rig_with`].
-fn default_builtin_meshes(_name: &str) -> Option<Mesh> {
-    None
+/// Loads a rig file and the mesh it names (a file, or a built-in mesh of
+/// [`super::builtin`]), and checks them against each other.
+pub fn load_rig(path: &Path) -> Result<LoadedRig, LoadError> {
+    load_rig_with(path, None, builtin::mesh)
 }
 
-/// Loads a rig file and the mesh it names, and checks them against each other.
-pub fn load_rig(path: &Path) -> Result<LoadedRig, LoadError> {
-    load_rig_with(path, None, default_builtin_meshes)
+/// Loads a rig by reference: `builtin:NAME` for a rig embedded in grimace (see
+/// [`super::builtin`]), or a rig file. `mesh_override` replaces the mesh the rig names.
+pub fn load_rig_ref(
+    reference: &Path,
+    mesh_override: Option<&Path>,
+) -> Result<LoadedRig, LoadError> {
+    let Some(name) = builtin::builtin_name(reference) else {
+        return load_rig_with(reference, mesh_override, builtin::mesh);
+    };
+    let rig = builtin::rig(name).ok_or_else(|| {
+        LoadError::new(
+            reference,
+            format!("there is no built-in rig named `{name}`; the built-in rigs are builtin:default and builtin:paper"),
+        )
+    })?;
+    let (mesh, mesh_path) = match mesh_override {
+        Some(file) => (obj::read_obj(file)?, Some(file.to_path_buf())),
+        None => {
+            let mesh = builtin::builtin_name(&rig.mesh)
+                .and_then(builtin::mesh)
+                .ok_or_else(|| {
+                    LoadError::new(
+                        reference,
+                        format!(
+                            "the built-in rig names the mesh `{}`, which is not built in",
+                            rig.mesh.display()
+                        ),
+                    )
+                })?;
+            (mesh, None)
+        }
+    };
+    check_rig_mesh(&rig, &mesh).map_err(|issue| LoadError::new(reference, issue.to_string()))?;
+    Ok(LoadedRig {
+        rig,
+        mesh,
+        path: reference.to_path_buf(),
+        mesh_path,
+    })
 }
 
 /// Loads a rig file; `mesh_override` replaces the mesh the rig names (as `--mesh` does on the
@@ -123,7 +160,9 @@ fn load_named_mesh(
                     file.display()
                 )));
             }
-            Ok((obj::read_obj(&file)?, Some(file)))
+            let mesh = obj::read_obj(&file)
+                .map_err(|e| at_mesh(format!("the mesh it names does not load: {e}")))?;
+            Ok((mesh, Some(file)))
         }
     }
 }
@@ -132,7 +171,7 @@ fn load_named_mesh(
 /// error messages only.
 pub fn parse_rig(text: &str, path: &Path) -> Result<Rig, LoadError> {
     ron_text::check_version(path, text, RIG_VERSION, "rig")?;
-    let file: RigFile = ron_text::parse(path, text)?;
+    let file: RigFile = ron_text::parse(path, text, "a rig")?;
     let rig = file.into_rig();
     if let Err(issue) = check_rig(&rig) {
         return Err(locate(path, text, &issue));
@@ -209,9 +248,14 @@ pub fn check_rig(rig: &Rig) -> Result<(), RigIssue> {
             ));
         }
     }
+    // Partners that do not exist first: a one-sided pair is only worth reporting once both
+    // names are real.
+    for muscle in &rig.muscles {
+        check_partner_exists(rig, muscle)?;
+    }
     for muscle in &rig.muscles {
         check_mirror(rig, muscle)?;
-        check_kind(&muscle.name, &muscle.kind)?;
+        check_kind(muscle)?;
     }
     if let Some(jaw) = &rig.jaw {
         check_jaw(jaw)?;
@@ -238,6 +282,17 @@ fn check_name(name: &str) -> Result<(), RigIssue> {
         return bad("contains `=`, `+` or a control character");
     }
     Ok(())
+}
+
+fn check_partner_exists(rig: &Rig, muscle: &Muscle) -> Result<(), RigIssue> {
+    match &muscle.mirror {
+        Some(partner) if rig.muscle_index(partner).is_none() => Err(issue(
+            Some(&muscle.name),
+            "mirror",
+            format!("the mirror partner `{partner}` is not a muscle of this rig"),
+        )),
+        _ => Ok(()),
+    }
 }
 
 fn check_mirror(rig: &Rig, muscle: &Muscle) -> Result<(), RigIssue> {
@@ -272,100 +327,26 @@ fn check_mirror(rig: &Rig, muscle: &Muscle) -> Result<(), RigIssue> {
     Ok(())
 }
 
-fn finite_point(muscle: &str, field: &'static str, p: Vec3) -> Result<(), RigIssue> {
-    if p.is_finite() {
-        Ok(())
-    } else {
-        Err(issue(
-            Some(muscle),
-            field,
-            format!("{field} has a non-finite coordinate {p}; expected finite numbers"),
-        ))
-    }
-}
-
-fn positive(muscle: Option<&str>, field: &'static str, value: f32) -> Result<(), RigIssue> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(issue(
+/// Muscle parameters are checked by the model itself, so a rig file accepts exactly the
+/// muscles the deformation can bind.
+fn check_kind(muscle: &Muscle) -> Result<(), RigIssue> {
+    match validate_muscle(muscle) {
+        Ok(()) => Ok(()),
+        Err(BindError::InvalidParameter {
             muscle,
-            field,
-            format!("{field} is {value}; expected a finite number above 0"),
-        ))
+            parameter,
+            message,
+        }) => Err(RigIssue {
+            muscle: Some(muscle),
+            field: Some(parameter),
+            message: format!("{parameter} {message}"),
+        }),
+        Err(other) => Err(RigIssue {
+            muscle: Some(muscle.name.clone()),
+            field: None,
+            message: other.to_string(),
+        }),
     }
-}
-
-fn check_kind(name: &str, kind: &MuscleKind) -> Result<(), RigIssue> {
-    let m = Some(name);
-    match kind {
-        MuscleKind::Linear(l) => {
-            finite_point(name, "attachment", l.attachment)?;
-            finite_point(name, "insertion", l.insertion)?;
-            if l.attachment == l.insertion {
-                return Err(issue(
-                    m,
-                    "insertion",
-                    "attachment and insertion are the same point; the muscle has no direction"
-                        .into(),
-                ));
-            }
-            if !(l.zone.is_finite() && l.zone > 0.0 && l.zone < 90.0) {
-                return Err(issue(
-                    m,
-                    "zone",
-                    format!(
-                        "zone is {}; expected an angle in degrees above 0 and below 90",
-                        l.zone
-                    ),
-                ));
-            }
-            if !(l.falloff_start.is_finite() && l.falloff_start >= 0.0) {
-                return Err(issue(
-                    m,
-                    "falloff_start",
-                    format!(
-                        "falloff_start is {}; expected a finite number, 0 or more",
-                        l.falloff_start
-                    ),
-                ));
-            }
-            if !(l.falloff_end.is_finite() && l.falloff_end > l.falloff_start) {
-                return Err(issue(
-                    m,
-                    "falloff_end",
-                    format!(
-                        "falloff_end is {}; expected a finite number above falloff_start ({})",
-                        l.falloff_end, l.falloff_start
-                    ),
-                ));
-            }
-        }
-        MuscleKind::Sphincter(s) => {
-            finite_point(name, "centre", s.centre)?;
-            positive(m, "semi_major", s.semi_major)?;
-            positive(m, "semi_minor", s.semi_minor)?;
-            positive(m, "bulge", s.bulge)?;
-        }
-        MuscleKind::Sheet(s) => {
-            for p in s.attachment {
-                finite_point(name, "attachment", p)?;
-            }
-            for p in s.insertion {
-                finite_point(name, "insertion", p)?;
-            }
-            if s.attachment[0] == s.attachment[1] {
-                return Err(issue(
-                    m,
-                    "attachment",
-                    "the two ends of the attachment line are the same point".into(),
-                ));
-            }
-            positive(m, "length", s.length)?;
-            positive(m, "width", s.width)?;
-        }
-    }
-    Ok(())
 }
 
 fn check_jaw(jaw: &Jaw) -> Result<(), RigIssue> {

@@ -9,16 +9,41 @@ use serde::Deserialize;
 use super::error::LoadError;
 
 /// Parses `text` as RON into `T`, mapping ron's error position to the file's line and column.
-pub(crate) fn parse<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, LoadError> {
+pub(crate) fn parse<T: DeserializeOwned>(
+    path: &Path,
+    text: &str,
+    what: &str,
+) -> Result<T, LoadError> {
+    if is_blank(text) {
+        return Err(LoadError::new(
+            path,
+            format!("the file is empty; expected {what} in RON"),
+        ));
+    }
     ron::Options::default()
         .from_str::<T>(text)
-        .map_err(|e| ron_error(path, &e))
+        .map_err(|e| ron_error(path, text, &e))
 }
 
-/// Converts a ron error into a load error at the same line and column.
-pub(crate) fn ron_error(path: &Path, error: &ron::error::SpannedError) -> LoadError {
+/// True when the text holds nothing but whitespace and `//` comments.
+fn is_blank(text: &str) -> bool {
+    text.lines().all(|l| {
+        let l = l.trim();
+        l.is_empty() || l.starts_with("//")
+    })
+}
+
+/// Converts a ron error into a load error at the same line and column. An error at the very
+/// end of the text means the file stops early, which ron reports as whatever it expected
+/// next; say so.
+pub(crate) fn ron_error(path: &Path, text: &str, error: &ron::error::SpannedError) -> LoadError {
     let start = error.span.start;
-    let message = describe(&error.code);
+    let mut message = describe(&error.code);
+    let (end_line, end_column) = super::error::line_column(text.trim_end(), text.trim_end().len());
+    let at_end = (start.line, start.col) >= (end_line, end_column);
+    if at_end && !matches!(error.code, ron::Error::Eof) {
+        message = format!("the file ends too early (truncated?); {message}");
+    }
     if start.line == 0 {
         LoadError::new(path, message)
     } else {
@@ -30,7 +55,7 @@ pub(crate) fn ron_error(path: &Path, error: &ron::error::SpannedError) -> LoadEr
 fn describe(code: &ron::Error) -> String {
     use ron::Error as E;
     let outer = |outer: &Option<String>| match outer {
-        Some(o) => format!(" in {}", o.to_lowercase()),
+        Some(o) => format!(" in {o}"),
         None => String::new(),
     };
     match code {

@@ -76,67 +76,29 @@ pub enum TableItem {
     Expression(String),
 }
 
-/// How the face is drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DrawStyle {
-    /// Feature lines: silhouette, eye and mouth borders, creases, sparse contours.
-    Lines,
-    /// Lit surface dithered into dots.
-    Shaded,
-    /// Every visible edge.
-    Wireframe,
-}
+pub use crate::render::{CellMode, Style};
 
-impl DrawStyle {
-    /// The next style in the cycle.
-    pub fn next(self) -> DrawStyle {
-        match self {
-            DrawStyle::Lines => DrawStyle::Shaded,
-            DrawStyle::Shaded => DrawStyle::Wireframe,
-            DrawStyle::Wireframe => DrawStyle::Lines,
-        }
-    }
-
-    /// The name shown in the status line.
-    pub fn name(self) -> &'static str {
-        match self {
-            DrawStyle::Lines => "lines",
-            DrawStyle::Shaded => "shaded",
-            DrawStyle::Wireframe => "wireframe",
-        }
+/// The next cell mode in the cycle: braille, half-block colour, ASCII.
+pub fn next_cells(mode: CellMode) -> CellMode {
+    match mode {
+        CellMode::Braille => CellMode::HalfBlock,
+        CellMode::HalfBlock => CellMode::Ascii,
+        CellMode::Ascii => CellMode::Braille,
     }
 }
 
-/// How viewport dots become terminal cells.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CellMode {
-    /// Braille, 2x4 dots per cell.
-    Braille,
-    /// Plain ASCII characters.
-    Ascii,
-    /// Half blocks with colour, 1x2 pixels per cell.
-    HalfBlock,
-}
-
-impl CellMode {
-    /// The next mode in the cycle.
-    pub fn next(self) -> CellMode {
-        match self {
-            CellMode::Braille => CellMode::HalfBlock,
-            CellMode::HalfBlock => CellMode::Ascii,
-            CellMode::Ascii => CellMode::Braille,
-        }
-    }
-
-    /// The name shown in the status line.
-    pub fn name(self) -> &'static str {
-        match self {
-            CellMode::Braille => "braille",
-            CellMode::Ascii => "ascii",
-            CellMode::HalfBlock => "half-block",
-        }
+/// The name of a cell mode, as shown in the status line.
+pub fn cells_name(mode: CellMode) -> &'static str {
+    match mode {
+        CellMode::Braille => "braille",
+        CellMode::Ascii => "ascii",
+        CellMode::HalfBlock => "half-block",
     }
 }
+
+/// The zoom of the initial and preset views: a little room around the rest face, so the chin
+/// stays in view when the jaw opens.
+pub const DEFAULT_ZOOM: f32 = 0.9;
 
 /// Named camera positions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -161,7 +123,7 @@ pub struct View {
     /// Shift of the picture, as fractions of the viewport (x right, y up).
     pub pan: (f32, f32),
     /// Drawing style.
-    pub style: DrawStyle,
+    pub style: Style,
     /// Dots to cells.
     pub cells: CellMode,
     /// Draw the muscles over the face.
@@ -178,9 +140,9 @@ impl View {
         View {
             yaw: 0.0,
             pitch: 0.0,
-            zoom: 1.0,
+            zoom: DEFAULT_ZOOM,
             pan: (0.0, 0.0),
-            style: DrawStyle::Lines,
+            style: Style::Lines,
             cells: if ascii {
                 CellMode::Ascii
             } else {
@@ -199,8 +161,11 @@ impl View {
             ViewPreset::Side => 90.0,
             ViewPreset::ThreeQuarter => 35.0,
         };
-        self.pitch = 0.0;
-        self.zoom = 1.0;
+        self.pitch = match preset {
+            ViewPreset::ThreeQuarter => 10.0,
+            _ => 0.0,
+        };
+        self.zoom = DEFAULT_ZOOM;
         self.pan = (0.0, 0.0);
     }
 }
@@ -449,6 +414,8 @@ pub struct App {
     pub colors: Colors,
     /// Counts edits; the event loop writes the recovery file when it moves.
     pub edits: u64,
+    /// The renderer's buffers, reused between frames (not part of the editing state).
+    pub render_cache: super::view::viewport::SharedCache,
 }
 
 impl App {
@@ -478,6 +445,7 @@ impl App {
             size: (80, 24),
             colors: Colors::Ansi16,
             edits: 0,
+            render_cache: Default::default(),
         }
     }
 

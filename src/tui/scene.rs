@@ -1,15 +1,17 @@
-//! The editor's link to the model: the rig, its mesh and the current deformed positions.
+//! The editor's link to the model: the bound rig, its mesh and the current deformed positions.
 //!
-//! All deformation is done by the core library; this module only keeps the results.
+//! All deformation is done by the core library ([`crate::model::BoundRig`]); this module only
+//! keeps the results.
 
 use glam::Vec3;
 
-use crate::model::{Activations, Mesh, Rig};
+use crate::model::{Activations, BoundRig, Mesh, Rig};
 
-/// The face being edited: rig, rest mesh and the deformed positions for the current activations.
+/// The face being edited: bound rig, rest mesh and the deformed positions for the current
+/// activations.
 #[derive(Debug, Clone)]
 pub struct Scene {
-    rig: Rig,
+    bound: BoundRig,
     mesh: Mesh,
     positions: Vec<Vec3>,
 }
@@ -17,9 +19,11 @@ pub struct Scene {
 impl Scene {
     /// Binds a rig to its mesh. Fails with a message when the rig does not fit the mesh.
     pub fn new(rig: Rig, mesh: Mesh) -> Result<Scene, String> {
+        let bound = BoundRig::bind(&rig, &mesh)
+            .map_err(|e| format!("the rig does not fit its mesh: {e}"))?;
         let positions = mesh.positions.clone();
         Ok(Scene {
-            rig,
+            bound,
             mesh,
             positions,
         })
@@ -27,7 +31,7 @@ impl Scene {
 
     /// The rig.
     pub fn rig(&self) -> &Rig {
-        &self.rig
+        self.bound.rig()
     }
 
     /// The rest mesh.
@@ -40,14 +44,24 @@ impl Scene {
         &self.positions
     }
 
-    /// Recomputes every deformed position.
-    pub fn deform(&mut self, _activations: &Activations) {
-        // Until the core deformation is available the face stays at rest.
-        self.positions.clone_from(&self.mesh.positions);
+    /// Recomputes every deformed position. Activations the model refuses (the editor keeps
+    /// them in range, so this does not happen) leave the face as it was.
+    pub fn deform(&mut self, activations: &Activations) {
+        let _ = self.bound.deform(activations, &mut self.positions);
     }
 
-    /// Recomputes the region of one muscle (or the jaw when `muscle` is `None`).
-    pub fn update_muscle(&mut self, activations: &Activations, _muscle: Option<usize>) {
-        self.deform(activations);
+    /// Recomputes the region of one muscle (or everything for the jaw, `None`), after
+    /// `activations` changed in that muscle only.
+    pub fn update_muscle(&mut self, activations: &Activations, muscle: Option<usize>) {
+        let updated = match muscle {
+            Some(i) => self
+                .bound
+                .update_muscle(activations, i, &mut self.positions)
+                .is_ok(),
+            None => false,
+        };
+        if !updated {
+            self.deform(activations);
+        }
     }
 }

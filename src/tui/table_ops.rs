@@ -1,8 +1,9 @@
-//! The AU table operations the editor uses, in one place so the editor calls the core library
-//! through a single door.
+//! The AU table operations the editor uses, in one place: thin calls into the core library
+//! ([`crate::facs`], [`crate::io`]) that turn its errors into status-line messages.
 
-use crate::facs::{AuEntry, AuKey, AuTable, MAX_AUS};
-use crate::model::{Activations, Rig};
+use crate::facs::combo::parse_combo;
+use crate::facs::{catalogue, AuKey, AuTable};
+use crate::model::{Activations, Rig, JAW_RANGE, MUSCLE_RANGE};
 
 /// Stores the current state as AU `key` named `name` (replacing any entry of that key).
 pub fn record(
@@ -12,84 +13,48 @@ pub fn record(
     rig: &Rig,
     activations: &Activations,
 ) -> Result<(), String> {
-    if !table.aus.contains_key(&key) && table.aus.len() >= MAX_AUS {
-        return Err(format!(
-            "the table already holds {MAX_AUS} AUs, the most it may hold; delete one first"
-        ));
-    }
-    let muscles = rig
-        .muscles
-        .iter()
-        .zip(&activations.muscles)
-        .filter(|(_, &a)| a != 0.0)
-        .map(|(m, &a)| (m.name.clone(), a))
-        .collect();
-    table.aus.insert(
-        key,
-        AuEntry {
-            name: name.to_string(),
-            muscles,
-            jaw: activations.jaw,
-        },
-    );
-    Ok(())
+    table
+        .record(key, name, rig, activations)
+        .map_err(|e| e.to_string())
 }
 
 /// The activations AU `key` stands for on `rig`.
 pub fn activations_of(table: &AuTable, key: AuKey, rig: &Rig) -> Result<Activations, String> {
-    let entry = table
-        .aus
-        .get(&key)
-        .ok_or_else(|| format!("the table has no AU {key}"))?;
-    let mut activations = Activations::zero(rig);
-    for (name, &value) in &entry.muscles {
-        let index = rig
-            .muscle_index(name)
-            .ok_or_else(|| format!("AU {key} names the muscle `{name}`, which the rig lacks"))?;
-        activations.muscles[index] = value;
-    }
-    activations.jaw = entry.jaw;
-    activations
-        .validate(rig)
-        .map_err(|e| format!("AU {key}: {e}"))?;
-    Ok(activations)
+    table
+        .entry_activations(&key, rig)
+        .map_err(|e| e.to_string())
 }
 
 /// The activations of a combination string such as `1+2+5B+26`.
 pub fn evaluate(table: &AuTable, combo: &str, rig: &Rig) -> Result<Activations, String> {
-    let _ = (table, rig);
-    Err(format!(
-        "cannot evaluate `{combo}`: combinations are not available in this build"
-    ))
+    let parsed = parse_combo(combo).map_err(|e| format!("`{combo}`: {e}"))?;
+    table.evaluate(&parsed, rig).map_err(|e| e.to_string())
 }
 
-/// Checks a combination string without evaluating it.
-pub fn check_combo(table: &AuTable, combo: &str, rig: &Rig) -> Result<(), String> {
-    evaluate(table, combo, rig).map(|_| ())
+/// Adds or replaces a named expression (the combination must parse and name AUs of the table).
+pub fn set_expression(table: &mut AuTable, name: &str, combo: &str) -> Result<(), String> {
+    table.set_expression(name, combo).map_err(|e| e.to_string())
+}
+
+/// Removes an AU (refused while an expression uses it).
+pub fn remove(table: &mut AuTable, key: AuKey) -> Result<(), String> {
+    table.remove(&key).map(|_| ()).map_err(|e| e.to_string())
 }
 
 /// The FACS name of an AU number, if the catalogue knows it.
 pub fn facs_name(number: u8) -> Option<&'static str> {
-    let _ = number;
-    None
+    catalogue::name_of(number)
 }
 
 /// The table as the text of a table file.
 pub fn to_ron(table: &AuTable) -> String {
-    let config = ron::ser::PrettyConfig::new();
-    ron::ser::to_string_pretty(table, config).unwrap_or_else(|e| format!("// {e}"))
+    crate::io::table_to_ron(table)
 }
 
 /// Adds `intensity` times `add` to `base`, keeping every value in its range.
 pub fn add_scaled(base: &Activations, add: &Activations, intensity: f32) -> Activations {
-    let (m0, m1) = (
-        *crate::model::MUSCLE_RANGE.start(),
-        *crate::model::MUSCLE_RANGE.end(),
-    );
-    let (j0, j1) = (
-        *crate::model::JAW_RANGE.start(),
-        *crate::model::JAW_RANGE.end(),
-    );
+    let (m0, m1) = (*MUSCLE_RANGE.start(), *MUSCLE_RANGE.end());
+    let (j0, j1) = (*JAW_RANGE.start(), *JAW_RANGE.end());
     Activations {
         muscles: base
             .muscles

@@ -8,7 +8,7 @@ use crate::model::Activations;
 
 use super::action::{Action, Effect};
 use super::app::{
-    App, CellMode, DrawStyle, Focus, Input, InputKind, Mode, Question, Row, TableItem, ViewPreset,
+    App, CellMode, Focus, Input, InputKind, Mode, Question, Row, Style, TableItem, ViewPreset,
     COARSE_STEP, FINE_STEP,
 };
 use super::keymap::COMMAND_NAMES;
@@ -140,8 +140,8 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             app.info(format!("style: {}", app.view.style.name()));
         }
         Action::CycleCells => {
-            app.view.cells = app.view.cells.next();
-            app.info(format!("cells: {}", app.view.cells.name()));
+            app.view.cells = super::app::next_cells(app.view.cells);
+            app.info(format!("cells: {}", super::app::cells_name(app.view.cells)));
         }
         Action::ToggleAscii => {
             app.view.cells = if app.view.cells == CellMode::Ascii {
@@ -149,7 +149,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             } else {
                 CellMode::Ascii
             };
-            app.info(format!("cells: {}", app.view.cells.name()));
+            app.info(format!("cells: {}", super::app::cells_name(app.view.cells)));
         }
         Action::ToggleMuscles => {
             app.view.show_muscles = !app.view.show_muscles;
@@ -591,12 +591,13 @@ fn record(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
 }
 
 fn delete_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
-    if !app.table.aus.contains_key(&key) {
-        app.error(format!("the table has no AU {key}"));
+    let mut table = app.table.clone();
+    if let Err(e) = table_ops::remove(&mut table, key) {
+        app.error(e);
         return;
     }
     begin_edit(app);
-    app.table.aus.remove(&key);
+    app.table = table;
     if app.loaded == Some(key) {
         app.loaded = None;
     }
@@ -655,14 +656,13 @@ fn add_au(app: &mut App, key: AuKey, intensity: f32, fx: &mut Vec<Effect>) {
 }
 
 fn store_expression(app: &mut App, name: &str, combo: &str, fx: &mut Vec<Effect>) {
-    if let Err(e) = table_ops::check_combo(&app.table, combo, app.rig()) {
+    let mut table = app.table.clone();
+    if let Err(e) = table_ops::set_expression(&mut table, name, combo) {
         app.error(e);
         return;
     }
     begin_edit(app);
-    app.table
-        .expressions
-        .insert(name.to_string(), combo.to_string());
+    app.table = table;
     app.info(format!("expression {name} = {combo} stored"));
     edited(app, fx);
 }
@@ -923,9 +923,9 @@ fn run_command(app: &mut App, line: &str, fx: &mut Vec<Effect>) {
             _ => app.error("usage: :view front|side|three-quarter"),
         },
         "style" => match rest {
-            "lines" => app.view.style = DrawStyle::Lines,
-            "shaded" => app.view.style = DrawStyle::Shaded,
-            "wireframe" => app.view.style = DrawStyle::Wireframe,
+            "lines" => app.view.style = Style::Lines,
+            "shaded" => app.view.style = Style::Shaded,
+            "wireframe" => app.view.style = Style::Wireframe,
             _ => app.error("usage: :style lines|shaded|wireframe"),
         },
         other => app.error(format!("unknown command `{other}` (? lists the commands)")),
@@ -1026,105 +1026,13 @@ mod tests {
     use std::collections::BTreeMap;
     use std::path::PathBuf;
 
-    use glam::Vec3;
-
     use super::*;
-    use crate::facs::{AuEntry, AuTable};
-    use crate::model::{
-        Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
-    };
+    use crate::facs::AuTable;
+    use crate::model::Side;
     use crate::tui::app::{FileStamp, Message, Severity};
-    use crate::tui::scene::Scene;
 
-    fn linear(name: &str, side: Side, mirror: &str, x: f32) -> Muscle {
-        Muscle {
-            name: name.into(),
-            side,
-            mirror: Some(mirror.into()),
-            kind: MuscleKind::Linear(Linear {
-                attachment: Vec3::new(x, 1.0, -0.5),
-                insertion: Vec3::new(x * 0.5, -0.5, 0.0),
-                zone: 30.0,
-                falloff_start: 0.5,
-                falloff_end: 2.0,
-            }),
-        }
-    }
-
-    /// A small rig: a mirrored linear pair, a sheet, a sphincter and a jaw, on a grid.
     fn app() -> App {
-        let mut positions = Vec::new();
-        let mut triangles = Vec::new();
-        for j in 0..5 {
-            for i in 0..5 {
-                positions.push(Vec3::new(i as f32 - 2.0, j as f32 - 2.0, 0.0));
-            }
-        }
-        for j in 0..4u32 {
-            for i in 0..4u32 {
-                let v = j * 5 + i;
-                triangles.push([v, v + 1, v + 6]);
-                triangles.push([v, v + 6, v + 5]);
-            }
-        }
-        let mesh = Mesh::new(positions, triangles).unwrap();
-        let rig = Rig {
-            version: 1,
-            mesh: PathBuf::from("grid.obj"),
-            combine: Combine::Sum,
-            muscles: vec![
-                Muscle {
-                    name: "Orbicularis_Oris".into(),
-                    side: Side::Centre,
-                    mirror: None,
-                    kind: MuscleKind::Sphincter(Sphincter {
-                        centre: Vec3::new(0.0, -1.0, 0.0),
-                        semi_major: 1.0,
-                        semi_minor: 0.5,
-                        convergence: Convergence::Centre,
-                        bulge: 10.0,
-                    }),
-                },
-                linear("L_Zygomatic_Major", Side::Left, "R_Zygomatic_Major", -1.5),
-                linear("R_Zygomatic_Major", Side::Right, "L_Zygomatic_Major", 1.5),
-                Muscle {
-                    name: "Frontalis".into(),
-                    side: Side::Centre,
-                    mirror: None,
-                    kind: MuscleKind::Sheet(Sheet {
-                        attachment: [Vec3::new(-1.0, 2.0, 0.0), Vec3::new(1.0, 2.0, 0.0)],
-                        insertion: [Vec3::new(-1.0, 1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)],
-                        length: 1.5,
-                        width: 2.0,
-                    }),
-                },
-            ],
-            jaw: Some(Jaw {
-                pivot: Vec3::new(0.0, 0.0, -1.0),
-                degrees_per_unit: 1.0,
-                weights: vec![(0, 1.0), (1, 1.0)],
-            }),
-        };
-        let table = AuTable {
-            version: 1,
-            rig: PathBuf::from("rig.ron"),
-            aus: BTreeMap::from([(
-                AuKey::new(12),
-                AuEntry {
-                    name: "Lip Corner Puller".into(),
-                    muscles: BTreeMap::from([
-                        ("L_Zygomatic_Major".to_string(), 1.0),
-                        ("R_Zygomatic_Major".to_string(), 1.0),
-                    ]),
-                    jaw: 0.0,
-                },
-            )]),
-            expressions: BTreeMap::new(),
-        };
-        let scene = Scene::new(rig, mesh).unwrap();
-        let mut app = App::new(scene, table, Some(PathBuf::from("t.au.ron")));
-        app.file_stamp = Some(FileStamp { len: 1, hash: 1 });
-        app
+        crate::tui::fixture::app()
     }
 
     fn run(app: &mut App, actions: &[Action]) -> Vec<Effect> {
@@ -1250,6 +1158,35 @@ mod tests {
         assert_eq!(app.redo.len(), 1);
         run(&mut app, &[Action::ZeroSelected, Action::StepCoarse(1)]);
         assert!(app.redo.is_empty());
+    }
+
+    #[test]
+    fn edits_deform_the_face_and_undo_restores_it() {
+        let mut app = app();
+        let rest = app.scene.mesh().positions.clone();
+        run(
+            &mut app,
+            &[
+                Action::ToggleMirror,
+                Action::StepCoarse(1),
+                Action::StepCoarse(1),
+            ],
+        );
+        assert_ne!(
+            app.scene.positions(),
+            &rest[..],
+            "the zygomatics move the grid"
+        );
+        // The incremental update matches a full deformation.
+        let mut full = app.scene.clone();
+        full.deform(&app.activations);
+        assert_eq!(app.scene.positions(), full.positions());
+        command(&mut app, "jaw 2");
+        let mut full = app.scene.clone();
+        full.deform(&app.activations);
+        assert_eq!(app.scene.positions(), full.positions());
+        run(&mut app, &[Action::Undo, Action::Undo]);
+        assert_eq!(app.scene.positions(), &rest[..]);
     }
 
     #[test]
@@ -1405,12 +1342,23 @@ mod tests {
     #[test]
     fn record_refuses_a_65th_au() {
         let mut app = app();
-        for n in 20..83u8 {
-            command(&mut app, &format!("record {n} x"));
+        let codes: Vec<u8> = (1..=99u8)
+            .filter(|&n| crate::facs::catalogue::is_code(n) && n != 12)
+            .collect();
+        assert!(
+            codes.len() >= 22,
+            "the catalogue has enough codes for this test"
+        );
+        let sides = [None, Some(Side::Left), Some(Side::Right)];
+        let keys = codes
+            .iter()
+            .flat_map(|&n| sides.iter().map(move |&side| AuKey { number: n, side }));
+        for key in keys.take(63) {
+            command(&mut app, &format!("record {key} x"));
         }
         assert_eq!(app.table.aus.len(), 64);
-        command(&mut app, "record 90 x");
-        assert!(error(&app).contains("64 AUs"));
+        command(&mut app, &format!("record {} x", codes[40]));
+        assert!(error(&app).contains("full"), "{}", error(&app));
         assert_eq!(app.table.aus.len(), 64);
     }
 
@@ -1660,12 +1608,12 @@ mod tests {
         run(&mut app, &[Action::Preset(ViewPreset::Side)]);
         assert_eq!(
             (app.view.yaw, app.view.zoom, app.view.pan),
-            (90.0, 1.0, (0.0, 0.0))
+            (90.0, crate::tui::app::DEFAULT_ZOOM, (0.0, 0.0))
         );
         run(&mut app, &[Action::ResetView]);
         assert_eq!(app.view.yaw, 0.0);
         run(&mut app, &[Action::CycleStyle]);
-        assert_eq!(app.view.style, DrawStyle::Shaded);
+        assert_eq!(app.view.style, Style::Shaded);
         run(&mut app, &[Action::ToggleAscii]);
         assert_eq!(app.view.cells, CellMode::Ascii);
         run(&mut app, &[Action::CycleCells]);
@@ -1761,6 +1709,32 @@ mod tests {
         assert_eq!(error(&app), "the table has no expression named `smile`");
         command(&mut app, "expr");
         assert!(error(&app).starts_with("usage: :expr"));
+        command(&mut app, "expr smile 12+4");
+        assert!(error(&app).contains('4'), "{}", error(&app));
+        assert!(app.table.expressions.is_empty());
+        command(&mut app, "expr smile 12C");
+        assert_eq!(app.table.expressions["smile"], "12C");
+        assert!(app.dirty());
+        command(&mut app, "expr smile");
+        assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+        command(&mut app, "zero");
+        command(&mut app, "combo 12B");
+        assert!((muscle(&app, "R_Zygomatic_Major") - 0.4).abs() < 1e-6);
+        command(&mut app, "combo 12+");
+        assert!(error(&app).starts_with("`12+`"), "{}", error(&app));
+        // An AU an expression uses cannot be deleted.
+        command(&mut app, "delete 12");
+        assert!(error(&app).contains("smile"), "{}", error(&app));
+        // Expressions are listed after the AUs; Enter loads, d deletes.
+        run(&mut app, &[Action::SwitchFocus, Action::SelectLast]);
+        update(&mut app, Action::Activate);
+        assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+        update(&mut app, Action::DeleteSelected);
+        assert!(app.table.expressions.is_empty());
+        update(&mut app, Action::StartExpression);
+        typed(&mut app, "grin = 12E");
+        update(&mut app, Action::InputSubmit);
+        assert_eq!(app.table.expressions["grin"], "12E");
     }
 
     #[test]

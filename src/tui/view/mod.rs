@@ -44,9 +44,9 @@ pub fn layout(area: Rect) -> Option<Panels> {
     .areas(area);
     if area.width >= 110 {
         // Wide: muscles | face | table.
-        let side = (area.width / 6).clamp(30, 40);
+        let side = (area.width / 6).clamp(28, 40);
         let [muscles, viewport, table] = Layout::horizontal([
-            Constraint::Length(side + 2),
+            Constraint::Length(side + 6),
             Constraint::Min(20),
             Constraint::Length(side),
         ])

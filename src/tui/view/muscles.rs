@@ -141,7 +141,7 @@ fn row_line(
     // side(1) + space + name + space + gauge + space + value(4) + mark(1)
     let fixed = 1 + 1 + 1 + 1 + 4 + 1;
     let rest = width.saturating_sub(fixed);
-    let gauge_width = (rest / 3).clamp(3, 12);
+    let gauge_width = (rest / 4).clamp(3, 12);
     let name_width = rest.saturating_sub(gauge_width);
     let name: String = name.chars().take(name_width).collect();
     let base = if selected {

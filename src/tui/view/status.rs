@@ -5,7 +5,7 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 
 use super::theme::Theme;
-use crate::tui::app::App;
+use crate::tui::app::{App, Mode};
 use crate::tui::keymap;
 
 /// Draws the status line.
@@ -14,12 +14,25 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     let dirty = if app.dirty() { " [+]" } else { "" };
     let left = format!(" {} ", app.mode.name());
     let file = format!(" {}{dirty} ", app.file_label());
-    let view = format!("| {} {} ", app.view.style.name(), app.view.cells.name());
+    let view = format!(
+        "| {} {} ",
+        app.view.style.name(),
+        crate::tui::app::cells_name(app.view.cells)
+    );
     let used = left.chars().count() + file.chars().count() + view.chars().count();
     let room = (area.width as usize).saturating_sub(used);
     let mut hints = String::new();
-    for (key, hint) in keymap::hints() {
-        let piece = format!("{key}:{hint} ");
+    let typing = matches!(app.mode, Mode::Input(_));
+    if let (true, Some(message)) = (typing, &app.message) {
+        // While typing, the bottom line holds the input: messages (completions) go here.
+        hints = message.text.chars().take(room.saturating_sub(1)).collect();
+        hints.push(' ');
+    }
+    for (key, hint) in keymap::hints()
+        .into_iter()
+        .filter(|_| !typing || app.message.is_none())
+    {
+        let piece = format!("{key} {hint}  ");
         if hints.chars().count() + piece.chars().count() > room {
             break;
         }

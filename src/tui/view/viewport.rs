@@ -1,18 +1,88 @@
-//! The viewport: the deformed face, drawn by the core renderer into the ratatui buffer.
+//! The viewport: the deformed face, drawn by the core renderer ([`crate::render`]) and copied
+//! cell by cell into the ratatui buffer.
 
+use std::cell::RefCell;
+
+use glam::Vec2;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
-use ratatui::text::Line;
+use ratatui::style::Color;
 use ratatui::widgets::{Block, Borders, Widget};
 
 use super::theme::Theme;
-use crate::tui::app::App;
+use crate::render::{
+    muscle_overlays, nearest_ansi16, Camera, CellGrid, ColorMode, DotCanvas, Overlay, Palette,
+    Renderer, Rgb, Scene,
+};
+use crate::tui::app::{App, Colors, Row};
+
+/// The renderer and its buffers, kept between frames so drawing allocates nothing.
+#[derive(Debug, Clone, Default)]
+pub struct RenderCache {
+    renderer: Option<Renderer>,
+    canvas: Option<DotCanvas>,
+    grid: CellGrid,
+    overlays: Vec<Overlay>,
+}
+
+/// The cache as the state holds it: drawing reads the state and only reuses these buffers.
+pub type SharedCache = RefCell<RenderCache>;
+
+/// The camera for the view settings: angles in degrees, pan as a fraction of the face's size.
+pub fn camera(app: &App) -> Camera {
+    let (lo, hi) = app.scene.mesh().bounds();
+    let extent = (hi - lo).truncate().max_element().max(f32::EPSILON);
+    Camera {
+        yaw: app.view.yaw.to_radians(),
+        pitch: app.view.pitch.to_radians(),
+        zoom: app.view.zoom,
+        pan: Vec2::new(app.view.pan.0, app.view.pan.1) * extent,
+    }
+}
+
+fn color_mode(colors: Colors) -> ColorMode {
+    match colors {
+        Colors::None => ColorMode::None,
+        Colors::Ansi16 => ColorMode::Ansi16,
+        Colors::TrueColor => ColorMode::TrueColor,
+    }
+}
+
+/// A renderer colour as a terminal colour: named ANSI colours on 16-colour terminals.
+fn to_color(rgb: Rgb, colors: Colors) -> Option<Color> {
+    const NAMED: [Color; 16] = [
+        Color::Black,
+        Color::Red,
+        Color::Green,
+        Color::Yellow,
+        Color::Blue,
+        Color::Magenta,
+        Color::Cyan,
+        Color::Gray,
+        Color::DarkGray,
+        Color::LightRed,
+        Color::LightGreen,
+        Color::LightYellow,
+        Color::LightBlue,
+        Color::LightMagenta,
+        Color::LightCyan,
+        Color::White,
+    ];
+    match colors {
+        Colors::None => None,
+        Colors::Ansi16 => Some(NAMED[usize::from(nearest_ansi16(rgb)) & 15]),
+        Colors::TrueColor => Some(Color::Rgb(rgb.0, rgb.1, rgb.2)),
+    }
+}
 
 /// Draws the viewport panel.
 pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     let title = format!(
-        " Face  yaw {:.0} pitch {:.0} zoom {:.2} ",
-        app.view.yaw, app.view.pitch, app.view.zoom
+        " Face  {}  yaw {:.0} pitch {:.0} zoom {:.2} ",
+        app.view.style.name(),
+        app.view.yaw,
+        app.view.pitch,
+        app.view.zoom
     );
     let block = Block::default()
         .borders(Borders::ALL)
@@ -20,11 +90,60 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         .title(title);
     let inner = block.inner(area);
     block.render(area, buf);
-    let text = Line::from("(the face is drawn here once the renderer is built in)");
-    buf.set_line(
-        inner.x + 1,
-        inner.y + inner.height / 2,
-        &text,
-        inner.width.saturating_sub(2),
-    );
+    if inner.is_empty() {
+        return;
+    }
+    let mut cache = app.render_cache.borrow_mut();
+    let RenderCache {
+        renderer,
+        canvas,
+        grid,
+        overlays,
+    } = &mut *cache;
+    let mesh = app.scene.mesh();
+    let renderer = renderer.get_or_insert_with(|| Renderer::new(mesh));
+    let canvas = canvas.get_or_insert_with(|| DotCanvas::new(0, 0));
+    let mode = app.view.cells;
+    mode.prepare(canvas, usize::from(inner.width), usize::from(inner.height));
+    overlays.clear();
+    let palette = Palette::default();
+    if app.view.show_muscles {
+        let selected = match app.selected_row() {
+            Row::Muscle(i) => Some(i),
+            Row::Jaw => None,
+        };
+        muscle_overlays(app.rig(), selected, &palette, overlays);
+    }
+    let mut scene = Scene::new(mesh, app.scene.positions()).with_overlays(overlays);
+    scene.ghost = app.view.show_ghost;
+    scene.displacement = app.view.show_displacement;
+    renderer.render(&scene, &camera(app), app.view.style, canvas);
+    grid.fill(canvas, mode, color_mode(app.colors));
+    for row in 0..grid.height.min(usize::from(inner.height)) {
+        for (col, cell) in grid
+            .row(row)
+            .iter()
+            .enumerate()
+            .take(usize::from(inner.width))
+        {
+            if cell.ch == ' ' && cell.bg.is_none() {
+                continue;
+            }
+            let Some(target) = buf.cell_mut((inner.x + col as u16, inner.y + row as u16)) else {
+                continue;
+            };
+            target.set_char(cell.ch);
+            match cell.fg.and_then(|c| to_color(c, app.colors)) {
+                Some(fg) => {
+                    target.set_fg(fg);
+                }
+                None => {
+                    target.set_style(theme.face());
+                }
+            }
+            if let Some(bg) = cell.bg.and_then(|c| to_color(c, app.colors)) {
+                target.set_bg(bg);
+            }
+        }
+    }
 }

@@ -1,0 +1,58 @@
+//! `grimace import-waters DIR --out OUTDIR`: the classic Waters face as OBJ and rig.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use clap::Args;
+
+use crate::io::waters::{self, ImportOptions};
+use crate::io::{atomic, obj, rig_file};
+
+/// Arguments of `grimace import-waters`.
+#[derive(Debug, Args)]
+pub struct ImportWatersArgs {
+    /// The folder holding faceline.dat, index.dat and muscle.dat.
+    pub dir: PathBuf,
+    /// The folder to write mesh.obj and rig.ron into (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Drop the 6 triangles that repeat earlier ones exactly (kept by default, as in the
+    /// original program; vertex numbering is the same either way).
+    #[arg(long)]
+    pub drop_duplicates: bool,
+}
+
+/// Where the data comes from, kept with the mesh written.
+const ATTRIBUTION: &str =
+    "# Classic Waters face (\"geoface\"), from F. I. Parke and K. Waters, Computer Facial\n\
+# Animation, Appendix 1, as distributed with GLUT 3.7 (Mark J. Kilgard). Freely\n\
+# redistributable third-party data, not public domain; no warranty.\n";
+
+/// Runs `grimace import-waters`.
+pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
+    let options = ImportOptions {
+        drop_duplicate_triangles: args.drop_duplicates,
+        extras: None,
+    };
+    let imported = waters::import_dir(&args.dir, &options)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create the folder {}", args.out.display()))?;
+    let mesh_path = args.out.join("mesh.obj");
+    let text = format!(
+        "{ATTRIBUTION}{}",
+        obj::write_obj(&imported.mesh, &imported.mesh.positions)
+    );
+    atomic::write_atomic_no_backup(&mesh_path, text.as_bytes())
+        .map_err(|e| crate::io::SaveError::io(&mesh_path, &e))?;
+    let rig_path = args.out.join("rig.ron");
+    rig_file::save_rig(&rig_path, &imported.rig)?;
+    super::print(&format!(
+        "wrote {} ({} vertices, {} triangles) and {} ({} muscles)\n",
+        mesh_path.display(),
+        imported.mesh.vertex_count(),
+        imported.mesh.triangles.len(),
+        rig_path.display(),
+        imported.rig.muscles.len()
+    ));
+    Ok(())
+}

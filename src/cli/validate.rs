@@ -1,0 +1,128 @@
+//! `grimace validate FILE...`: checks rigs, AU tables and meshes, by file name.
+//!
+//! `*.rig.ron` (and `rig.ron`): syntax, version, muscles, the mesh it names, binding to it.
+//! `*.au.ron`: syntax, version, AUs, ranges, expressions, and the rig it names (muscle names).
+//! `*.obj`: a usable mesh. The exit status is 0 only when every file is valid.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::Args;
+
+use crate::io::table_file;
+use crate::io::{obj, rig_file, LoadError};
+
+use crate::model::BoundRig;
+
+/// Arguments of `grimace validate`.
+#[derive(Debug, Args)]
+pub struct ValidateArgs {
+    /// The files to check (*.rig.ron, *.au.ron, *.obj).
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+}
+
+/// What kind of file a name says it is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FileKind {
+    /// A rig, `*.rig.ron` or `rig.ron`.
+    Rig,
+    /// An AU table, `*.au.ron` or `au.ron`.
+    Table,
+    /// A Wavefront OBJ mesh.
+    Mesh,
+}
+
+/// The kind of file a path names, from its file name.
+pub fn kind_of(path: &Path) -> Option<FileKind> {
+    let name = path.file_name()?.to_str()?.to_ascii_lowercase();
+    if name.ends_with("rig.ron") {
+        Some(FileKind::Rig)
+    } else if name.ends_with("au.ron") {
+        Some(FileKind::Table)
+    } else if name.ends_with(".obj") {
+        Some(FileKind::Mesh)
+    } else {
+        None
+    }
+}
+
+/// Runs `grimace validate`; prints one line per file (`ok` on stdout, errors on stderr).
+pub fn run(args: &ValidateArgs) -> ExitCode {
+    let mut failed = 0;
+    for path in &args.files {
+        match check(path) {
+            Ok(summary) => super::print(&format!("{}: ok ({summary})\n", path.display())),
+            Err(err) => {
+                failed += 1;
+                super::report("validate", &err);
+            }
+        }
+    }
+    if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
+
+/// Checks one file, returning a short summary of what it holds.
+pub fn check(path: &Path) -> Result<String, LoadError> {
+    match kind_of(path) {
+        Some(FileKind::Rig) => check_rig(path),
+        Some(FileKind::Table) => check_table(path),
+        Some(FileKind::Mesh) => {
+            let mesh = obj::read_obj(path)?;
+            Ok(format!(
+                "mesh: {} vertices, {} triangles",
+                mesh.vertex_count(),
+                mesh.triangles.len()
+            ))
+        }
+        None => Err(LoadError::new(
+            path,
+            "unknown kind of file; expected a name ending in .rig.ron, .au.ron or .obj",
+        )),
+    }
+}
+
+fn check_rig(path: &Path) -> Result<String, LoadError> {
+    let loaded = rig_file::load_rig(path)?;
+    BoundRig::bind(&loaded.rig, &loaded.mesh).map_err(|e| LoadError::new(path, e.to_string()))?;
+    Ok(format!(
+        "rig: {} muscles{}, mesh {} vertices",
+        loaded.rig.muscles.len(),
+        if loaded.rig.jaw.is_some() {
+            " and a jaw"
+        } else {
+            ""
+        },
+        loaded.mesh.vertex_count()
+    ))
+}
+
+fn check_table(path: &Path) -> Result<String, LoadError> {
+    let table = crate::io::load_table(path)?;
+    let counts = format!(
+        "table: {} AUs, {} expressions",
+        table.aus.len(),
+        table.expressions.len()
+    );
+    let (_, rig) = table_file::load_table_and_rig(path, None)?;
+    Ok(format!("{counts}, rig {}", rig.path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kinds_from_names() {
+        assert_eq!(kind_of(Path::new("a/face.rig.ron")), Some(FileKind::Rig));
+        assert_eq!(kind_of(Path::new("out/rig.ron")), Some(FileKind::Rig));
+        assert_eq!(kind_of(Path::new("x.AU.RON")), Some(FileKind::Table));
+        assert_eq!(kind_of(Path::new("m.obj")), Some(FileKind::Mesh));
+        assert_eq!(kind_of(Path::new("m.ron")), None);
+        assert_eq!(kind_of(Path::new("/")), None);
+    }
+}

@@ -1,0 +1,189 @@
+//! The default AU table: FACS Action Units as muscle activations of the default rig, and the
+//! EMFACS emotion prototypes as AU combinations.
+//!
+//! Each AU is recorded at its strongest natural intensity (FACS E); combinations scale it
+//! with intensity letters (A 0.2 ... E 1.0). The activations were tuned by looking at the
+//! rendered face (`docs/gallery.md`); `docs/au.md` says which AUs are approximate and why.
+
+use std::collections::BTreeMap;
+
+use crate::facs::{catalogue, AuEntry, AuKey, AuTable, TABLE_VERSION};
+use crate::model::Side;
+
+/// The rig the default table is for.
+pub const RIG_PATH: &str = "builtin:default";
+
+/// Which muscles of a pair an AU uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Sides {
+    /// Both sides (a bilateral AU, or a midline muscle).
+    Both,
+    /// The subject's left only.
+    Left,
+    /// The subject's right only.
+    Right,
+}
+
+/// One AU: its number, the FACS name if the catalogue lacks it, `(muscle base name,
+/// activation)` pairs (the base name without `L_`/`R_`; midline muscles by full name), jaw,
+/// and whether FACS scores it unilaterally as well.
+struct AuSpec {
+    number: u8,
+    muscles: &'static [(&'static str, f32)],
+    jaw: f32,
+    unilateral: bool,
+}
+
+const fn au(number: u8, muscles: &'static [(&'static str, f32)], jaw: f32) -> AuSpec {
+    AuSpec {
+        number,
+        muscles,
+        jaw,
+        unilateral: false,
+    }
+}
+
+const fn sided(number: u8, muscles: &'static [(&'static str, f32)], jaw: f32) -> AuSpec {
+    AuSpec {
+        number,
+        muscles,
+        jaw,
+        unilateral: true,
+    }
+}
+
+/// The AUs of the default table, strongest natural intensity.
+const AUS: &[AuSpec] = &[
+    sided(
+        1,
+        &[("Frontalis_Inner", 1.2), ("Secondary_Frontalis", 0.6)],
+        0.0,
+    ),
+    sided(
+        2,
+        &[
+            ("Frontalis_Outer", 1.4),
+            ("Frontalis_Major", 0.5),
+            ("Frontalis_Sheet", 0.15),
+        ],
+        0.0,
+    ),
+    sided(
+        4,
+        &[
+            ("Lateral_Corrugator", 1.3),
+            ("Depressor_Supercilii", 1.0),
+            ("Procerus", 1.0),
+        ],
+        0.0,
+    ),
+    au(5, &[("Levator_Palpebrae", 1.0)], 0.0),
+    sided(
+        6,
+        &[
+            ("Orbicularis_Oculi_Orbital", 1.6),
+            ("Orbicularis_Oculi", 0.35),
+        ],
+        0.0,
+    ),
+    sided(7, &[("Orbicularis_Oculi", 0.9)], 0.0),
+    au(9, &[("Inner_Labii_Nasi", 2.0), ("Procerus", 1.0)], 0.0),
+    sided(10, &[("Labii_Nasi", 1.2)], 0.0),
+    sided(11, &[("Zygomatic_Minor", 1.4)], 0.0),
+    sided(12, &[("Zygomatic_Major", 1.5)], 0.0),
+    sided(14, &[("Buccinator", 1.5)], 0.0),
+    sided(15, &[("Angular_Depressor", 1.3)], 0.0),
+    au(16, &[("Depressor_Labii_Inferioris", 1.0)], 0.0),
+    au(17, &[("Mentalis", 1.6)], 0.0),
+    au(18, &[("Orbicularis_Oris", 2.0)], 0.0),
+    sided(20, &[("Risorius", 1.6)], 0.0),
+    au(23, &[("Orbicularis_Oris", 1.2)], 0.0),
+    au(24, &[("Orbicularis_Oris", 0.8), ("Mentalis", 0.6)], 0.0),
+    au(25, &[("Depressor_Labii_Inferioris", 0.6)], 0.8),
+    au(26, &[], 2.5),
+    au(27, &[("Risorius", 0.3)], 4.0),
+    au(43, &[("Orbicularis_Oculi", 2.0)], 0.0),
+    au(45, &[("Orbicularis_Oculi", 2.0)], 0.0),
+    sided(
+        46,
+        &[
+            ("Orbicularis_Oculi", 2.0),
+            ("Orbicularis_Oculi_Orbital", 0.5),
+        ],
+        0.0,
+    ),
+];
+
+/// The EMFACS emotion prototypes (see `docs/au.md` for sources and intensity choices).
+pub const EXPRESSIONS: &[(&str, &str)] = &[
+    ("happiness", "6C+12D"),
+    ("sadness", "1D+4C+15C"),
+    ("surprise", "1D+2D+5B+26C"),
+    ("fear", "1C+2C+4C+5D+7C+20C+26B"),
+    ("anger", "4D+5C+7C+23D"),
+    ("disgust", "9D+15C+16B"),
+    ("contempt", "R12A+R14A"),
+];
+
+/// Builds the default AU table.
+pub fn default_table() -> AuTable {
+    let mut aus = BTreeMap::new();
+    for spec in AUS {
+        let name = catalogue::name_of(spec.number)
+            .unwrap_or("Unnamed")
+            .to_string();
+        if spec.number == 46 {
+            // a wink is one eye by definition: 46 alone is the subject's right eye
+            aus.insert(AuKey::new(46), entry(&name, spec, Sides::Right));
+        } else {
+            aus.insert(AuKey::new(spec.number), entry(&name, spec, Sides::Both));
+        }
+        if spec.unilateral {
+            for (side, sides) in [(Side::Left, Sides::Left), (Side::Right, Sides::Right)] {
+                let key = AuKey {
+                    number: spec.number,
+                    side: Some(side),
+                };
+                aus.insert(key, entry(&name, spec, sides));
+            }
+        }
+    }
+    let expressions = EXPRESSIONS
+        .iter()
+        .map(|(name, combo)| (name.to_string(), combo.to_string()))
+        .collect();
+    AuTable {
+        version: TABLE_VERSION,
+        rig: RIG_PATH.into(),
+        aus,
+        expressions,
+    }
+}
+
+fn entry(name: &str, spec: &AuSpec, sides: Sides) -> AuEntry {
+    let mut muscles = BTreeMap::new();
+    for &(base, value) in spec.muscles {
+        if is_midline(base) {
+            // one side of a midline muscle: half of it
+            let share = if sides == Sides::Both { 1.0 } else { 0.5 };
+            muscles.insert(base.to_string(), value * share);
+            continue;
+        }
+        if sides != Sides::Right {
+            muscles.insert(format!("L_{base}"), value);
+        }
+        if sides != Sides::Left {
+            muscles.insert(format!("R_{base}"), value);
+        }
+    }
+    AuEntry {
+        name: name.to_string(),
+        muscles,
+        jaw: spec.jaw,
+    }
+}
+
+/// Midline muscles have no side prefix.
+fn is_midline(name: &str) -> bool {
+    matches!(name, "Orbicularis_Oris" | "Procerus")
+}

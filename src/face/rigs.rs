@@ -1,0 +1,520 @@
+//! Muscle placement on the default face: the paper's rig and the default (extended) rig.
+//!
+//! Every muscle is placed from the face's own geometry: points on the skin found by
+//! projecting a front-view position (millimetres, from the face's proportions) onto the
+//! mesh, or named landmarks, pushed under the skin by an anatomical depth. Falloff distances
+//! are fractions of each muscle's own length, so the rig follows the mesh if its proportions
+//! change. Muscles are placed on the subject's right (x > 0) and mirrored exactly.
+
+use std::collections::BTreeMap;
+
+use glam::Vec3;
+use thiserror::Error;
+
+use super::anthropometry::*;
+use super::surface;
+use crate::model::{
+    Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter, RIG_VERSION,
+};
+
+/// The mesh path the built-in rigs name: the embedded default face.
+pub const FACE_PATH: &str = "builtin:face";
+
+/// Jaw rotation in degrees per unit of jaw activation: 4.0 turns the jaw 14 degrees, which
+/// opens the mouth about 20 mm at the lips, a wide but natural opening.
+pub const JAW_DEGREES_PER_UNIT: f32 = 3.5;
+
+/// Why a rig cannot be placed on a mesh.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum PlacementError {
+    /// A landmark group the placement needs is missing or not a single vertex.
+    #[error("the mesh has no single-vertex landmark group `{0}` (is it the default face?)")]
+    MissingLandmark(String),
+    /// No skin lies under a front-view position.
+    #[error("no skin under ({x:.1} mm, {y:.1} mm) to place `{muscle}` on")]
+    NoSkin {
+        /// The muscle being placed.
+        muscle: String,
+        /// Front-view x (mm, subject's right positive).
+        x: f64,
+        /// Front-view height above the nasion (mm).
+        y: f64,
+    },
+}
+
+/// Where one end of a muscle goes.
+#[derive(Debug, Clone, Copy)]
+enum Anchor {
+    /// The skin under a front-view point (x mm, height above nasion mm), pushed this many mm
+    /// under the skin.
+    Skin(f64, f64, f64),
+    /// A landmark, offset in the front view (mm) and pushed under the skin (mm).
+    Mark(&'static str, f64, f64, f64),
+}
+
+/// A linear muscle of the subject's right side, before placement.
+struct LinearSpec {
+    name: &'static str,
+    attachment: Anchor,
+    insertion: Anchor,
+    zone: f32,
+    /// Falloff start and end as fractions of the attachment-insertion length.
+    falloff: (f32, f32),
+}
+
+/// The paper's 9 linear muscle pairs (names after the classic Waters set).
+const PAPER_LINEAR: [LinearSpec; 9] = [
+    // from the zygomatic bone to the modiolus above and outside the mouth corner
+    LinearSpec {
+        name: "Zygomatic_Major",
+        attachment: Anchor::Skin(52.0, -26.0, 4.0),
+        insertion: Anchor::Mark("right_mouth_corner", 1.5, 1.0, 1.0),
+        zone: 40.0,
+        falloff: (0.45, 1.3),
+    },
+    // depressor anguli oris: from the mandible's lower border up to the mouth corner
+    LinearSpec {
+        name: "Angular_Depressor",
+        attachment: Anchor::Skin(33.0, -100.0, 3.0),
+        insertion: Anchor::Mark("right_mouth_corner", 0.5, -1.0, 1.0),
+        zone: 35.0,
+        falloff: (0.4, 1.3),
+    },
+    // frontalis fibres from the galea at the hairline down into the brow skin
+    LinearSpec {
+        name: "Frontalis_Inner",
+        attachment: Anchor::Skin(13.0, 60.0, 3.0),
+        insertion: Anchor::Skin(16.0, 13.0, 1.0),
+        zone: 30.0,
+        falloff: (0.7, 1.2),
+    },
+    LinearSpec {
+        name: "Frontalis_Major",
+        attachment: Anchor::Skin(30.0, 60.0, 3.0),
+        insertion: Anchor::Skin(30.0, 16.0, 1.0),
+        zone: 30.0,
+        falloff: (0.7, 1.2),
+    },
+    LinearSpec {
+        name: "Frontalis_Outer",
+        attachment: Anchor::Skin(43.0, 54.0, 3.0),
+        insertion: Anchor::Skin(45.0, 11.0, 1.0),
+        zone: 30.0,
+        falloff: (0.7, 1.2),
+    },
+    // levator labii superioris: infraorbital margin to the upper lip beside the philtrum
+    LinearSpec {
+        name: "Labii_Nasi",
+        attachment: Anchor::Skin(25.0, -21.0, 3.0),
+        insertion: Anchor::Skin(11.0, -61.0, 1.0),
+        zone: 40.0,
+        falloff: (0.5, 1.2),
+    },
+    // levator labii superioris alaeque nasi: beside the nasal bridge to the ala and lip
+    LinearSpec {
+        name: "Inner_Labii_Nasi",
+        attachment: Anchor::Skin(11.0, -5.0, 3.0),
+        insertion: Anchor::Skin(15.0, -52.0, 1.0),
+        zone: 35.0,
+        falloff: (0.5, 1.15),
+    },
+    // corrugator supercilii: medial brow ridge to the skin of the middle brow
+    LinearSpec {
+        name: "Lateral_Corrugator",
+        attachment: Anchor::Skin(5.0, 5.0, 4.0),
+        insertion: Anchor::Skin(30.0, 15.0, 1.0),
+        zone: 40.0,
+        falloff: (0.6, 1.2),
+    },
+    // medial frontalis fibres pulling the head of the brow up and out
+    LinearSpec {
+        name: "Secondary_Frontalis",
+        attachment: Anchor::Skin(22.0, 58.0, 3.0),
+        insertion: Anchor::Skin(9.0, 12.0, 1.0),
+        zone: 30.0,
+        falloff: (0.7, 1.2),
+    },
+];
+
+/// The muscles the default rig adds for the AUs face trackers report.
+const EXTRA_LINEAR: [LinearSpec; 8] = [
+    // levator palpebrae superioris: from the orbit roof, retracts the upper lid up and back
+    LinearSpec {
+        name: "Levator_Palpebrae",
+        attachment: Anchor::Mark("right_upper_lid_centre", 0.0, 20.0, 15.0),
+        insertion: Anchor::Mark("right_upper_lid_centre", 0.0, 0.0, 0.0),
+        zone: 45.0,
+        falloff: (0.3, 1.28),
+    },
+    // orbicularis oculi, pars orbitalis: lifts the cheek toward the orbit (AU6)
+    LinearSpec {
+        name: "Orbicularis_Oculi_Orbital",
+        attachment: Anchor::Mark("right_lower_lid_centre", 4.0, -3.0, 2.0),
+        insertion: Anchor::Skin(40.0, -34.0, 1.0),
+        zone: 45.0,
+        falloff: (0.6, 1.4),
+    },
+    // buccinator: draws the mouth corner straight back (AU14)
+    LinearSpec {
+        name: "Buccinator",
+        attachment: Anchor::Skin(44.0, -73.0, 18.0),
+        insertion: Anchor::Mark("right_mouth_corner", 0.0, 0.0, 1.0),
+        zone: 35.0,
+        falloff: (0.6, 1.2),
+    },
+    // risorius: draws the mouth corner sideways (AU20)
+    LinearSpec {
+        name: "Risorius",
+        attachment: Anchor::Skin(54.0, -72.0, 2.0),
+        insertion: Anchor::Mark("right_mouth_corner", 0.0, 0.0, 1.0),
+        zone: 40.0,
+        falloff: (0.6, 1.2),
+    },
+    // mentalis: from the incisive fossa into the chin skin, raises the chin boss (AU17)
+    LinearSpec {
+        name: "Mentalis",
+        attachment: Anchor::Skin(6.0, -88.0, 4.0),
+        insertion: Anchor::Skin(8.0, -112.0, 1.0),
+        zone: 35.0,
+        falloff: (0.3, 1.05),
+    },
+    // depressor labii inferioris: mandible to the lower lip, pulls it down and out (AU16)
+    LinearSpec {
+        name: "Depressor_Labii_Inferioris",
+        attachment: Anchor::Skin(20.0, -106.0, 3.0),
+        insertion: Anchor::Skin(9.0, -79.0, 1.0),
+        zone: 40.0,
+        falloff: (0.5, 1.15),
+    },
+    // depressor supercilii: medial orbit to the head of the brow, pulls it down (AU4)
+    LinearSpec {
+        name: "Depressor_Supercilii",
+        attachment: Anchor::Skin(9.0, -6.0, 3.0),
+        insertion: Anchor::Skin(15.0, 12.0, 1.0),
+        zone: 40.0,
+        falloff: (0.5, 1.25),
+    },
+    // zygomatic minor: from the zygoma to the upper lip outside the philtrum (AU11)
+    LinearSpec {
+        name: "Zygomatic_Minor",
+        attachment: Anchor::Skin(40.0, -24.0, 4.0),
+        insertion: Anchor::Skin(17.0, -62.0, 1.0),
+        zone: 35.0,
+        falloff: (0.5, 1.15),
+    },
+];
+
+/// Places the paper's rig on the default face: 18 linear muscles, 2 frontalis sheets, the
+/// mouth and eye sphincters, and the jaw.
+pub fn paper_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
+    let place = Placer { mesh };
+    let mut muscles = Vec::new();
+    for spec in &PAPER_LINEAR {
+        muscles.extend(place.linear_pair(spec)?);
+    }
+    muscles.extend(place.frontalis_sheets()?);
+    muscles.push(place.orbicularis_oris()?);
+    muscles.extend(place.orbicularis_oculi()?);
+    Ok(Rig {
+        version: RIG_VERSION,
+        mesh: FACE_PATH.into(),
+        combine: Default::default(),
+        muscles,
+        jaw: Some(place.jaw()?),
+    })
+}
+
+/// Places the default rig: the paper's rig plus the muscles it lacks for the AUs face
+/// trackers report (levator palpebrae, pars orbitalis, buccinator, risorius, mentalis,
+/// depressor labii inferioris, depressor supercilii, zygomatic minor, procerus).
+pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
+    let mut rig = paper_rig(mesh)?;
+    let place = Placer { mesh };
+    for spec in &EXTRA_LINEAR {
+        rig.muscles.extend(place.linear_pair(spec)?);
+    }
+    rig.muscles.push(place.procerus()?);
+    Ok(rig)
+}
+
+struct Placer<'a> {
+    mesh: &'a Mesh,
+}
+
+impl Placer<'_> {
+    fn landmark(&self, name: &str) -> Result<Vec3, PlacementError> {
+        match self.mesh.groups.get(name).map(Vec::as_slice) {
+            Some([v]) => Ok(self.mesh.positions[*v as usize]),
+            _ => Err(PlacementError::MissingLandmark(name.to_string())),
+        }
+    }
+
+    /// The skin point under a front-view position (mm), or an error naming the muscle.
+    fn skin(&self, muscle: &str, x: f64, y: f64) -> Result<Vec3, PlacementError> {
+        let target = (units(x) as f32, y_units(y) as f32);
+        skin_under(self.mesh, target.0, target.1).ok_or_else(|| PlacementError::NoSkin {
+            muscle: muscle.to_string(),
+            x,
+            y,
+        })
+    }
+
+    fn anchor(&self, muscle: &str, anchor: Anchor) -> Result<Vec3, PlacementError> {
+        let (point, depth) = match anchor {
+            Anchor::Skin(x, y, depth) => (self.skin(muscle, x, y)?, depth),
+            Anchor::Mark(name, dx, dy, depth) => {
+                let p = self.landmark(name)? + Vec3::new(units(dx) as f32, units(dy) as f32, 0.0);
+                (p, depth)
+            }
+        };
+        Ok(rounded(point - Vec3::new(0.0, 0.0, units(depth) as f32)))
+    }
+
+    /// A right-side linear muscle and its left mirror, left first.
+    fn linear_pair(&self, spec: &LinearSpec) -> Result<[Muscle; 2], PlacementError> {
+        let attachment = self.anchor(spec.name, spec.attachment)?;
+        let insertion = self.anchor(spec.name, spec.insertion)?;
+        let length = attachment.distance(insertion);
+        let right = Linear {
+            attachment,
+            insertion,
+            zone: spec.zone,
+            falloff_start: round3(spec.falloff.0 * length),
+            falloff_end: round3(spec.falloff.1 * length),
+        };
+        let left = Linear {
+            attachment: mirror(right.attachment),
+            insertion: mirror(right.insertion),
+            ..right.clone()
+        };
+        Ok(pair(
+            spec.name,
+            MuscleKind::Linear(left),
+            MuscleKind::Linear(right),
+        ))
+    }
+
+    /// The frontalis as two sheets, each from the hairline down to its brow.
+    fn frontalis_sheets(&self) -> Result<[Muscle; 2], PlacementError> {
+        let name = "Frontalis";
+        let a1 = self.anchor(name, Anchor::Skin(4.0, 56.0, 3.0))?;
+        let a2 = self.anchor(name, Anchor::Skin(50.0, 46.0, 3.0))?;
+        let l1 = self.anchor(name, Anchor::Skin(6.0, 8.0, 0.0))?;
+        let l2 = self.anchor(name, Anchor::Skin(50.0, 6.0, 0.0))?;
+        let axis = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
+        let right = Sheet {
+            attachment: [a1, a2],
+            insertion: [l1, l2],
+            // the insertion runs just under the brows; the pull fades out 8 mm below it,
+            // above the upper lids
+            length: round3(axis + units(8.0) as f32),
+            width: round3(units(52.0) as f32),
+        };
+        let left = Sheet {
+            attachment: [mirror(a2), mirror(a1)],
+            insertion: [mirror(l2), mirror(l1)],
+            ..right.clone()
+        };
+        Ok(pair(
+            "Frontalis_Sheet",
+            MuscleKind::Sheet(left),
+            MuscleKind::Sheet(right),
+        ))
+    }
+
+    /// The mouth sphincter, centred between the lips; its protected central disc keeps the
+    /// middle of the lips in place while the corners draw in.
+    fn orbicularis_oris(&self) -> Result<Muscle, PlacementError> {
+        let upper = self.landmark("upper_lip_centre")?;
+        let lower = self.landmark("lower_lip_centre")?;
+        let corner = self.landmark("right_mouth_corner")?;
+        let centre = rounded(0.5 * (upper + lower));
+        Ok(Muscle {
+            name: "Orbicularis_Oris".into(),
+            side: Side::Centre,
+            mirror: None,
+            kind: MuscleKind::Sphincter(Sphincter {
+                centre,
+                semi_major: round3(corner.x + units(14.0) as f32),
+                semi_minor: round3(units(10.0) as f32),
+                convergence: Convergence::Centre,
+                bulge: 10.0,
+            }),
+        })
+    }
+
+    /// The eye sphincters, centred on the line where the lids meet when they close (halfway
+    /// between the lid margins), so both lids converge on it at full activation.
+    fn orbicularis_oculi(&self) -> Result<[Muscle; 2], PlacementError> {
+        let inner = self.landmark("right_inner_eye_corner")?;
+        let outer = self.landmark("right_outer_eye_corner")?;
+        let upper = self.landmark("right_upper_lid_centre")?;
+        let lower = self.landmark("right_lower_lid_centre")?;
+        let half_fissure = 0.5 * (upper.y - lower.y);
+        let centre = rounded(Vec3::new(
+            0.5 * (inner.x + outer.x),
+            0.5 * (upper.y + lower.y),
+            0.5 * (upper.z + lower.z),
+        ));
+        // A lid margin at t = |Py| / ly on the centre line moves K t (1 - t) units toward the
+        // major axis. Choose ly so that at K = 2 the margins just reach the axis:
+        // 2 t (1 - t) = h, t = (1 - sqrt(1 - 2h)) / 2 (the smaller root, so the band of
+        // orbital skin between lid and brow moves with the lid).
+        let t = 0.5 * (1.0 - (1.0 - 2.0 * half_fissure).max(0.0).sqrt());
+        let semi_minor = if t > 0.0 { half_fissure / t } else { 1.0 };
+        let right = Sphincter {
+            centre,
+            semi_major: round3(0.5 * (outer.x - inner.x) + units(7.0) as f32),
+            semi_minor: round3(semi_minor),
+            convergence: Convergence::MajorAxis,
+            bulge: 30.0,
+        };
+        let left = Sphincter {
+            centre: mirror(centre),
+            ..right.clone()
+        };
+        Ok(pair(
+            "Orbicularis_Oculi",
+            MuscleKind::Sphincter(left),
+            MuscleKind::Sphincter(right),
+        ))
+    }
+
+    /// The procerus: a midline muscle from the nasal bones up into the glabella skin; it
+    /// draws the skin between the brows down (AU4, AU9).
+    fn procerus(&self) -> Result<Muscle, PlacementError> {
+        let name = "Procerus";
+        Ok(Muscle {
+            name: name.into(),
+            side: Side::Centre,
+            mirror: None,
+            kind: MuscleKind::Linear({
+                let attachment = self.anchor(name, Anchor::Skin(0.0, -14.0, 3.0))?;
+                let insertion = self.anchor(name, Anchor::Skin(0.0, 10.0, 1.0))?;
+                let length = attachment.distance(insertion);
+                Linear {
+                    attachment,
+                    insertion,
+                    zone: 35.0,
+                    falloff_start: round3(0.5 * length),
+                    falloff_end: round3(1.25 * length),
+                }
+            }),
+        })
+    }
+
+    /// The jaw: a pivot at the temporomandibular joint and weights over the lower face.
+    fn jaw(&self) -> Result<Jaw, PlacementError> {
+        let corner = self.landmark("right_mouth_corner")?;
+        let upper = self.landmark("upper_lip_centre")?;
+        let lower = self.landmark("lower_lip_centre")?;
+        let mouth_y = 0.5 * (upper.y + lower.y);
+        let weights = jaw_weights(&self.mesh.positions, mouth_y, corner.x);
+        Ok(Jaw {
+            // just in front of the tragus, at the height of the ala-tragus line, deep in the
+            // head; only y and z matter for a turn about the x axis
+            pivot: rounded(Vec3::new(
+                0.0,
+                y_units(-38.0) as f32,
+                units(-HEAD_DEPTH + 8.0) as f32,
+            )),
+            degrees_per_unit: JAW_DEGREES_PER_UNIT,
+            weights,
+        })
+    }
+}
+
+/// Jaw weights: 0 on and above the mouth line; below it, 1 across the middle of the lower
+/// lip and chin, falling smoothly to 0 at the mouth corners. Lower down the band that moves
+/// widens to the whole mandible, so the lower lip turns with the chin and the corners and
+/// cheeks stay put.
+pub fn jaw_weights(positions: &[Vec3], mouth_y: f32, corner_x: f32) -> Vec<(u32, f32)> {
+    let chin_y = y_units(GNATHION_Y) as f32;
+    let mut weights = Vec::new();
+    for (i, p) in positions.iter().enumerate() {
+        if p.y >= mouth_y {
+            continue;
+        }
+        let depth = f64::from(((mouth_y - p.y) / (mouth_y - chin_y)).clamp(0.0, 1.0));
+        let ease = surface::smoothstep(0.0, 0.6, depth);
+        let inner = ease * units(GONION_X - 8.0);
+        let outer = f64::from(corner_x) + ease * (units(GONION_X + 16.0) - f64::from(corner_x));
+        let w = 1.0 - surface::smoothstep(inner, outer, f64::from(p.x.abs()));
+        let w = round3(w as f32);
+        if w > 0.0 {
+            weights.push((i as u32, w));
+        }
+    }
+    weights
+}
+
+/// The highest-z point of the skin under front-view position `(x, y)` (mesh units), found
+/// on the triangles that face the viewer.
+pub fn skin_under(mesh: &Mesh, x: f32, y: f32) -> Option<Vec3> {
+    let mut best: Option<Vec3> = None;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+        let n = (b - a).cross(c - a);
+        if n.z <= 0.0 {
+            continue;
+        }
+        let det = (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
+        if det.abs() < 1e-12 {
+            continue;
+        }
+        let l0 = ((b.y - c.y) * (x - c.x) + (c.x - b.x) * (y - c.y)) / det;
+        let l1 = ((c.y - a.y) * (x - c.x) + (a.x - c.x) * (y - c.y)) / det;
+        let l2 = 1.0 - l0 - l1;
+        if l0 < -1e-6 || l1 < -1e-6 || l2 < -1e-6 {
+            continue;
+        }
+        let z = l0 * a.z + l1 * b.z + l2 * c.z;
+        if best.is_none_or(|p| z > p.z) {
+            best = Some(Vec3::new(x, y, z));
+        }
+    }
+    best
+}
+
+/// The left (x < 0) and right muscles of a pair, named `L_name` and `R_name`.
+fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 2] {
+    let (l, r) = (format!("L_{name}"), format!("R_{name}"));
+    [
+        Muscle {
+            name: l.clone(),
+            side: Side::Left,
+            mirror: Some(r.clone()),
+            kind: left,
+        },
+        Muscle {
+            name: r,
+            side: Side::Right,
+            mirror: Some(l),
+            kind: right,
+        },
+    ]
+}
+
+fn mirror(p: Vec3) -> Vec3 {
+    Vec3::new(-p.x, p.y, p.z)
+}
+
+/// Rounds to 3 decimals so rig files stay readable (0.001 units is 0.01 mm).
+fn round3(v: f32) -> f32 {
+    (v * 1000.0).round() / 1000.0
+}
+
+fn rounded(p: Vec3) -> Vec3 {
+    Vec3::new(round3(p.x), round3(p.y), round3(p.z))
+}
+
+/// The landmark positions of a mesh by name (single-vertex groups only), for reports.
+pub fn landmarks(mesh: &Mesh) -> BTreeMap<String, Vec3> {
+    mesh.groups
+        .iter()
+        .filter_map(|(name, members)| match members.as_slice() {
+            [v] => Some((name.clone(), mesh.positions[*v as usize])),
+            _ => None,
+        })
+        .collect()
+}
