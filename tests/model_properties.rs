@@ -534,3 +534,30 @@ fn mouth_disc_edge_is_continuous_where_the_literal_reading_jumps() {
     );
     assert!(literal > 0.2, "the literal reading would jump by {literal}");
 }
+
+/// The built-in rigs bind to the built-in face, and the extremes of every range stay finite.
+#[test]
+fn builtin_rigs_bind_and_stay_finite_at_full_activation() {
+    let mesh = grimace::io::builtin::default_mesh();
+    for rig in [
+        grimace::io::builtin::default_rig(),
+        grimace::io::builtin::paper_rig(),
+    ] {
+        let bound = BoundRig::bind(&rig, &mesh).expect("built-in rig binds");
+        let full = Activations {
+            muscles: vec![2.0; rig.muscles.len()],
+            jaw: 4.0,
+        };
+        let out = deformed(&bound, &full);
+        assert!(out.iter().all(|p| p.is_finite()));
+        assert_ne!(out, mesh.positions);
+        assert_eq!(deformed(&bound, &Activations::zero(&rig)), mesh.positions);
+        for m in 0..rig.muscles.len() {
+            assert!(
+                !bound.field(m).expect("field").is_empty(),
+                "built-in muscle `{}` moves no vertex",
+                rig.muscles[m].name
+            );
+        }
+    }
+}
