@@ -404,6 +404,32 @@ proptest! {
     }
 
     #[test]
+    fn deform_equals_pure_displacements_summed_then_the_jaw(act in activations()) {
+        // An independent evaluation: each muscle's pure function at each rest vertex,
+        // summed (Sum mode), then eqs. 16-19 written out here.
+        let rig = symmetric_rig(Combine::Sum);
+        let bound = BoundRig::bind(&rig, &dome()).expect("binds");
+        let out = deformed(&bound, &act);
+        let jaw = rig.jaw.as_ref().expect("jaw");
+        let theta = (act.jaw as f64 * jaw.degrees_per_unit as f64).to_radians();
+        for (v, rest) in dome().positions.iter().enumerate() {
+            let mut p = *rest;
+            for (m, &a) in rig.muscles.iter().zip(&act.muscles) {
+                p += muscle_displacement(&m.kind, *rest, a);
+            }
+            if let Some(&(_, w)) = jaw.weights.iter().find(|&&(j, _)| j as usize == v) {
+                let (y, z) = ((p.y - jaw.pivot.y) as f64, (p.z - jaw.pivot.z) as f64);
+                let ry = jaw.pivot.y as f64 + theta.cos() * y - theta.sin() * z;
+                let rz = jaw.pivot.z as f64 + theta.sin() * y + theta.cos() * z;
+                let w = w as f64;
+                p.y = (w * ry + (1.0 - w) * p.y as f64) as f32;
+                p.z = (w * rz + (1.0 - w) * p.z as f64) as f32;
+            }
+            prop_assert!((out[v] - p).abs().max_element() <= 1e-5, "vertex {}: {} vs {}", v, out[v], p);
+        }
+    }
+
+    #[test]
     fn each_kind_is_linear_in_its_activation(
         x in -4.0f32..4.0, y in -4.0f32..4.0, a in -2.0f32..=2.0,
     ) {
