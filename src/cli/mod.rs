@@ -16,6 +16,7 @@ pub mod gen_face;
 pub mod import_waters;
 pub mod list;
 pub mod play;
+pub mod render;
 pub mod validate;
 
 /// grimace: shape facial expressions with muscles, in the terminal.
@@ -44,6 +45,9 @@ pub enum Command {
     List(list::ListArgs),
     /// Animate the face from an OpenFace CSV, a timeline, or a live AU stream.
     Play(play::PlayArgs),
+    /// Draw one state of the face as braille or ASCII text, SVG or PNG (or every AU and
+    /// expression of a table with --all).
+    Render(render::RenderArgs),
 }
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
@@ -60,6 +64,7 @@ pub fn main() -> ExitCode {
             Command::Validate(args) => validate::run(&args),
             Command::List(args) => finish("list", list::run(&args)),
             Command::Play(args) => finish("play", play::run(&args)),
+            Command::Render(args) => finish("render", render::run(&args)),
         },
     }
 }
