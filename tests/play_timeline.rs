@@ -75,7 +75,7 @@ fn timeline_errors_name_file_line_and_keyframe() {
             TIMELINE
                 .replace("INTERP", "Linear")
                 .replace("\"smile\"", "\"99\""),
-            "keyframe 3 (time 1.5): the AU table has no AU 99",
+            "keyframe 3 (time 1.5): the table has no AU 99",
         ),
         (
             TIMELINE

@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod completions;
 pub mod edit;
 pub mod export;
 pub mod gen_face;
@@ -44,6 +45,8 @@ pub enum Command {
     List(list::ListArgs),
     /// Animate the face from an OpenFace CSV, a timeline, or a live AU stream.
     Play(play::PlayArgs),
+    /// Write a shell completion script (bash, zsh, fish, elvish, powershell) to stdout.
+    Completions(completions::CompletionsArgs),
 }
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
@@ -60,6 +63,7 @@ pub fn main() -> ExitCode {
             Command::Validate(args) => validate::run(&args),
             Command::List(args) => finish("list", list::run(&args)),
             Command::Play(args) => finish("play", play::run(&args)),
+            Command::Completions(args) => completions::run(&args),
         },
     }
 }

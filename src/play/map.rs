@@ -68,7 +68,6 @@ struct Contribution {
 pub struct AuMapper {
     muscle_count: usize,
     contributions: BTreeMap<AuKey, Vec<Contribution>>,
-    expressions: BTreeMap<String, String>,
     unknown_muscles: BTreeSet<String>,
 }
 
@@ -102,7 +101,6 @@ impl AuMapper {
         AuMapper {
             muscle_count: rig.muscles.len(),
             contributions,
-            expressions: table.expressions.clone(),
             unknown_muscles,
         }
     }
@@ -156,22 +154,6 @@ impl AuMapper {
         }
         clamp_activations(out);
     }
-
-    /// The activations of an AU combination string (`6+12`, `1+2+5B`, `R12A+R14A`,
-    /// `6+12@0.5`) or of a named expression of the table.
-    pub fn evaluate(&self, text: &str) -> Result<Activations, String> {
-        let combo = match self.expressions.get(text.trim()) {
-            Some(expression) => expression.as_str(),
-            None => text,
-        };
-        let terms = parse_terms(combo)?;
-        if let Some(missing) = terms.iter().find(|(key, _)| !self.knows(*key)) {
-            return Err(format!("the AU table has no AU {}", missing.0));
-        }
-        let mut out = Activations::default();
-        self.map(terms, &mut out);
-        Ok(out)
-    }
 }
 
 /// Clamps muscles to 0-2 and the jaw to 0-4.
@@ -180,45 +162,6 @@ pub fn clamp_activations(act: &mut Activations) {
         *value = value.clamp(*MUSCLE_RANGE.start(), *MUSCLE_RANGE.end());
     }
     act.jaw = act.jaw.clamp(*JAW_RANGE.start(), *JAW_RANGE.end());
-}
-
-/// Reads a combination string into (AU, factor) terms: `+` separates terms; a term is an AU
-/// key with an optional FACS intensity letter A-E (A = 1/5 ... E = 5/5) or `@x` scale
-/// (`6+12@0.5` is AU6 as recorded plus AU12 at half); a bare term is the AU as recorded.
-fn parse_terms(text: &str) -> Result<Vec<(AuKey, f32)>, String> {
-    if text.trim().is_empty() {
-        return Err("the AU combination is empty".into());
-    }
-    text.split('+')
-        .map(|term| {
-            let (term, factor) = match term.split_once('@') {
-                Some((term, factor)) => (term, parse_factor(factor)?),
-                None => (term, 1.0),
-            };
-            let term = term.trim();
-            let (key, letter) = match term.chars().last() {
-                Some(c @ ('A'..='E' | 'a'..='e')) => (
-                    &term[..term.len() - 1],
-                    f32::from(c.to_ascii_uppercase() as u8 - b'A' + 1) / 5.0,
-                ),
-                _ => (term, 1.0),
-            };
-            let key: AuKey = key
-                .parse()
-                .map_err(|e: crate::facs::AuKeyError| e.to_string())?;
-            Ok((key, letter * factor))
-        })
-        .collect()
-}
-
-fn parse_factor(text: &str) -> Result<f32, String> {
-    match text.trim().parse::<f32>() {
-        Ok(value) if value.is_finite() && (0.0..=1.0).contains(&value) => Ok(value),
-        _ => Err(format!(
-            "`@{}` is not a factor between 0 and 1",
-            text.trim()
-        )),
-    }
 }
 
 #[cfg(test)]
@@ -263,13 +206,11 @@ mod tests {
         aus.insert(AuKey::new(26), entry(&[("ghost", 1.0)], 2.0));
         aus.insert("L14".parse().unwrap(), entry(&[("a", 0.4)], 0.0));
         aus.insert("R14".parse().unwrap(), entry(&[("b", 0.4)], 0.0));
-        let mut expressions = BTreeMap::new();
-        expressions.insert("smile".to_string(), "6+12".to_string());
         let table = AuTable {
             version: 1,
             rig: PathBuf::from("builtin:test"),
             aus,
-            expressions,
+            expressions: BTreeMap::new(),
         };
         (rig, table)
     }
@@ -297,28 +238,6 @@ mod tests {
         let mut out = Activations::default();
         mapper.map([(AuKey::new(14), 0.5)], &mut out);
         assert_eq!(out.muscles, vec![0.2, 0.2]);
-    }
-
-    #[test]
-    fn combination_strings_letters_factors_and_expressions() {
-        let (rig, table) = rig_and_table();
-        let mapper = AuMapper::new(&table, &rig);
-        assert_eq!(mapper.evaluate("12E").unwrap().muscles, vec![1.5, 0.5]);
-        let b = mapper.evaluate("12B").unwrap().muscles;
-        assert!(
-            (b[0] - 0.6).abs() < 1e-6 && (b[1] - 0.2).abs() < 1e-6,
-            "{b:?}"
-        );
-        assert_eq!(
-            mapper.evaluate("6+12@0.5").unwrap().muscles,
-            vec![1.75, 0.25]
-        );
-        assert_eq!(mapper.evaluate("6@0.5+12").unwrap().muscles, vec![2.0, 0.5]);
-        assert_eq!(mapper.evaluate("smile").unwrap().muscles, vec![2.0, 0.5]);
-        assert!(mapper.evaluate("1").unwrap_err().contains("no AU 1"));
-        assert!(mapper.evaluate("").is_err());
-        assert!(mapper.evaluate("6@2").is_err());
-        assert!(mapper.evaluate("x+6").is_err());
     }
 
     #[test]

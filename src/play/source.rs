@@ -16,7 +16,8 @@ use std::time::{Duration, Instant};
 
 use thiserror::Error;
 
-use crate::facs::AuKey;
+use crate::facs::combo::parse_combo;
+use crate::facs::{AuKey, AuTable};
 use crate::io::openface::{OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome};
 use crate::io::timeline::{Timeline, TimelineError};
 use crate::model::{Activations, Rig};
@@ -350,12 +351,12 @@ pub struct TimelineSource {
 }
 
 impl TimelineSource {
-    /// Resolves every keyframe to activations: its AU combination (or expression) through the
-    /// table, plus explicit muscles and jaw, clamped.
+    /// Resolves every keyframe to activations: its AU combination (or the table's expression
+    /// of that name) evaluated through the table, plus explicit muscles and jaw, clamped.
     pub fn new(
         timeline: Timeline,
         path: &Path,
-        mapper: &AuMapper,
+        table: &AuTable,
         rig: &Rig,
     ) -> Result<TimelineSource, SourceError> {
         let mut poses = Vec::with_capacity(timeline.keyframes.len());
@@ -366,10 +367,9 @@ impl TimelineSource {
                 message: format!("keyframe {} (time {}): {message}", i + 1, key.time),
             };
             let mut pose = match &key.aus {
-                Some(text) => mapper.evaluate(text).map_err(fail)?,
+                Some(text) => keyframe_aus(text, table, rig).map_err(fail)?,
                 None => Activations::zero(rig),
             };
-            pose.muscles.resize(rig.muscles.len(), 0.0);
             for (name, value) in &key.muscles {
                 let index = rig
                     .muscle_index(name)
@@ -429,6 +429,16 @@ impl FrameSource for TimelineSource {
     fn is_live(&self) -> bool {
         false
     }
+}
+
+/// A keyframe's `aus`: an expression name of the table, or a combination string.
+fn keyframe_aus(text: &str, table: &AuTable, rig: &Rig) -> Result<Activations, String> {
+    let combo = table
+        .expressions
+        .get(text.trim())
+        .map_or(text, String::as_str);
+    let combo = parse_combo(combo).map_err(|e| format!("`{combo}`: {e}"))?;
+    table.evaluate(&combo, rig).map_err(|e| e.to_string())
 }
 
 /// What a reader thread sends: one line (or datagram) with its number, or a read failure.
