@@ -33,6 +33,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Edit an AU table in the terminal (the default when no subcommand is given).
+    #[command(after_help = edit::AFTER_HELP)]
     Edit(edit::EditArgs),
     /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
     GenFace(gen_face::GenFaceArgs),
