@@ -392,6 +392,10 @@ mod view {
         Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Rgb, Scene, Style,
     };
 
+    /// The shortest time between two drawn frames: the view shows at most about 64 frames a
+    /// second (a little above 60, so a 60 fps source is not thinned by timer jitter).
+    const MIN_FRAME_INTERVAL: Duration = Duration::from_micros(15_625);
+
     /// Restores the terminal however the view ends (return, error or panic unwinding).
     struct TerminalGuard;
 
@@ -543,14 +547,20 @@ mod view {
     ) -> Result<()> {
         let mut redraw = true;
         let mut due: Option<Instant> = None;
+        let mut last_frame_drawn: Option<Instant> = None;
         loop {
             if stop.load(Ordering::Relaxed) {
                 return Ok(());
             }
-            if let Some((frame, when)) = player.tick(Instant::now())? {
-                status.current = Some(frame);
-                due = Some(when);
-                redraw = true;
+            // Faster sources than the display rate: frames due in between are dropped.
+            let now = Instant::now();
+            let display_ready = last_frame_drawn.is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
+            if display_ready {
+                if let Some((frame, when)) = player.tick(now)? {
+                    status.current = Some(frame);
+                    due = Some(when);
+                    redraw = true;
+                }
             }
             collect(player, status);
             if player.is_finished() && !status.ended {
@@ -568,12 +578,14 @@ mod view {
                 let done = Instant::now();
                 if let Some(when) = due.take() {
                     player.shown(when, done, done - started);
+                    last_frame_drawn = Some(started);
                 }
                 redraw = false;
             }
             let now = Instant::now();
+            let display_free = last_frame_drawn.map_or(now, |t| t + MIN_FRAME_INTERVAL);
             let wait = match player.next_due() {
-                Some(when) => when.saturating_duration_since(now),
+                Some(when) => when.max(display_free).saturating_duration_since(now),
                 None if player.is_live() && !player.is_paused() => Duration::from_millis(4),
                 None => Duration::from_millis(250),
             };
