@@ -29,7 +29,7 @@ use crate::play::{
 #[command(after_help = "\
 INPUT:
   FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped)
-  FILE.timeline.ron   keyframes of AU combinations or activations (see docs on timelines)
+  FILE.timeline.ron   keyframes of AU combinations or activations (see docs/formats.md)
   --stdin             one frame per line: a CSV header line then rows, or JSON objects
                       {\"AU1\": 0.0, ..., \"AU45\": 0.0}
   --udp 127.0.0.1:PORT  JSON objects, one per datagram, on a loopback port (0 picks one)
@@ -51,10 +51,11 @@ pub struct PlayArgs {
     /// Listen for JSON frames on a loopback UDP address, e.g. 127.0.0.1:9000.
     #[arg(long, value_name = "ADDR")]
     pub udp: Option<String>,
-    /// The rig (default: the built-in default face).
+    /// The rig: a file, or builtin:default or builtin:paper (default: the rig the table
+    /// names, else builtin:default).
     #[arg(long, value_name = "RIG")]
     pub rig: Option<PathBuf>,
-    /// The AU table mapping AUs to activations (default: the built-in table).
+    /// The AU table mapping AUs to activations: a file or builtin:default (the default).
     #[arg(long, value_name = "TABLE")]
     pub table: Option<PathBuf>,
     /// Intensities are already on a 0-1 scale (default: OpenFace's 0-5).
@@ -66,7 +67,8 @@ pub struct PlayArgs {
     /// Draw nothing: print one line per frame and a final count.
     #[arg(long)]
     pub headless: bool,
-    /// With --headless, keep the source's pace instead of running as fast as possible.
+    /// With --headless, keep the source's pace (at --speed) instead of running as fast as
+    /// possible.
     #[arg(long, requires = "headless")]
     pub realtime: bool,
     /// Playback speed (1 = the source's frame rate; 1/16 to 16).
