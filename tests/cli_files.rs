@@ -286,7 +286,14 @@ fn export_errors_exit_1_with_a_message() {
             "grimace export: activation of `jaw` is not a finite number (NaN)\n",
         ),
         (&["--rig", "t.rig.ron", "--au", "12"], "grimace export: --au needs an AU table: pass --table TABLE\n"),
-        (&["--set", "L_pull=1"], "grimace export: no rig given: pass --rig RIG, or --table TABLE to use the rig it names\n"),
+        (
+            &["--set", "L_pull=1"],
+            "grimace export: --set L_pull=1: the rig builtin:default has no muscle named `L_pull` (see `grimace list --rig`)\n",
+        ),
+        (
+            &["--rig", "builtin:nope"],
+            "grimace export: builtin:nope: there is no built-in rig named `nope`; the built-in rigs are builtin:default and builtin:paper\n",
+        ),
         (&["--rig", "nope.rig.ron"], "grimace export: nope.rig.ron: cannot read the file: no such file or directory\n"),
     ];
     for (args, message) in cases {
@@ -295,6 +302,50 @@ fn export_errors_exit_1_with_a_message() {
         assert_eq!(&stderr, message, "{args:?}");
     }
     assert!(!d.join("out.obj").exists());
+}
+
+#[test]
+fn export_defaults_to_the_built_in_face_rig_and_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let face = grimace::io::builtin::default_mesh();
+    let rest = export(d, &[]).unwrap();
+    assert_eq!(rest, face.positions);
+
+    let rig = grimace::io::builtin::default_rig();
+    let table = grimace::io::builtin::default_table();
+    let bound = grimace::model::BoundRig::bind(&rig, &face).unwrap();
+    let name = table.expressions.keys().next().unwrap().clone();
+    let mut want = vec![];
+    let act = table.expression_activations(&name, &rig).unwrap();
+    bound.deform(&act, &mut want).unwrap();
+    assert!(!act.is_rest());
+    assert_eq!(export(d, &["--expr", &name]).unwrap(), want);
+    assert_eq!(
+        export(
+            d,
+            &[
+                "--rig",
+                "builtin:default",
+                "--table",
+                "builtin:default",
+                "--expr",
+                &name
+            ]
+        )
+        .unwrap(),
+        want
+    );
+    // The paper rig on the same face, with its jaw.
+    let paper = grimace::io::builtin::paper_rig();
+    let bound = grimace::model::BoundRig::bind(&paper, &face).unwrap();
+    let mut act = grimace::model::Activations::zero(&paper);
+    act.jaw = 2.0;
+    bound.deform(&act, &mut want).unwrap();
+    assert_eq!(
+        export(d, &["--rig", "builtin:paper", "--jaw", "2"]).unwrap(),
+        want
+    );
 }
 
 #[test]

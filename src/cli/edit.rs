@@ -156,7 +156,7 @@ fn load_table_file(path: &Path) -> Result<Option<LoadedTable>, String> {
 }
 
 fn builtin_table() -> Result<AuTable, String> {
-    Ok(new_table(None))
+    crate::io::builtin::table("default").ok_or_else(|| "the built-in table is missing".to_string())
 }
 
 /// The built-in default rig, its mesh and the built-in AU table.
@@ -168,13 +168,15 @@ pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
 
 /// An embedded rig and its mesh, by the name after `builtin:`.
 fn builtin_rig(name: &str) -> Option<(Rig, Mesh)> {
-    let _ = name;
-    None
+    let rig = crate::io::builtin::rig(name)?;
+    let mesh_name = crate::io::builtin::builtin_name(&rig.mesh)?;
+    let mesh = crate::io::builtin::mesh(mesh_name)?;
+    Some((rig, mesh))
 }
 
 /// An embedded mesh, by the name after `builtin:`.
 fn builtin_mesh(name: &str) -> Option<Mesh> {
-    builtin_rig(name).map(|(_, mesh)| mesh)
+    crate::io::builtin::mesh(name)
 }
 
 /// The rig and mesh to edit with: `--rig` if given, else the table's rig; `--mesh` replaces

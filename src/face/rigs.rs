@@ -159,16 +159,16 @@ const EXTRA_LINEAR: [LinearSpec; 8] = [
         name: "Buccinator",
         attachment: Anchor::Skin(44.0, -73.0, 18.0),
         insertion: Anchor::Mark("right_mouth_corner", 0.0, 0.0, 1.0),
-        zone: 30.0,
-        falloff: (0.5, 1.2),
+        zone: 35.0,
+        falloff: (0.6, 1.2),
     },
     // risorius: draws the mouth corner sideways (AU20)
     LinearSpec {
         name: "Risorius",
         attachment: Anchor::Skin(54.0, -72.0, 2.0),
         insertion: Anchor::Mark("right_mouth_corner", 0.0, 0.0, 1.0),
-        zone: 20.0,
-        falloff: (0.5, 1.15),
+        zone: 40.0,
+        falloff: (0.6, 1.2),
     },
     // mentalis: from the incisive fossa into the chin skin, raises the chin boss (AU17)
     LinearSpec {

@@ -17,7 +17,7 @@ pub const THETA_MAX: f64 = 0.5 * PI;
 /// gnathion on the midline, rising past the gonion to the ear lobe at the side.
 pub fn bottom_y(theta: f64) -> f64 {
     let side_y = -75.0;
-    let t = (1.0 - theta.abs().cos()).max(0.0).powf(0.65);
+    let t = (1.0 - theta.abs().cos()).max(0.0).powf(0.85);
     GNATHION_Y + (side_y - GNATHION_Y) * t
 }
 
@@ -132,9 +132,9 @@ fn nose(x: f64, y: f64) -> f64 {
     const HEIGHT: [(f64, f64); 9] = [
         (-54.0, 0.0),
         (SUBNASALE_Y, 4.0),
-        (-47.0, 17.0),
-        (PRONASALE_Y, 22.0),
-        (-38.0, 19.0),
+        (-47.0, 20.0),
+        (PRONASALE_Y, 26.0),
+        (-38.0, 21.5),
         (-28.0, 13.5),
         (-12.0, 8.0),
         (0.0, 3.5),

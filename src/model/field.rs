@@ -407,12 +407,13 @@ pub fn validate_muscle(muscle: &Muscle) -> Result<(), BindError> {
                     "the insertion line's midpoint coincides with the attachment line's".into(),
                 ));
             }
-            // A relative slack of 1e-6 accepts a length written as the hand-computed distance.
-            if !(m.length.is_finite() && m.length as f64 >= shape.span * (1.0 - 1e-6)) {
+            // L = |Ac lc| would end the sheet at full strength on its insertion line: a tear.
+            if !(m.length.is_finite() && m.length as f64 > shape.span) {
                 return Err(bad(
                     "length",
                     format!(
-                        "{} must be finite and at least the attachment-to-insertion distance {:.6}",
+                        "{} must be finite and longer than the attachment-to-insertion distance \
+                         {:.6} (a sheet ending on its insertion line tears the skin there)",
                         m.length, shape.span
                     ),
                 ));
@@ -730,14 +731,19 @@ mod tests {
 
         let h = sheet();
         assert!(validate_muscle(&named(MuscleKind::Sheet(h.clone()))).is_ok());
-        // |Ac lc| = 2 exactly: a length of 2 is accepted, 1.99 is not.
+        // |Ac lc| = 2: the sheet must reach beyond its insertion line.
+        let longer = Sheet {
+            length: 2.01,
+            ..h.clone()
+        };
+        assert!(validate_muscle(&named(MuscleKind::Sheet(longer))).is_ok());
         let exact = Sheet {
             length: 2.0,
             ..h.clone()
         };
-        assert!(validate_muscle(&named(MuscleKind::Sheet(exact))).is_ok());
+        assert_eq!(parameter_of(MuscleKind::Sheet(exact)), "length");
         let bad = Sheet {
-            length: 1.99,
+            length: 1.5,
             ..h.clone()
         };
         assert_eq!(parameter_of(MuscleKind::Sheet(bad)), "length");

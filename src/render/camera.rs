@@ -12,7 +12,8 @@ const MARGIN: f32 = 0.03;
 ///
 /// `yaw` turns the subject about the vertical axis, `pitch` tilts it about the horizontal
 /// screen axis, `zoom` scales the fitted view (1.0 fits the mesh to the canvas) and `pan`
-/// shifts the view, in mesh units measured on the screen (x right, y up).
+/// moves the camera: the point `pan` (in mesh units from the fitted centre, measured on the
+/// screen, x right, y up) appears at the canvas centre.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     /// Rotation about the vertical axis, in radians. Positive yaw brings the subject's left
@@ -23,7 +24,8 @@ pub struct Camera {
     pub pitch: f32,
     /// Magnification over the fitted view; 1.0 fits the whole mesh.
     pub zoom: f32,
-    /// Shift of the view in mesh units, x to the screen's right, y up.
+    /// Camera shift in mesh units, x to the screen's right, y up: positive x moves the view
+    /// right, so the mesh moves left on screen.
     pub pan: Vec2,
 }
 
@@ -134,7 +136,7 @@ impl Camera {
         };
         Projection {
             view,
-            centre: centre - pan.extend(0.0),
+            centre: centre + pan.extend(0.0),
             scale_x: scale_y / aspect,
             scale_y,
             origin: Vec2::new(width as f32 * 0.5, height as f32 * 0.5),

@@ -64,7 +64,12 @@ pub struct DotCanvas {
     color: Vec<Rgb>,
     layer: Vec<Layer>,
     depth: Vec<f32>,
+    /// The rectangle (x0, y0, x1, y1), exclusive ends, outside which nothing has been drawn
+    /// since the last clear; clearing only touches it.
+    dirty: (usize, usize, usize, usize),
 }
+
+const CLEAN: (usize, usize, usize, usize) = (usize::MAX, usize::MAX, 0, 0);
 
 impl DotCanvas {
     /// A blank canvas of `width` x `height` square dots that dithers shading.
@@ -97,15 +102,74 @@ impl DotCanvas {
         self.color.resize(n, Rgb::default());
         self.layer.resize(n, Layer::Empty);
         self.depth.resize(n, f32::NEG_INFINITY);
-        self.clear();
+        self.on.fill(false);
+        self.depth.fill(f32::NEG_INFINITY);
+        self.dirty = CLEAN;
     }
 
     /// Turns every dot off and resets the depth buffer to "infinitely far".
     pub fn clear(&mut self) {
-        self.on.fill(false);
-        self.color.fill(Rgb::default());
-        self.layer.fill(Layer::Empty);
-        self.depth.fill(f32::NEG_INFINITY);
+        // Colour and layer are only read where a dot is on, so they need no reset; and only
+        // the rectangle drawn into since the last clear needs clearing.
+        let (x0, y0, x1, y1) = self.dirty;
+        if x0 < x1 && y0 < y1 {
+            for y in y0..y1 {
+                let row = y * self.width;
+                self.on[row + x0..row + x1].fill(false);
+                self.depth[row + x0..row + x1].fill(f32::NEG_INFINITY);
+            }
+        }
+        self.dirty = CLEAN;
+    }
+
+    /// The rectangle `(x0, y0, x1, y1)` (exclusive ends) that holds everything drawn since
+    /// the last clear; every dot outside it is off. Empty (x0 >= x1) when nothing was drawn.
+    pub fn dirty_rect(&self) -> (usize, usize, usize, usize) {
+        self.dirty
+    }
+
+    /// Widens the dirty rectangle to include the dots [x0, x1) x [y0, y1) (clamped to the
+    /// canvas).
+    #[inline]
+    pub(crate) fn mark_dirty(&mut self, x0: usize, y0: usize, x1: usize, y1: usize) {
+        let (x1, y1) = (x1.min(self.width), y1.min(self.height));
+        if x0 >= x1 || y0 >= y1 {
+            return;
+        }
+        let d = &mut self.dirty;
+        *d = (d.0.min(x0), d.1.min(y0), d.2.max(x1), d.3.max(y1));
+    }
+
+    /// One dot of a line at depth `z`: with `bias`, drawn only if no surface in the depth
+    /// buffer is more than `bias` nearer; `if_dark` draws only on dark dots. Returns
+    /// whether the line is visible there. The caller keeps (x, y) inside the canvas.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub(crate) fn line_dot(
+        &mut self,
+        x: usize,
+        y: usize,
+        z: f32,
+        bias: Option<f32>,
+        color: Rgb,
+        layer: Layer,
+        if_dark: bool,
+    ) -> bool {
+        let i = y * self.width + x;
+        if let Some(bias) = bias {
+            if z + bias < self.depth[i] {
+                return false;
+            }
+        }
+        let on = self.on[i];
+        let d = &mut self.dirty;
+        *d = (d.0.min(x), d.1.min(y), d.2.max(x + 1), d.3.max(y + 1));
+        if !on || (!if_dark && self.layer[i] <= layer) {
+            self.color[i] = color;
+            self.layer[i] = layer;
+        }
+        self.on[i] = true;
+        true
     }
 
     #[inline]
@@ -151,6 +215,7 @@ impl DotCanvas {
             return;
         }
         if let Some(i) = self.index(x as usize, y as usize) {
+            self.mark_dirty(x as usize, y as usize, x as usize + 1, y as usize + 1);
             if !self.on[i] || self.layer[i] <= layer {
                 self.color[i] = color;
                 self.layer[i] = layer;
@@ -166,6 +231,7 @@ impl DotCanvas {
             return;
         }
         if let Some(i) = self.index(x as usize, y as usize) {
+            self.mark_dirty(x as usize, y as usize, x as usize + 1, y as usize + 1);
             if !self.on[i] {
                 self.on[i] = true;
                 self.color[i] = color;

@@ -158,8 +158,13 @@ impl CellGrid {
         }
         let (on, color, layer) = canvas.buffers();
         let cw = canvas.width();
-        for row in 0..rows {
-            for col in 0..cols {
+        // Cells wholly outside the drawn rectangle are blank.
+        let (x0, y0, x1, y1) = canvas.dirty_rect();
+        let (c0, c1) = (x0 / dx, x1.div_ceil(dx).min(cols));
+        let (r0, r1) = (y0 / dy, y1.div_ceil(dy).min(rows));
+        self.cells.fill(Cell::BLANK);
+        for row in r0..r1 {
+            for col in c0..c1 {
                 let cell = match mode {
                     CellMode::Braille | CellMode::Ascii => {
                         let (bits, fg) = gather_2x4(on, color, layer, cw, col * 2, row * 4);
@@ -190,6 +195,7 @@ impl CellGrid {
 
 /// The 2x4 dot pattern of a cell in braille bit order, and the colour of its highest-layer
 /// lit dot.
+#[inline]
 fn gather_2x4(
     on: &[bool],
     color: &[Rgb],
@@ -198,17 +204,21 @@ fn gather_2x4(
     x: usize,
     y: usize,
 ) -> (u8, Rgb) {
+    const BITS: [[u8; 2]; 4] = [[0x01, 0x08], [0x02, 0x10], [0x04, 0x20], [0x40, 0x80]];
     let mut bits = 0u8;
+    for (dy, row_bits) in BITS.iter().enumerate() {
+        let row = &on[(y + dy) * width + x..][..2];
+        bits |= (row[0] as u8 * row_bits[0]) | (row[1] as u8 * row_bits[1]);
+    }
+    if bits == 0 {
+        return (0, Rgb::default());
+    }
     let mut best = (Layer::Empty, Rgb::default());
     for dy in 0..4 {
         let row = (y + dy) * width + x;
-        for dx in 0..2 {
-            let i = row + dx;
-            if on[i] {
-                bits |= braille_bit(dx, dy);
-                if layer[i] > best.0 || best.0 == Layer::Empty {
-                    best = (layer[i], color[i]);
-                }
+        for i in row..row + 2 {
+            if on[i] && (layer[i] > best.0 || best.0 == Layer::Empty) {
+                best = (layer[i], color[i]);
             }
         }
     }

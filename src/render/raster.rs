@@ -77,6 +77,8 @@ pub struct Renderer {
     rest_projected: Vec<Vec3>,
     rest_facing: Vec<bool>,
     light_mesh: Vec3,
+    viewer_mesh: Vec3,
+    vertex_facing: Vec<f32>,
     runs: Option<Vec<Run>>,
 }
 
@@ -187,6 +189,7 @@ impl Renderer {
         );
         let sign = self.sign(scene.orientation);
         self.light_mesh = proj.view.transpose() * LIGHT.normalize();
+        self.viewer_mesh = proj.view.transpose() * Vec3::Z;
         project_all(
             &proj,
             scene.positions,
@@ -227,6 +230,9 @@ impl Renderer {
             if style == Style::Lines && scene.contours > 0 {
                 self.draw_contours(scene, canvas);
             }
+            if style == Style::Lines && !scene.facing_contours.is_empty() {
+                self.draw_facing_contours(scene, canvas);
+            }
         }
         if scene.ghost {
             self.draw_ghost(scene, &proj, canvas);
@@ -234,8 +240,33 @@ impl Renderer {
         self.draw_overlays(scene.overlays, &proj, canvas);
     }
 
+    /// Marks the screen rectangle of the front-facing triangles dirty (the rasterizer
+    /// writes the buffers directly).
+    fn mark_faces_dirty(&self, canvas: &mut DotCanvas) {
+        let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if self.facing[t] {
+                for &i in tri {
+                    let p = self.projected[i as usize].truncate();
+                    lo = lo.min(p);
+                    hi = hi.max(p);
+                }
+            }
+        }
+        if lo.x <= hi.x && lo.y <= hi.y {
+            let lo = lo.max(Vec2::ZERO);
+            canvas.mark_dirty(
+                lo.x as usize,
+                lo.y as usize,
+                hi.x.max(0.0) as usize + 1,
+                hi.y.max(0.0) as usize + 1,
+            );
+        }
+    }
+
     /// Rasterizes front-facing triangles into the depth buffer only.
     fn fill_depth(&self, canvas: &mut DotCanvas) {
+        self.mark_faces_dirty(canvas);
         let (w, h) = (canvas.width(), canvas.height());
         let (depth, _, _, _) = canvas.buffers_mut();
         for (t, tri) in self.triangles.iter().enumerate() {
@@ -253,6 +284,7 @@ impl Renderer {
     /// Rasterizes front-facing triangles with depth and Gouraud-interpolated Lambert shading,
     /// dithered when the canvas asks for it.
     fn fill_shaded(&self, scene: &Scene, canvas: &mut DotCanvas) {
+        self.mark_faces_dirty(canvas);
         let (w, h, dither) = (canvas.width(), canvas.height(), canvas.dither);
         let base = scene.palette.mesh;
         let (depth, on, color, layer) = canvas.buffers_mut();
@@ -280,8 +312,24 @@ impl Renderer {
         }
     }
 
-    /// Per-vertex Lambert intensity from oriented, area-weighted vertex normals in view space.
+    /// Per-vertex Lambert intensity from oriented, area-weighted vertex normals.
     fn compute_shading(&mut self, scene: &Scene) {
+        self.compute_normals(scene);
+        let n = self.projected.len();
+        // The light is fixed to the viewer; it was turned into mesh coordinates once in
+        // `prepare`, instead of turning every normal into view space.
+        self.vertex_shade.clear();
+        self.vertex_shade.resize(n, 0.0);
+        for (shade, normal) in self.vertex_shade.iter_mut().zip(&self.normals) {
+            *shade = normal.normalize_or_zero().dot(self.light_mesh);
+        }
+        for shade in &mut self.vertex_shade {
+            *shade = AMBIENT + (1.0 - AMBIENT) * shade.max(0.0);
+        }
+    }
+
+    /// Oriented, area-weighted vertex normals (unnormalised) from the front-facing triangles.
+    fn compute_normals(&mut self, scene: &Scene) {
         let n = self.projected.len();
         self.normals.clear();
         self.normals.resize(n, Vec3::ZERO);
@@ -295,16 +343,6 @@ impl Renderer {
             for &i in tri {
                 self.normals[i as usize] += normal;
             }
-        }
-        // The light is fixed to the viewer; it was turned into mesh coordinates once in
-        // `prepare`, instead of turning every normal into view space.
-        self.vertex_shade.clear();
-        self.vertex_shade.resize(n, 0.0);
-        for (shade, normal) in self.vertex_shade.iter_mut().zip(&self.normals) {
-            *shade = normal.normalize_or_zero().dot(self.light_mesh);
-        }
-        for shade in &mut self.vertex_shade {
-            *shade = AMBIENT + (1.0 - AMBIENT) * shade.max(0.0);
         }
     }
 }
@@ -398,6 +436,45 @@ impl Renderer {
                 Layer::Mesh,
                 false,
             );
+        }
+        self.runs = runs;
+    }
+
+    /// Lines where the surface turns away from the viewer by a given amount: iso-lines of
+    /// (vertex normal . direction to the viewer), drawn across front-facing triangles. They
+    /// outline the sides of the nose, the eye sockets and the lips, which are smooth (no
+    /// crease) and not on the silhouette.
+    fn draw_facing_contours(&mut self, scene: &Scene, canvas: &mut DotCanvas) {
+        self.compute_normals(scene);
+        self.vertex_facing.clear();
+        let viewer = self.viewer_mesh;
+        self.vertex_facing.extend(
+            self.normals
+                .iter()
+                .map(|n| n.normalize_or_zero().dot(viewer)),
+        );
+        let mut runs = self.runs.take();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if !self.facing[t] {
+                continue;
+            }
+            let p = tri.map(|i| self.vert(i));
+            let f = tri.map(|i| self.vertex_facing[i as usize]);
+            for &level in scene.facing_contours {
+                if let Some((a, b)) = iso_crossing(p, f, level) {
+                    let bias = self.bias([t as u32, NONE]);
+                    draw_line(
+                        canvas,
+                        runs.as_mut(),
+                        a,
+                        b,
+                        Some(bias),
+                        scene.palette.contour,
+                        Layer::Mesh,
+                        false,
+                    );
+                }
+            }
         }
         self.runs = runs;
     }
@@ -557,13 +634,18 @@ fn face_normal(positions: &[Vec3], tri: [u32; 3]) -> Vec3 {
 
 /// Where the plane `z = level` cuts a triangle, as a segment (depth included).
 fn level_crossing(p: [Vec3; 3], level: f32) -> Option<(Vec3, Vec3)> {
+    iso_crossing(p, [p[0].z, p[1].z, p[2].z], level)
+}
+
+/// Where a per-corner scalar `f` crosses `level` inside a triangle, as a segment between
+/// points interpolated on its edges.
+fn iso_crossing(p: [Vec3; 3], f: [f32; 3], level: f32) -> Option<(Vec3, Vec3)> {
     let mut hits = [Vec3::ZERO; 2];
     let mut n = 0;
     for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-        let (a, b) = (p[i], p[j]);
-        if (a.z < level) != (b.z < level) && n < 2 {
-            let t = (level - a.z) / (b.z - a.z);
-            hits[n] = a + (b - a) * t;
+        if (f[i] < level) != (f[j] < level) && n < 2 {
+            let t = (level - f[i]) / (f[j] - f[i]);
+            hits[n] = p[i] + (p[j] - p[i]) * t;
             n += 1;
         }
     }
@@ -605,33 +687,34 @@ fn build_edges(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<Edge> {
     edges
 }
 
-/// +1 when most of the surface's right-hand normals point away from the centroid, -1 when
-/// they point toward it. An even split falls back to the z convention (faces look toward +z).
+/// +1 when most of the surface's right-hand normals point away from its (area-weighted)
+/// centroid, -1 when they point toward it. When that cannot decide (a flat or nearly flat
+/// sheet), it falls back to the z convention: faces look toward +z.
 fn detect_orientation(mesh: &Mesh) -> f32 {
-    let finite: Vec<Vec3> = mesh
-        .positions
+    let tris: Vec<([Vec3; 3], Vec3)> = mesh
+        .triangles
         .iter()
-        .copied()
-        .filter(|p| p.is_finite())
+        .filter_map(|t| tri_positions(&mesh.positions, *t))
+        .map(|[a, b, c]| ([a, b, c], (b - a).cross(c - a)))
+        .filter(|(p, n)| n.is_finite() && p.iter().all(|v| v.is_finite()))
         .collect();
-    if finite.is_empty() {
+    let area: f32 = tris.iter().map(|(_, n)| n.length()).sum();
+    if tris.is_empty() || area <= 0.0 {
         return 1.0;
     }
-    let centroid = finite.iter().copied().sum::<Vec3>() / finite.len() as f32;
-    let mut outward = 0.0f64;
-    let mut toward_z = 0.0f64;
-    for tri in &mesh.triangles {
-        let Some([a, b, c]) = tri_positions(&mesh.positions, *tri) else {
-            continue;
-        };
-        let n = (b - a).cross(c - a);
-        if !n.is_finite() {
-            continue;
-        }
-        outward += n.dot((a + b + c) / 3.0 - centroid) as f64;
+    let centroid = tris
+        .iter()
+        .map(|(p, n)| (p[0] + p[1] + p[2]) / 3.0 * n.length())
+        .sum::<Vec3>()
+        / area;
+    let (mut outward, mut spread, mut toward_z) = (0.0f64, 0.0f64, 0.0f64);
+    for ([a, b, c], n) in &tris {
+        let offset = (*a + *b + *c) / 3.0 - centroid;
+        outward += n.dot(offset) as f64;
+        spread += (n.length() * offset.length()) as f64;
         toward_z += n.z as f64;
     }
-    let decisive = if outward.abs() > 1e-9 {
+    let decisive = if outward.abs() > 1e-3 * spread {
         outward
     } else {
         toward_z
@@ -700,6 +783,9 @@ fn classify(
 
 /// Rasterizes a screen triangle: calls `f(index, depth, attribute)` for every dot whose
 /// centre lies inside it (either winding), with depth and attribute interpolated.
+///
+/// Each row's span is solved from the three edge equations, so the inner loop only steps
+/// depth and attribute.
 fn raster_triangle(
     p: [Vec3; 3],
     attr: [f32; 3],
@@ -712,44 +798,72 @@ fn raster_triangle(
     if !area.is_finite() || area.abs() < 1e-9 {
         return;
     }
-    let min_x = a.x.min(b.x).min(c.x).floor().max(0.0);
-    let min_y = a.y.min(b.y).min(c.y).floor().max(0.0);
-    let max_x = a.x.max(b.x).max(c.x).ceil().min(w as f32);
-    let max_y = a.y.max(b.y).max(c.y).ceil().min(h as f32);
-    if min_x >= max_x || min_y >= max_y {
+    let min_y = a.y.min(b.y).min(c.y).max(0.0);
+    let max_y = a.y.max(b.y).max(c.y).min(h as f32);
+    let min_x = a.x.min(b.x).min(c.x).max(0.0);
+    let max_x = a.x.max(b.x).max(c.x).min(w as f32);
+    if !(min_y < max_y && min_x < max_x) {
         return;
     }
-    // Barycentric weight of each corner as a linear function of the dot centre.
+    // Barycentric weight of each corner as a linear function l = kx * x + ky * y + k0.
     let inv = 1.0 / area;
     let weight = |p: Vec3, q: Vec3| {
-        // Edge function of the edge p->q, normalised: (q.x-p.x)(y-p.y) - (q.y-p.y)(x-p.x).
         let kx = -(q.y - p.y) * inv;
         let ky = (q.x - p.x) * inv;
-        let k0 = -(kx * p.x + ky * p.y);
-        (kx, ky, k0)
+        (kx, ky, -(kx * p.x + ky * p.y))
     };
-    let (w0x, w0y, w00) = weight(b, c);
-    let (w1x, w1y, w10) = weight(c, a);
-    const EPS: f32 = -1e-5;
-    let (x0, x1, y0, y1) = (
-        min_x as usize,
-        max_x as usize,
-        min_y as usize,
-        max_y as usize,
-    );
+    let e0 = weight(b, c);
+    let e1 = weight(c, a);
+    let e2 = (-e0.0 - e1.0, -e0.1 - e1.1, 1.0 - e0.2 - e1.2);
+    // Depth and attribute as linear functions of (x, y).
+    let lin = |v: [f32; 3]| {
+        (
+            e0.0 * v[0] + e1.0 * v[1] + e2.0 * v[2],
+            e0.1 * v[0] + e1.1 * v[1] + e2.1 * v[2],
+            e0.2 * v[0] + e1.2 * v[1] + e2.2 * v[2],
+        )
+    };
+    let z = lin([a.z, b.z, c.z]);
+    let s = lin(attr);
+    const EPS: f32 = 1e-5;
+    // Rows whose centre (y + 0.5) lies within the triangle's vertical extent.
+    let y0 = (min_y - 0.5).ceil().max(0.0) as usize;
+    let y1 = ((max_y - 0.5).floor() as i64 + 1).clamp(0, h as i64) as usize;
     for y in y0..y1 {
         let py = y as f32 + 0.5;
+        let (mut lo, mut hi) = (min_x, max_x);
+        for (kx, ky, k0) in [e0, e1, e2] {
+            let at = ky * py + k0;
+            if kx.abs() < 1e-12 {
+                if at < -EPS {
+                    lo = f32::INFINITY;
+                }
+            } else {
+                let cut = (-EPS - at) / kx;
+                if kx > 0.0 {
+                    lo = lo.max(cut);
+                } else {
+                    hi = hi.min(cut);
+                }
+            }
+        }
+        // Dots whose centre x + 0.5 lies in [lo, hi].
+        if lo.is_nan() || hi.is_nan() || lo > hi {
+            continue;
+        }
+        let x0 = (lo - 0.5).ceil().max(0.0) as usize;
+        let x1 = ((hi - 0.5).floor() as i64 + 1).clamp(0, w as i64) as usize;
+        if x0 >= x1 {
+            continue;
+        }
+        let px = x0 as f32 + 0.5;
+        let mut zv = z.0 * px + z.1 * py + z.2;
+        let mut sv = s.0 * px + s.1 * py + s.2;
         let row = y * w;
         for x in x0..x1 {
-            let px = x as f32 + 0.5;
-            let l0 = w0x * px + w0y * py + w00;
-            let l1 = w1x * px + w1y * py + w10;
-            let l2 = 1.0 - l0 - l1;
-            if l0 >= EPS && l1 >= EPS && l2 >= EPS {
-                let z = l0 * a.z + l1 * b.z + l2 * c.z;
-                let s = l0 * attr[0] + l1 * attr[1] + l2 * attr[2];
-                f(row + x, z, s);
-            }
+            f(row + x, zv, sv);
+            zv += z.0;
+            sv += s.0;
         }
     }
 }
@@ -802,24 +916,21 @@ fn draw_line(
     };
     let d = b - a;
     let steps = d.x.abs().max(d.y.abs()).ceil().max(1.0) as usize;
+    let inc = d / steps as f32;
     let mut run_start: Option<Vec3> = None;
     let mut last = a;
-    for k in 0..=steps {
-        let p = a + d * (k as f32 / steps as f32);
-        let x = (p.x.floor() as usize).min(w - 1);
-        let y = (p.y.floor() as usize).min(h - 1);
-        let visible = bias.is_none_or(|bias| p.z + bias >= canvas.depth(x, y));
-        if visible {
-            if if_dark {
-                canvas.plot_if_dark(x as i32, y as i32, color, layer);
-            } else {
-                canvas.plot(x as i32, y as i32, color, layer);
-            }
+    let mut p = a;
+    for _ in 0..=steps {
+        // Clipped coordinates are non-negative, so truncation is floor.
+        let x = (p.x as usize).min(w - 1);
+        let y = (p.y as usize).min(h - 1);
+        if canvas.line_dot(x, y, p.z, bias, color, layer, if_dark) {
             run_start.get_or_insert(p);
         } else if let Some(start) = run_start.take() {
             push_run(runs.as_deref_mut(), start, last, color, layer);
         }
         last = p;
+        p += inc;
     }
     if let Some(start) = run_start {
         push_run(runs, start, last, color, layer);

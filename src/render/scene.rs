@@ -209,6 +209,9 @@ pub fn muscle_overlays(
     }
 }
 
+/// The default facing contours: one line where the surface turns about 60 degrees away.
+pub const DEFAULT_FACING_CONTOURS: &[f32] = &[0.5];
+
 /// Everything one frame shows.
 #[derive(Debug, Clone, Copy)]
 pub struct Scene<'a> {
@@ -236,6 +239,9 @@ pub struct Scene<'a> {
     pub crease_degrees: f32,
     /// Feature lines: how many iso-depth contours to draw across the mesh's depth.
     pub contours: usize,
+    /// Feature lines: iso-lines of how squarely the surface faces the viewer (the cosine
+    /// between vertex normal and view direction, 0 at the silhouette, 1 facing).
+    pub facing_contours: &'a [f32],
 }
 
 impl<'a> Scene<'a> {
@@ -253,6 +259,7 @@ impl<'a> Scene<'a> {
             palette: Palette::default(),
             crease_degrees: 40.0,
             contours: 0,
+            facing_contours: DEFAULT_FACING_CONTOURS,
         }
     }
 
