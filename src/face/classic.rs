@@ -518,8 +518,8 @@ fn jaw(marks: &Landmarks, p: &[Vec3]) -> Result<Jaw, ClassicError> {
 }
 
 /// The mouth line's height as a function of |x|: piecewise linear through the slit's
-/// vertices (both lips, which lie within a few thousandths of each other), flat beyond the
-/// corners. Built from |x| so it is the same on both sides.
+/// vertices (both lips, which lie within a few thousandths of each other; knots at the same
+/// |x| are averaged), flat beyond the corners. Built from |x| so it is the same on both sides.
 struct MouthLine {
     knots: Vec<(f32, f32)>,
 }
@@ -534,7 +534,23 @@ impl MouthLine {
             .map(|&v| (p[v as usize].x.abs(), p[v as usize].y))
             .collect();
         knots.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-        MouthLine { knots }
+        // knots at the same |x| (the two lips, the two sides) become their mean height
+        let mut merged: Vec<(f32, f32, u32)> = Vec::with_capacity(knots.len());
+        for (x, y) in knots {
+            match merged.last_mut() {
+                Some(last) if last.0 == x => {
+                    last.1 += y;
+                    last.2 += 1;
+                }
+                _ => merged.push((x, y, 1)),
+            }
+        }
+        MouthLine {
+            knots: merged
+                .into_iter()
+                .map(|(x, y, n)| (x, y / n as f32))
+                .collect(),
+        }
     }
 
     fn y_at(&self, x: f32) -> f32 {
@@ -587,4 +603,101 @@ fn round3(v: f32) -> f32 {
 
 fn rounded(p: Vec3) -> Vec3 {
     Vec3::new(round3(p.x), round3(p.y), round3(p.z))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat patch with a slit across its middle: corners at x = -2 and 2, the upper margin
+    /// at y = 0 and the lower margin 0.002 ABOVE it (as the classic lower lip rises above
+    /// its neighbours), so only the triangles can tell the margins apart.
+    fn slit_patch() -> (Mesh, Vec<u32>, Vec<u32>) {
+        let mut positions = Vec::new();
+        let mut row = |y: f32, xs: &[f32]| -> Vec<u32> {
+            xs.iter()
+                .map(|&x| {
+                    positions.push(Vec3::new(x, y, 0.0));
+                    (positions.len() - 1) as u32
+                })
+                .collect()
+        };
+        let xs = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
+        let top = row(1.0, &xs);
+        let bottom = row(-1.0, &xs);
+        // the patch's sides at the slit's height, and the slit's corners
+        let sides = row(0.0, &[-3.0, 3.0]);
+        let corners = row(0.0, &[-2.0, 2.0]);
+        let upper = row(0.0, &[-1.0, 0.0, 1.0]);
+        let lower = row(0.002, &[-1.0, 0.0, 1.0]);
+        let line = |margin: &[u32]| {
+            let mut l = vec![sides[0], corners[0]];
+            l.extend_from_slice(margin);
+            l.extend([corners[1], sides[1]]);
+            l
+        };
+        let (u, l) = (line(&upper), line(&lower));
+        let mut triangles = Vec::new();
+        for i in 0..6 {
+            // counter-clockwise seen from +z
+            triangles.push([u[i], u[i + 1], top[i + 1]]);
+            triangles.push([u[i], top[i + 1], top[i]]);
+            triangles.push([bottom[i], bottom[i + 1], l[i + 1]]);
+            triangles.push([bottom[i], l[i + 1], l[i]]);
+        }
+        (Mesh::new(positions, triangles).unwrap(), upper, lower)
+    }
+
+    #[test]
+    fn a_slit_is_split_by_its_triangles_not_by_height() {
+        let (mesh, upper, lower) = slit_patch();
+        let mut loops = topology::boundary_loops(&mesh);
+        loops.sort_by_key(|l| std::cmp::Reverse(l.len()));
+        assert_eq!(loops.len(), 2);
+        let slit = split_opening(&mesh, &loops[1]).unwrap();
+        let sorted = |mut v: Vec<u32>| {
+            v.sort_unstable();
+            v
+        };
+        assert_eq!(sorted(slit.upper.clone()), upper);
+        assert_eq!(sorted(slit.lower.clone()), lower);
+        let p = &mesh.positions;
+        assert_eq!(slit.corners.map(|v| p[v as usize].x), [-2.0, 2.0]);
+        let (u, l) = slit.centres(p).unwrap();
+        assert_eq!((u.x, u.y, l.x, l.y), (0.0, 0.0, 0.0, 0.002));
+    }
+
+    #[test]
+    fn the_mouth_line_interpolates_by_distance_from_the_midline() {
+        let (mesh, _, _) = slit_patch();
+        let mut loops = topology::boundary_loops(&mesh);
+        loops.sort_by_key(|l| std::cmp::Reverse(l.len()));
+        let slit = split_opening(&mesh, &loops[1]).unwrap();
+        let line = MouthLine::new(&slit, &mesh.positions);
+        // the lips at |x| <= 1 average to 0.001; the corners at |x| = 2 are at 0, and the
+        // line stays flat beyond them
+        for (x, y) in [
+            (0.0, 0.001),
+            (-1.0, 0.001),
+            (1.5, 0.0005),
+            (2.0, 0.0),
+            (5.0, 0.0),
+        ] {
+            assert!(
+                (line.y_at(f32::abs(x)) - y).abs() < 1e-7,
+                "{x}: {}",
+                line.y_at(x)
+            );
+        }
+    }
+
+    #[test]
+    fn a_face_without_eyes_gets_no_extras_and_a_reason() {
+        let (mesh, _, _) = slit_patch();
+        assert_eq!(extra_muscles(&mesh), (Vec::new(), None));
+        assert_eq!(
+            place_extras(&mesh).unwrap_err(),
+            ClassicError::Missing("no right eye opening")
+        );
+    }
 }
