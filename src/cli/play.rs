@@ -549,14 +549,14 @@ mod view {
     ) -> Result<()> {
         let mut redraw = true;
         let mut due: Option<Instant> = None;
-        let mut last_frame_drawn: Option<Instant> = None;
+        let mut last_shown_due: Option<Instant> = None;
         loop {
             if stop.load(Ordering::Relaxed) {
                 return Ok(());
             }
             // Faster sources than the display rate: frames due in between are dropped.
             let now = Instant::now();
-            let display_ready = last_frame_drawn.is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
+            let display_ready = last_shown_due.is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
             if display_ready {
                 if let Some((frame, when)) = player.tick(now)? {
                     status.current = Some(frame);
@@ -580,12 +580,13 @@ mod view {
                 let done = Instant::now();
                 if let Some(when) = due.take() {
                     player.shown(when, done, done - started);
-                    last_frame_drawn = Some(started);
+                    // Spaced by due times, so a frame drawn late does not delay the next.
+                    last_shown_due = Some(when);
                 }
                 redraw = false;
             }
             let now = Instant::now();
-            let display_free = last_frame_drawn.map_or(now, |t| t + MIN_FRAME_INTERVAL);
+            let display_free = last_shown_due.map_or(now, |t| t + MIN_FRAME_INTERVAL);
             let wait = match player.next_due() {
                 Some(when) => when.max(display_free).saturating_duration_since(now),
                 None if player.is_live() && !player.is_paused() => Duration::from_millis(4),
