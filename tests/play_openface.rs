@@ -204,10 +204,19 @@ fn realtime_keeps_the_source_pace() {
     let csv = dir.path().join("pace.csv");
     std::fs::write(&csv, "timestamp, AU06_r\n0.0, 1\n0.2, 1\n0.4, 1\n").unwrap();
     let started = std::time::Instant::now();
-    let out = play_headless(dir.path(), &["--realtime", csv.to_str().unwrap()], None);
+    let out = play_headless(
+        dir.path(),
+        &["--realtime", "--stats", csv.to_str().unwrap()],
+        None,
+    );
     let took = started.elapsed().as_secs_f64();
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(took >= 0.4, "0.4 s of frames took {took} s");
+    assert!(
+        stderr(&out).contains("frames shown 3, dropped 0"),
+        "{}",
+        stderr(&out)
+    );
     let started = std::time::Instant::now();
     let out = play_headless(
         dir.path(),
