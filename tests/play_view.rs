@@ -266,3 +266,20 @@ fn live_udp_frames_show_on_arrival() {
         session.screen()
     );
 }
+
+#[test]
+fn ascii_view_draws_without_braille() {
+    let dir = tempfile::tempdir().unwrap();
+    let timeline = dir.path().join("t.timeline.ron");
+    std::fs::write(&timeline, TIMELINE).unwrap();
+    let mut session = Session::start(dir.path(), &[timeline.to_str().unwrap(), "--ascii"]);
+    assert!(
+        session.wait_for(10.0, |s| s.contains("playing")
+            && s.contains(['/', '\\', '|', '_'])),
+        "{}",
+        session.screen()
+    );
+    assert!(!has_braille(&session.screen()), "{}", session.screen());
+    session.key("q");
+    assert_eq!(session.finish(10.0), 0);
+}

@@ -4,7 +4,7 @@
 //! can unless `--realtime` asks it to keep the source's pace; otherwise a full-screen terminal
 //! view plays at the source's frame rate, dropping frames it cannot show in time.
 
-use std::io::{self, BufWriter, Write};
+use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -109,6 +109,9 @@ pub fn run(args: &PlayArgs) -> Result<()> {
         }
         Ok(())
     } else {
+        if !io::stdout().is_terminal() {
+            bail!("stdout is not a terminal: use --headless to print frames instead of drawing");
+        }
         let mesh = mesh.context("no mesh to draw")?;
         let summary = view::play(args, source, mesh, &rig, &table, &mapper)?;
         println!(
