@@ -113,6 +113,26 @@ fn start_to_first_frame_and_frame_time() {
         grimace::tui::draw(&mut term, &app).unwrap();
     }
     let per_frame = t.elapsed() / frames;
-    println!("load to first frame {first:?}; step + draw at 200x60: {per_frame:?} per frame");
+    // Moving the selection leaves the face as it is: the viewport reuses its picture.
+    let t = Instant::now();
+    for i in 0..frames {
+        update(
+            &mut app,
+            if i % 2 == 0 {
+                Action::SelectNext
+            } else {
+                Action::SelectPrev
+            },
+        );
+        grimace::tui::draw(&mut term, &app).unwrap();
+    }
+    let per_select = t.elapsed() / frames;
+    println!(
+        "load to first frame {first:?}; at 200x60 per frame: fine step + draw {per_frame:?}, selection move + draw {per_select:?}"
+    );
+    assert!(
+        per_select < per_frame,
+        "an unchanged face is not drawn again"
+    );
     assert!(first.as_millis() < 2000);
 }

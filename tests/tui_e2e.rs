@@ -97,6 +97,20 @@ impl Editor {
         }
     }
 
+    /// Waits until the editor has left the alternate screen (the terminal is restored).
+    fn wait_restored(&self) {
+        let start = Instant::now();
+        while self.parser.lock().unwrap().screen().alternate_screen() {
+            if start.elapsed() > TIMEOUT {
+                panic!(
+                    "the terminal was not restored; the screen:\n{}",
+                    self.screen()
+                );
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
     fn hang_up(&mut self) {
         // portable-pty's killer sends SIGHUP on unix, like a dropped SSH connection.
         self.child.clone_killer().kill().unwrap();
@@ -128,6 +142,7 @@ fn change_a_muscle_record_an_au_save_and_quit() {
     ed.send(":q\r");
     let status = ed.wait_exit();
     assert!(status.success(), "{status:?}");
+    ed.wait_restored();
 
     let table = grimace::io::load_table(&file).expect("the saved table loads");
     let entry = &table.aus[&"12".parse().unwrap()];
@@ -155,6 +170,7 @@ fn a_hangup_loses_nothing_and_the_next_launch_offers_to_recover() {
     ed.wait_for("recorded AU 6");
     ed.hang_up();
     ed.wait_exit();
+    ed.wait_restored();
     assert!(
         !file.exists(),
         "the table file is untouched until the user saves"
@@ -251,4 +267,24 @@ fn a_table_that_fails_to_load_stops_with_file_line_and_column() {
         stderr.contains(&format!("{}:4:", file.display())),
         "stderr: {stderr}"
     );
+}
+
+#[test]
+fn a_second_editor_on_the_same_table_is_warned() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("shared.au.ron");
+    let arg = file.to_str().unwrap();
+    let mut first = Editor::start(dir.path(), &["edit", arg], 100, 30);
+    first.wait_for("new table");
+    let mut second = Editor::start(dir.path(), &["edit", arg], 100, 30);
+    second.wait_for("already open in another grimace");
+    second.send(":q!\r");
+    assert!(second.wait_exit().success());
+    assert!(
+        dir.path().join(".shared.au.ron.lock").exists(),
+        "the first editor's lock stays"
+    );
+    first.send(":q!\r");
+    assert!(first.wait_exit().success());
+    assert!(!dir.path().join(".shared.au.ron.lock").exists());
 }

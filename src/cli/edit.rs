@@ -16,6 +16,20 @@ use crate::tui::app::{App, Colors, FileStamp, Mode, Question, Recovered, View};
 use crate::tui::scene::Scene;
 use crate::tui::{self, Session};
 
+/// The notes at the end of `grimace edit --help`.
+pub const AFTER_HELP: &str = "\
+Keys: ? in the editor lists every key and : command.
+
+Unsaved changes are kept in a recovery file, written a second after the last edit and at once on
+SIGHUP or SIGTERM: .NAME.recover beside the table file NAME (for the built-in table,
+$XDG_STATE_HOME/grimace/builtin.recover). The next start on the same table offers to recover
+them; the table file itself changes only when you save. Saves are atomic and keep the previous
+version as NAME~; a file changed on disk since it was loaded is overwritten only after asking.
+A lock file .NAME.lock warns when the table is already open in another grimace.
+
+A table or rig that fails to load stops grimace before the screen changes, with the message
+FILE:LINE:COLUMN: what is wrong (exit status 1).";
+
 /// Options of `grimace edit`.
 #[derive(Debug, Clone, Default, Args)]
 pub struct EditArgs {
@@ -126,11 +140,18 @@ fn describe_age(written_at: u64) -> String {
     }
 }
 
-/// An empty table for `rig` (the built-in default rig when `None`).
+/// An empty table for `rig` (the built-in default rig when `None`). A rig file given on the
+/// command line is stored as an absolute path: the table may live in another folder, and
+/// table files resolve relative rig paths against their own folder.
 fn new_table(rig: Option<&Path>) -> AuTable {
+    let rig = match rig {
+        None => PathBuf::from("builtin:default"),
+        Some(path) if crate::io::builtin::builtin_name(path).is_some() => path.to_path_buf(),
+        Some(path) => std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()),
+    };
     AuTable {
         version: TABLE_VERSION,
-        rig: rig.map_or_else(|| PathBuf::from("builtin:default"), Path::to_path_buf),
+        rig,
         aus: Default::default(),
         expressions: Default::default(),
     }

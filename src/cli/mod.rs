@@ -10,12 +10,14 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod completions;
 pub mod edit;
 pub mod export;
 pub mod gen_face;
 pub mod import_waters;
 pub mod list;
 pub mod play;
+pub mod render;
 pub mod validate;
 
 /// grimace: shape facial expressions with muscles, in the terminal.
@@ -31,6 +33,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Edit an AU table in the terminal (the default when no subcommand is given).
+    #[command(after_help = edit::AFTER_HELP)]
     Edit(edit::EditArgs),
     /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
     GenFace(gen_face::GenFaceArgs),
@@ -44,6 +47,11 @@ pub enum Command {
     List(list::ListArgs),
     /// Animate the face from an OpenFace CSV, a timeline, or a live AU stream.
     Play(play::PlayArgs),
+    /// Draw one state of the face as braille or ASCII text, SVG or PNG (or every AU and
+    /// expression of a table with --all).
+    Render(render::RenderArgs),
+    /// Write a shell completion script (bash, zsh, fish, elvish, powershell) to stdout.
+    Completions(completions::CompletionsArgs),
 }
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
@@ -60,6 +68,8 @@ pub fn main() -> ExitCode {
             Command::Validate(args) => validate::run(&args),
             Command::List(args) => finish("list", list::run(&args)),
             Command::Play(args) => finish("play", play::run(&args)),
+            Command::Render(args) => finish("render", render::run(&args)),
+            Command::Completions(args) => completions::run(&args),
         },
     }
 }

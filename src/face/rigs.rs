@@ -6,8 +6,6 @@
 //! are fractions of each muscle's own length, so the rig follows the mesh if its proportions
 //! change. Muscles are placed on the subject's right (x > 0) and mirrored exactly.
 
-use std::collections::BTreeMap;
-
 use glam::Vec3;
 use thiserror::Error;
 
@@ -506,15 +504,4 @@ fn round3(v: f32) -> f32 {
 
 fn rounded(p: Vec3) -> Vec3 {
     Vec3::new(round3(p.x), round3(p.y), round3(p.z))
-}
-
-/// The landmark positions of a mesh by name (single-vertex groups only), for reports.
-pub fn landmarks(mesh: &Mesh) -> BTreeMap<String, Vec3> {
-    mesh.groups
-        .iter()
-        .filter_map(|(name, members)| match members.as_slice() {
-            [v] => Some((name.clone(), mesh.positions[*v as usize])),
-            _ => None,
-        })
-        .collect()
 }

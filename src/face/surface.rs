@@ -207,10 +207,10 @@ fn lips(x: f64, y: f64) -> f64 {
     let lower_h = lower_vermilion_height(x);
     let vermilion = if y >= STOMION_Y {
         let v = (y - STOMION_Y) / (upper_h + 0.8);
-        lip_roll(v) * 3.0 * window(x, 0.0, CHEILION_X, 4.0)
+        lip_roll(v) * 3.0 * smoothstep(0.0, 4.0, upper_h)
     } else {
         let v = (STOMION_Y - y) / (lower_h + 0.8);
-        lip_roll(v) * 3.5 * window(x, 0.0, CHEILION_X, 4.0)
+        lip_roll(v) * 3.5 * smoothstep(0.0, 4.0, lower_h)
     };
     let philtrum =
         -0.8 * gauss(x / 3.0) * window(y, LABIALE_SUPERIUS_Y + 1.0, SUBNASALE_Y - 1.0, 2.0);

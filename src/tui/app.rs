@@ -454,9 +454,14 @@ impl App {
         self.scene.rig()
     }
 
-    /// True when the table differs from the file.
+    /// True when the table differs from the file (or from the built-in table).
     pub fn dirty(&self) -> bool {
-        self.table != self.saved_table || (self.file_stamp.is_none() && self.file.is_some())
+        self.table != self.saved_table
+    }
+
+    /// True when the table file does not exist yet (`:w` creates it).
+    pub fn new_file(&self) -> bool {
+        self.file.is_some() && self.file_stamp.is_none()
     }
 
     /// The selected row.

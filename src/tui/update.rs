@@ -1738,6 +1738,31 @@ mod tests {
     }
 
     #[test]
+    fn table_selection_record_suggestion_and_enter_on_a_muscle() {
+        let mut app = app();
+        command(&mut app, "record 1 Brow");
+        update(&mut app, Action::SelectTableItem(1));
+        assert_eq!((app.focus, app.table_selected), (Focus::Table, 1));
+        update(&mut app, Action::SelectTableItem(9));
+        assert_eq!(app.table_selected, 1, "no such line: the selection stays");
+        update(&mut app, Action::StartRecord);
+        assert!(
+            matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::RecordKey && i.text == "12")
+        );
+        update(&mut app, Action::InputSubmit);
+        assert!(
+            matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::RecordName(AuKey::new(12)) && i.text == "Lip Corner Puller")
+        );
+        update(&mut app, Action::Cancel);
+        update(&mut app, Action::SwitchFocus);
+        update(&mut app, Action::Activate);
+        assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Value));
+        update(&mut app, Action::Cancel);
+        update(&mut app, Action::StartFind);
+        assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Find));
+    }
+
+    #[test]
     fn resize_records_the_size() {
         let mut app = app();
         update(&mut app, Action::Resize(200, 60));
