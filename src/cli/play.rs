@@ -432,7 +432,9 @@ mod view {
             }
             let (cols, rows) = (usize::from(area.width), usize::from(area.height));
             self.mode.prepare(&mut self.canvas, cols, rows);
-            let scene = Scene::new(&self.mesh, &self.positions).with_rest(self.bound.rest());
+            let mut scene = Scene::new(&self.mesh, &self.positions).with_rest(self.bound.rest());
+            // Lines coloured by how far they moved make the motion readable at a glance.
+            scene.displacement = self.colors != ColorMode::None;
             self.renderer
                 .render(&scene, &Camera::front(), Style::Lines, &mut self.canvas);
             self.grid.fill(&self.canvas, self.mode, self.colors);
