@@ -1,6 +1,6 @@
 //! The cost of one played frame on the built-in default face: an OpenFace row's 17 AU
 //! intensities mapped through the default table, the mesh deformed, the face rendered in the
-//! default style and turned into braille cells, at two terminal sizes. Playback keeps 60 fps
+//! default style with displacement colours (as the view draws it) and turned into braille cells, at two terminal sizes. Playback keeps 60 fps
 //! while this stays well under 16.7 ms (the view then spends the rest of each frame asleep).
 //!
 //! Run: `cargo bench --bench play -- --warm-up-time 1 --measurement-time 3`.
@@ -67,7 +67,8 @@ fn frames(c: &mut Criterion) {
                 let frame = builder.frame(0.0, None, row());
                 bound.deform(&frame.activations, &mut positions).unwrap();
                 CellMode::Braille.prepare(&mut canvas, cols, rows);
-                let scene = Scene::new(&mesh, &positions).with_rest(bound.rest());
+                let mut scene = Scene::new(&mesh, &positions).with_rest(bound.rest());
+                scene.displacement = true;
                 renderer.render(&scene, &Camera::front(), Style::Lines, &mut canvas);
                 grid.fill(&canvas, CellMode::Braille, ColorMode::Ansi16);
                 black_box(grid.cells.len())

@@ -222,3 +222,64 @@ fn frame_limit_ends_the_view_by_itself() {
         session.screen()
     );
 }
+
+#[test]
+fn live_udp_frames_show_on_arrival() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut session = Session::start(dir.path(), &["--udp", "127.0.0.1:0"]);
+    // The address is printed before the view opens; the vt100 screen keeps it in the main
+    // screen, so read it from the raw output instead.
+    let mut raw = Vec::new();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let address = loop {
+        if let Ok(bytes) = session.output.recv_timeout(Duration::from_millis(50)) {
+            raw.extend_from_slice(&bytes);
+            session.parser.process(&bytes);
+        }
+        let text = String::from_utf8_lossy(&raw);
+        if let Some(rest) = text.split("listening on udp ").nth(1) {
+            if let Some(end) = rest.find(['\r', '\n']) {
+                break rest[..end].to_string();
+            }
+        }
+        assert!(Instant::now() < deadline, "no address printed");
+    };
+    assert!(
+        session.wait_for(10.0, |s| s.contains("playing")),
+        "{}",
+        session.screen()
+    );
+    let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    socket
+        .send_to(b"{\"AU12\": 5, \"AU26\": 2.5}", &address)
+        .unwrap();
+    assert!(
+        session.wait_for(10.0, |s| s.contains("AU12   5.00") && s.contains("jaw")),
+        "{}",
+        session.screen()
+    );
+    session.key("q");
+    assert_eq!(session.finish(10.0), 0);
+    assert!(
+        session.screen().contains("played 1 frames, skipped 0"),
+        "{}",
+        session.screen()
+    );
+}
+
+#[test]
+fn ascii_view_draws_without_braille() {
+    let dir = tempfile::tempdir().unwrap();
+    let timeline = dir.path().join("t.timeline.ron");
+    std::fs::write(&timeline, TIMELINE).unwrap();
+    let mut session = Session::start(dir.path(), &[timeline.to_str().unwrap(), "--ascii"]);
+    assert!(
+        session.wait_for(10.0, |s| s.contains("playing")
+            && s.contains(['/', '\\', '|', '_'])),
+        "{}",
+        session.screen()
+    );
+    assert!(!has_braille(&session.screen()), "{}", session.screen());
+    session.key("q");
+    assert_eq!(session.finish(10.0), 0);
+}

@@ -4,7 +4,7 @@
 //! can unless `--realtime` asks it to keep the source's pace; otherwise a full-screen terminal
 //! view plays at the source's frame rate, dropping frames it cannot show in time.
 
-use std::io::{self, BufWriter, Write};
+use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -109,6 +109,9 @@ pub fn run(args: &PlayArgs) -> Result<()> {
         }
         Ok(())
     } else {
+        if !io::stdout().is_terminal() {
+            bail!("stdout is not a terminal: use --headless to print frames instead of drawing");
+        }
         let mesh = mesh.context("no mesh to draw")?;
         let summary = view::play(args, source, mesh, &rig, &table, &mapper)?;
         println!(
@@ -429,7 +432,9 @@ mod view {
             }
             let (cols, rows) = (usize::from(area.width), usize::from(area.height));
             self.mode.prepare(&mut self.canvas, cols, rows);
-            let scene = Scene::new(&self.mesh, &self.positions).with_rest(self.bound.rest());
+            let mut scene = Scene::new(&self.mesh, &self.positions).with_rest(self.bound.rest());
+            // Lines coloured by how far they moved make the motion readable at a glance.
+            scene.displacement = self.colors != ColorMode::None;
             self.renderer
                 .render(&scene, &Camera::front(), Style::Lines, &mut self.canvas);
             self.grid.fill(&self.canvas, self.mode, self.colors);
@@ -549,14 +554,14 @@ mod view {
     ) -> Result<()> {
         let mut redraw = true;
         let mut due: Option<Instant> = None;
-        let mut last_frame_drawn: Option<Instant> = None;
+        let mut last_shown_due: Option<Instant> = None;
         loop {
             if stop.load(Ordering::Relaxed) {
                 return Ok(());
             }
             // Faster sources than the display rate: frames due in between are dropped.
             let now = Instant::now();
-            let display_ready = last_frame_drawn.is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
+            let display_ready = last_shown_due.is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
             if display_ready {
                 if let Some((frame, when)) = player.tick(now)? {
                     status.current = Some(frame);
@@ -580,12 +585,13 @@ mod view {
                 let done = Instant::now();
                 if let Some(when) = due.take() {
                     player.shown(when, done, done - started);
-                    last_frame_drawn = Some(started);
+                    // Spaced by due times, so a frame drawn late does not delay the next.
+                    last_shown_due = Some(when);
                 }
                 redraw = false;
             }
             let now = Instant::now();
-            let display_free = last_frame_drawn.map_or(now, |t| t + MIN_FRAME_INTERVAL);
+            let display_free = last_shown_due.map_or(now, |t| t + MIN_FRAME_INTERVAL);
             let wait = match player.next_due() {
                 Some(when) => when.max(display_free).saturating_duration_since(now),
                 None if player.is_live() && !player.is_paused() => Duration::from_millis(4),
