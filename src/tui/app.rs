@@ -245,7 +245,7 @@ impl InputKind {
             InputKind::RecordKey => "record as AU (e.g. 12, L12): ".into(),
             InputKind::RecordName(key) => format!("name of AU {key}: "),
             InputKind::Rename(key) => format!("rename AU {key}: "),
-            InputKind::AddAu => "add AU [intensity 0-2] (e.g. 12 0.5): ".into(),
+            InputKind::AddAu => "add AU [intensity 0-2] (e.g. 12 0.5, 12C, 6+12B): ".into(),
             InputKind::ExpressionName => "expression name = combination (e.g. smile 6+12): ".into(),
         }
     }
