@@ -404,6 +404,32 @@ proptest! {
     }
 
     #[test]
+    fn deform_equals_pure_displacements_summed_then_the_jaw(act in activations()) {
+        // An independent evaluation: each muscle's pure function at each rest vertex,
+        // summed (Sum mode), then eqs. 16-19 written out here.
+        let rig = symmetric_rig(Combine::Sum);
+        let bound = BoundRig::bind(&rig, &dome()).expect("binds");
+        let out = deformed(&bound, &act);
+        let jaw = rig.jaw.as_ref().expect("jaw");
+        let theta = (act.jaw as f64 * jaw.degrees_per_unit as f64).to_radians();
+        for (v, rest) in dome().positions.iter().enumerate() {
+            let mut p = *rest;
+            for (m, &a) in rig.muscles.iter().zip(&act.muscles) {
+                p += muscle_displacement(&m.kind, *rest, a);
+            }
+            if let Some(&(_, w)) = jaw.weights.iter().find(|&&(j, _)| j as usize == v) {
+                let (y, z) = ((p.y - jaw.pivot.y) as f64, (p.z - jaw.pivot.z) as f64);
+                let ry = jaw.pivot.y as f64 + theta.cos() * y - theta.sin() * z;
+                let rz = jaw.pivot.z as f64 + theta.sin() * y + theta.cos() * z;
+                let w = w as f64;
+                p.y = (w * ry + (1.0 - w) * p.y as f64) as f32;
+                p.z = (w * rz + (1.0 - w) * p.z as f64) as f32;
+            }
+            prop_assert!((out[v] - p).abs().max_element() <= 1e-5, "vertex {}: {} vs {}", v, out[v], p);
+        }
+    }
+
+    #[test]
     fn each_kind_is_linear_in_its_activation(
         x in -4.0f32..4.0, y in -4.0f32..4.0, a in -2.0f32..=2.0,
     ) {
@@ -533,4 +559,31 @@ fn mouth_disc_edge_is_continuous_where_the_literal_reading_jumps() {
         "in-plane pull just outside the disc is {inplane}"
     );
     assert!(literal > 0.2, "the literal reading would jump by {literal}");
+}
+
+/// The built-in rigs bind to the built-in face, and the extremes of every range stay finite.
+#[test]
+fn builtin_rigs_bind_and_stay_finite_at_full_activation() {
+    let mesh = grimace::io::builtin::default_mesh();
+    for rig in [
+        grimace::io::builtin::default_rig(),
+        grimace::io::builtin::paper_rig(),
+    ] {
+        let bound = BoundRig::bind(&rig, &mesh).expect("built-in rig binds");
+        let full = Activations {
+            muscles: vec![2.0; rig.muscles.len()],
+            jaw: 4.0,
+        };
+        let out = deformed(&bound, &full);
+        assert!(out.iter().all(|p| p.is_finite()));
+        assert_ne!(out, mesh.positions);
+        assert_eq!(deformed(&bound, &Activations::zero(&rig)), mesh.positions);
+        for m in 0..rig.muscles.len() {
+            assert!(
+                !bound.field(m).expect("field").is_empty(),
+                "built-in muscle `{}` moves no vertex",
+                rig.muscles[m].name
+            );
+        }
+    }
 }

@@ -17,6 +17,7 @@ pub mod gen_face;
 pub mod import_waters;
 pub mod list;
 pub mod play;
+pub mod render;
 pub mod validate;
 
 /// grimace: shape facial expressions with muscles, in the terminal.
@@ -46,6 +47,9 @@ pub enum Command {
     List(list::ListArgs),
     /// Animate the face from an OpenFace CSV, a timeline, or a live AU stream.
     Play(play::PlayArgs),
+    /// Draw one state of the face as braille or ASCII text, SVG or PNG (or every AU and
+    /// expression of a table with --all).
+    Render(render::RenderArgs),
     /// Write a shell completion script (bash, zsh, fish, elvish, powershell) to stdout.
     Completions(completions::CompletionsArgs),
 }
@@ -64,6 +68,7 @@ pub fn main() -> ExitCode {
             Command::Validate(args) => validate::run(&args),
             Command::List(args) => finish("list", list::run(&args)),
             Command::Play(args) => finish("play", play::run(&args)),
+            Command::Render(args) => finish("render", render::run(&args)),
             Command::Completions(args) => completions::run(&args),
         },
     }

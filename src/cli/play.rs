@@ -29,7 +29,7 @@ use crate::play::{
 #[command(after_help = "\
 INPUT:
   FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped)
-  FILE.timeline.ron   keyframes of AU combinations or activations (see docs on timelines)
+  FILE.timeline.ron   keyframes of AU combinations or activations (see docs/formats.md)
   --stdin             one frame per line: a CSV header line then rows, or JSON objects
                       {\"AU1\": 0.0, ..., \"AU45\": 0.0}
   --udp 127.0.0.1:PORT  JSON objects, one per datagram, on a loopback port (0 picks one)
@@ -51,10 +51,11 @@ pub struct PlayArgs {
     /// Listen for JSON frames on a loopback UDP address, e.g. 127.0.0.1:9000.
     #[arg(long, value_name = "ADDR")]
     pub udp: Option<String>,
-    /// The rig (default: the built-in default face).
+    /// The rig: a file, or builtin:default or builtin:paper (default: the rig the table
+    /// names, else builtin:default).
     #[arg(long, value_name = "RIG")]
     pub rig: Option<PathBuf>,
-    /// The AU table mapping AUs to activations (default: the built-in table).
+    /// The AU table mapping AUs to activations: a file or builtin:default (the default).
     #[arg(long, value_name = "TABLE")]
     pub table: Option<PathBuf>,
     /// Intensities are already on a 0-1 scale (default: OpenFace's 0-5).
@@ -66,7 +67,8 @@ pub struct PlayArgs {
     /// Draw nothing: print one line per frame and a final count.
     #[arg(long)]
     pub headless: bool,
-    /// With --headless, keep the source's pace instead of running as fast as possible.
+    /// With --headless, keep the source's pace (at --speed) instead of running as fast as
+    /// possible.
     #[arg(long, requires = "headless")]
     pub realtime: bool,
     /// Playback speed (1 = the source's frame rate; 1/16 to 16).
@@ -392,6 +394,10 @@ mod view {
         Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Rgb, Scene, Style,
     };
 
+    /// The shortest time between two drawn frames: the view shows at most about 64 frames a
+    /// second (a little above 60, so a 60 fps source is not thinned by timer jitter).
+    const MIN_FRAME_INTERVAL: Duration = Duration::from_micros(15_625);
+
     /// Restores the terminal however the view ends (return, error or panic unwinding).
     struct TerminalGuard;
 
@@ -543,14 +549,20 @@ mod view {
     ) -> Result<()> {
         let mut redraw = true;
         let mut due: Option<Instant> = None;
+        let mut last_frame_drawn: Option<Instant> = None;
         loop {
             if stop.load(Ordering::Relaxed) {
                 return Ok(());
             }
-            if let Some((frame, when)) = player.tick(Instant::now())? {
-                status.current = Some(frame);
-                due = Some(when);
-                redraw = true;
+            // Faster sources than the display rate: frames due in between are dropped.
+            let now = Instant::now();
+            let display_ready = last_frame_drawn.is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
+            if display_ready {
+                if let Some((frame, when)) = player.tick(now)? {
+                    status.current = Some(frame);
+                    due = Some(when);
+                    redraw = true;
+                }
             }
             collect(player, status);
             if player.is_finished() && !status.ended {
@@ -568,12 +580,14 @@ mod view {
                 let done = Instant::now();
                 if let Some(when) = due.take() {
                     player.shown(when, done, done - started);
+                    last_frame_drawn = Some(started);
                 }
                 redraw = false;
             }
             let now = Instant::now();
+            let display_free = last_frame_drawn.map_or(now, |t| t + MIN_FRAME_INTERVAL);
             let wait = match player.next_due() {
-                Some(when) => when.saturating_duration_since(now),
+                Some(when) => when.max(display_free).saturating_duration_since(now),
                 None if player.is_live() && !player.is_paused() => Duration::from_millis(4),
                 None => Duration::from_millis(250),
             };

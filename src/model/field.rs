@@ -282,11 +282,15 @@ impl SheetShape {
 
     /// Eq. 11 with n = 1: the profile along the axis as a function of `lambda`
     /// (0 on the attachment line, 1 on the insertion line, `delta` at the far end).
+    ///
+    /// `cos((1 - lambda) pi/2)` is evaluated as `sin(lambda pi/2)` and
+    /// `cos((lambda - 1)/(delta - 1) pi/2)` as `sin((delta - lambda)/(delta - 1) pi/2)`: the
+    /// same numbers, but exactly 0 on the two end lines.
     pub fn axial_factor(&self, lambda: f64) -> f64 {
         if (0.0..=1.0).contains(&lambda) {
-            ((1.0 - lambda) * FRAC_PI_2).cos()
+            (lambda * FRAC_PI_2).sin()
         } else if lambda > 1.0 && lambda <= self.delta {
-            ((lambda - 1.0) / (self.delta - 1.0) * FRAC_PI_2).cos()
+            ((self.delta - lambda) / (self.delta - 1.0) * FRAC_PI_2).sin()
         } else {
             0.0
         }
@@ -635,7 +639,7 @@ mod tests {
         assert_eq!(at(-1.5), Vec3::ZERO);
         assert_eq!(at(3.0), Vec3::ZERO);
         // The attachment line itself does not move (lambda = 0).
-        assert!(at(2.0).length() < 1e-7);
+        assert_eq!(at(2.0), Vec3::ZERO);
     }
 
     #[test]

@@ -1,0 +1,494 @@
+//! `grimace render`: one state of the face as braille or ASCII text on stdout, or as an SVG
+//! or PNG file; `--all --out DIR` renders every AU and expression of a table, in parallel.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, bail, Context};
+use clap::{Args, ValueEnum};
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::export::{self, SourceArgs, Sources, StateArgs};
+use crate::io::atomic::write_atomic_no_backup;
+use crate::io::rig_file::{self, LoadedRig};
+use crate::io::table_file::{self, RigRef};
+use crate::io::{builtin, obj};
+use crate::model::{Activations, BoundRig, Mesh};
+use crate::render::{
+    muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, Overlay, Palette,
+    Renderer, Scene, Style,
+};
+
+/// The table used when neither `--rig` nor `--table` is given.
+const DEFAULT_TABLE: &str = "builtin:default";
+
+/// Preset views.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum View {
+    /// Facing the subject (the subject's left on the viewer's right).
+    Front,
+    /// The subject's left profile.
+    Side,
+    /// Turned 35 degrees toward the subject's left, seen from slightly above.
+    ThreeQuarter,
+}
+
+/// When to colour text output.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ColorChoice {
+    /// When stdout is a terminal and NO_COLOR is not set.
+    Auto,
+    /// Always (24-bit colour).
+    Always,
+    /// Never.
+    Never,
+}
+
+/// Output file formats for `--all`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// Scalable vector graphics.
+    Svg,
+    /// PNG image.
+    Png,
+    /// Braille (or, with --ascii, ASCII) text.
+    Txt,
+}
+
+/// Arguments of `grimace render`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Without --rig and --table, the built-in default rig and AU table are used.\n\
+Text goes to stdout; --out FILE.svg or FILE.png writes an image (FILE.txt writes the text).\n\
+--width/--height are columns and rows for text (default 80x36), pixels for images (default 600x720)."
+)]
+pub struct RenderArgs {
+    /// Rig, mesh and table.
+    #[command(flatten)]
+    pub source: SourceArgs,
+    /// The state to show (the rest state when none is given).
+    #[command(flatten)]
+    pub state: StateArgs,
+    /// Render every AU and expression of the table into the folder given by --out.
+    #[arg(long, requires = "out", conflicts_with_all = ["au", "expr", "combo", "set", "jaw"])]
+    pub all: bool,
+    /// File format for --all.
+    #[arg(long, value_enum, default_value = "svg", requires = "all")]
+    pub format: Format,
+    /// How the surface is drawn.
+    #[arg(long, default_value = "lines", value_parser = parse_style)]
+    pub style: Style,
+    /// The preset view.
+    #[arg(long, value_enum, default_value = "front")]
+    pub view: View,
+    /// Turn the head by this many degrees (positive shows the subject's left cheek);
+    /// replaces the preset view's yaw.
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub yaw: Option<f32>,
+    /// Tilt by this many degrees (positive looks down from above); replaces the preset's.
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    pub pitch: Option<f32>,
+    /// Magnify the view (1 fits the face).
+    #[arg(long, default_value_t = 1.0)]
+    pub zoom: f32,
+    /// Width: columns for text, pixels for images.
+    #[arg(long, value_name = "N")]
+    pub width: Option<usize>,
+    /// Height: rows for text, pixels for images.
+    #[arg(long, value_name = "N")]
+    pub height: Option<usize>,
+    /// Plain ASCII characters instead of braille.
+    #[arg(long, conflicts_with = "half_block")]
+    pub ascii: bool,
+    /// Half-block characters with colours (1x2 dots per cell).
+    #[arg(long)]
+    pub half_block: bool,
+    /// Colour text output.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub color: ColorChoice,
+    /// Draw the muscles over the face.
+    #[arg(long)]
+    pub muscles: bool,
+    /// Draw the rest pose faintly behind the face.
+    #[arg(long)]
+    pub ghost: bool,
+    /// Colour the lines by how far the skin moved.
+    #[arg(long)]
+    pub displacement: bool,
+    /// The file to write (format from the extension: .svg, .png, .txt), or the folder for --all.
+    #[arg(long, value_name = "FILE|DIR")]
+    pub out: Option<PathBuf>,
+}
+
+fn parse_style(text: &str) -> Result<Style, String> {
+    text.parse()
+}
+
+/// The text size when none is given.
+const TEXT_SIZE: (usize, usize) = (80, 36);
+/// The image size when none is given.
+const IMAGE_SIZE: (usize, usize) = (600, 720);
+/// The largest text size accepted.
+const MAX_CELLS: usize = 2000;
+
+/// Everything about how to draw, shared by every picture of a run.
+struct Look {
+    camera: Camera,
+    style: Style,
+    mode: CellMode,
+    colors: ColorMode,
+    overlays: Vec<Overlay>,
+    ghost: bool,
+    displacement: bool,
+}
+
+impl Look {
+    fn new(args: &RenderArgs, sources: &Sources) -> anyhow::Result<Look> {
+        let mut camera = match args.view {
+            View::Front => Camera::front(),
+            View::Side => Camera::side(),
+            View::ThreeQuarter => Camera::three_quarter(),
+        };
+        if let Some(yaw) = args.yaw {
+            camera.yaw = finite("--yaw", yaw)?.to_radians();
+        }
+        if let Some(pitch) = args.pitch {
+            camera.pitch = finite("--pitch", pitch)?.to_radians();
+        }
+        if !(args.zoom.is_finite() && args.zoom > 0.0) {
+            bail!("--zoom {}: must be a positive number", args.zoom);
+        }
+        camera.zoom = args.zoom;
+        let mode = if args.ascii {
+            CellMode::Ascii
+        } else if args.half_block {
+            CellMode::HalfBlock
+        } else {
+            CellMode::Braille
+        };
+        let mut overlays = Vec::new();
+        if args.muscles {
+            muscle_overlays(&sources.rig.rig, None, &Palette::default(), &mut overlays);
+        }
+        Ok(Look {
+            camera,
+            style: args.style,
+            mode,
+            colors: color_mode(args.color),
+            overlays,
+            ghost: args.ghost,
+            displacement: args.displacement,
+        })
+    }
+
+    fn scene<'a>(&'a self, mesh: &'a Mesh, positions: &'a [Vec3]) -> Scene<'a> {
+        Scene {
+            ghost: self.ghost,
+            displacement: self.displacement,
+            ..Scene::new(mesh, positions)
+                .with_rest(&mesh.positions)
+                .with_overlays(&self.overlays)
+        }
+    }
+}
+
+fn finite(flag: &str, value: f32) -> anyhow::Result<f32> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        bail!("{flag} {value}: must be a finite number of degrees")
+    }
+}
+
+fn color_mode(choice: ColorChoice) -> ColorMode {
+    let no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
+    match choice {
+        ColorChoice::Never => ColorMode::None,
+        ColorChoice::Always => ColorMode::TrueColor,
+        ColorChoice::Auto if no_color || !std::io::stdout().is_terminal() => ColorMode::None,
+        ColorChoice::Auto => ColorMode::TrueColor,
+    }
+}
+
+/// Loads the rig, its mesh and the table like `export` does, and also resolves built-in
+/// references (`builtin:default` tables and rigs, `builtin:face` meshes).
+fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
+    let (table, table_rig) = match &source.table {
+        Some(path) => {
+            let table = match builtin::builtin_name(path) {
+                Some(name) => builtin::table(name)
+                    .ok_or_else(|| anyhow!("there is no built-in AU table named `{name}`"))?,
+                None => table_file::load_table(path)?,
+            };
+            let rig = table_file::rig_ref(path, &table.rig);
+            (Some(table), Some(rig))
+        }
+        None => (None, None),
+    };
+    let reference = match (&source.rig, table_rig) {
+        (Some(path), _) => match builtin::builtin_name(path) {
+            Some(name) => RigRef::Builtin(name.to_string()),
+            None => RigRef::File(path.clone()),
+        },
+        (None, Some(reference)) => reference,
+        (None, None) => {
+            bail!("no rig given: pass --rig RIG, or --table TABLE to use the rig it names")
+        }
+    };
+    let rig = match reference {
+        RigRef::Builtin(name) => builtin_rig(&name, source.mesh.as_deref())?,
+        RigRef::File(path) => {
+            rig_file::load_rig_with(&path, source.mesh.as_deref(), builtin::mesh)?
+        }
+    };
+    if let Some(table) = &table {
+        let name = source.table.as_deref().unwrap_or(Path::new("")).display();
+        table
+            .check_rig(&rig.rig)
+            .map_err(|e| anyhow!("{name}: does not fit the rig {}: {e}", rig.path.display()))?;
+    }
+    Ok(Sources {
+        rig,
+        table,
+        table_path: source.table.clone(),
+    })
+}
+
+/// A built-in rig with its built-in mesh (or the mesh file given instead).
+fn builtin_rig(name: &str, mesh: Option<&Path>) -> anyhow::Result<LoadedRig> {
+    let rig =
+        builtin::rig(name).ok_or_else(|| anyhow!("there is no built-in rig named `{name}`"))?;
+    let (mesh, mesh_path) = match mesh {
+        Some(path) => (obj::read_obj(path)?, Some(path.to_path_buf())),
+        None => {
+            let mesh_name = builtin::builtin_name(&rig.mesh).unwrap_or("face");
+            let mesh = builtin::mesh(mesh_name).ok_or_else(|| {
+                anyhow!("the built-in rig `{name}` names an unknown mesh `{mesh_name}`")
+            })?;
+            (mesh, None)
+        }
+    };
+    let path = PathBuf::from(format!("builtin:{name}"));
+    rig_file::check_rig_mesh(&rig, &mesh).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    Ok(LoadedRig {
+        rig,
+        mesh,
+        path,
+        mesh_path,
+    })
+}
+
+/// An output format chosen from a file name's extension.
+fn format_of(path: &Path) -> anyhow::Result<Format> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("svg") => Ok(Format::Svg),
+        Some("png") => Ok(Format::Png),
+        Some("txt") => Ok(Format::Txt),
+        _ => bail!(
+            "{}: unknown output format (the file name must end in .svg, .png or .txt)",
+            path.display()
+        ),
+    }
+}
+
+fn size(args: &RenderArgs, format: Format) -> anyhow::Result<(usize, usize)> {
+    let (dw, dh, max) = match format {
+        Format::Txt => (TEXT_SIZE.0, TEXT_SIZE.1, MAX_CELLS),
+        Format::Svg | Format::Png => (IMAGE_SIZE.0, IMAGE_SIZE.1, png::MAX_SIDE),
+    };
+    let (w, h) = (args.width.unwrap_or(dw), args.height.unwrap_or(dh));
+    if w == 0 || h == 0 || w > max || h > max {
+        bail!("--width {w} --height {h}: each must be 1 to {max} for this output");
+    }
+    Ok((w, h))
+}
+
+/// Draws one state in `format` as bytes (text already coloured as `look` asks).
+fn picture(
+    look: &Look,
+    renderer: &mut Renderer,
+    mesh: &Mesh,
+    positions: &[Vec3],
+    format: Format,
+    (w, h): (usize, usize),
+    colors: ColorMode,
+) -> anyhow::Result<Vec<u8>> {
+    let scene = look.scene(mesh, positions);
+    Ok(match format {
+        Format::Txt => {
+            let mut canvas = look.mode.canvas(w, h);
+            renderer.render(&scene, &look.camera, look.style, &mut canvas);
+            let mut grid = CellGrid::default();
+            grid.fill(&canvas, look.mode, colors);
+            to_ansi(&grid, colors).into_bytes()
+        }
+        Format::Svg => svg::render_svg(&scene, &look.camera, look.style, w, h).into_bytes(),
+        Format::Png => png::render_png(&scene, &look.camera, look.style, w, h)?,
+    })
+}
+
+fn deform(bound: &BoundRig, act: &Activations) -> anyhow::Result<Vec<Vec3>> {
+    let mut positions = Vec::new();
+    bound.deform(act, &mut positions)?;
+    Ok(positions)
+}
+
+/// Runs `grimace render`.
+pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let mut source = args.source.clone();
+    if source.rig.is_none() && source.table.is_none() {
+        source.table = Some(PathBuf::from(DEFAULT_TABLE));
+    }
+    let sources = load_sources(&source)?;
+    let bound = export::bind(&sources.rig)?;
+    let look = Look::new(args, &sources)?;
+    if args.all {
+        return render_all(args, &sources, &bound, &look);
+    }
+    let act = export::activations(&args.state, &sources)?;
+    let positions = deform(&bound, &act)?;
+    let mesh = &sources.rig.mesh;
+    let mut renderer = Renderer::new(mesh);
+    match &args.out {
+        None => {
+            let size = size(args, Format::Txt)?;
+            let text = picture(
+                &look,
+                &mut renderer,
+                mesh,
+                &positions,
+                Format::Txt,
+                size,
+                look.colors,
+            )?;
+            super::print(&String::from_utf8_lossy(&text));
+        }
+        Some(path) => {
+            let format = format_of(path)?;
+            let size = size(args, format)?;
+            // Files never carry colour escapes.
+            let bytes = picture(
+                &look,
+                &mut renderer,
+                mesh,
+                &positions,
+                format,
+                size,
+                ColorMode::None,
+            )?;
+            write_atomic_no_backup(path, &bytes)
+                .with_context(|| format!("{}: cannot write", path.display()))?;
+        }
+    }
+    Ok(())
+}
+
+/// One picture of `--all`: its file name and the activations.
+struct Job {
+    file: String,
+    act: Activations,
+}
+
+fn render_all(
+    args: &RenderArgs,
+    sources: &Sources,
+    bound: &BoundRig,
+    look: &Look,
+) -> anyhow::Result<()> {
+    let dir = args
+        .out
+        .as_deref()
+        .ok_or_else(|| anyhow!("--all needs --out DIR"))?;
+    let table = sources
+        .table
+        .as_ref()
+        .ok_or_else(|| anyhow!("--all needs an AU table: pass --table TABLE"))?;
+    let rig = &sources.rig.rig;
+    let ext = match args.format {
+        Format::Svg => "svg",
+        Format::Png => "png",
+        Format::Txt => "txt",
+    };
+    let mut jobs = Vec::new();
+    for key in table.aus.keys() {
+        let act = table
+            .entry_activations(key, rig)
+            .map_err(|e| anyhow!("AU {key}: {e}"))?;
+        jobs.push(Job {
+            file: format!("au-{key}.{ext}"),
+            act,
+        });
+    }
+    for name in table.expressions.keys() {
+        let act = table
+            .expression_activations(name, rig)
+            .map_err(|e| anyhow!("expression `{name}`: {e}"))?;
+        jobs.push(Job {
+            file: format!("expr-{}.{ext}", file_safe(name)),
+            act,
+        });
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
+    let size = size(args, args.format)?;
+    let mesh = &sources.rig.mesh;
+    jobs.par_iter().try_for_each_init(
+        || Renderer::new(mesh),
+        |renderer, job| -> anyhow::Result<()> {
+            let positions = deform(bound, &job.act)?;
+            let bytes = picture(
+                look,
+                renderer,
+                mesh,
+                &positions,
+                args.format,
+                size,
+                ColorMode::None,
+            )?;
+            let path = dir.join(&job.file);
+            write_atomic_no_backup(&path, &bytes)
+                .with_context(|| format!("{}: cannot write", path.display()))
+        },
+    )?;
+    eprintln!("rendered {} pictures into {}", jobs.len(), dir.display());
+    Ok(())
+}
+
+/// A name made safe for a file name: letters, digits, `-` and `_` kept, the rest `_`.
+fn file_safe(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_come_from_the_extension() {
+        assert_eq!(format_of(Path::new("a/b.SVG")).unwrap(), Format::Svg);
+        assert_eq!(format_of(Path::new("b.png")).unwrap(), Format::Png);
+        assert_eq!(format_of(Path::new("b.txt")).unwrap(), Format::Txt);
+        let err = format_of(Path::new("b.jpg")).unwrap_err().to_string();
+        assert!(err.contains("b.jpg") && err.contains(".svg"), "{err}");
+        assert!(format_of(Path::new("noext")).is_err());
+    }
+
+    #[test]
+    fn file_names_are_made_safe() {
+        assert_eq!(file_safe("happy face/2"), "happy_face_2");
+        assert_eq!(file_safe("anger"), "anger");
+    }
+}
