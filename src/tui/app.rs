@@ -182,9 +182,11 @@ pub enum Colors {
 }
 
 impl Colors {
-    /// Reads NO_COLOR and COLORTERM the way most terminal programs do.
+    /// Reads NO_COLOR, TERM=dumb and COLORTERM the way most terminal programs do.
     pub fn from_env() -> Colors {
-        if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()) {
+        if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty())
+            || std::env::var("TERM").is_ok_and(|t| t == "dumb")
+        {
             return Colors::None;
         }
         match std::env::var("COLORTERM").as_deref() {
