@@ -60,12 +60,17 @@ pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
     let rig_path = args.out.join("rig.ron");
     rig_file::save_rig(&rig_path, &imported.rig)?;
     super::print(&format!(
-        "wrote {} ({} vertices, {} triangles) and {} ({} muscles)\n",
+        "wrote {} ({} vertices, {} triangles) and {} ({} muscles{})\n",
         mesh_path.display(),
         imported.mesh.vertex_count(),
         imported.mesh.triangles.len(),
         rig_path.display(),
-        imported.rig.muscles.len()
+        imported.rig.muscles.len(),
+        if imported.rig.jaw.is_some() {
+            " and a jaw"
+        } else {
+            ""
+        }
     ));
     Ok(())
 }

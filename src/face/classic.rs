@@ -39,13 +39,13 @@ pub const CLASSIC_JAW_DEGREES_PER_UNIT: f32 = 2.5;
 /// opening's height (the classic brows sit a little more than half an opening above the lid).
 const BROW_ABOVE_LID: f32 = 0.6;
 
-/// How far below the brow line the frontalis pull reaches, as a fraction of the brow's
-/// height above the upper lid: it fades out just above the lid, which the eye sphincter owns.
-const FRONTALIS_REACH_BELOW_BROW: f32 = 0.8;
-
 /// Height of the jaw pivot between the mouth line (0) and the eye line (1): the
 /// temporomandibular joint sits at about the height of the nose's base.
 const PIVOT_HEIGHT: f32 = 0.45;
+
+/// The middle of the lower lip that turns fully with the jaw, as a fraction of the mouth's
+/// half-width; from there the weight falls smoothly to 0 at the corner.
+const LIP_MIDDLE: f64 = 0.3;
 
 /// Why the extra muscles cannot be placed on a mesh.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -311,7 +311,8 @@ impl SkinSampler {
 
 /// The frontalis as two sheets: from the top of the forehead (the highest vertex's height
 /// and depth, where the galea begins) down to a brow line above each eye, as wide as from
-/// the midline to as far beyond the eye's centre; the pull fades out just above the lid.
+/// the midline to as far beyond the eye's centre; the pull fades out at the upper lid, which
+/// the eye sphincter owns.
 fn frontalis_sheets(
     marks: &Landmarks,
     skin: &SkinSampler,
@@ -335,11 +336,26 @@ fn frontalis_sheets(
     let l2 = rounded(skin.at(name, outer.x, brow_y)?);
     let a1 = rounded(Vec3::new(inner.x, marks.top.y, marks.top.z));
     let a2 = rounded(Vec3::new(outer.x, marks.top.y, marks.top.z));
-    let span = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
+    let (ac, lc) = (0.5 * (a1 + a2), 0.5 * (l1 + l2));
+    let span = ac.distance(lc);
+    // The pull fades out at the upper lid: the sheet ends where its axis reaches the lid
+    // margin's nearest vertex (the lid is recessed under the brow, so this is measured
+    // along the axis, not in height).
+    let axis = (lc - ac).normalize_or_zero();
+    let lid_reach = eye
+        .upper
+        .iter()
+        .map(|&v| (p[v as usize] - ac).dot(axis))
+        .fold(f32::INFINITY, f32::min);
+    let length = if lid_reach > span * 1.01 {
+        lid_reach
+    } else {
+        span * 1.05
+    };
     let right = Sheet {
         attachment: [a1, a2],
         insertion: [l1, l2],
-        length: round3(span + FRONTALIS_REACH_BELOW_BROW * (brow_y - lid_top)),
+        length: round3(length),
         width: round3(inner.x + outer.x),
     };
     let left = Sheet {
@@ -485,7 +501,8 @@ fn jaw(marks: &Landmarks, p: &[Vec3]) -> Result<Jaw, ClassicError> {
         let depth = f64::from((below / depth_scale).clamp(0.0, 1.0));
         let ease = smoothstep(0.0, 0.6, depth);
         let jaw_half = f64::from(jaw_half);
-        let inner = ease * 0.75 * jaw_half;
+        // the middle third of the lower lip moves fully, so the mouth opens round, not in a V
+        let inner = LIP_MIDDLE * f64::from(corner_x) * (1.0 - ease) + ease * 0.75 * jaw_half;
         let outer = f64::from(corner_x) + ease * (1.25 * jaw_half - f64::from(corner_x));
         let w = round3((1.0 - smoothstep(inner, outer, f64::from(ax))) as f32);
         if w > 0.0 {
@@ -501,8 +518,8 @@ fn jaw(marks: &Landmarks, p: &[Vec3]) -> Result<Jaw, ClassicError> {
 }
 
 /// The mouth line's height as a function of |x|: piecewise linear through the slit's
-/// vertices (both lips, which lie within a few thousandths of each other), flat beyond the
-/// corners. Built from |x| so it is the same on both sides.
+/// vertices (both lips, which lie within a few thousandths of each other; knots at the same
+/// |x| are averaged), flat beyond the corners. Built from |x| so it is the same on both sides.
 struct MouthLine {
     knots: Vec<(f32, f32)>,
 }
@@ -517,7 +534,23 @@ impl MouthLine {
             .map(|&v| (p[v as usize].x.abs(), p[v as usize].y))
             .collect();
         knots.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-        MouthLine { knots }
+        // knots at the same |x| (the two lips, the two sides) become their mean height
+        let mut merged: Vec<(f32, f32, u32)> = Vec::with_capacity(knots.len());
+        for (x, y) in knots {
+            match merged.last_mut() {
+                Some(last) if last.0 == x => {
+                    last.1 += y;
+                    last.2 += 1;
+                }
+                _ => merged.push((x, y, 1)),
+            }
+        }
+        MouthLine {
+            knots: merged
+                .into_iter()
+                .map(|(x, y, n)| (x, y / n as f32))
+                .collect(),
+        }
     }
 
     fn y_at(&self, x: f32) -> f32 {
@@ -570,4 +603,101 @@ fn round3(v: f32) -> f32 {
 
 fn rounded(p: Vec3) -> Vec3 {
     Vec3::new(round3(p.x), round3(p.y), round3(p.z))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat patch with a slit across its middle: corners at x = -2 and 2, the upper margin
+    /// at y = 0 and the lower margin 0.002 ABOVE it (as the classic lower lip rises above
+    /// its neighbours), so only the triangles can tell the margins apart.
+    fn slit_patch() -> (Mesh, Vec<u32>, Vec<u32>) {
+        let mut positions = Vec::new();
+        let mut row = |y: f32, xs: &[f32]| -> Vec<u32> {
+            xs.iter()
+                .map(|&x| {
+                    positions.push(Vec3::new(x, y, 0.0));
+                    (positions.len() - 1) as u32
+                })
+                .collect()
+        };
+        let xs = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
+        let top = row(1.0, &xs);
+        let bottom = row(-1.0, &xs);
+        // the patch's sides at the slit's height, and the slit's corners
+        let sides = row(0.0, &[-3.0, 3.0]);
+        let corners = row(0.0, &[-2.0, 2.0]);
+        let upper = row(0.0, &[-1.0, 0.0, 1.0]);
+        let lower = row(0.002, &[-1.0, 0.0, 1.0]);
+        let line = |margin: &[u32]| {
+            let mut l = vec![sides[0], corners[0]];
+            l.extend_from_slice(margin);
+            l.extend([corners[1], sides[1]]);
+            l
+        };
+        let (u, l) = (line(&upper), line(&lower));
+        let mut triangles = Vec::new();
+        for i in 0..6 {
+            // counter-clockwise seen from +z
+            triangles.push([u[i], u[i + 1], top[i + 1]]);
+            triangles.push([u[i], top[i + 1], top[i]]);
+            triangles.push([bottom[i], bottom[i + 1], l[i + 1]]);
+            triangles.push([bottom[i], l[i + 1], l[i]]);
+        }
+        (Mesh::new(positions, triangles).unwrap(), upper, lower)
+    }
+
+    #[test]
+    fn a_slit_is_split_by_its_triangles_not_by_height() {
+        let (mesh, upper, lower) = slit_patch();
+        let mut loops = topology::boundary_loops(&mesh);
+        loops.sort_by_key(|l| std::cmp::Reverse(l.len()));
+        assert_eq!(loops.len(), 2);
+        let slit = split_opening(&mesh, &loops[1]).unwrap();
+        let sorted = |mut v: Vec<u32>| {
+            v.sort_unstable();
+            v
+        };
+        assert_eq!(sorted(slit.upper.clone()), upper);
+        assert_eq!(sorted(slit.lower.clone()), lower);
+        let p = &mesh.positions;
+        assert_eq!(slit.corners.map(|v| p[v as usize].x), [-2.0, 2.0]);
+        let (u, l) = slit.centres(p).unwrap();
+        assert_eq!((u.x, u.y, l.x, l.y), (0.0, 0.0, 0.0, 0.002));
+    }
+
+    #[test]
+    fn the_mouth_line_interpolates_by_distance_from_the_midline() {
+        let (mesh, _, _) = slit_patch();
+        let mut loops = topology::boundary_loops(&mesh);
+        loops.sort_by_key(|l| std::cmp::Reverse(l.len()));
+        let slit = split_opening(&mesh, &loops[1]).unwrap();
+        let line = MouthLine::new(&slit, &mesh.positions);
+        // the lips at |x| <= 1 average to 0.001; the corners at |x| = 2 are at 0, and the
+        // line stays flat beyond them
+        for (x, y) in [
+            (0.0, 0.001),
+            (-1.0, 0.001),
+            (1.5, 0.0005),
+            (2.0, 0.0),
+            (5.0, 0.0),
+        ] {
+            assert!(
+                (line.y_at(f32::abs(x)) - y).abs() < 1e-7,
+                "{x}: {}",
+                line.y_at(x)
+            );
+        }
+    }
+
+    #[test]
+    fn a_face_without_eyes_gets_no_extras_and_a_reason() {
+        let (mesh, _, _) = slit_patch();
+        assert_eq!(extra_muscles(&mesh), (Vec::new(), None));
+        assert_eq!(
+            place_extras(&mesh).unwrap_err(),
+            ClassicError::Missing("no right eye opening")
+        );
+    }
 }
