@@ -288,3 +288,36 @@ fn a_second_editor_on_the_same_table_is_warned() {
     assert!(first.wait_exit().success());
     assert!(!dir.path().join(".shared.au.ron.lock").exists());
 }
+
+#[test]
+fn a_file_changed_on_disk_is_not_overwritten_without_asking() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("c.au.ron");
+    let arg = file.to_str().unwrap();
+    let mut ed = Editor::start(dir.path(), &["edit", arg], 100, 30);
+    ed.wait_for("new table");
+    ed.send(":record 1\r:w\r");
+    ed.wait_for("saved");
+    // Someone else saves the table meanwhile.
+    let theirs = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace("Inner Brow Raiser", "Theirs");
+    std::fs::write(&file, &theirs).unwrap();
+    ed.send(":record 2\r:w\r");
+    ed.wait_for("changed on disk");
+    ed.send("n");
+    ed.wait_for("cancelled");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), theirs);
+    ed.send(":w\r");
+    ed.wait_for("changed on disk");
+    ed.send("y");
+    ed.wait_for("saved");
+    let table = grimace::io::load_table(&file).unwrap();
+    assert_eq!(table.aus.len(), 2);
+    assert!(
+        dir.path().join("c.au.ron~").exists(),
+        "the previous version is kept"
+    );
+    ed.send("q");
+    assert!(ed.wait_exit().success());
+}

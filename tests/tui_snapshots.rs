@@ -115,3 +115,16 @@ fn too_small_says_so() {
     assert!(text.contains("Terminal too small: 40x10"), "{text}");
     insta::assert_snapshot!(text);
 }
+
+#[test]
+fn table_focus_gives_the_table_more_room_80x24() {
+    let mut app = app(80, 24);
+    act(
+        &mut app,
+        &[Action::SwitchFocus, Action::SelectLast, Action::Activate],
+    );
+    let text = screen(&app);
+    assert!(text.contains("surprise = 1D+2D+5B+26C"), "{text}");
+    assert!(text.contains("loaded expression surprise"), "{text}");
+    insta::assert_snapshot!(text);
+}
