@@ -22,11 +22,41 @@ pub mod validate;
 
 /// grimace: shape facial expressions with muscles, in the terminal.
 #[derive(Debug, Parser)]
-#[command(name = "grimace", version, about, long_about = None)]
+#[command(name = "grimace", version, about, long_about = None, args_conflicts_with_subcommands = true)]
 pub struct Cli {
     /// The subcommand; without one, grimace opens the editor on the built-in default face.
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// Editor options for `grimace` without a subcommand (the same as `grimace edit`'s).
+    #[command(flatten)]
+    pub editor: EditorOptions,
+}
+
+/// The options `grimace` alone accepts: those of `grimace edit` without a table file, so a
+/// mistyped subcommand is an error rather than a new table.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct EditorOptions {
+    /// The rig to edit with (instead of the built-in default rig).
+    #[arg(long, value_name = "RIG")]
+    pub rig: Option<std::path::PathBuf>,
+    /// The mesh to place the rig on (instead of the rig's own mesh).
+    #[arg(long, value_name = "OBJ")]
+    pub mesh: Option<std::path::PathBuf>,
+    /// Draw with ASCII characters instead of braille.
+    #[arg(long)]
+    pub ascii: bool,
+}
+
+impl EditorOptions {
+    /// The same options as `grimace edit` arguments, on the built-in default table.
+    pub fn to_edit_args(&self) -> edit::EditArgs {
+        edit::EditArgs {
+            file: None,
+            rig: self.rig.clone(),
+            mesh: self.mesh.clone(),
+            ascii: self.ascii,
+        }
+    }
 }
 
 /// The subcommands.
@@ -59,7 +89,7 @@ pub enum Command {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        None => finish("edit", edit::run(&edit::EditArgs::default())),
+        None => finish("edit", edit::run(&cli.editor.to_edit_args())),
         Some(command) => match command {
             Command::Edit(args) => finish("edit", edit::run(&args)),
             Command::GenFace(args) => gen_face::run(&args),
@@ -96,4 +126,35 @@ pub fn print(text: &str) {
     let mut out = std::io::stdout().lock();
     let _ = out.write_all(text.as_bytes());
     let _ = out.flush();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bare_grimace_takes_the_editor_options() {
+        let cli = Cli::try_parse_from(["grimace", "--ascii", "--rig", "my.rig.ron"]).unwrap();
+        assert!(cli.command.is_none());
+        let args = cli.editor.to_edit_args();
+        assert!(args.ascii);
+        assert_eq!(
+            args.rig.as_deref(),
+            Some(std::path::Path::new("my.rig.ron"))
+        );
+        assert!(args.file.is_none());
+    }
+
+    #[test]
+    fn a_mistyped_subcommand_is_a_usage_error_not_a_new_table() {
+        let err = Cli::try_parse_from(["grimace", "lst"]).unwrap_err();
+        assert_eq!(err.exit_code(), 2);
+    }
+
+    #[test]
+    fn editor_options_do_not_mix_with_other_subcommands() {
+        assert!(Cli::try_parse_from(["grimace", "--ascii", "list"]).is_err());
+        let cli = Cli::try_parse_from(["grimace", "edit", "--ascii"]).unwrap();
+        assert!(matches!(cli.command, Some(Command::Edit(ref a)) if a.ascii));
+    }
 }
