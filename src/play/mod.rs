@@ -16,5 +16,5 @@ pub use clock::{FrameStats, PlayClock};
 pub use map::{AuIntensity, AuMapper, IntensityScale};
 pub use player::{Message, PlayError, Player};
 pub use source::{
-    Event, Frame, FrameSource, Input, LiveSource, OpenFaceSource, Poll, SourceError, TimelineSource,
+    Event, Frame, FrameSource, LiveSource, OpenFaceSource, Poll, SourceError, TimelineSource,
 };

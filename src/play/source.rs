@@ -9,7 +9,7 @@ use std::collections::BTreeSet;
 use std::fs::File;
 use std::io::{BufRead, BufReader};
 use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::thread;
 use std::time::{Duration, Instant};
@@ -710,17 +710,4 @@ impl FrameSource for LiveSource {
     fn is_live(&self) -> bool {
         true
     }
-}
-
-/// Where the player reads from.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Input {
-    /// An OpenFace CSV file.
-    OpenFace(PathBuf),
-    /// A `*.timeline.ron` file.
-    Timeline(PathBuf),
-    /// Lines on stdin.
-    Stdin,
-    /// JSON datagrams on a loopback UDP address.
-    Udp(String),
 }
