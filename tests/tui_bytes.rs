@@ -1,11 +1,10 @@
-//! Measurements of the editor through the real crossterm backend: bytes sent after one
-//! fine-step key press (versus a full redraw), the time to the first frame, and how long a
-//! frame takes. Printed for the benchmark record; the assertions hold the targets loosely so
-//! a busy machine does not fail them.
+//! Bytes the editor sends through the real crossterm backend after one fine-step key press,
+//! versus a full redraw, and after a frame where nothing changed. Byte counts do not depend on
+//! the machine's speed, so they are asserted; frame times are measured by
+//! `cargo bench --bench editor` instead.
 
 use std::io::{self, Write};
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
 
 use grimace::tui::action::Action;
 use grimace::tui::app::{App, Colors};
@@ -96,43 +95,4 @@ fn bytes_per_fine_step_are_a_small_part_of_a_full_redraw() {
         );
         assert!(idle < 64, "an unchanged frame sent {idle} B");
     }
-}
-
-#[test]
-fn start_to_first_frame_and_frame_time() {
-    let start = Instant::now();
-    let counter = Counter::default();
-    let mut term = terminal(&counter, 200, 60);
-    let mut app = app(200, 60);
-    grimace::tui::draw(&mut term, &app).unwrap();
-    let first = start.elapsed();
-    let frames = 200;
-    let t = Instant::now();
-    for i in 0..frames {
-        update(&mut app, Action::StepFine(if i % 2 == 0 { 1 } else { -1 }));
-        grimace::tui::draw(&mut term, &app).unwrap();
-    }
-    let per_frame = t.elapsed() / frames;
-    // Moving the selection leaves the face as it is: the viewport reuses its picture.
-    let t = Instant::now();
-    for i in 0..frames {
-        update(
-            &mut app,
-            if i % 2 == 0 {
-                Action::SelectNext
-            } else {
-                Action::SelectPrev
-            },
-        );
-        grimace::tui::draw(&mut term, &app).unwrap();
-    }
-    let per_select = t.elapsed() / frames;
-    println!(
-        "load to first frame {first:?}; at 200x60 per frame: fine step + draw {per_frame:?}, selection move + draw {per_select:?}"
-    );
-    assert!(
-        per_select < per_frame,
-        "an unchanged face is not drawn again"
-    );
-    assert!(first.as_millis() < 2000);
 }

@@ -1,0 +1,90 @@
+//! The editor's frame: one fine-step key press (update, incremental deformation, render of
+//! the face, the ratatui buffer diff written through the real crossterm backend into a
+//! counting writer) at 200x60 and 80x24, a selection move (the face's picture is reused), and
+//! start to first frame (load the built-in face, bind the rig, draw once).
+//!
+//! Run: `cargo bench --bench editor -- --warm-up-time 1 --measurement-time 3`
+
+use std::io::{self, Write};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use grimace::tui::action::Action;
+use grimace::tui::app::{App, Colors};
+use grimace::tui::scene::Scene;
+use grimace::tui::update::update;
+use ratatui::backend::CrosstermBackend;
+use ratatui::layout::Rect;
+use ratatui::{Terminal, TerminalOptions, Viewport};
+
+/// A writer that only counts bytes, standing in for the terminal.
+#[derive(Clone, Default)]
+struct Counter(Arc<AtomicUsize>);
+
+impl Write for Counter {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.0.fetch_add(buf.len(), Ordering::Relaxed);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
+
+fn app(cols: u16, rows: u16) -> App {
+    let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
+    let mut app = App::new(Scene::new(rig, mesh).expect("the rig binds"), table, None);
+    app.colors = Colors::Ansi16;
+    update(&mut app, Action::Resize(cols, rows));
+    app
+}
+
+fn terminal(cols: u16, rows: u16) -> Terminal<CrosstermBackend<Counter>> {
+    Terminal::with_options(
+        CrosstermBackend::new(Counter::default()),
+        TerminalOptions {
+            viewport: Viewport::Fixed(Rect::new(0, 0, cols, rows)),
+        },
+    )
+    .expect("a terminal on a counting writer")
+}
+
+fn frames(c: &mut Criterion) {
+    for (cols, rows) in [(200u16, 60u16), (80, 24)] {
+        let mut term = terminal(cols, rows);
+        let mut app = app(cols, rows);
+        grimace::tui::draw(&mut term, &app).unwrap();
+        let mut flip = 1;
+        c.bench_function(&format!("fine_step_frame_{cols}x{rows}"), |b| {
+            b.iter(|| {
+                flip = -flip;
+                update(&mut app, Action::StepFine(flip));
+                grimace::tui::draw(&mut term, &app).unwrap();
+            })
+        });
+        let mut down = true;
+        c.bench_function(&format!("selection_move_frame_{cols}x{rows}"), |b| {
+            b.iter(|| {
+                down = !down;
+                let action = if down {
+                    Action::SelectNext
+                } else {
+                    Action::SelectPrev
+                };
+                update(&mut app, action);
+                grimace::tui::draw(&mut term, &app).unwrap();
+            })
+        });
+    }
+    c.bench_function("start_to_first_frame_200x60", |b| {
+        b.iter(|| {
+            let mut term = terminal(200, 60);
+            let app = app(200, 60);
+            grimace::tui::draw(&mut term, &app).unwrap();
+        })
+    });
+}
+
+criterion_group!(benches, frames);
+criterion_main!(benches);
