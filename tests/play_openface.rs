@@ -225,6 +225,7 @@ fn realtime_keeps_the_source_pace() {
     );
     assert!(out.status.success());
     let took = started.elapsed().as_secs_f64();
-    // 0.3 s at 4x, with room for starting the process on a busy machine.
-    assert!((0.3..1.0).contains(&took), "at 4x 1.2 s took {took} s");
+    // 1.2 s of frames at 4x is paced to at least 0.3 s; no upper bound, since a busy machine
+    // may start the process slowly (speed is measured by benches, not asserted).
+    assert!(took >= 0.3, "at 4x 1.2 s took {took} s");
 }
