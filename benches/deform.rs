@@ -227,6 +227,15 @@ fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activat
     let deform_min = min_time(200, || {
         bound.deform(black_box(act), &mut out).expect("in range")
     });
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool");
+    let single_min = single.install(|| {
+        min_time(200, || {
+            bound.deform(black_box(act), &mut out).expect("in range")
+        })
+    });
     let naive_runs = if mesh.positions.len() > 200_000 {
         5
     } else {
@@ -236,15 +245,22 @@ fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activat
         naive(&mesh.positions, rig, black_box(act), &mut check)
     });
     eprintln!(
-        "{label}: min deform {:.3} us ({:.2} ns per pair), min naive {:.3} us, ratio {:.0}x",
+        "{label}: min deform {:.3} us ({:.2} ns per pair), on one thread {:.3} us ({:.2} ns per \
+         pair), min naive {:.3} us, ratio {:.0}x ({:.0}x on one thread)",
         deform_min * 1e6,
         deform_min * 1e9 / bound.pair_count() as f64,
+        single_min * 1e6,
+        single_min * 1e9 / bound.pair_count() as f64,
         naive_min * 1e6,
-        naive_min / deform_min
+        naive_min / deform_min,
+        naive_min / single_min
     );
     let mut group = c.benchmark_group(label);
     group.bench_function("deform", |b| {
         b.iter(|| bound.deform(black_box(act), &mut out).expect("in range"))
+    });
+    group.bench_function("deform_1_thread", |b| {
+        single.install(|| b.iter(|| bound.deform(black_box(act), &mut out).expect("in range")))
     });
     let m = 0;
     group.bench_function("update_muscle_0", |b| {

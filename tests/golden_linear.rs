@@ -213,3 +213,42 @@ fn moved_vertex_counts_match_the_readme_table() {
         );
     }
 }
+
+/// The end-to-end check: import the classic files with `io::waters`, bind the rig it
+/// builds, and deform each muscle alone from rest (through `deform` for activations in range,
+/// through the scaled field for -0.5).
+#[test]
+fn imported_classic_face_matches_the_classic_routine() {
+    let Some(dir) = golden_dir() else { return };
+    let g = load(&dir);
+    let classic = dir.join("../waters-geoface");
+    let imported = grimace::io::waters::import_dir(&classic, &Default::default())
+        .unwrap_or_else(|e| panic!("import of {}: {e}", classic.display()));
+    assert_eq!(imported.mesh.positions, g.mesh.positions);
+    assert_eq!(imported.mesh.triangles, g.mesh.triangles);
+    let rig = &imported.rig;
+    assert_eq!(rig.muscles.len(), 18);
+    let bound = BoundRig::bind(rig, &imported.mesh).expect("imported rig binds");
+    let mut out = Vec::new();
+    let mut worst = 0.0f32;
+    for (m, muscle) in g.muscles.iter().enumerate() {
+        assert_eq!(rig.muscles[m].name, muscle.name);
+        for a in ACTIVATIONS {
+            if a >= 0.0 {
+                let mut act = Activations::zero(rig);
+                act.muscles[m] = a;
+                bound.deform(&act, &mut out).expect("in range");
+            } else {
+                let field = bound.field(m).expect("field");
+                out = imported.mesh.positions.clone();
+                for (&v, &d) in field.vertices.iter().zip(&field.displacements) {
+                    out[v as usize] += d * a;
+                }
+            }
+            let e = max_error(&g, m, a, &out);
+            assert!(e <= TOLERANCE, "{} at {a}: max error {e}", muscle.name);
+            worst = worst.max(e);
+        }
+    }
+    eprintln!("golden linear through import-waters: max abs error {worst:e}");
+}

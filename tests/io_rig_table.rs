@@ -308,11 +308,22 @@ fn read_only_folder_fails_cleanly() {
     std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o555)).unwrap();
     let probe = dir.path().join("probe");
     if std::fs::write(&probe, b"x").is_ok() {
-        // Running as root: permissions do not bind, so this case cannot be produced here.
-        // The failure of every save step is covered by the unit tests of io::atomic.
+        // Running as root: permissions do not bind. A folder no one can create files in
+        // still exists: /proc. Saving over an existing file there must fail the same way.
         let _ = std::fs::remove_file(&probe);
         std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
-        eprintln!("skipped: the folder stays writable (running as root)");
+        let target = Path::new("/proc/version");
+        let Ok(before) = std::fs::read(target) else {
+            eprintln!("skipped: running as root and /proc is not available");
+            return;
+        };
+        let err = io::save_table(target, &sample_table()).unwrap_err();
+        assert!(
+            err.to_string().starts_with("/proc/version: cannot save: "),
+            "{err}"
+        );
+        assert_eq!(std::fs::read(target).unwrap(), before);
+        assert!(!Path::new("/proc/version~").exists());
         return;
     }
     let mut changed = sample_table();

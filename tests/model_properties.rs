@@ -21,19 +21,24 @@ const STEP: f32 = 0.25;
 
 /// A dome-shaped grid symmetric in x: vertex (i, j) mirrors to (STEPS - 1 - i, j).
 fn dome() -> Mesh {
-    let mut positions = Vec::with_capacity(STEPS * STEPS);
-    for j in 0..STEPS {
-        for i in 0..STEPS {
-            let x = -4.0 + STEP * i as f32;
-            let y = -4.0 + STEP * j as f32;
+    dome_of(STEPS, STEP)
+}
+
+/// A dome-shaped grid over x, y in -4..=4 with `steps` vertices a side.
+fn dome_of(steps: usize, step: f32) -> Mesh {
+    let mut positions = Vec::with_capacity(steps * steps);
+    for j in 0..steps {
+        for i in 0..steps {
+            let x = -4.0 + step * i as f32;
+            let y = -4.0 + step * j as f32;
             positions.push(Vec3::new(x, y, 5.0 - 0.1 * (x * x + y * y)));
         }
     }
     let mut triangles = Vec::new();
-    for j in 0..STEPS - 1 {
-        for i in 0..STEPS - 1 {
-            let v = (j * STEPS + i) as u32;
-            let s = STEPS as u32;
+    for j in 0..steps - 1 {
+        for i in 0..steps - 1 {
+            let v = (j * steps + i) as u32;
+            let s = steps as u32;
             triangles.push([v, v + 1, v + s + 1]);
             triangles.push([v, v + s + 1, v + s]);
         }
@@ -185,6 +190,37 @@ fn zero_activation_is_the_identity() {
 }
 
 #[test]
+fn large_meshes_deform_in_parallel_identically() {
+    // 257 x 257 vertices: above the parallel threshold. Building the same state one muscle
+    // at a time with the single-threaded updates must give the same bits.
+    let mesh = dome_of(257, 8.0 / 256.0);
+    assert!(mesh.positions.len() >= grimace::model::deform::PARALLEL_MIN_VERTICES);
+    for combine in [Combine::Sum, Combine::Average] {
+        let mut rig = symmetric_rig(combine);
+        rig.jaw = None;
+        let bound = BoundRig::bind(&rig, &mesh).expect("binds");
+        let target = Activations {
+            muscles: vec![1.0, 0.5, 2.0, 0.0, 0.3, 1.7, 0.9],
+            jaw: 0.0,
+        };
+        let mut stepwise = deformed(&bound, &Activations::zero(&rig));
+        let mut act = Activations::zero(&rig);
+        for m in 0..rig.muscles.len() {
+            act.muscles[m] = target.muscles[m];
+            bound
+                .update_muscle(&act, m, &mut stepwise)
+                .expect("in range");
+        }
+        let full = deformed(&bound, &target);
+        assert!(full
+            .iter()
+            .zip(&stepwise)
+            .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
+        assert_ne!(full, mesh.positions);
+    }
+}
+
+#[test]
 fn every_muscle_of_the_synthetic_rig_moves_something() {
     let rig = symmetric_rig(Combine::Sum);
     let bound = BoundRig::bind(&rig, &dome()).expect("binds");
@@ -219,7 +255,7 @@ proptest! {
         lx in 0.01f32..5.0,
         ly in 0.01f32..5.0,
         bulge in 0.01f32..50.0,
-        extra in 0.0f32..5.0,
+        extra in 0.01f32..5.0,
         width in 0.01f32..8.0,
         a in 0.0f32..=2.0,
         jaw in 0.0f32..=4.0,
@@ -368,6 +404,32 @@ proptest! {
     }
 
     #[test]
+    fn deform_equals_pure_displacements_summed_then_the_jaw(act in activations()) {
+        // An independent evaluation: each muscle's pure function at each rest vertex,
+        // summed (Sum mode), then eqs. 16-19 written out here.
+        let rig = symmetric_rig(Combine::Sum);
+        let bound = BoundRig::bind(&rig, &dome()).expect("binds");
+        let out = deformed(&bound, &act);
+        let jaw = rig.jaw.as_ref().expect("jaw");
+        let theta = (act.jaw as f64 * jaw.degrees_per_unit as f64).to_radians();
+        for (v, rest) in dome().positions.iter().enumerate() {
+            let mut p = *rest;
+            for (m, &a) in rig.muscles.iter().zip(&act.muscles) {
+                p += muscle_displacement(&m.kind, *rest, a);
+            }
+            if let Some(&(_, w)) = jaw.weights.iter().find(|&&(j, _)| j as usize == v) {
+                let (y, z) = ((p.y - jaw.pivot.y) as f64, (p.z - jaw.pivot.z) as f64);
+                let ry = jaw.pivot.y as f64 + theta.cos() * y - theta.sin() * z;
+                let rz = jaw.pivot.z as f64 + theta.sin() * y + theta.cos() * z;
+                let w = w as f64;
+                p.y = (w * ry + (1.0 - w) * p.y as f64) as f32;
+                p.z = (w * rz + (1.0 - w) * p.z as f64) as f32;
+            }
+            prop_assert!((out[v] - p).abs().max_element() <= 1e-5, "vertex {}: {} vs {}", v, out[v], p);
+        }
+    }
+
+    #[test]
     fn each_kind_is_linear_in_its_activation(
         x in -4.0f32..4.0, y in -4.0f32..4.0, a in -2.0f32..=2.0,
     ) {
@@ -497,4 +559,31 @@ fn mouth_disc_edge_is_continuous_where_the_literal_reading_jumps() {
         "in-plane pull just outside the disc is {inplane}"
     );
     assert!(literal > 0.2, "the literal reading would jump by {literal}");
+}
+
+/// The built-in rigs bind to the built-in face, and the extremes of every range stay finite.
+#[test]
+fn builtin_rigs_bind_and_stay_finite_at_full_activation() {
+    let mesh = grimace::io::builtin::default_mesh();
+    for rig in [
+        grimace::io::builtin::default_rig(),
+        grimace::io::builtin::paper_rig(),
+    ] {
+        let bound = BoundRig::bind(&rig, &mesh).expect("built-in rig binds");
+        let full = Activations {
+            muscles: vec![2.0; rig.muscles.len()],
+            jaw: 4.0,
+        };
+        let out = deformed(&bound, &full);
+        assert!(out.iter().all(|p| p.is_finite()));
+        assert_ne!(out, mesh.positions);
+        assert_eq!(deformed(&bound, &Activations::zero(&rig)), mesh.positions);
+        for m in 0..rig.muscles.len() {
+            assert!(
+                !bound.field(m).expect("field").is_empty(),
+                "built-in muscle `{}` moves no vertex",
+                rig.muscles[m].name
+            );
+        }
+    }
 }

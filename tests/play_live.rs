@@ -205,3 +205,24 @@ fn inputs_are_mutually_exclusive_usage_errors() {
     let out = grimace().args(["play"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn the_view_needs_a_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    let (rig, table) = write_fixture(dir.path());
+    let out = grimace()
+        .args(["play", "--stdin", "--rig"])
+        .arg(&rig)
+        .arg("--table")
+        .arg(&table)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("use --headless"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

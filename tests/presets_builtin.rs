@@ -14,6 +14,9 @@ fn embedded_files_load_and_fit_together() {
     let default =
         builtin::load_rig(builtin::DEFAULT_RIG, "default.rig.ron").expect("default rig loads");
     let table = builtin::load_table(builtin::DEFAULT_TABLE, "default.au.ron").expect("table loads");
+    for rig in [&paper, &default] {
+        grimace::io::rig_file::check_rig_mesh(rig, &mesh).expect("rig fits the face");
+    }
     BoundRig::bind(&paper, &mesh).expect("paper rig binds to the face");
     BoundRig::bind(&default, &mesh).expect("default rig binds to the face");
     table

@@ -16,6 +16,20 @@ use crate::tui::app::{App, Colors, FileStamp, Mode, Question, Recovered, View};
 use crate::tui::scene::Scene;
 use crate::tui::{self, Session};
 
+/// The notes at the end of `grimace edit --help`.
+pub const AFTER_HELP: &str = "\
+Keys: ? in the editor lists every key and : command.
+
+Unsaved changes are kept in a recovery file, written a second after the last edit and at once on
+SIGHUP or SIGTERM: .NAME.recover beside the table file NAME (for the built-in table,
+$XDG_STATE_HOME/grimace/builtin.recover). The next start on the same table offers to recover
+them; the table file itself changes only when you save. Saves are atomic and keep the previous
+version as NAME~; a file changed on disk since it was loaded is overwritten only after asking.
+A lock file .NAME.lock warns when the table is already open in another grimace.
+
+A table or rig that fails to load stops grimace before the screen changes, with the message
+FILE:LINE:COLUMN: what is wrong (exit status 1).";
+
 /// Options of `grimace edit`.
 #[derive(Debug, Clone, Default, Args)]
 pub struct EditArgs {
@@ -126,11 +140,18 @@ fn describe_age(written_at: u64) -> String {
     }
 }
 
-/// An empty table for `rig` (the built-in default rig when `None`).
+/// An empty table for `rig` (the built-in default rig when `None`). A rig file given on the
+/// command line is stored as an absolute path: the table may live in another folder, and
+/// table files resolve relative rig paths against their own folder.
 fn new_table(rig: Option<&Path>) -> AuTable {
+    let rig = match rig {
+        None => PathBuf::from("builtin:default"),
+        Some(path) if crate::io::builtin::builtin_name(path).is_some() => path.to_path_buf(),
+        Some(path) => std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()),
+    };
     AuTable {
         version: TABLE_VERSION,
-        rig: rig.map_or_else(|| PathBuf::from("builtin:default"), Path::to_path_buf),
+        rig,
         aus: Default::default(),
         expressions: Default::default(),
     }
@@ -156,7 +177,7 @@ fn load_table_file(path: &Path) -> Result<Option<LoadedTable>, String> {
 }
 
 fn builtin_table() -> Result<AuTable, String> {
-    Ok(new_table(None))
+    crate::io::builtin::table("default").ok_or_else(|| "the built-in table is missing".to_string())
 }
 
 /// The built-in default rig, its mesh and the built-in AU table.
@@ -168,13 +189,15 @@ pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
 
 /// An embedded rig and its mesh, by the name after `builtin:`.
 fn builtin_rig(name: &str) -> Option<(Rig, Mesh)> {
-    let _ = name;
-    None
+    let rig = crate::io::builtin::rig(name)?;
+    let mesh_name = crate::io::builtin::builtin_name(&rig.mesh)?;
+    let mesh = crate::io::builtin::mesh(mesh_name)?;
+    Some((rig, mesh))
 }
 
 /// An embedded mesh, by the name after `builtin:`.
 fn builtin_mesh(name: &str) -> Option<Mesh> {
-    builtin_rig(name).map(|(_, mesh)| mesh)
+    crate::io::builtin::mesh(name)
 }
 
 /// The rig and mesh to edit with: `--rig` if given, else the table's rig; `--mesh` replaces

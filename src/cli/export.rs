@@ -4,28 +4,30 @@
 //! The source and state arguments ([`SourceArgs`], [`StateArgs`]) and their loading
 //! ([`load_sources`], [`activations`]) are shared with other commands that show one state.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{anyhow, bail};
 use clap::Args;
 
 use crate::facs::combo::Combo;
 use crate::facs::{AuKey, AuTable};
+use crate::io::obj;
 use crate::io::rig_file::{self, LoadedRig};
 use crate::io::table_file;
-use crate::io::{obj, LoadError};
 use crate::model::{Activations, BoundRig};
 
 /// Where the rig, mesh and AU table come from.
 #[derive(Debug, Clone, Args)]
 pub struct SourceArgs {
-    /// The rig (*.rig.ron). Default: the rig the table names.
+    /// The rig (*.rig.ron, or builtin:default, builtin:paper). Default: the rig the table
+    /// names; with neither, the built-in default face.
     #[arg(long, value_name = "RIG")]
     pub rig: Option<PathBuf>,
     /// A mesh (*.obj) to use instead of the one the rig names (same vertex order).
     #[arg(long, value_name = "MESH")]
     pub mesh: Option<PathBuf>,
-    /// The AU table (*.au.ron) for --au, --expr and --combo.
+    /// The AU table (*.au.ron, or builtin:default) for --au, --expr and --combo. Default:
+    /// the built-in table when no rig is given either.
     #[arg(long, value_name = "TABLE")]
     pub table: Option<PathBuf>,
 }
@@ -95,33 +97,35 @@ pub struct Sources {
 /// against the rig.
 pub fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
     let mesh = source.mesh.as_deref();
-    let (rig, table) = match (&source.rig, &source.table) {
+    let (rig, table, table_path) = match (&source.rig, &source.table) {
         (Some(rig_path), table_path) => {
-            let rig = load_rig(rig_path, mesh)?;
+            let rig = rig_file::load_rig_ref(rig_path, mesh)?;
             let table = match table_path {
-                Some(path) => Some(table_file::load_table_for(path, &rig.rig)?),
+                Some(path) => Some(table_file::load_table_ref_for(path, &rig.rig)?),
                 None => None,
             };
-            (rig, table)
+            (rig, table, table_path.clone())
         }
         (None, Some(table_path)) => {
             let (table, rig) = table_file::load_table_and_rig(table_path, mesh)?;
-            (rig, Some(table))
+            (rig, Some(table), Some(table_path.clone()))
         }
         (None, None) => {
-            bail!("no rig given: pass --rig RIG, or --table TABLE to use the rig it names")
+            // The built-in default face: its rig and its table.
+            let default = PathBuf::from(DEFAULT_TABLE);
+            let (table, rig) = table_file::load_table_and_rig(&default, mesh)?;
+            (rig, Some(table), Some(default))
         }
     };
     Ok(Sources {
         rig,
         table,
-        table_path: source.table.clone(),
+        table_path,
     })
 }
 
-fn load_rig(path: &Path, mesh: Option<&Path>) -> Result<LoadedRig, LoadError> {
-    rig_file::load_rig_with(path, mesh, |_| None)
-}
+/// The built-in table used when neither a rig nor a table is given.
+pub const DEFAULT_TABLE: &str = "builtin:default";
 
 /// Binds a loaded rig to its mesh, naming the rig file on failure.
 pub fn bind(rig: &LoadedRig) -> anyhow::Result<BoundRig> {

@@ -1,11 +1,14 @@
-//! `grimace import-waters DIR --out OUTDIR`: the classic Waters face as OBJ and rig.
+//! `grimace import-waters DIR --out OUTDIR`: the classic Waters face as OBJ and rig: the 18
+//! linear muscles of `muscle.dat` plus the paper's sheet and sphincter muscles and jaw, placed
+//! for that face by [`crate::face::classic`] (`--linear-only` leaves them out).
 
 use std::path::PathBuf;
 
-use anyhow::Context;
+use anyhow::{bail, Context};
 use clap::Args;
 
-use crate::io::waters::{self, ImportOptions};
+use crate::face::classic;
+use crate::io::waters::{self, ExtraMuscles, ImportOptions};
 use crate::io::{atomic, obj, rig_file};
 
 /// Arguments of `grimace import-waters`.
@@ -20,6 +23,10 @@ pub struct ImportWatersArgs {
     /// original program; vertex numbering is the same either way).
     #[arg(long)]
     pub drop_duplicates: bool,
+    /// Write only the 18 linear muscles of muscle.dat, without the paper's sheet and
+    /// sphincter muscles and jaw (which are placed for the classic face by default).
+    #[arg(long)]
+    pub linear_only: bool,
 }
 
 /// Where the data comes from, kept with the mesh written.
@@ -32,9 +39,15 @@ const ATTRIBUTION: &str =
 pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
     let options = ImportOptions {
         drop_duplicate_triangles: args.drop_duplicates,
-        extras: None,
+        extras: (!args.linear_only).then_some(classic::extra_muscles as ExtraMuscles),
     };
     let imported = waters::import_dir(&args.dir, &options)?;
+    if !args.linear_only && imported.rig.jaw.is_none() {
+        // The hook found no landmarks; ask again for the reason.
+        if let Err(e) = classic::place_extras(&imported.mesh) {
+            bail!("{e}; use --linear-only to import the 18 linear muscles alone");
+        }
+    }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the folder {}", args.out.display()))?;
     let mesh_path = args.out.join("mesh.obj");
@@ -47,12 +60,17 @@ pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
     let rig_path = args.out.join("rig.ron");
     rig_file::save_rig(&rig_path, &imported.rig)?;
     super::print(&format!(
-        "wrote {} ({} vertices, {} triangles) and {} ({} muscles)\n",
+        "wrote {} ({} vertices, {} triangles) and {} ({} muscles{})\n",
         mesh_path.display(),
         imported.mesh.vertex_count(),
         imported.mesh.triangles.len(),
         rig_path.display(),
-        imported.rig.muscles.len()
+        imported.rig.muscles.len(),
+        if imported.rig.jaw.is_some() {
+            " and a jaw"
+        } else {
+            ""
+        }
     ));
     Ok(())
 }

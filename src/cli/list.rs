@@ -8,16 +8,16 @@ use clap::Args;
 
 use crate::facs::catalogue::CATALOGUE;
 use crate::facs::AuTable;
-use crate::io::rig_file;
+use crate::io::{builtin, rig_file, table_file};
 use crate::model::{Muscle, MuscleKind, Rig, Side};
 
 /// Arguments of `grimace list`. With none, lists the FACS catalogue.
 #[derive(Debug, Args)]
 pub struct ListArgs {
-    /// List the muscles of this rig (*.rig.ron).
+    /// List the muscles of this rig (*.rig.ron, or builtin:default, builtin:paper).
     #[arg(long, value_name = "RIG")]
     pub rig: Option<PathBuf>,
-    /// List the AUs and expressions of this table (*.au.ron).
+    /// List the AUs and expressions of this table (*.au.ron, or builtin:default).
     #[arg(long, value_name = "TABLE")]
     pub table: Option<PathBuf>,
     /// List the FACS Action Unit catalogue.
@@ -29,12 +29,20 @@ pub struct ListArgs {
 pub fn run(args: &ListArgs) -> anyhow::Result<()> {
     let mut out = String::new();
     if let Some(path) = &args.rig {
-        let text = crate::io::error::read_text(path, crate::io::MAX_FILE_BYTES)?;
-        let rig = rig_file::parse_rig(&text, path)?;
+        let rig = match builtin::builtin_name(path) {
+            Some(_) => rig_file::load_rig_ref(path, None)?.rig,
+            None => {
+                let text = crate::io::error::read_text(path, crate::io::MAX_FILE_BYTES)?;
+                rig_file::parse_rig(&text, path)?
+            }
+        };
         out.push_str(&muscles(&rig));
     }
     if let Some(path) = &args.table {
-        let table = crate::io::load_table(path)?;
+        let table = match builtin::builtin_name(path) {
+            Some(_) => table_file::load_table_and_rig(path, None)?.0,
+            None => crate::io::load_table(path)?,
+        };
         if !out.is_empty() {
             out.push('\n');
         }

@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod completions;
 pub mod edit;
 pub mod export;
 pub mod gen_face;
@@ -32,6 +33,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Edit an AU table in the terminal (the default when no subcommand is given).
+    #[command(after_help = edit::AFTER_HELP)]
     Edit(edit::EditArgs),
     /// Write the built-in default face as OBJ (and, with --presets, its rigs and AU table).
     GenFace(gen_face::GenFaceArgs),
@@ -48,6 +50,8 @@ pub enum Command {
     /// Draw one state of the face as braille or ASCII text, SVG or PNG (or every AU and
     /// expression of a table with --all).
     Render(render::RenderArgs),
+    /// Write a shell completion script (bash, zsh, fish, elvish, powershell) to stdout.
+    Completions(completions::CompletionsArgs),
 }
 
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
@@ -65,6 +69,7 @@ pub fn main() -> ExitCode {
             Command::List(args) => finish("list", list::run(&args)),
             Command::Play(args) => finish("play", play::run(&args)),
             Command::Render(args) => finish("render", render::run(&args)),
+            Command::Completions(args) => completions::run(&args),
         },
     }
 }

@@ -4,19 +4,20 @@
 //! can unless `--realtime` asks it to keep the source's pace; otherwise a full-screen terminal
 //! view plays at the source's frame rate, dropping frames it cannot show in time.
 
-use std::io::{self, BufWriter, Write};
+use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
 use crate::facs::AuTable;
+use crate::io::builtin::{self, builtin_name};
 use crate::io::parse_rig;
-use crate::io::table_file::load_table_for;
+use crate::io::rig_file::load_rig_with;
+use crate::io::table_file::{load_table, load_table_for, rig_ref, RigRef};
 use crate::io::timeline::load_timeline;
-use crate::model::Rig;
+use crate::model::{Mesh, Rig};
 use crate::play::source::DEFAULT_FRAME_RATE;
 use crate::play::{
     AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, OpenFaceSource,
@@ -28,7 +29,7 @@ use crate::play::{
 #[command(after_help = "\
 INPUT:
   FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped)
-  FILE.timeline.ron   keyframes of AU combinations or activations (see docs on timelines)
+  FILE.timeline.ron   keyframes of AU combinations or activations (see docs/formats.md)
   --stdin             one frame per line: a CSV header line then rows, or JSON objects
                       {\"AU1\": 0.0, ..., \"AU45\": 0.0}
   --udp 127.0.0.1:PORT  JSON objects, one per datagram, on a loopback port (0 picks one)
@@ -50,10 +51,11 @@ pub struct PlayArgs {
     /// Listen for JSON frames on a loopback UDP address, e.g. 127.0.0.1:9000.
     #[arg(long, value_name = "ADDR")]
     pub udp: Option<String>,
-    /// The rig (default: the built-in default face).
+    /// The rig: a file, or builtin:default or builtin:paper (default: the rig the table
+    /// names, else builtin:default).
     #[arg(long, value_name = "RIG")]
     pub rig: Option<PathBuf>,
-    /// The AU table mapping AUs to activations (default: the built-in table).
+    /// The AU table mapping AUs to activations: a file or builtin:default (the default).
     #[arg(long, value_name = "TABLE")]
     pub table: Option<PathBuf>,
     /// Intensities are already on a 0-1 scale (default: OpenFace's 0-5).
@@ -65,7 +67,8 @@ pub struct PlayArgs {
     /// Draw nothing: print one line per frame and a final count.
     #[arg(long)]
     pub headless: bool,
-    /// With --headless, keep the source's pace instead of running as fast as possible.
+    /// With --headless, keep the source's pace (at --speed) instead of running as fast as
+    /// possible.
     #[arg(long, requires = "headless")]
     pub realtime: bool,
     /// Playback speed (1 = the source's frame rate; 1/16 to 16).
@@ -86,23 +89,15 @@ pub struct PlayArgs {
     /// Report frames shown, dropped and late at the end (on stderr).
     #[arg(long)]
     pub stats: bool,
+    /// Draw with ASCII characters instead of braille.
+    #[arg(long)]
+    pub ascii: bool,
 }
 
-/// Runs `grimace play`: 0 when the input was played, 1 on an error (named on stderr).
-pub fn main(args: &PlayArgs) -> ExitCode {
-    match run(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(err) => {
-            eprintln!("grimace play: {err:#}");
-            ExitCode::from(1)
-        }
-    }
-}
-
-/// Runs `grimace play`, returning the first error.
+/// Runs `grimace play`, returning the first error (named with file, line and column).
 pub fn run(args: &PlayArgs) -> Result<()> {
     check_args(args)?;
-    let (rig, table) = load_face(args)?;
+    let (rig, table, mesh) = load_face(args, !args.headless)?;
     let mapper = AuMapper::new(&table, &rig);
     let source = open_source(args, &rig, &table, &mapper)?;
     if args.headless {
@@ -114,7 +109,19 @@ pub fn run(args: &PlayArgs) -> Result<()> {
         }
         Ok(())
     } else {
-        bail!("the terminal view is not available yet; use --headless")
+        if !io::stdout().is_terminal() {
+            bail!("stdout is not a terminal: use --headless to print frames instead of drawing");
+        }
+        let mesh = mesh.context("no mesh to draw")?;
+        let summary = view::play(args, source, mesh, &rig, &table, &mapper)?;
+        println!(
+            "played {} frames, skipped {}",
+            summary.played, summary.skipped
+        );
+        if args.stats {
+            eprintln!("{}", summary.stats.summary());
+        }
+        Ok(())
     }
 }
 
@@ -135,22 +142,70 @@ fn check_args(args: &PlayArgs) -> Result<()> {
     Ok(())
 }
 
-/// The rig and table: from files when given, else the built-in default face. Headless play
-/// needs no mesh, so a rig file is only parsed then; the table is checked against the rig.
-fn load_face(args: &PlayArgs) -> Result<(Rig, AuTable)> {
-    let rig = match &args.rig {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read rig {}", path.display()))?;
-            parse_rig(&text, path)?
+/// The rig, the table and (when `need_mesh`) the mesh.
+///
+/// The rig is `--rig` (a file or `builtin:NAME`), else the rig the `--table` file names, else
+/// the built-in default rig. The table is `--table` (a file or `builtin:NAME`), else the
+/// built-in default table; it is checked against the rig. Headless play draws nothing, so a
+/// rig file's mesh is not read then.
+fn load_face(args: &PlayArgs, need_mesh: bool) -> Result<(Rig, AuTable, Option<Mesh>)> {
+    // A table file names its rig; it is read here for that, and checked against the rig below.
+    let table_file = match &args.table {
+        Some(path) if builtin_name(path).is_none() => Some((path, load_table(path)?.rig)),
+        _ => None,
+    };
+    let rig_source = match (&args.rig, &table_file) {
+        (Some(path), _) => match builtin_name(path) {
+            Some(name) => RigRef::Builtin(name.to_string()),
+            None => RigRef::File(path.clone()),
+        },
+        (None, Some((path, table_rig))) => rig_ref(path, table_rig),
+        (None, None) => RigRef::Builtin("default".into()),
+    };
+    let (rig, mesh) = match rig_source {
+        RigRef::Builtin(name) => {
+            let rig = builtin::rig(&name).with_context(|| {
+                format!("there is no built-in rig `builtin:{name}` (built-in rigs: default, paper)")
+            })?;
+            let mesh = builtin_name(&rig.mesh).and_then(builtin::mesh);
+            (rig, mesh)
         }
-        None => bail!("no --rig given and this build has no built-in face yet"),
+        RigRef::File(path) if need_mesh => {
+            let loaded = load_rig_with(&path, None, builtin::mesh)?;
+            (loaded.rig, Some(loaded.mesh))
+        }
+        RigRef::File(path) => {
+            let text = std::fs::read_to_string(&path)
+                .with_context(|| format!("cannot read rig {}", path.display()))?;
+            (parse_rig(&text, &path)?, None)
+        }
     };
-    let table = match &args.table {
-        Some(path) => load_table_for(path, &rig)?,
-        None => bail!("no --table given and this build has no built-in AU table yet"),
+    let table = match (&args.table, table_file) {
+        (_, Some((path, _))) => load_table_for(path, &rig)?,
+        (Some(path), None) => {
+            let name = builtin_name(path).unwrap_or_default();
+            let table = builtin::table(name).with_context(|| {
+                format!("there is no built-in AU table `builtin:{name}` (built-in tables: default)")
+            })?;
+            check_builtin_table(table, &rig)?
+        }
+        (None, None) => check_builtin_table(builtin::default_table(), &rig)?,
     };
-    Ok((rig, table))
+    if need_mesh && mesh.is_none() {
+        bail!(
+            "the rig's mesh `{}` is not a built-in mesh",
+            rig.mesh.display()
+        );
+    }
+    Ok((rig, table, mesh))
+}
+
+/// A built-in table must fit the rig (a custom rig needs its own `--table`).
+fn check_builtin_table(table: AuTable, rig: &Rig) -> Result<AuTable> {
+    table.check_rig(rig).map_err(|e| {
+        anyhow::anyhow!("the built-in AU table does not fit this rig ({e}); give --table")
+    })?;
+    Ok(table)
 }
 
 fn is_timeline(path: &Path) -> bool {
@@ -294,18 +349,20 @@ fn quiet_on_broken_pipe(result: io::Result<()>) -> Result<bool> {
 /// given, and its non-zero activations (`rest` when none).
 pub fn frame_line(frame: &Frame, rig: &Rig) -> String {
     let mut line = format!("{:.3}", frame.time);
-    for au in frame.aus.iter().filter(|a| a.value != 0.0) {
+    // Values that print as 0.00 are left out with the zeros.
+    let shows = |v: f32| v.abs() >= 0.005;
+    for au in frame.aus.iter().filter(|a| shows(a.value)) {
         line.push_str(&format!(" AU{}={:.2}", au.key, au.value));
     }
     line.push_str(" |");
     let mut any = false;
     for (muscle, value) in rig.muscles.iter().zip(&frame.activations.muscles) {
-        if *value != 0.0 {
+        if shows(*value) {
             line.push_str(&format!(" {}={value:.2}", muscle.name));
             any = true;
         }
     }
-    if frame.activations.jaw != 0.0 {
+    if shows(frame.activations.jaw) {
         line.push_str(&format!(" jaw={:.2}", frame.activations.jaw));
         any = true;
     }
@@ -313,4 +370,362 @@ pub fn frame_line(frame: &Frame, rig: &Rig) -> String {
         line.push_str(" rest");
     }
     line
+}
+
+/// The full-screen terminal view.
+mod view {
+    use std::io;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    use std::time::{Duration, Instant};
+
+    use anyhow::{Context, Result};
+    use crossterm::event::{self, Event as TermEvent, KeyCode, KeyEventKind, KeyModifiers};
+    use ratatui::buffer::Buffer;
+    use ratatui::layout::{Constraint, Layout, Rect};
+    use ratatui::style::{Color, Modifier, Style as TextStyle};
+    use ratatui::text::{Line, Span};
+    use ratatui::widgets::{Block, Borders, Paragraph};
+    use ratatui::Frame as TermFrame;
+
+    use super::{PlayArgs, Summary};
+    use crate::facs::AuTable;
+    use crate::model::deform::BoundRig;
+    use crate::model::{Activations, Mesh, Rig};
+    use crate::play::{AuMapper, Frame, FrameSource, Message, Player};
+    use crate::render::{
+        Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Rgb, Scene, Style,
+    };
+
+    /// The shortest time between two drawn frames: the view shows at most about 64 frames a
+    /// second (a little above 60, so a 60 fps source is not thinned by timer jitter).
+    const MIN_FRAME_INTERVAL: Duration = Duration::from_micros(15_625);
+
+    /// Restores the terminal however the view ends (return, error or panic unwinding).
+    struct TerminalGuard;
+
+    impl Drop for TerminalGuard {
+        fn drop(&mut self) {
+            ratatui::restore();
+            let _ = crossterm::execute!(io::stdout(), crossterm::cursor::Show);
+        }
+    }
+
+    /// What the view draws from.
+    struct Face {
+        mesh: Mesh,
+        bound: BoundRig,
+        renderer: Renderer,
+        positions: Vec<glam::Vec3>,
+        canvas: DotCanvas,
+        grid: CellGrid,
+        mode: CellMode,
+        colors: ColorMode,
+    }
+
+    impl Face {
+        /// Deforms the mesh to `act` and renders it into `area` of `buffer`.
+        fn draw(&mut self, act: &Activations, area: Rect, buffer: &mut Buffer) {
+            if self.bound.deform(act, &mut self.positions).is_err() {
+                // Mapped activations are clamped to range; a failure leaves the last pose.
+                return;
+            }
+            let (cols, rows) = (usize::from(area.width), usize::from(area.height));
+            self.mode.prepare(&mut self.canvas, cols, rows);
+            let mut scene = Scene::new(&self.mesh, &self.positions).with_rest(self.bound.rest());
+            // Lines coloured by how far they moved make the motion readable at a glance.
+            scene.displacement = self.colors != ColorMode::None;
+            self.renderer
+                .render(&scene, &Camera::front(), Style::Lines, &mut self.canvas);
+            self.grid.fill(&self.canvas, self.mode, self.colors);
+            for row in 0..self.grid.height.min(rows) {
+                for (col, cell) in self.grid.row(row).iter().enumerate().take(cols) {
+                    let x = area.x + col as u16;
+                    let y = area.y + row as u16;
+                    if let Some(target) = buffer.cell_mut((x, y)) {
+                        target.set_char(cell.ch);
+                        if let Some(Rgb(r, g, b)) = cell.fg {
+                            target.set_fg(Color::Rgb(r, g, b));
+                        }
+                        if let Some(Rgb(r, g, b)) = cell.bg {
+                            target.set_bg(Color::Rgb(r, g, b));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// What the status lines show.
+    struct Status {
+        current: Option<Frame>,
+        messages: Vec<String>,
+        malformed: Vec<String>,
+        ended: bool,
+    }
+
+    /// Plays in the terminal until `q` (or the frame limit); returns the counts.
+    pub fn play(
+        args: &PlayArgs,
+        source: Box<dyn FrameSource>,
+        mesh: Mesh,
+        rig: &Rig,
+        table: &AuTable,
+        mapper: &AuMapper,
+    ) -> Result<Summary> {
+        let bound = BoundRig::bind(rig, &mesh).context("cannot place the rig on its mesh")?;
+        let rest = bound.rest().to_vec();
+        let mut face = Face {
+            renderer: Renderer::new(&mesh),
+            mesh,
+            bound,
+            positions: rest,
+            canvas: DotCanvas::new(0, 0),
+            grid: CellGrid::default(),
+            mode: if args.ascii {
+                CellMode::Ascii
+            } else {
+                CellMode::Braille
+            },
+            colors: if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()) {
+                ColorMode::None
+            } else {
+                ColorMode::Ansi16
+            },
+        };
+        let reopen = {
+            let (args, rig, table, mapper) =
+                (args.clone(), rig.clone(), table.clone(), mapper.clone());
+            Box::new(move || {
+                super::open_source(&args, &rig, &table, &mapper).map_err(|e| {
+                    crate::play::SourceError::Io {
+                        what: "cannot reopen the input".into(),
+                        source: io::Error::other(format!("{e:#}")),
+                    }
+                })
+            }) as crate::play::player::Reopen
+        };
+        let reopen = args.repeat.then_some(reopen);
+        let mut player = Player::new(source, reopen, args.speed, args.strict, args.frames);
+
+        let stop = Arc::new(AtomicBool::new(false));
+        for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
+            signal_hook::flag::register(signal, Arc::clone(&stop))
+                .context("cannot watch for termination signals")?;
+        }
+        let guard = TerminalGuard;
+        let mut terminal = ratatui::try_init().context("cannot open the terminal")?;
+        let mut status = Status {
+            current: None,
+            messages: Vec::new(),
+            malformed: Vec::new(),
+            ended: false,
+        };
+        let result = run_loop(
+            &mut terminal,
+            &mut player,
+            &mut face,
+            &mut status,
+            rig,
+            &stop,
+            args,
+        );
+        drop(guard);
+        for line in &status.malformed {
+            eprintln!("{line} (row skipped)");
+        }
+        result?;
+        Ok(Summary {
+            played: player.played,
+            skipped: player.skipped,
+            stats: player.stats,
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn run_loop(
+        terminal: &mut ratatui::DefaultTerminal,
+        player: &mut Player,
+        face: &mut Face,
+        status: &mut Status,
+        rig: &Rig,
+        stop: &AtomicBool,
+        args: &PlayArgs,
+    ) -> Result<()> {
+        let mut redraw = true;
+        let mut due: Option<Instant> = None;
+        let mut last_shown_due: Option<Instant> = None;
+        loop {
+            if stop.load(Ordering::Relaxed) {
+                return Ok(());
+            }
+            // Faster sources than the display rate: frames due in between are dropped.
+            let now = Instant::now();
+            let display_ready = last_shown_due.is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
+            if display_ready {
+                if let Some((frame, when)) = player.tick(now)? {
+                    status.current = Some(frame);
+                    due = Some(when);
+                    redraw = true;
+                }
+            }
+            collect(player, status);
+            if player.is_finished() && !status.ended {
+                status.ended = true;
+                redraw = true;
+                if args.frames.is_some_and(|n| player.played >= n) {
+                    return Ok(());
+                }
+            }
+            if redraw {
+                let started = Instant::now();
+                terminal
+                    .draw(|f| draw(f, face, status, player, rig))
+                    .context("cannot draw")?;
+                let done = Instant::now();
+                if let Some(when) = due.take() {
+                    player.shown(when, done, done - started);
+                    // Spaced by due times, so a frame drawn late does not delay the next.
+                    last_shown_due = Some(when);
+                }
+                redraw = false;
+            }
+            let now = Instant::now();
+            let display_free = last_shown_due.map_or(now, |t| t + MIN_FRAME_INTERVAL);
+            let wait = match player.next_due() {
+                Some(when) => when.max(display_free).saturating_duration_since(now),
+                None if player.is_live() && !player.is_paused() => Duration::from_millis(4),
+                None => Duration::from_millis(250),
+            };
+            if !event::poll(wait).context("cannot read the keyboard")? {
+                continue;
+            }
+            match event::read().context("cannot read the keyboard")? {
+                TermEvent::Key(key) if key.kind != KeyEventKind::Release => {
+                    let now = Instant::now();
+                    match key.code {
+                        KeyCode::Char('q') | KeyCode::Esc => return Ok(()),
+                        KeyCode::Char('c') if key.modifiers.contains(KeyModifiers::CONTROL) => {
+                            return Ok(())
+                        }
+                        KeyCode::Char(' ') => player.toggle_pause(now),
+                        KeyCode::Char('.' | 'n') | KeyCode::Right => {
+                            if let Some(frame) = player.step(now)? {
+                                status.current = Some(frame);
+                            }
+                        }
+                        KeyCode::Char('+' | '=') | KeyCode::Up => player.change_speed(2.0, now),
+                        KeyCode::Char('-' | '_') | KeyCode::Down => player.change_speed(0.5, now),
+                        _ => continue,
+                    }
+                    redraw = true;
+                }
+                TermEvent::Resize(..) => redraw = true,
+                _ => {}
+            }
+        }
+    }
+
+    /// Moves the player's messages into the status (malformed rows are kept for stderr).
+    fn collect(player: &mut Player, status: &mut Status) {
+        for message in player.take_messages() {
+            let text = match message {
+                Message::Notice(text) => format!("warning: {text}"),
+                Message::Malformed(text) => {
+                    status.malformed.push(text.clone());
+                    format!("{text} (row skipped)")
+                }
+            };
+            status.messages.push(text);
+        }
+        let excess = status.messages.len().saturating_sub(2);
+        status.messages.drain(..excess);
+    }
+
+    fn draw(f: &mut TermFrame, face: &mut Face, status: &Status, player: &Player, rig: &Rig) {
+        let [main, bottom] =
+            Layout::vertical([Constraint::Min(3), Constraint::Length(3)]).areas(f.area());
+        let side_width = if main.width >= 70 { 30 } else { 0 };
+        let [viewport, side] =
+            Layout::horizontal([Constraint::Min(10), Constraint::Length(side_width)]).areas(main);
+        let rest = Activations::zero(rig);
+        let act = status.current.as_ref().map_or(&rest, |c| &c.activations);
+        face.draw(act, viewport, f.buffer_mut());
+        if side_width > 0 {
+            f.render_widget(side_panel(status, rig), side);
+        }
+        f.render_widget(status_lines(status, player), bottom);
+    }
+
+    fn side_panel<'a>(status: &'a Status, rig: &'a Rig) -> Paragraph<'a> {
+        let mut lines = Vec::new();
+        let bar = |value: f32, full: f32| {
+            let n = ((value / full).clamp(0.0, 1.0) * 10.0).round() as usize;
+            format!("{}{}", "#".repeat(n), ".".repeat(10 - n))
+        };
+        if let Some(frame) = &status.current {
+            for au in frame.aus.iter().filter(|a| a.value >= 0.005) {
+                lines.push(Line::from(format!(
+                    "AU{:<4}{:5.2} {}",
+                    au.key.to_string(),
+                    au.value,
+                    bar(au.factor, 1.0)
+                )));
+            }
+            if !frame.aus.is_empty() {
+                lines.push(Line::from(""));
+            }
+            for (muscle, value) in rig.muscles.iter().zip(&frame.activations.muscles) {
+                if *value >= 0.005 {
+                    let name: String = muscle.name.chars().take(13).collect();
+                    lines.push(Line::from(format!(
+                        "{name:<13} {value:4.2} {}",
+                        bar(*value, 2.0)
+                    )));
+                }
+            }
+            if frame.activations.jaw >= 0.005 {
+                let jaw = frame.activations.jaw;
+                lines.push(Line::from(format!(
+                    "{:<13} {jaw:4.2} {}",
+                    "jaw",
+                    bar(jaw, 4.0)
+                )));
+            }
+        }
+        Paragraph::new(lines).block(Block::default().borders(Borders::LEFT).title(" AUs "))
+    }
+
+    fn status_lines<'a>(status: &'a Status, player: &'a Player) -> Paragraph<'a> {
+        let state = if status.ended {
+            "end"
+        } else if player.is_paused() {
+            "paused"
+        } else {
+            "playing"
+        };
+        let time = status
+            .current
+            .as_ref()
+            .map_or("-".to_string(), |c| format!("{:.3} s", c.time));
+        let stats = &player.stats;
+        let first = Line::from(vec![
+            Span::styled(
+                format!(" {state} "),
+                TextStyle::default().add_modifier(Modifier::REVERSED),
+            ),
+            Span::raw(format!(
+                " {time}  x{:.2}  frames {}  shown {}  dropped {}  late {}  skipped {}",
+                player.speed(),
+                player.played,
+                stats.shown,
+                stats.dropped,
+                stats.late,
+                player.skipped
+            )),
+        ]);
+        let keys = Line::from(" space pause   . or n step   + - speed   q quit");
+        let message = Line::from(status.messages.last().cloned().unwrap_or_default());
+        Paragraph::new(vec![first, message, keys])
+    }
 }

@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 
-use crate::io::table_file::{self, RigRef};
+use crate::io::table_file;
 use crate::io::{obj, rig_file, LoadError};
 
 use crate::model::BoundRig;
@@ -87,7 +87,7 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
 }
 
 fn check_rig(path: &Path) -> Result<String, LoadError> {
-    let loaded = rig_file::load_rig_with(path, None, |_| None)?;
+    let loaded = rig_file::load_rig(path)?;
     BoundRig::bind(&loaded.rig, &loaded.mesh).map_err(|e| LoadError::new(path, e.to_string()))?;
     Ok(format!(
         "rig: {} muscles{}, mesh {} vertices",
@@ -108,15 +108,8 @@ fn check_table(path: &Path) -> Result<String, LoadError> {
         table.aus.len(),
         table.expressions.len()
     );
-    match table_file::rig_ref(path, &table.rig) {
-        RigRef::File(_) => {
-            let (_, rig) = table_file::load_table_and_rig(path, None)?;
-            Ok(format!("{counts}, rig {}", rig.path.display()))
-        }
-        RigRef::Builtin(name) => Ok(format!(
-            "{counts}; built-in rig `{name}` not checked in this build"
-        )),
-    }
+    let (_, rig) = table_file::load_table_and_rig(path, None)?;
+    Ok(format!("{counts}, rig {}", rig.path.display()))
 }
 
 #[cfg(test)]

@@ -51,7 +51,7 @@ enum Row {
 
 /// Which copy of a split vertex is meant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Copy {
+enum Margin {
     /// The only vertex (not split), or the upper copy of a split one.
     Upper,
     /// The lower copy of a split vertex.
@@ -278,9 +278,9 @@ impl<'a> Builder<'a> {
             let mut above = Vec::with_capacity(columns);
             let mut below = Vec::with_capacity(columns);
             for i in 0..columns {
-                let upper = self.push(i, j, Copy::Upper);
+                let upper = self.push(i, j, Margin::Upper);
                 let lower = if self.layout.is_split(i, j) {
-                    let lower = self.push(i, j, Copy::Lower);
+                    let lower = self.push(i, j, Margin::Lower);
                     if let Some(slit) = self.layout.slit_of(i, j) {
                         self.slits.pairs.push((slit, upper, lower));
                     }
@@ -322,9 +322,9 @@ impl<'a> Builder<'a> {
         ));
     }
 
-    fn push(&mut self, i: usize, j: usize, copy: Copy) -> u32 {
+    fn push(&mut self, i: usize, j: usize, margin: Margin) -> u32 {
         let k = self.layout.offset(i);
-        let p = point(self.layout, HALF_COLUMNS + k, j, copy);
+        let p = point(self.layout, HALF_COLUMNS + k, j, margin);
         let x = if i < HALF_COLUMNS { -p[0] } else { p[0] };
         let index = self.positions.len() as u32;
         self.positions.push(Vec3::new(
@@ -357,11 +357,11 @@ impl<'a> Builder<'a> {
 }
 
 /// The position (mm, x >= 0) of the vertex at column `i` (right half) and row `j`.
-fn point(layout: &Layout, i: usize, j: usize, copy: Copy) -> [f64; 3] {
+fn point(layout: &Layout, i: usize, j: usize, margin: Margin) -> [f64; 3] {
     let theta = layout.thetas[i];
     let y0 = row_height(layout.rows[j], theta);
     let x = surface::half_width(y0) * theta.sin();
-    let y = y0 + slit_shift(layout, x, y0, j, copy);
+    let y = y0 + slit_shift(layout, x, y0, j, margin);
     let fade = 1.0 - surface::smoothstep(0.28 * PI, 0.45 * PI, theta.abs());
     let z = surface::midline_z(y)
         + surface::depth_radius(y) * (theta.cos() - 1.0)
@@ -383,13 +383,13 @@ fn row_height(row: Row, theta: f64) -> f64 {
 /// How far a vertex moves up to open the eye into an almond and part the lips: the lid
 /// margins move apart by the lid opening, the rows around follow with a smooth falloff so
 /// no row crosses another, and the outer eye corner rises by the canthal tilt.
-fn slit_shift(layout: &Layout, x: f64, y: f64, j: usize, copy: Copy) -> f64 {
+fn slit_shift(layout: &Layout, x: f64, y: f64, j: usize, margin: Margin) -> f64 {
     if j == layout.mouth_row {
         let t = (x / layout.ch_x).min(1.0);
         let gap = LIP_GAP * (1.0 - t * t).max(0.0).sqrt();
-        return match copy {
-            Copy::Upper => gap,
-            Copy::Lower => -gap,
+        return match margin {
+            Margin::Upper => gap,
+            Margin::Lower => -gap,
         };
     }
     let s = (x - layout.en_x) / (layout.ex_x - layout.en_x);
@@ -400,9 +400,9 @@ fn slit_shift(layout: &Layout, x: f64, y: f64, j: usize, copy: Copy) -> f64 {
         * (1.0 - surface::smoothstep(layout.ex_x, layout.ex_x + 20.0, x));
     let d = y - EYE_LINE_Y;
     if j == layout.eye_row {
-        let lid = match copy {
-            Copy::Upper => upper,
-            Copy::Lower => -lower,
+        let lid = match margin {
+            Margin::Upper => upper,
+            Margin::Lower => -lower,
         };
         // corners (not split) have s = 0 or 1 where both lid openings vanish
         return lid + tilt;

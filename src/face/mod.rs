@@ -6,6 +6,7 @@
 
 pub mod anthropometry;
 pub mod au_table;
+pub mod classic;
 pub mod generator;
 pub mod groups;
 pub mod presets;

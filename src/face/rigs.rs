@@ -6,8 +6,6 @@
 //! are fractions of each muscle's own length, so the rig follows the mesh if its proportions
 //! change. Muscles are placed on the subject's right (x > 0) and mirrored exactly.
 
-use std::collections::BTreeMap;
-
 use glam::Vec3;
 use thiserror::Error;
 
@@ -159,16 +157,16 @@ const EXTRA_LINEAR: [LinearSpec; 8] = [
         name: "Buccinator",
         attachment: Anchor::Skin(44.0, -73.0, 18.0),
         insertion: Anchor::Mark("right_mouth_corner", 0.0, 0.0, 1.0),
-        zone: 30.0,
-        falloff: (0.5, 1.2),
+        zone: 35.0,
+        falloff: (0.6, 1.2),
     },
     // risorius: draws the mouth corner sideways (AU20)
     LinearSpec {
         name: "Risorius",
         attachment: Anchor::Skin(54.0, -72.0, 2.0),
         insertion: Anchor::Mark("right_mouth_corner", 0.0, 0.0, 1.0),
-        zone: 20.0,
-        falloff: (0.5, 1.15),
+        zone: 40.0,
+        falloff: (0.6, 1.2),
     },
     // mentalis: from the incisive fossa into the chin skin, raises the chin boss (AU17)
     LinearSpec {
@@ -506,15 +504,4 @@ fn round3(v: f32) -> f32 {
 
 fn rounded(p: Vec3) -> Vec3 {
     Vec3::new(round3(p.x), round3(p.y), round3(p.z))
-}
-
-/// The landmark positions of a mesh by name (single-vertex groups only), for reports.
-pub fn landmarks(mesh: &Mesh) -> BTreeMap<String, Vec3> {
-    mesh.groups
-        .iter()
-        .filter_map(|(name, members)| match members.as_slice() {
-            [v] => Some((name.clone(), mesh.positions[*v as usize])),
-            _ => None,
-        })
-        .collect()
 }

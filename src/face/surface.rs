@@ -17,7 +17,7 @@ pub const THETA_MAX: f64 = 0.5 * PI;
 /// gnathion on the midline, rising past the gonion to the ear lobe at the side.
 pub fn bottom_y(theta: f64) -> f64 {
     let side_y = -75.0;
-    let t = (1.0 - theta.abs().cos()).max(0.0).powf(0.65);
+    let t = (1.0 - theta.abs().cos()).max(0.0).powf(0.85);
     GNATHION_Y + (side_y - GNATHION_Y) * t
 }
 
@@ -132,9 +132,9 @@ fn nose(x: f64, y: f64) -> f64 {
     const HEIGHT: [(f64, f64); 9] = [
         (-54.0, 0.0),
         (SUBNASALE_Y, 4.0),
-        (-47.0, 17.0),
-        (PRONASALE_Y, 22.0),
-        (-38.0, 19.0),
+        (-47.0, 20.0),
+        (PRONASALE_Y, 26.0),
+        (-38.0, 21.5),
         (-28.0, 13.5),
         (-12.0, 8.0),
         (0.0, 3.5),
@@ -207,10 +207,10 @@ fn lips(x: f64, y: f64) -> f64 {
     let lower_h = lower_vermilion_height(x);
     let vermilion = if y >= STOMION_Y {
         let v = (y - STOMION_Y) / (upper_h + 0.8);
-        lip_roll(v) * 3.0 * window(x, 0.0, CHEILION_X, 4.0)
+        lip_roll(v) * 3.0 * smoothstep(0.0, 4.0, upper_h)
     } else {
         let v = (STOMION_Y - y) / (lower_h + 0.8);
-        lip_roll(v) * 3.5 * window(x, 0.0, CHEILION_X, 4.0)
+        lip_roll(v) * 3.5 * smoothstep(0.0, 4.0, lower_h)
     };
     let philtrum =
         -0.8 * gauss(x / 3.0) * window(y, LABIALE_SUPERIUS_Y + 1.0, SUBNASALE_Y - 1.0, 2.0);

@@ -181,19 +181,19 @@ impl OpenFaceColumns {
 
 /// `AU12_r` -> 12 (any case); other names -> `None`.
 fn au_intensity_number(name: &str) -> Option<u8> {
+    // Bytes, not string slices: a name may hold any characters.
     let bytes = name.as_bytes();
-    if bytes.len() < 5 || !bytes[..2].eq_ignore_ascii_case(b"AU") {
-        return None;
-    }
-    let digits = &name[2..name.len() - 2];
-    if !name[name.len() - 2..].eq_ignore_ascii_case("_r")
-        || digits.is_empty()
-        || digits.len() > 2
-        || !digits.bytes().all(|b| b.is_ascii_digit())
+    if bytes.len() < 5
+        || !bytes[..2].eq_ignore_ascii_case(b"AU")
+        || !bytes[bytes.len() - 2..].eq_ignore_ascii_case(b"_r")
     {
         return None;
     }
-    let number: u8 = digits.parse().ok()?;
+    let digits = &bytes[2..bytes.len() - 2];
+    if digits.len() > 2 || !digits.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    let number = digits.iter().fold(0u8, |n, d| n * 10 + (d - b'0'));
     (number >= 1).then_some(number)
 }
 
@@ -520,8 +520,10 @@ mod tests {
 
     #[test]
     fn bom_and_au_name_variants() {
-        let columns =
-            OpenFaceColumns::from_header("\u{feff}frame,au9_R,AU100_r,AU_r,AU00_r").unwrap();
+        let columns = OpenFaceColumns::from_header(
+            "\u{feff}frame,au9_R,AU100_r,AU_r,AU00_r,aU\u{fffd}/,AU\u{e9}_r",
+        )
+        .unwrap();
         assert_eq!(columns.frame, Some(0));
         assert_eq!(
             columns.aus,

@@ -16,7 +16,7 @@ use glam::Vec3;
 use serde::{Deserialize, Deserializer};
 
 use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
-use super::{atomic, obj, ron_text};
+use super::{atomic, builtin, obj, ron_text};
 use crate::model::field::validate_muscle;
 use crate::model::{
     BindError, Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side,
@@ -61,15 +61,51 @@ pub fn mesh_ref(rig_path: &Path, mesh: &Path) -> MeshRef {
     MeshRef::File(folder.join(mesh))
 }
 
-/// The built-in meshes known to [`load_rig`]. None are wired in yet; callers that have
-/// embedded meshes pass their own resolver to [`load_rig_with`].
-fn default_builtin_meshes(_name: &str) -> Option<Mesh> {
-    None
+/// Loads a rig file and the mesh it names (a file, or a built-in mesh of
+/// [`super::builtin`]), and checks them against each other.
+pub fn load_rig(path: &Path) -> Result<LoadedRig, LoadError> {
+    load_rig_with(path, None, builtin::mesh)
 }
 
-/// Loads a rig file and the mesh it names, and checks them against each other.
-pub fn load_rig(path: &Path) -> Result<LoadedRig, LoadError> {
-    load_rig_with(path, None, default_builtin_meshes)
+/// Loads a rig by reference: `builtin:NAME` for a rig embedded in grimace (see
+/// [`super::builtin`]), or a rig file. `mesh_override` replaces the mesh the rig names.
+pub fn load_rig_ref(
+    reference: &Path,
+    mesh_override: Option<&Path>,
+) -> Result<LoadedRig, LoadError> {
+    let Some(name) = builtin::builtin_name(reference) else {
+        return load_rig_with(reference, mesh_override, builtin::mesh);
+    };
+    let rig = builtin::rig(name).ok_or_else(|| {
+        LoadError::new(
+            reference,
+            format!("there is no built-in rig named `{name}`; the built-in rigs are builtin:default and builtin:paper"),
+        )
+    })?;
+    let (mesh, mesh_path) = match mesh_override {
+        Some(file) => (obj::read_obj(file)?, Some(file.to_path_buf())),
+        None => {
+            let mesh = builtin::builtin_name(&rig.mesh)
+                .and_then(builtin::mesh)
+                .ok_or_else(|| {
+                    LoadError::new(
+                        reference,
+                        format!(
+                            "the built-in rig names the mesh `{}`, which is not built in",
+                            rig.mesh.display()
+                        ),
+                    )
+                })?;
+            (mesh, None)
+        }
+    };
+    check_rig_mesh(&rig, &mesh).map_err(|issue| LoadError::new(reference, issue.to_string()))?;
+    Ok(LoadedRig {
+        rig,
+        mesh,
+        path: reference.to_path_buf(),
+        mesh_path,
+    })
 }
 
 /// Loads a rig file; `mesh_override` replaces the mesh the rig names (as `--mesh` does on the

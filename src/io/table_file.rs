@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
-use super::rig_file::{load_rig_with, LoadedRig, BUILTIN_PREFIX};
-use super::{atomic, ron_text};
+use super::rig_file::{load_rig_ref, LoadedRig, BUILTIN_PREFIX};
+use super::{atomic, builtin, ron_text};
 use crate::facs::table::TableError;
 use crate::facs::{AuKey, AuTable, TABLE_VERSION};
 use crate::model::Rig;
@@ -46,38 +46,64 @@ pub fn load_table_for(path: &Path, rig: &Rig) -> Result<AuTable, LoadError> {
     Ok(table)
 }
 
-/// Loads a table file and the rig file it names (with that rig's mesh, or `mesh_override`),
-/// and checks them against each other. Errors about the rig reference point at the table's
-/// `rig` field; a table naming a built-in rig is refused here (callers that have built-in
-/// rigs resolve [`rig_ref`] themselves).
+/// Loads a table by reference (`builtin:NAME` for a table embedded in grimace, or a table
+/// file) and the rig it names (built in, or a file relative to the table), with that rig's
+/// mesh or `mesh_override`, and checks them against each other. Errors about the rig
+/// reference point at the table's `rig` field.
 pub fn load_table_and_rig(
     path: &Path,
     mesh_override: Option<&Path>,
 ) -> Result<(AuTable, LoadedRig), LoadError> {
-    let text = read_text(path, MAX_FILE_BYTES)?;
-    let table = parse_table(&text, path)?;
+    let (table, text) = match builtin::builtin_name(path) {
+        Some(name) => {
+            let table = builtin::table(name).ok_or_else(|| {
+                LoadError::new(
+                    path,
+                    format!("there is no built-in table named `{name}`; the built-in table is builtin:default"),
+                )
+            })?;
+            let text = table_to_ron(&table);
+            (table, text)
+        }
+        None => {
+            let text = read_text(path, MAX_FILE_BYTES)?;
+            (parse_table(&text, path)?, text)
+        }
+    };
     let at_rig = |message: String| match ron_text::find_field(&text, 0, "rig") {
         Some(offset) => LoadError::at_offset(path, &text, offset, message),
         None => LoadError::new(path, message),
     };
     let rig_path = match rig_ref(path, &table.rig) {
-        RigRef::File(file) => file,
-        RigRef::Builtin(name) => {
-            return Err(at_rig(format!(
-                "the built-in rig `{name}` cannot be loaded here; give a rig file"
-            )))
+        RigRef::File(file) => {
+            if !file.is_file() {
+                return Err(at_rig(format!(
+                    "the rig file `{}` does not exist (paths are relative to the table file)",
+                    file.display()
+                )));
+            }
+            file
         }
+        RigRef::Builtin(_) => table.rig.clone(),
     };
-    if !rig_path.is_file() {
-        return Err(at_rig(format!(
-            "the rig file `{}` does not exist (paths are relative to the table file)",
-            rig_path.display()
-        )));
-    }
-    let rig = load_rig_with(&rig_path, mesh_override, |_| None)
+    let rig = load_rig_ref(&rig_path, mesh_override)
         .map_err(|e| at_rig(format!("the rig it names does not load: {e}")))?;
     check_table_rig(&table, &rig.rig, &text, path)?;
     Ok((table, rig))
+}
+
+/// Loads a table by reference (`builtin:NAME` or a file) and checks it against a rig.
+pub fn load_table_ref_for(path: &Path, rig: &Rig) -> Result<AuTable, LoadError> {
+    match builtin::builtin_name(path) {
+        Some(name) => {
+            let table = builtin::table(name).ok_or_else(|| {
+                LoadError::new(path, format!("there is no built-in table named `{name}`"))
+            })?;
+            check_table_rig(&table, rig, &table_to_ron(&table), path)?;
+            Ok(table)
+        }
+        None => load_table_for(path, rig),
+    }
 }
 
 /// Checks a parsed table against a rig, locating the error in the table's text.

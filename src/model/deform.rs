@@ -11,12 +11,18 @@
 use std::collections::BTreeSet;
 
 use glam::Vec3;
+use rayon::prelude::*;
 use thiserror::Error;
 
 use super::activations::{ActivationError, Activations, MUSCLE_RANGE};
 use super::field::{validate_muscle, Field};
 use super::mesh::{Mesh, MeshError};
 use super::rig::{Combine, Rig};
+
+/// Meshes with at least this many vertices are deformed in parallel chunks.
+pub const PARALLEL_MIN_VERTICES: usize = 32_768;
+/// Vertices per parallel chunk.
+const PARALLEL_CHUNK: usize = 16_384;
 
 /// Largest coordinate magnitude a bound rig may reach at full activation. Far beyond any
 /// face, and far enough from `f32::MAX` that sums and the jaw rotation stay finite.
@@ -76,6 +82,9 @@ pub enum BindError {
     /// A jaw vertex is listed twice.
     #[error("jaw: vertex {0} is listed twice")]
     JawDuplicateVertex(u32),
+    /// The rig and mesh together have more `(vertex, muscle)` pairs than can be indexed.
+    #[error("the muscles influence more than {} (vertex, muscle) pairs", u32::MAX)]
+    TooManyPairs,
     /// A muscle would move vertices to astronomically large coordinates.
     #[error("muscle `{muscle}` moves vertex {vertex} beyond any usable coordinate")]
     OutOfReach {
@@ -175,12 +184,12 @@ impl BoundRig {
             row_jaw_weight: Vec::new(),
             jaw,
         };
-        bound.build_rows();
+        bound.build_rows()?;
         Ok(bound)
     }
 
     /// Lays the fields out per vertex (CSR), entries of a row in muscle order.
-    fn build_rows(&mut self) {
+    fn build_rows(&mut self) -> Result<(), BindError> {
         let n = self.rest.len();
         let mut counts = vec![0u32; n];
         for field in &self.fields {
@@ -195,7 +204,7 @@ impl BoundRig {
             if c > 0 {
                 row_of[v] = self.row_vertex.len() as u32;
                 self.row_vertex.push(v as u32);
-                total += c;
+                total = total.checked_add(c).ok_or(BindError::TooManyPairs)?;
                 self.row_start.push(total);
             }
         }
@@ -230,6 +239,7 @@ impl BoundRig {
                 }
             }
         }
+        Ok(())
     }
 
     /// The rig as bound.
@@ -271,21 +281,17 @@ impl BoundRig {
             out.resize(n, Vec3::ZERO);
         }
         let average = self.rig.combine == Combine::Average;
-        let muscles = &act.muscles;
-        // Walk the vertices once: runs of uninfluenced vertices are copied from rest, each
-        // influenced vertex is written once.
-        let mut next = 0usize;
-        for (row, &v) in self.row_vertex.iter().enumerate() {
-            let v = v as usize;
-            out[next..v].copy_from_slice(&self.rest[next..v]);
-            out[v] = if average {
-                self.row_position::<true>(row, v, muscles)
-            } else {
-                self.row_position::<false>(row, v, muscles)
-            };
-            next = v + 1;
+        if n >= PARALLEL_MIN_VERTICES {
+            // Large meshes: independent vertex ranges on the rayon pool. Each vertex's
+            // arithmetic is the same as on one thread, so the result is identical.
+            out.par_chunks_mut(PARALLEL_CHUNK)
+                .enumerate()
+                .for_each(|(i, chunk)| {
+                    self.fill_range(i * PARALLEL_CHUNK, chunk, &act.muscles, average)
+                });
+        } else {
+            self.fill_range(0, out, &act.muscles, average);
         }
-        out[next..].copy_from_slice(&self.rest[next..]);
         if let (Some(jaw), Some(turn)) = (&self.jaw, self.jaw_turn(act.jaw)) {
             for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
                 let p = &mut out[v as usize];
@@ -293,6 +299,27 @@ impl BoundRig {
             }
         }
         Ok(())
+    }
+
+    /// Writes the post-muscle positions of the vertices `start..start + out.len()` into `out`:
+    /// runs of uninfluenced vertices are copied from rest, each influenced vertex is written
+    /// once.
+    fn fill_range(&self, start: usize, out: &mut [Vec3], muscles: &[f32], average: bool) {
+        let end = start + out.len();
+        let first = self.row_vertex.partition_point(|&v| (v as usize) < start);
+        let last = self.row_vertex.partition_point(|&v| (v as usize) < end);
+        let mut next = start;
+        for (row, &v) in self.row_vertex[first..last].iter().enumerate() {
+            let (row, v) = (first + row, v as usize);
+            out[next - start..v - start].copy_from_slice(&self.rest[next..v]);
+            out[v - start] = if average {
+                self.row_position::<true>(row, v, muscles)
+            } else {
+                self.row_position::<false>(row, v, muscles)
+            };
+            next = v + 1;
+        }
+        out[next - start..].copy_from_slice(&self.rest[next..end]);
     }
 
     /// Recomputes, from rest, exactly the vertices in the field of `muscle`, jaw included.

@@ -282,11 +282,15 @@ impl SheetShape {
 
     /// Eq. 11 with n = 1: the profile along the axis as a function of `lambda`
     /// (0 on the attachment line, 1 on the insertion line, `delta` at the far end).
+    ///
+    /// `cos((1 - lambda) pi/2)` is evaluated as `sin(lambda pi/2)` and
+    /// `cos((lambda - 1)/(delta - 1) pi/2)` as `sin((delta - lambda)/(delta - 1) pi/2)`: the
+    /// same numbers, but exactly 0 on the two end lines.
     pub fn axial_factor(&self, lambda: f64) -> f64 {
         if (0.0..=1.0).contains(&lambda) {
-            ((1.0 - lambda) * FRAC_PI_2).cos()
+            (lambda * FRAC_PI_2).sin()
         } else if lambda > 1.0 && lambda <= self.delta {
-            ((lambda - 1.0) / (self.delta - 1.0) * FRAC_PI_2).cos()
+            ((self.delta - lambda) / (self.delta - 1.0) * FRAC_PI_2).sin()
         } else {
             0.0
         }
@@ -407,12 +411,13 @@ pub fn validate_muscle(muscle: &Muscle) -> Result<(), BindError> {
                     "the insertion line's midpoint coincides with the attachment line's".into(),
                 ));
             }
-            // A relative slack of 1e-6 accepts a length written as the hand-computed distance.
-            if !(m.length.is_finite() && m.length as f64 >= shape.span * (1.0 - 1e-6)) {
+            // L = |Ac lc| would end the sheet at full strength on its insertion line: a tear.
+            if !(m.length.is_finite() && m.length as f64 > shape.span) {
                 return Err(bad(
                     "length",
                     format!(
-                        "{} must be finite and at least the attachment-to-insertion distance {:.6}",
+                        "{} must be finite and longer than the attachment-to-insertion distance \
+                         {:.6} (a sheet ending on its insertion line tears the skin there)",
                         m.length, shape.span
                     ),
                 ));
@@ -634,7 +639,7 @@ mod tests {
         assert_eq!(at(-1.5), Vec3::ZERO);
         assert_eq!(at(3.0), Vec3::ZERO);
         // The attachment line itself does not move (lambda = 0).
-        assert!(at(2.0).length() < 1e-7);
+        assert_eq!(at(2.0), Vec3::ZERO);
     }
 
     #[test]
@@ -730,14 +735,19 @@ mod tests {
 
         let h = sheet();
         assert!(validate_muscle(&named(MuscleKind::Sheet(h.clone()))).is_ok());
-        // |Ac lc| = 2 exactly: a length of 2 is accepted, 1.99 is not.
+        // |Ac lc| = 2: the sheet must reach beyond its insertion line.
+        let longer = Sheet {
+            length: 2.01,
+            ..h.clone()
+        };
+        assert!(validate_muscle(&named(MuscleKind::Sheet(longer))).is_ok());
         let exact = Sheet {
             length: 2.0,
             ..h.clone()
         };
-        assert!(validate_muscle(&named(MuscleKind::Sheet(exact))).is_ok());
+        assert_eq!(parameter_of(MuscleKind::Sheet(exact)), "length");
         let bad = Sheet {
-            length: 1.99,
+            length: 1.5,
             ..h.clone()
         };
         assert_eq!(parameter_of(MuscleKind::Sheet(bad)), "length");

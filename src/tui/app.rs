@@ -182,9 +182,11 @@ pub enum Colors {
 }
 
 impl Colors {
-    /// Reads NO_COLOR and COLORTERM the way most terminal programs do.
+    /// Reads NO_COLOR, TERM=dumb and COLORTERM the way most terminal programs do.
     pub fn from_env() -> Colors {
-        if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()) {
+        if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty())
+            || std::env::var("TERM").is_ok_and(|t| t == "dumb")
+        {
             return Colors::None;
         }
         match std::env::var("COLORTERM").as_deref() {
@@ -245,7 +247,7 @@ impl InputKind {
             InputKind::RecordKey => "record as AU (e.g. 12, L12): ".into(),
             InputKind::RecordName(key) => format!("name of AU {key}: "),
             InputKind::Rename(key) => format!("rename AU {key}: "),
-            InputKind::AddAu => "add AU [intensity 0-2] (e.g. 12 0.5): ".into(),
+            InputKind::AddAu => "add AU [intensity 0-2] (e.g. 12 0.5, 12C, 6+12B): ".into(),
             InputKind::ExpressionName => "expression name = combination (e.g. smile 6+12): ".into(),
         }
     }
@@ -454,9 +456,14 @@ impl App {
         self.scene.rig()
     }
 
-    /// True when the table differs from the file.
+    /// True when the table differs from the file (or from the built-in table).
     pub fn dirty(&self) -> bool {
-        self.table != self.saved_table || (self.file_stamp.is_none() && self.file.is_some())
+        self.table != self.saved_table
+    }
+
+    /// True when the table file does not exist yet (`:w` creates it).
+    pub fn new_file(&self) -> bool {
+        self.file.is_some() && self.file_stamp.is_none()
     }
 
     /// The selected row.

@@ -42,7 +42,7 @@ pub struct Session {
 }
 
 /// Runs the editor until the user quits or a signal stops it.
-pub fn run(mut app: App, session: Session) -> anyhow::Result<()> {
+pub fn run(mut app: App, mut session: Session) -> anyhow::Result<()> {
     use std::io::IsTerminal;
     if !io::stdin().is_terminal() || !io::stdout().is_terminal() {
         anyhow::bail!(
@@ -56,7 +56,13 @@ pub fn run(mut app: App, session: Session) -> anyhow::Result<()> {
     app.size = (size.width, size.height);
     let mut loop_state = LoopState::default();
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        event_loop(&mut app, &session, &signals, &mut terminal, &mut loop_state)
+        event_loop(
+            &mut app,
+            &mut session,
+            &signals,
+            &mut terminal,
+            &mut loop_state,
+        )
     }));
     let result = match result {
         Ok(result) => result,
@@ -87,7 +93,7 @@ struct LoopState {
 
 fn event_loop<W: Write>(
     app: &mut App,
-    session: &Session,
+    session: &mut Session,
     signals: &term::Signals,
     terminal: &mut Terminal<CrosstermBackend<W>>,
     state: &mut LoopState,
@@ -148,7 +154,7 @@ pub fn draw<W: Write>(terminal: &mut Terminal<CrosstermBackend<W>>, app: &App) -
 }
 
 /// Runs one action and its effects (feeding effect outcomes back as actions).
-fn apply(app: &mut App, session: &Session, state: &mut LoopState, action: Action) {
+fn apply(app: &mut App, session: &mut Session, state: &mut LoopState, action: Action) {
     let mut queue = vec![action];
     while let Some(action) = queue.pop() {
         state.redraw = true;
@@ -172,6 +178,10 @@ fn apply(app: &mut App, session: &Session, state: &mut LoopState, action: Action
                         if let Err(e) = recovery::remove(path) {
                             app.warn(format!("could not remove {}: {e}", path.display()));
                         }
+                    }
+                    // After "save as" the unsaved state belongs to the new file.
+                    if session.recovery.is_some() {
+                        session.recovery = recovery::recovery_path(app.file.as_deref());
                     }
                 }
                 Effect::Quit => state.quit = true,
@@ -257,7 +267,7 @@ fn mouse_actions(app: &App, mouse: MouseEvent, drag: &mut Option<(u16, u16)>) ->
         return Vec::new();
     }
     let area = Rect::new(0, 0, app.size.0, app.size.1);
-    let Some(panels) = view::layout(area) else {
+    let Some(panels) = view::layout(area, app.focus) else {
         return Vec::new();
     };
     let (x, y) = (mouse.column, mouse.row);
@@ -392,7 +402,7 @@ mod tests {
     #[test]
     fn dragging_in_the_viewport_rotates() {
         let app = app();
-        let panels = view::layout(Rect::new(0, 0, 120, 40)).unwrap();
+        let panels = view::layout(Rect::new(0, 0, 120, 40), Focus::Muscles).unwrap();
         let (x, y) = (panels.viewport.x + 10, panels.viewport.y + 10);
         let mut drag = None;
         assert!(actions_for(

@@ -14,6 +14,7 @@ pub struct Scene {
     bound: BoundRig,
     mesh: Mesh,
     positions: Vec<Vec3>,
+    generation: u64,
 }
 
 impl Scene {
@@ -26,6 +27,7 @@ impl Scene {
             bound,
             mesh,
             positions,
+            generation: 0,
         })
     }
 
@@ -44,15 +46,22 @@ impl Scene {
         &self.positions
     }
 
+    /// Counts changes of the positions, so a view can tell whether it must draw the face again.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
     /// Recomputes every deformed position. Activations the model refuses (the editor keeps
     /// them in range, so this does not happen) leave the face as it was.
     pub fn deform(&mut self, activations: &Activations) {
+        self.generation += 1;
         let _ = self.bound.deform(activations, &mut self.positions);
     }
 
     /// Recomputes the region of one muscle (or everything for the jaw, `None`), after
     /// `activations` changed in that muscle only.
     pub fn update_muscle(&mut self, activations: &Activations, muscle: Option<usize>) {
+        self.generation += 1;
         let updated = match muscle {
             Some(i) => self
                 .bound

@@ -638,18 +638,24 @@ fn rename(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
     edited(app, fx);
 }
 
-fn add_au(app: &mut App, key: AuKey, intensity: f32, fx: &mut Vec<Effect>) {
+/// Adds an AU (`12`) or a combination with FACS intensities (`12C`, `6+12B`) at `intensity`
+/// to the current state.
+fn add_au(app: &mut App, what: &str, intensity: f32, fx: &mut Vec<Effect>) {
     if !intensity.is_finite() || !(0.0..=2.0).contains(&intensity) {
         app.error(format!(
             "intensity must be between 0 and 2; {intensity} rejected"
         ));
         return;
     }
-    match table_ops::activations_of(&app.table, key, app.rig()) {
+    let add = match what.parse::<AuKey>() {
+        Ok(key) => table_ops::activations_of(&app.table, key, app.rig()),
+        Err(_) => table_ops::evaluate(&app.table, what, app.rig()),
+    };
+    match add {
         Ok(add) => {
             let sum = table_ops::add_scaled(&app.activations, &add, intensity);
             replace_activations(app, sum, None, fx);
-            app.info(format!("added AU {key} at {}", format_value(intensity)));
+            app.info(format!("added {what} at {}", format_value(intensity)));
         }
         Err(e) => app.error(e),
     }
@@ -748,12 +754,10 @@ fn submit(app: &mut App, input: Input, fx: &mut Vec<Effect>) {
             let mut words = text.split_whitespace();
             match words.next() {
                 None => app.error("type an AU number, e.g. 12 0.5"),
-                Some(k) => {
-                    if let Some(key) = parse_key(app, k) {
-                        let intensity = words.next().map_or(Some(1.0), |w| parse_value(app, w));
-                        if let Some(i) = intensity {
-                            add_au(app, key, i, fx);
-                        }
+                Some(what) => {
+                    let intensity = words.next().map_or(Some(1.0), |w| parse_value(app, w));
+                    if let Some(i) = intensity {
+                        add_au(app, what, i, fx);
                     }
                 }
             }
@@ -871,12 +875,10 @@ fn run_command(app: &mut App, line: &str, fx: &mut Vec<Effect>) {
             _ => app.error("usage: :rename N NAME"),
         },
         "add" => match args.as_slice() {
-            [k] | [k, _] => {
-                if let Some(key) = parse_key(app, k) {
-                    let intensity = args.get(1).map_or(Some(1.0), |w| parse_value(app, w));
-                    if let Some(i) = intensity {
-                        add_au(app, key, i, fx);
-                    }
+            [what] | [what, _] => {
+                let intensity = args.get(1).map_or(Some(1.0), |w| parse_value(app, w));
+                if let Some(i) = intensity {
+                    add_au(app, what, i, fx);
                 }
             }
             _ => app.error("usage: :add N [INTENSITY], e.g. :add 12 0.5"),
@@ -1379,6 +1381,13 @@ mod tests {
         );
         command(&mut app, "add 12 3");
         assert!(error(&app).contains("intensity must be between 0 and 2"));
+        command(&mut app, "zero");
+        command(&mut app, "add 12C");
+        assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+        command(&mut app, "add 12A 0.5");
+        assert!((muscle(&app, "L_Zygomatic_Major") - 0.7).abs() < 1e-6);
+        command(&mut app, "add 12Z");
+        assert!(error(&app).starts_with("`12Z`"), "{}", error(&app));
         command(&mut app, "rename 12 Smile wide");
         assert_eq!(app.table.aus[&AuKey::new(12)].name, "Smile wide");
         command(&mut app, "load 4");
@@ -1421,7 +1430,7 @@ mod tests {
         assert!(matches!(&app.mode, Mode::Input(i) if i.text == "1 "));
         typed(&mut app, "0.5");
         update(&mut app, Action::InputSubmit);
-        assert_eq!(app.message.as_ref().unwrap().text, "added AU 1 at 0.50");
+        assert_eq!(app.message.as_ref().unwrap().text, "added 1 at 0.50");
     }
 
     #[test]
@@ -1735,6 +1744,31 @@ mod tests {
         typed(&mut app, "grin = 12E");
         update(&mut app, Action::InputSubmit);
         assert_eq!(app.table.expressions["grin"], "12E");
+    }
+
+    #[test]
+    fn table_selection_record_suggestion_and_enter_on_a_muscle() {
+        let mut app = app();
+        command(&mut app, "record 1 Brow");
+        update(&mut app, Action::SelectTableItem(1));
+        assert_eq!((app.focus, app.table_selected), (Focus::Table, 1));
+        update(&mut app, Action::SelectTableItem(9));
+        assert_eq!(app.table_selected, 1, "no such line: the selection stays");
+        update(&mut app, Action::StartRecord);
+        assert!(
+            matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::RecordKey && i.text == "12")
+        );
+        update(&mut app, Action::InputSubmit);
+        assert!(
+            matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::RecordName(AuKey::new(12)) && i.text == "Lip Corner Puller")
+        );
+        update(&mut app, Action::Cancel);
+        update(&mut app, Action::SwitchFocus);
+        update(&mut app, Action::Activate);
+        assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Value));
+        update(&mut app, Action::Cancel);
+        update(&mut app, Action::StartFind);
+        assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Find));
     }
 
     #[test]

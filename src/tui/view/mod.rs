@@ -13,7 +13,7 @@ use ratatui::text::Line;
 use ratatui::widgets::{Paragraph, Wrap};
 use ratatui::Frame;
 
-use super::app::{App, Mode, MIN_SIZE};
+use super::app::{App, Focus, Mode, MIN_SIZE};
 use theme::Theme;
 
 /// Where each panel goes.
@@ -31,8 +31,9 @@ pub struct Panels {
     pub line: Rect,
 }
 
-/// The panels for a terminal area, or `None` when it is too small to be useful.
-pub fn layout(area: Rect) -> Option<Panels> {
+/// The panels for a terminal area, or `None` when it is too small to be useful. In narrow
+/// terminals the muscle list and the AU table share a column; the focused one gets more of it.
+pub fn layout(area: Rect, focus: Focus) -> Option<Panels> {
     if area.width < MIN_SIZE.0 || area.height < MIN_SIZE.1 {
         return None;
     }
@@ -62,7 +63,10 @@ pub fn layout(area: Rect) -> Option<Panels> {
         // Narrow: muscles above table on the left, face on the right.
         let [left, viewport] =
             Layout::horizontal([Constraint::Length(32), Constraint::Min(20)]).areas(body);
-        let table_height = (left.height / 3).max(5);
+        let table_height = match focus {
+            Focus::Muscles => (left.height / 3).max(5),
+            Focus::Table => (left.height * 2 / 3).max(5),
+        };
         let [muscles, table] =
             Layout::vertical([Constraint::Min(5), Constraint::Length(table_height)]).areas(left);
         Some(Panels {
@@ -79,7 +83,7 @@ pub fn layout(area: Rect) -> Option<Panels> {
 pub fn draw(app: &App, frame: &mut Frame) {
     let area = frame.area();
     let theme = Theme::new(app.colors);
-    let Some(panels) = layout(area) else {
+    let Some(panels) = layout(area, app.focus) else {
         let text = format!(
             "Terminal too small: {}x{}. grimace needs at least {}x{}. Enlarge the window (q quits).",
             area.width, area.height, MIN_SIZE.0, MIN_SIZE.1

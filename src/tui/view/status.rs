@@ -11,7 +11,11 @@ use crate::tui::keymap;
 /// Draws the status line.
 pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     buf.set_style(area, theme.status());
-    let dirty = if app.dirty() { " [+]" } else { "" };
+    let dirty = match (app.dirty(), app.new_file()) {
+        (true, _) => " [+]",
+        (false, true) => " [new]",
+        (false, false) => "",
+    };
     let left = format!(" {} ", app.mode.name());
     let file = format!(" {}{dirty} ", app.file_label());
     let view = format!(

@@ -19,10 +19,22 @@ use crate::tui::app::{App, Colors, Row};
 /// The renderer and its buffers, kept between frames so drawing allocates nothing.
 #[derive(Debug, Clone, Default)]
 pub struct RenderCache {
+    /// What the grid shows; the face is drawn again only when this changes.
+    key: Option<CacheKey>,
     renderer: Option<Renderer>,
     canvas: Option<DotCanvas>,
     grid: CellGrid,
     overlays: Vec<Overlay>,
+}
+
+/// Everything the picture depends on.
+#[derive(Debug, Clone, PartialEq)]
+struct CacheKey {
+    generation: u64,
+    view: crate::tui::app::View,
+    area: Rect,
+    selected: Option<usize>,
+    colors: Colors,
 }
 
 /// The cache as the state holds it: drawing reads the state and only reuses these buffers.
@@ -94,7 +106,29 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         return;
     }
     let mut cache = app.render_cache.borrow_mut();
+    let selected = match app.selected_row() {
+        Row::Muscle(i) => Some(i),
+        Row::Jaw => None,
+    };
+    let key = CacheKey {
+        generation: app.scene.generation(),
+        view: app.view.clone(),
+        area: inner,
+        selected: selected.filter(|_| app.view.show_muscles),
+        colors: app.colors,
+    };
+    let fresh = cache.key.as_ref() == Some(&key);
+    if !fresh {
+        render_face(app, &mut cache, inner, selected);
+        cache.key = Some(key);
+    }
+    copy_cells(app, theme, &cache.grid, inner, buf);
+}
+
+/// Renders the face into the cache's cell grid.
+fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option<usize>) {
     let RenderCache {
+        key: _,
         renderer,
         canvas,
         grid,
@@ -108,10 +142,6 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     overlays.clear();
     let palette = Palette::default();
     if app.view.show_muscles {
-        let selected = match app.selected_row() {
-            Row::Muscle(i) => Some(i),
-            Row::Jaw => None,
-        };
         muscle_overlays(app.rig(), selected, &palette, overlays);
     }
     let mut scene = Scene::new(mesh, app.scene.positions()).with_overlays(overlays);
@@ -119,6 +149,10 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     scene.displacement = app.view.show_displacement;
     renderer.render(&scene, &camera(app), app.view.style, canvas);
     grid.fill(canvas, mode, color_mode(app.colors));
+}
+
+/// Copies the cell grid into the ratatui buffer.
+fn copy_cells(app: &App, theme: &Theme, grid: &CellGrid, inner: Rect, buf: &mut Buffer) {
     for row in 0..grid.height.min(usize::from(inner.height)) {
         for (col, cell) in grid
             .row(row)
