@@ -1,14 +1,16 @@
-//! One editor frame on a 200x60 terminal: project, rasterize with hidden-line removal, and
-//! fill the braille cell grid (plus the deformation once the engine provides it).
+//! One editor frame on a 200x60 terminal on the default face: deform, project, rasterize
+//! with hidden-line removal, and fill the braille cell grid.
 //!
-//! Run: `cargo bench --bench render -- --warm-up-time 1 --measurement-time 3`
-//! (set `GRIMACE_SHARED` to use the classic face from the shared reference folder).
+//! Run: `cargo bench --bench render -- --warm-up-time 1 --measurement-time 3`. The CPU time
+//! per frame is printed first (set `GRIMACE_BENCH_CPU_ONLY=1` to print only that); with
+//! `GRIMACE_SHARED` set, the classic face is measured too.
 
 use std::path::PathBuf;
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use glam::Vec3;
-use grimace::model::Mesh;
+use grimace::io::builtin;
+use grimace::model::{BoundRig, Mesh};
 use grimace::render::{Camera, CellGrid, CellMode, ColorMode, Renderer, Scene, Style};
 
 /// The terminal the benchmark draws for.
@@ -41,74 +43,80 @@ fn classic_face() -> Option<Mesh> {
     Mesh::new(positions, triangles).ok()
 }
 
-/// A dense UV sphere standing in when no face is available (about 4k triangles).
-fn sphere() -> Mesh {
-    let (rings, segments) = (40usize, 52usize);
-    let mut positions = vec![Vec3::Y];
-    for r in 1..rings {
-        let t = std::f32::consts::PI * r as f32 / rings as f32;
-        for s in 0..segments {
-            let p = std::f32::consts::TAU * s as f32 / segments as f32;
-            positions.push(Vec3::new(t.sin() * p.cos(), t.cos(), t.sin() * p.sin()));
-        }
-    }
-    positions.push(-Vec3::Y);
-    let last = positions.len() as u32 - 1;
-    let at = |r: usize, s: usize| (1 + (r - 1) * segments + s % segments) as u32;
-    let mut triangles = Vec::new();
-    for s in 0..segments {
-        triangles.push([0, at(1, s + 1), at(1, s)]);
-        triangles.push([last, at(rings - 1, s), at(rings - 1, s + 1)]);
-    }
-    for r in 1..rings - 1 {
-        for s in 0..segments {
-            triangles.push([at(r, s), at(r, s + 1), at(r + 1, s + 1)]);
-            triangles.push([at(r, s), at(r + 1, s + 1), at(r + 1, s)]);
-        }
-    }
-    Mesh::new(positions, triangles).expect("valid sphere")
-}
-
 fn frame(c: &mut Criterion) {
-    let meshes = [("classic", classic_face()), ("sphere4k", Some(sphere()))];
-    for (name, mesh) in meshes {
-        let Some(mesh) = mesh else {
-            eprintln!("{name}: not available, skipped");
-            continue;
+    let cpu_only = std::env::var_os("GRIMACE_BENCH_CPU_ONLY").is_some();
+    // The default face deformed by an expression, every frame (as the editor does).
+    let mesh = builtin::default_mesh();
+    let rig = builtin::default_rig();
+    let table = builtin::default_table();
+    let bound = BoundRig::bind(&rig, &mesh).expect("default rig binds");
+    let act = table
+        .expression_activations("happiness", &rig)
+        .expect("default table has happiness");
+    let mut positions = Vec::new();
+    let mut renderer = Renderer::new(&mesh);
+    let mut canvas = CellMode::Braille.canvas(COLS, ROWS);
+    let mut grid = CellGrid::default();
+    let camera = Camera::three_quarter();
+    for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
+        let mut one = || {
+            bound.deform(&act, &mut positions).expect("in range");
+            let scene = Scene::new(&mesh, &positions).with_rest(&mesh.positions);
+            renderer.render(&scene, black_box(&camera), style, &mut canvas);
+            grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
+            black_box(&grid);
         };
-        let mut renderer = Renderer::new(&mesh);
-        let mut canvas = CellMode::Braille.canvas(COLS, ROWS);
-        let mut grid = CellGrid::default();
-        let camera = Camera::three_quarter();
-        for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
-            // On a shared machine wall time includes waiting for a core; the thread's own
-            // CPU time per frame is printed too.
-            if let Some(ns) = cpu_time_per_frame(|| {
-                let scene = Scene::new(&mesh, &mesh.positions);
-                renderer.render(&scene, &camera, style, &mut canvas);
-                grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
-                black_box(&grid);
-            }) {
-                eprintln!(
-                    "frame_{COLS}x{ROWS}_{name}_{style}: {:.1} us CPU per frame",
-                    ns / 1000.0
-                );
-            }
-            c.bench_function(&format!("frame_{COLS}x{ROWS}_{name}_{style}"), |b| {
-                b.iter(|| {
-                    let scene = Scene::new(&mesh, &mesh.positions);
-                    renderer.render(&scene, black_box(&camera), style, &mut canvas);
-                    grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
-                    black_box(&grid);
-                })
+        // On a shared machine wall time includes waiting for a core; the thread's own CPU
+        // time per frame is printed too.
+        if let Some(ns) = cpu_time_per_frame(&mut one) {
+            eprintln!("frame_{COLS}x{ROWS}_face_{style}: {:.1} us CPU per frame (deform + render + cells)", ns / 1000.0);
+        }
+        if !cpu_only {
+            c.bench_function(&format!("frame_{COLS}x{ROWS}_face_{style}"), |b| {
+                b.iter(&mut one)
             });
+        }
+    }
+    // Rendering alone, without the deformation.
+    for style in [Style::Lines, Style::Shaded] {
+        let mut one = || {
+            let scene = Scene::new(&mesh, &mesh.positions);
+            renderer.render(&scene, black_box(&camera), style, &mut canvas);
+            grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
+            black_box(&grid);
+        };
+        if let Some(ns) = cpu_time_per_frame(&mut one) {
+            eprintln!(
+                "render_only_{COLS}x{ROWS}_face_{style}: {:.1} us CPU per frame",
+                ns / 1000.0
+            );
+        }
+        if !cpu_only {
+            c.bench_function(&format!("render_only_{COLS}x{ROWS}_face_{style}"), |b| {
+                b.iter(&mut one)
+            });
+        }
+    }
+    if let Some(classic) = classic_face() {
+        let mut renderer = Renderer::new(&classic);
+        let mut one = || {
+            let scene = Scene::new(&classic, &classic.positions);
+            renderer.render(&scene, black_box(&camera), Style::Lines, &mut canvas);
+            grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
+            black_box(&grid);
+        };
+        if let Some(ns) = cpu_time_per_frame(&mut one) {
+            eprintln!(
+                "render_only_{COLS}x{ROWS}_classic_lines: {:.1} us CPU per frame",
+                ns / 1000.0
+            );
         }
     }
 }
 
 /// Mean on-CPU time of `f` over many runs, from the kernel's per-thread scheduler
 /// statistics (Linux only; `None` elsewhere).
-fn cpu_time_per_frame(mut f: impl FnMut()) -> Option<f64> {
+fn cpu_time_per_frame(f: &mut impl FnMut()) -> Option<f64> {
     let read = || -> Option<u64> {
         let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
         text.split_whitespace().next()?.parse().ok()
@@ -116,7 +124,7 @@ fn cpu_time_per_frame(mut f: impl FnMut()) -> Option<f64> {
     for _ in 0..50 {
         f();
     }
-    const RUNS: u32 = 1000;
+    const RUNS: u32 = 300;
     let start = read()?;
     for _ in 0..RUNS {
         f();

@@ -292,24 +292,41 @@ fn winding_is_detected_and_both_windings_render_alike() {
 }
 
 #[test]
-fn lines_of_a_sphere_are_its_outline() {
-    // A smooth sphere has no borders or creases; its feature lines are the silhouette, a
-    // circle of radius 0.94 * 40 = 37.6 dots around the centre.
+fn lines_of_a_sphere_are_its_outline_and_a_facing_contour() {
+    // A smooth sphere has no borders or creases: its feature lines are the silhouette, a
+    // circle of radius 0.94 * 40 = 37.6 dots around the centre, and the facing contour at
+    // 0.5, where the surface turns 60 degrees from the viewer: radius 37.6 * sin 60 = 32.6.
     let mesh = sphere(24, 48);
-    let canvas = draw(
-        &mesh,
-        &mesh.positions,
-        &Camera::front(),
-        Style::Lines,
-        80,
-        80,
+    let radii = |canvas: &DotCanvas| -> Vec<f32> {
+        lit_dots(canvas)
+            .into_iter()
+            .map(|(x, y)| Vec2::new(x as f32 + 0.5 - 40.0, y as f32 + 0.5 - 40.0).length())
+            .collect()
+    };
+    let outline_only = Scene {
+        facing_contours: &[],
+        ..Scene::new(&mesh, &mesh.positions)
+    };
+    let mut canvas = DotCanvas::new(80, 80);
+    Renderer::new(&mesh).render(&outline_only, &Camera::front(), Style::Lines, &mut canvas);
+    let outline = radii(&canvas);
+    assert!(outline.len() > 150, "{}", outline.len());
+    assert!(
+        outline.iter().all(|r| (r - 37.6).abs() < 2.5),
+        "{outline:?}"
     );
-    let dots = lit_dots(&canvas);
-    assert!(dots.len() > 150, "{}", dots.len());
-    for (x, y) in dots {
-        let r = Vec2::new(x as f32 + 0.5 - 40.0, y as f32 + 0.5 - 40.0).length();
-        assert!((r - 37.6).abs() < 2.5, "dot at radius {r}");
-    }
+
+    let both = Scene {
+        facing_contours: &[0.5],
+        ..outline_only
+    };
+    Renderer::new(&mesh).render(&both, &Camera::front(), Style::Lines, &mut canvas);
+    let all = radii(&canvas);
+    let inner = all.iter().filter(|r| (*r - 32.6).abs() < 2.0).count();
+    assert!(inner > 120, "{inner} dots on the facing contour");
+    assert!(all
+        .iter()
+        .all(|r| (r - 37.6).abs() < 2.5 || (r - 32.6).abs() < 2.0));
 }
 
 #[test]

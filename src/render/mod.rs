@@ -32,10 +32,24 @@
 //!
 //! # Styles
 //!
-//! [`Style::Lines`] (feature lines) is the default: at terminal resolution (about 160x96 dots
-//! in 80x24) every-edge wireframe of a face fills in to a blot, while the silhouette, the
-//! borders of eyes and mouth and the creases keep the features distinct and leave the flat
-//! cheeks empty. [`Style::Shaded`] reads well too and suits half-block colour output.
+//! [`Style::Lines`] (feature lines) is the default. At terminal resolution (160x96 dots in
+//! 80x24) every-edge wireframe of the 6600-triangle default face fills in to a solid blot;
+//! the shaded surface reads, but its nose and mouth are only a change in dot density. Feature
+//! lines keep eyes, nose and mouth distinct at 80x24 and at 200x60 and leave flat cheeks
+//! empty, so deformation stands out. They are:
+//!
+//! * silhouette edges (between a front- and a back-facing triangle) and mesh borders (eye
+//!   openings, mouth slit, outer rim), depth-tested;
+//! * creases: edges whose faces meet at more than [`Scene::crease_degrees`] (40);
+//! * facing contours ([`Scene::facing_contours`], default one at 0.5): where the smoothed
+//!   surface turns 60 degrees from the viewer. On a smooth mesh this outlines the sides of
+//!   the nose, the cheeks and the chin, which are neither creases nor silhouette. Faces next
+//!   to a crease are skipped (a box's averaged corner normals would draw a line across a
+//!   flat side);
+//! * optional iso-depth contours ([`Scene::contours`], default none: on the faces tried,
+//!   they drew rings that read as a muzzle rather than as shape).
+//!
+//! [`Style::Shaded`] reads well too and suits half-block colour output and PNG.
 //!
 //! ```
 //! use grimace::model::Mesh;

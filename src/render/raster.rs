@@ -71,7 +71,6 @@ pub struct Renderer {
     projected: Vec<Vec3>,
     facing: Vec<bool>,
     normals: Vec<Vec3>,
-    slope: Vec<f32>,
     vertex_shade: Vec<f32>,
     vertex_heat: Vec<f32>,
     rest_projected: Vec<Vec3>,
@@ -79,6 +78,8 @@ pub struct Renderer {
     light_mesh: Vec3,
     viewer_mesh: Vec3,
     vertex_facing: Vec<f32>,
+    face_normals: Vec<Vec3>,
+    face_normals_ready: bool,
     runs: Option<Vec<Run>>,
 }
 
@@ -196,13 +197,7 @@ impl Renderer {
             scene.mesh.positions.len(),
             &mut self.projected,
         );
-        classify(
-            &self.triangles,
-            &self.projected,
-            sign,
-            &mut self.facing,
-            &mut self.slope,
-        );
+        classify(&self.triangles, &self.projected, sign, &mut self.facing);
         Some(proj)
     }
 
@@ -243,14 +238,13 @@ impl Renderer {
     /// Marks the screen rectangle of the front-facing triangles dirty (the rasterizer
     /// writes the buffers directly).
     fn mark_faces_dirty(&self, canvas: &mut DotCanvas) {
+        // Every projected vertex, not only those of front faces: a cheap superset.
         let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
-        for (t, tri) in self.triangles.iter().enumerate() {
-            if self.facing[t] {
-                for &i in tri {
-                    let p = self.projected[i as usize].truncate();
-                    lo = lo.min(p);
-                    hi = hi.max(p);
-                }
+        for p in &self.projected {
+            let p = p.truncate();
+            if p.is_finite() {
+                lo = lo.min(p);
+                hi = hi.max(p);
             }
         }
         if lo.x <= hi.x && lo.y <= hi.y {
@@ -272,7 +266,7 @@ impl Renderer {
         for (t, tri) in self.triangles.iter().enumerate() {
             if self.facing[t] {
                 let p = tri.map(|i| self.projected[i as usize]);
-                raster_triangle(p, [0.0; 3], w, h, |i, z, _| {
+                raster_triangle(p, [0.0; 3], w, h, |i, _, _, z, _| {
                     if z > depth[i] {
                         depth[i] = z;
                     }
@@ -294,18 +288,12 @@ impl Renderer {
             }
             let p = tri.map(|i| self.projected[i as usize]);
             let s = tri.map(|i| self.vertex_shade[i as usize]);
-            raster_triangle(p, s, w, h, |i, z, shade| {
+            raster_triangle(p, s, w, h, |i, x, y, z, shade| {
                 if z > depth[i] {
                     depth[i] = z;
-                    let lit = if dither {
-                        let (x, y) = (i % w, i / w);
-                        shade * 16.0 > BAYER[y & 3][x & 3] as f32 + 0.5
-                    } else {
-                        true
-                    };
+                    let lit = !dither || shade * 16.0 > BAYER[y & 3][x & 3] as f32 + 0.5;
                     on[i] = lit;
-                    color[i] =
-                        Rgb::default().mix(base, if dither { 0.35 + 0.65 * shade } else { shade });
+                    color[i] = scale(base, if dither { 0.35 + 0.65 * shade } else { shade });
                     layer[i] = if lit { Layer::Mesh } else { Layer::Empty };
                 }
             });
@@ -321,28 +309,52 @@ impl Renderer {
         self.vertex_shade.clear();
         self.vertex_shade.resize(n, 0.0);
         for (shade, normal) in self.vertex_shade.iter_mut().zip(&self.normals) {
-            *shade = normal.normalize_or_zero().dot(self.light_mesh);
+            *shade = normal.dot(self.light_mesh);
         }
         for shade in &mut self.vertex_shade {
             *shade = AMBIENT + (1.0 - AMBIENT) * shade.max(0.0);
         }
     }
 
-    /// Oriented, area-weighted vertex normals (unnormalised) from the front-facing triangles.
+    /// Right-hand face normals, length twice the area, of the front-facing triangles (zero
+    /// for the others), unless this frame already has them.
+    fn compute_face_normals(&mut self, scene: &Scene) {
+        if self.face_normals_ready {
+            return;
+        }
+        self.face_normals.clear();
+        self.face_normals.extend(
+            self.triangles
+                .iter()
+                .zip(&self.facing)
+                .map(|(tri, &facing)| {
+                    if facing {
+                        let [a, b, c] = tri.map(|i| scene.positions[i as usize]);
+                        (b - a).cross(c - a)
+                    } else {
+                        Vec3::ZERO
+                    }
+                }),
+        );
+        self.face_normals_ready = true;
+    }
+
+    /// Oriented, area-weighted unit vertex normals from the front-facing triangles (zero
+    /// where none touches).
     fn compute_normals(&mut self, scene: &Scene) {
+        self.compute_face_normals(scene);
         let n = self.projected.len();
         self.normals.clear();
         self.normals.resize(n, Vec3::ZERO);
         let sign = self.sign(scene.orientation);
-        for (t, tri) in self.triangles.iter().enumerate() {
-            if !self.facing[t] {
-                continue;
-            }
-            let [a, b, c] = tri.map(|i| scene.positions[i as usize]);
-            let normal = (b - a).cross(c - a) * sign;
+        for (tri, normal) in self.triangles.iter().zip(&self.face_normals) {
+            let normal = *normal * sign;
             for &i in tri {
                 self.normals[i as usize] += normal;
             }
+        }
+        for normal in &mut self.normals {
+            *normal = normal.normalize_or_zero();
         }
     }
 }
@@ -387,13 +399,13 @@ impl Renderer {
         let slope = tris
             .iter()
             .filter(|&&t| t != NONE && self.facing.get(t as usize) == Some(&true))
-            .map(|&t| self.slope[t as usize])
+            .map(|&t| depth_slope(self.triangles[t as usize].map(|i| self.vert(i))))
             .fold(0.0f32, f32::max);
         BASE_BIAS + (SLOPE_BIAS * slope).min(MAX_SLOPE_BIAS)
     }
 
     /// Whether an edge belongs to the style's line set.
-    fn wanted(&self, scene: &Scene, style: Style, e: &Edge, cos_crease: f32) -> bool {
+    fn wanted(&self, style: Style, e: &Edge, cos_crease: f32) -> bool {
         let f0 = self.facing[e.t0 as usize];
         let f1 = e.t1 != NONE && self.facing[e.t1 as usize];
         match style {
@@ -407,9 +419,9 @@ impl Renderer {
                     return true;
                 }
                 f0 && f1 && {
-                    let n0 = face_normal(scene.positions, self.triangles[e.t0 as usize]);
-                    let n1 = face_normal(scene.positions, self.triangles[e.t1 as usize]);
-                    n0.dot(n1) < cos_crease
+                    let n0 = self.face_normals[e.t0 as usize];
+                    let n1 = self.face_normals[e.t1 as usize];
+                    n0.dot(n1) < cos_crease * (n0.length_squared() * n1.length_squared()).sqrt()
                 }
             }
         }
@@ -417,10 +429,13 @@ impl Renderer {
 
     /// Draws the style's edges with the depth test.
     fn draw_edges(&mut self, scene: &Scene, style: Style, canvas: &mut DotCanvas) {
+        if style == Style::Lines {
+            self.compute_face_normals(scene);
+        }
         let cos_crease = scene.crease_degrees.to_radians().cos();
         let mut runs = self.runs.take();
         for e in &self.edges {
-            if !self.wanted(scene, style, e, cos_crease) {
+            if !self.wanted(style, e, cos_crease) {
                 continue;
             }
             let (a, b) = (self.vert(e.a), self.vert(e.b));
@@ -448,14 +463,22 @@ impl Renderer {
         self.compute_normals(scene);
         self.vertex_facing.clear();
         let viewer = self.viewer_mesh;
-        self.vertex_facing.extend(
-            self.normals
-                .iter()
-                .map(|n| n.normalize_or_zero().dot(viewer)),
-        );
+        self.vertex_facing
+            .extend(self.normals.iter().map(|n| n.dot(viewer)));
+        let sign = self.sign(scene.orientation);
+        let cos_crease = scene.crease_degrees.to_radians().cos();
         let mut runs = self.runs.take();
         for (t, tri) in self.triangles.iter().enumerate() {
             if !self.facing[t] {
+                continue;
+            }
+            // Next to a crease the smoothed vertex normals say nothing about this face (a
+            // box's corner normals would draw a line across a flat side): skip it.
+            let face = self.face_normals[t].normalize_or_zero() * sign;
+            let smooth = tri
+                .iter()
+                .all(|&i| self.normals[i as usize].dot(face) >= cos_crease);
+            if !smooth {
                 continue;
             }
             let p = tri.map(|i| self.vert(i));
@@ -527,15 +550,12 @@ impl Renderer {
         let n = scene.mesh.positions.len();
         project_all(proj, scene.rest_positions(), n, &mut self.rest_projected);
         let sign = self.sign(scene.orientation);
-        let mut scratch = std::mem::take(&mut self.vertex_shade);
         classify(
             &self.triangles,
             &self.rest_projected,
             sign,
             &mut self.rest_facing,
-            &mut scratch,
         );
-        self.vertex_shade = scratch;
         let mut runs = self.runs.take();
         for e in &self.edges {
             let f0 = self.rest_facing[e.t0 as usize];
@@ -614,22 +634,18 @@ impl Renderer {
     }
 }
 
+/// `c` scaled by `t` in 0..=1 (no rounding call: this runs per dot).
+#[inline]
+fn scale(c: Rgb, t: f32) -> Rgb {
+    let t = t.clamp(0.0, 1.0);
+    let f = |v: u8| (v as f32 * t + 0.5) as u8;
+    Rgb(f(c.0), f(c.1), f(c.2))
+}
+
 /// Draws a small + centred on `p` (in dots).
 fn cross(p: Vec3, r: f32, line: &mut impl FnMut(Vec3, Vec3)) {
     line(p - Vec3::new(r, 0.0, 0.0), p + Vec3::new(r, 0.0, 0.0));
     line(p - Vec3::new(0.0, r, 0.0), p + Vec3::new(0.0, r, 0.0));
-}
-
-/// The unit right-hand normal of a triangle (zero when degenerate or out of range).
-fn face_normal(positions: &[Vec3], tri: [u32; 3]) -> Vec3 {
-    let get = |i: u32| positions.get(i as usize).copied().unwrap_or(Vec3::NAN);
-    let [a, b, c] = tri.map(get);
-    let n = (b - a).cross(c - a).normalize_or_zero();
-    if n.is_finite() {
-        n
-    } else {
-        Vec3::ZERO
-    }
 }
 
 /// Where the plane `z = level` cuts a triangle, as a segment (depth included).
@@ -752,120 +768,125 @@ fn project_all(proj: &Projection, positions: &[Vec3], count: usize, out: &mut Ve
     out.extend((0..count).map(|i| positions.get(i).map_or(Vec3::NAN, |&p| proj.project(p))));
 }
 
-/// Decides which triangles face the viewer (signed screen area times the winding sign) and
-/// each one's depth slope in dots of depth per dot.
-fn classify(
-    triangles: &[[u32; 3]],
-    projected: &[Vec3],
-    sign: f32,
-    facing: &mut Vec<bool>,
-    slope: &mut Vec<f32>,
-) {
+/// Decides which triangles face the viewer: signed screen area times the winding sign
+/// (triangles with a missing or non-finite corner face nowhere).
+fn classify(triangles: &[[u32; 3]], projected: &[Vec3], sign: f32, facing: &mut Vec<bool>) {
     facing.clear();
-    slope.clear();
-    for tri in triangles {
-        let Some([a, b, c]) =
-            tri_positions(projected, *tri).filter(|p| p.iter().all(|v| v.is_finite()))
-        else {
-            facing.push(false);
-            slope.push(0.0);
-            continue;
+    facing.extend(triangles.iter().map(|tri| {
+        let Some([a, b, c]) = tri_positions(projected, *tri) else {
+            return false;
         };
         let (ab, ac) = (b - a, c - a);
         let area = ab.x * ac.y - ab.y * ac.x;
-        facing.push(sign * area > 0.0);
-        let gx = (ab.z * ac.y - ac.z * ab.y) / area;
-        let gy = (ab.x * ac.z - ac.x * ab.z) / area;
-        let g = (gx * gx + gy * gy).sqrt();
-        slope.push(if g.is_finite() { g } else { f32::MAX });
+        // NaN anywhere makes the comparison false.
+        sign * area > 0.0 && (a.z + b.z + c.z).is_finite()
+    }));
+}
+
+/// The depth slope of a projected triangle: dots of depth per dot across the screen.
+fn depth_slope([a, b, c]: [Vec3; 3]) -> f32 {
+    let (ab, ac) = (b - a, c - a);
+    let area = ab.x * ac.y - ab.y * ac.x;
+    let gx = (ab.z * ac.y - ac.z * ab.y) / area;
+    let gy = (ab.x * ac.z - ac.x * ab.z) / area;
+    let g = (gx * gx + gy * gy).sqrt();
+    if g.is_finite() {
+        g
+    } else {
+        f32::MAX
     }
 }
 
-/// Rasterizes a screen triangle: calls `f(index, depth, attribute)` for every dot whose
-/// centre lies inside it (either winding), with depth and attribute interpolated.
+/// Rasterizes a screen triangle: calls `f(index, x, y, depth, attribute)` for every dot
+/// whose centre lies inside it (either winding), with depth and attribute interpolated.
 ///
-/// Each row's span is solved from the three edge equations, so the inner loop only steps
-/// depth and attribute.
+/// At terminal resolution most triangles cover a handful of dots, so the cost is in the
+/// setup: one division, then the edge functions step across the bounding box.
+#[inline]
 fn raster_triangle(
     p: [Vec3; 3],
     attr: [f32; 3],
     w: usize,
     h: usize,
-    mut f: impl FnMut(usize, f32, f32),
+    mut f: impl FnMut(usize, usize, usize, f32, f32),
 ) {
     let [a, b, c] = p;
     let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     if !area.is_finite() || area.abs() < 1e-9 {
         return;
     }
-    let min_y = a.y.min(b.y).min(c.y).max(0.0);
-    let max_y = a.y.max(b.y).max(c.y).min(h as f32);
-    let min_x = a.x.min(b.x).min(c.x).max(0.0);
-    let max_x = a.x.max(b.x).max(c.x).min(w as f32);
-    if !(min_y < max_y && min_x < max_x) {
+    // Dots whose centres (x + 0.5, y + 0.5) lie within the bounding box.
+    let x0 = ceil_nonneg(a.x.min(b.x).min(c.x) - 0.5);
+    let x1 = floor_end(a.x.max(b.x).max(c.x) - 0.5, w);
+    let y0 = ceil_nonneg(a.y.min(b.y).min(c.y) - 0.5);
+    let y1 = floor_end(a.y.max(b.y).max(c.y) - 0.5, h);
+    if x0 >= x1 || y0 >= y1 {
         return;
     }
-    // Barycentric weight of each corner as a linear function l = kx * x + ky * y + k0.
+    // Barycentric weight of corners a and b as linear functions l = kx * x + ky * y + k0
+    // (the weight of c is 1 - la - lb).
     let inv = 1.0 / area;
     let weight = |p: Vec3, q: Vec3| {
         let kx = -(q.y - p.y) * inv;
         let ky = (q.x - p.x) * inv;
         (kx, ky, -(kx * p.x + ky * p.y))
     };
-    let e0 = weight(b, c);
-    let e1 = weight(c, a);
-    let e2 = (-e0.0 - e1.0, -e0.1 - e1.1, 1.0 - e0.2 - e1.2);
+    let (ax, ay, a0) = weight(b, c);
+    let (bx, by, b0) = weight(c, a);
     // Depth and attribute as linear functions of (x, y).
-    let lin = |v: [f32; 3]| {
+    let plane = |va: f32, vb: f32, vc: f32| {
         (
-            e0.0 * v[0] + e1.0 * v[1] + e2.0 * v[2],
-            e0.1 * v[0] + e1.1 * v[1] + e2.1 * v[2],
-            e0.2 * v[0] + e1.2 * v[1] + e2.2 * v[2],
+            ax * (va - vc) + bx * (vb - vc),
+            ay * (va - vc) + by * (vb - vc),
+            a0 * (va - vc) + b0 * (vb - vc) + vc,
         )
     };
-    let z = lin([a.z, b.z, c.z]);
-    let s = lin(attr);
-    const EPS: f32 = 1e-5;
-    // Rows whose centre (y + 0.5) lies within the triangle's vertical extent.
-    let y0 = (min_y - 0.5).ceil().max(0.0) as usize;
-    let y1 = ((max_y - 0.5).floor() as i64 + 1).clamp(0, h as i64) as usize;
+    let (zx, zy, z0) = plane(a.z, b.z, c.z);
+    let (sx, sy, s0) = plane(attr[0], attr[1], attr[2]);
+    const EPS: f32 = -1e-5;
+    let px = x0 as f32 + 0.5;
     for y in y0..y1 {
         let py = y as f32 + 0.5;
-        let (mut lo, mut hi) = (min_x, max_x);
-        for (kx, ky, k0) in [e0, e1, e2] {
-            let at = ky * py + k0;
-            if kx.abs() < 1e-12 {
-                if at < -EPS {
-                    lo = f32::INFINITY;
-                }
-            } else {
-                let cut = (-EPS - at) / kx;
-                if kx > 0.0 {
-                    lo = lo.max(cut);
-                } else {
-                    hi = hi.min(cut);
-                }
-            }
-        }
-        // Dots whose centre x + 0.5 lies in [lo, hi].
-        if lo.is_nan() || hi.is_nan() || lo > hi {
-            continue;
-        }
-        let x0 = (lo - 0.5).ceil().max(0.0) as usize;
-        let x1 = ((hi - 0.5).floor() as i64 + 1).clamp(0, w as i64) as usize;
-        if x0 >= x1 {
-            continue;
-        }
-        let px = x0 as f32 + 0.5;
-        let mut zv = z.0 * px + z.1 * py + z.2;
-        let mut sv = s.0 * px + s.1 * py + s.2;
+        let mut la = ax * px + ay * py + a0;
+        let mut lb = bx * px + by * py + b0;
+        let mut z = zx * px + zy * py + z0;
+        let mut s = sx * px + sy * py + s0;
         let row = y * w;
         for x in x0..x1 {
-            f(row + x, zv, sv);
-            zv += z.0;
-            sv += s.0;
+            if la >= EPS && lb >= EPS && 1.0 - la - lb >= EPS {
+                f(row + x, x, y, z, s);
+            }
+            la += ax;
+            lb += bx;
+            z += zx;
+            s += sx;
         }
     }
+}
+
+/// `ceil(v)` for the dot grid, clamped at 0 (no libm call: this runs per row).
+#[inline]
+fn ceil_nonneg(v: f32) -> usize {
+    if v.is_nan() || v <= 0.0 {
+        return 0;
+    }
+    let t = v as usize;
+    if (t as f32) < v {
+        t + 1
+    } else {
+        t
+    }
+}
+
+/// `floor(v) + 1` clamped to `0..=limit`: the end of a range of dots (no libm call).
+#[inline]
+fn floor_end(v: f32, limit: usize) -> usize {
+    if v.is_nan() {
+        return 0;
+    }
+    let t = v as i64;
+    let floor = if (t as f32) > v { t - 1 } else { t };
+    (floor + 1).clamp(0, limit as i64) as usize
 }
 
 /// Clips the segment a-b (x, y in dots, z depth) to the rectangle [0, w] x [0, h].
@@ -915,7 +936,7 @@ fn draw_line(
         return;
     };
     let d = b - a;
-    let steps = d.x.abs().max(d.y.abs()).ceil().max(1.0) as usize;
+    let steps = ceil_nonneg(d.x.abs().max(d.y.abs())).max(1);
     let inc = d / steps as f32;
     let mut run_start: Option<Vec3> = None;
     let mut last = a;
