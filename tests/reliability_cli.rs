@@ -220,8 +220,16 @@ fn bad_timelines() -> Vec<(&'static str, Vec<u8>, &'static str)> {
             with("(time: 0.0, muscles: {\"nose\": 1.0})"),
             "unknown_muscle.timeline.ron: keyframe 1 (time 0): the rig has no muscle named `nose`",
         ),
-        ("invalid_utf8.timeline.ron", b"Timeline(\xff)".to_vec(), ""),
-        ("binary_garbage.timeline.ron", b"\x00\x9f\x92\x96\x00\x01".to_vec(), ""),
+        (
+            "invalid_utf8.timeline.ron",
+            b"Timeline(\xff)".to_vec(),
+            "invalid_utf8.timeline.ron:1:10: invalid UTF-8 (byte 0xff); expected a text file",
+        ),
+        (
+            "binary_garbage.timeline.ron",
+            b"\x00\x9f\x92\x96\x00\x01".to_vec(),
+            "binary_garbage.timeline.ron:1:2: invalid UTF-8 (byte 0x9f); expected a text file",
+        ),
     ]
 }
 
