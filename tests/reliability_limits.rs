@@ -244,3 +244,33 @@ fn a_huge_csv_is_streamed_not_read_whole() {
         "{stderr}"
     );
 }
+
+/// One 48 MB line in an OBJ (an ignored statement, a vertex or a group with endless extra
+/// values) is read in a fraction of its size: only the tokens a statement uses are kept.
+/// Run under a 400 MB address-space limit, which keeping every token (about 12 bytes per
+/// byte of text) would exceed.
+#[test]
+fn one_huge_obj_line_is_read_in_bounded_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let tail = " 1".repeat(24_000_000);
+    for (name, keyword) in [("vt.obj", "vt"), ("v.obj", "v 0 0 0"), ("g.obj", "g mouth")] {
+        std::fs::write(dir.path().join(name), format!("{head}{keyword}{tail}\n")).unwrap();
+        let out = Command::new("sh")
+            .arg("-c")
+            .arg(format!(
+                "ulimit -v 400000 && exec '{}' validate {name}",
+                env!("CARGO_BIN_EXE_grimace")
+            ))
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{name}: {stderr}");
+        let vertices = if name == "v.obj" { 4 } else { 3 };
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout).trim_end(),
+            format!("{name}: ok (mesh: {vertices} vertices, 1 triangles)")
+        );
+    }
+}
