@@ -59,14 +59,18 @@ struct Reader<'a> {
     forward: Vec<Forward>,
 }
 
-/// The whitespace-separated tokens of a line with their 1-based character columns.
-fn tokens(line: &str) -> Vec<(usize, &str)> {
+/// The first `limit` whitespace-separated tokens of a line with their 1-based character
+/// columns.
+fn tokens(line: &str, limit: usize) -> Vec<(usize, &str)> {
     let mut out = vec![];
     let mut start: Option<(usize, usize)> = None;
     for (column, (byte, c)) in line.char_indices().enumerate() {
         if c.is_whitespace() {
             if let Some((col, from)) = start.take() {
                 out.push((col, &line[from..byte]));
+                if out.len() == limit {
+                    return out;
+                }
             }
         } else if start.is_none() {
             start = Some((column + 1, byte));
@@ -83,17 +87,32 @@ impl Reader<'_> {
         LoadError::at(self.path, line, column, message)
     }
 
+    fn too_many_triangles(&self, line: usize) -> LoadError {
+        self.error(
+            line,
+            1,
+            format!("more than {MAX_TRIANGLES} triangles; grimace refuses meshes this large"),
+        )
+    }
+
     fn line(&mut self, number: usize, line: &str) -> Result<(), LoadError> {
         let content = line.split('#').next().unwrap_or("");
-        let tokens = tokens(content);
-        let Some(&(_, keyword)) = tokens.first() else {
+        // Only the tokens a statement uses are kept: a single huge line (the file limit
+        // allows 256 MiB) would otherwise take about 12 times its size in token positions.
+        let Some(keyword) = content.split_whitespace().next() else {
             return Ok(());
         };
         match keyword {
-            "v" => self.vertex(number, &tokens),
-            "f" => self.face(number, &tokens),
+            "v" => self.vertex(number, &tokens(content, 4)),
+            "f" => {
+                let corners = content.split_whitespace().count() - 1;
+                if self.triangles.len() + corners.saturating_sub(2) > MAX_TRIANGLES {
+                    return Err(self.too_many_triangles(number));
+                }
+                self.face(number, &tokens(content, usize::MAX))
+            }
             "g" => {
-                self.group = tokens.get(1).map(|(_, name)| name.to_string());
+                self.group = tokens(content, 2).get(1).map(|(_, name)| name.to_string());
                 Ok(())
             }
             // Texture coordinates, normals, objects, smoothing, materials and anything else
@@ -159,11 +178,7 @@ impl Reader<'_> {
             corners.push(self.corner(line, column, token)?);
         }
         if self.triangles.len() + corners.len() - 2 > MAX_TRIANGLES {
-            return Err(self.error(
-                line,
-                1,
-                format!("more than {MAX_TRIANGLES} triangles; grimace refuses meshes this large"),
-            ));
+            return Err(self.too_many_triangles(line));
         }
         for i in 1..corners.len() - 1 {
             self.triangles

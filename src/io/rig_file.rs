@@ -218,6 +218,11 @@ fn issue(muscle: Option<&str>, field: &'static str, message: String) -> RigIssue
     }
 }
 
+/// The most muscles a rig may have. Binding keeps a field per muscle that may span the whole
+/// mesh, so memory grows as muscles times vertices: 200 000 muscles (a 30 MB file) would
+/// take tens of gigabytes. The classic face has 18 linear muscles, the enhanced one 23.
+pub const MAX_MUSCLES: usize = 256;
+
 /// Checks a rig's contents: version, unique well-formed names, mirror partners that exist and
 /// point back, and finite, in-range parameters for every muscle and the jaw.
 pub fn check_rig(rig: &Rig) -> Result<(), RigIssue> {
@@ -236,6 +241,16 @@ pub fn check_rig(rig: &Rig) -> Result<(), RigIssue> {
             None,
             "mesh",
             "the mesh path is empty; expected a file path or builtin:NAME".to_string(),
+        ));
+    }
+    if rig.muscles.len() > MAX_MUSCLES {
+        return Err(issue(
+            None,
+            "muscles",
+            format!(
+                "the rig has {} muscles, more than the limit of {MAX_MUSCLES}",
+                rig.muscles.len()
+            ),
         ));
     }
     for (i, muscle) in rig.muscles.iter().enumerate() {

@@ -205,11 +205,14 @@ pub fn parse_timeline(text: &str, path: &Path) -> Result<Timeline, TimelineError
 
 /// Reads and parses a timeline file.
 pub fn load_timeline(path: &Path) -> Result<Timeline, TimelineError> {
-    let text = std::fs::read_to_string(path).map_err(|e| TimelineError {
-        path: path.to_path_buf(),
-        position: None,
-        message: format!("cannot read: {e}"),
-    })?;
+    // Size-checked like every other file: reading a huge (or sparse) file whole would
+    // exhaust memory.
+    let text =
+        super::error::read_text(path, super::error::MAX_FILE_BYTES).map_err(|e| TimelineError {
+            path: path.to_path_buf(),
+            position: e.line.map(|line| (line, e.column.unwrap_or(1))),
+            message: e.message,
+        })?;
     parse_timeline(&text, path)
 }
 
