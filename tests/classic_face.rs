@@ -3,8 +3,10 @@
 //! without tearing its corners, the rig is mirror-symmetric, and the 18 linear muscles still
 //! match the classic reference outputs. Also `grimace import-waters` end to end.
 
+mod common;
+
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 use glam::Vec3;
@@ -12,28 +14,6 @@ use grimace::face::classic::{self, Landmarks};
 use grimace::io::rig_file;
 use grimace::io::waters::{self, ImportOptions, Imported};
 use grimace::model::{Activations, BoundRig, MuscleKind, Side};
-
-/// The shared reference folder: `GRIMACE_SHARED`, else `../shared` beside the package.
-/// Missing: a failure when `CI=true`, else a skip with the reason printed.
-fn shared() -> Option<PathBuf> {
-    let dir = std::env::var_os("GRIMACE_SHARED")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"));
-    if dir.join("golden").is_dir() && dir.join("waters-geoface").is_dir() {
-        return Some(dir);
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!(
-            "the shared reference folder {} is missing (CI=true)",
-            dir.display()
-        );
-    }
-    eprintln!(
-        "skipped: the shared reference folder {} is missing (set GRIMACE_SHARED)",
-        dir.display()
-    );
-    None
-}
 
 /// The classic face with the extras, bound, and its landmarks.
 struct Face {
@@ -43,7 +23,7 @@ struct Face {
 }
 
 fn face() -> Option<Face> {
-    let shared = shared()?;
+    let shared = common::shared()?;
     let options = ImportOptions {
         extras: Some(classic::extra_muscles),
         ..Default::default()
@@ -433,7 +413,7 @@ fn the_full_rig_is_mirror_symmetric_and_finite() {
 #[test]
 fn the_linear_muscles_still_match_the_classic_reference() {
     let Some(face) = face() else { return };
-    let shared = shared().unwrap();
+    let shared = common::shared().unwrap();
     let plain =
         waters::import_dir(&shared.join("waters-geoface"), &ImportOptions::default()).unwrap();
     assert_eq!(plain.mesh, face.imported.mesh);
@@ -491,7 +471,9 @@ fn import_to(dir: &Path, out: &Path, extra: &[&str]) -> Output {
 
 #[test]
 fn import_waters_writes_the_full_rig_unless_linear_only() {
-    let Some(shared) = shared() else { return };
+    let Some(shared) = common::shared() else {
+        return;
+    };
     let data = shared.join("waters-geoface");
     let tmp = tempfile::tempdir().unwrap();
     let full = tmp.path().join("full");

@@ -1,8 +1,10 @@
 //! The file commands end to end through the built binary: `import-waters`, `export`,
 //! `validate`, `list`. Outputs are parsed back and checked against the classic reference.
 
+mod common;
+
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 use glam::Vec3;
@@ -18,27 +20,6 @@ fn grimace(args: &[&str]) -> Output {
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
-}
-
-/// The shared reference folder (see tests/io_waters.rs for the rule).
-fn shared() -> Option<PathBuf> {
-    let dir = std::env::var_os("GRIMACE_SHARED")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"));
-    if dir.join("golden").is_dir() && dir.join("waters-geoface").is_dir() {
-        return Some(dir);
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!(
-            "the shared reference folder {} is missing (CI=true)",
-            dir.display()
-        );
-    }
-    eprintln!(
-        "skipped: the shared reference folder {} is missing",
-        dir.display()
-    );
-    None
 }
 
 fn import(shared: &Path, out: &Path) {
@@ -66,7 +47,9 @@ fn p(s: &str) -> f32 {
 
 #[test]
 fn import_then_export_each_muscle_matches_the_classic_output() {
-    let Some(shared) = shared() else { return };
+    let Some(shared) = common::shared() else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     import(&shared, dir.path());
     let rig_path = dir.path().join("rig.ron");
@@ -127,7 +110,9 @@ fn import_then_export_each_muscle_matches_the_classic_output() {
 
 #[test]
 fn export_with_nothing_set_writes_the_rest_mesh() {
-    let Some(shared) = shared() else { return };
+    let Some(shared) = common::shared() else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     import(&shared, dir.path());
     let out = dir.path().join("rest.obj");

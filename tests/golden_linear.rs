@@ -1,6 +1,8 @@
 //! The classic Waters linear muscle, one call from rest, against the reference outputs in
 //! `../shared/golden` (whole positions, unlisted vertices at rest, 1e-5 per coordinate).
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -15,21 +17,7 @@ const ACTIVATIONS: [f32; 5] = [0.25, 0.5, 1.0, 2.0, -0.5];
 
 /// The golden folder, or `None` (with a printed reason) when it is absent outside CI.
 fn golden_dir() -> Option<PathBuf> {
-    let shared = std::env::var_os("GRIMACE_SHARED")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"));
-    let dir = shared.join("golden");
-    if dir.join("waters-linear.csv").is_file() {
-        return Some(dir);
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!("golden data missing at {} (CI=true)", dir.display());
-    }
-    eprintln!(
-        "skipping: golden data not found at {} (set GRIMACE_SHARED)",
-        dir.display()
-    );
-    None
+    common::shared_with(&["golden/waters-linear.csv"]).map(|shared| shared.join("golden"))
 }
 
 /// The data rows of a CSV file, split on commas, header dropped.

@@ -1,34 +1,14 @@
 //! The classic Waters import against the reference outputs in `../shared/golden`: every
 //! vertex, triangle and muscle exactly (bit for bit), and the written files read back equal.
 
+mod common;
+
 use std::path::PathBuf;
 
 use glam::Vec3;
 use grimace::io::waters::{self, ImportOptions};
 use grimace::io::{obj, rig_file};
 use grimace::model::{MuscleKind, Side};
-
-/// The shared reference folder: `GRIMACE_SHARED`, else `../shared` beside the package.
-/// Missing: a failure when `CI=true`, else a skip with the reason printed.
-fn shared() -> Option<PathBuf> {
-    let dir = std::env::var_os("GRIMACE_SHARED")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"));
-    if dir.join("golden").is_dir() && dir.join("waters-geoface").is_dir() {
-        return Some(dir);
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!(
-            "the shared reference folder {} is missing (CI=true)",
-            dir.display()
-        );
-    }
-    eprintln!(
-        "skipped: the shared reference folder {} is missing (set GRIMACE_SHARED)",
-        dir.display()
-    );
-    None
-}
 
 fn csv_rows(path: PathBuf) -> Vec<Vec<String>> {
     let text = std::fs::read_to_string(&path).unwrap();
@@ -49,7 +29,9 @@ fn bits(v: Vec3) -> [u32; 3] {
 
 #[test]
 fn imported_face_matches_the_reference_exactly() {
-    let Some(shared) = shared() else { return };
+    let Some(shared) = common::shared() else {
+        return;
+    };
     let imported =
         waters::import_dir(&shared.join("waters-geoface"), &ImportOptions::default()).unwrap();
     let mesh = &imported.mesh;
@@ -73,7 +55,9 @@ fn imported_face_matches_the_reference_exactly() {
 
 #[test]
 fn imported_muscles_match_the_reference_exactly() {
-    let Some(shared) = shared() else { return };
+    let Some(shared) = common::shared() else {
+        return;
+    };
     let imported =
         waters::import_dir(&shared.join("waters-geoface"), &ImportOptions::default()).unwrap();
     let rows = csv_rows(shared.join("golden/waters-muscles.csv"));
@@ -110,7 +94,9 @@ fn imported_muscles_match_the_reference_exactly() {
 
 #[test]
 fn dropping_duplicates_keeps_the_numbering() {
-    let Some(shared) = shared() else { return };
+    let Some(shared) = common::shared() else {
+        return;
+    };
     let dir = shared.join("waters-geoface");
     let kept = waters::import_dir(&dir, &ImportOptions::default()).unwrap();
     let options = ImportOptions {
@@ -139,7 +125,9 @@ fn dropping_duplicates_keeps_the_numbering() {
 
 #[test]
 fn written_files_read_back_equal() {
-    let Some(shared) = shared() else { return };
+    let Some(shared) = common::shared() else {
+        return;
+    };
     let imported =
         waters::import_dir(&shared.join("waters-geoface"), &ImportOptions::default()).unwrap();
     let out = tempfile::tempdir().unwrap();

@@ -1,6 +1,8 @@
 //! Renders the classic Waters face (read from the shared reference folder) in every style
 //! and checks that the features come out where they belong.
 
+mod common;
+
 use std::path::PathBuf;
 
 use glam::Vec3;
@@ -9,26 +11,6 @@ use grimace::render::{
     render_text, Camera, CellGrid, CellMode, ColorMode, DotCanvas, Orientation, Renderer, Scene,
     Style,
 };
-
-fn shared_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("GRIMACE_SHARED")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"));
-    if dir.join("golden/waters-vertices.csv").exists() {
-        return Some(dir);
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!(
-            "shared reference folder missing at {} (set GRIMACE_SHARED)",
-            dir.display()
-        );
-    }
-    eprintln!(
-        "skipping: shared reference folder not found at {}",
-        dir.display()
-    );
-    None
-}
 
 fn rows(path: PathBuf) -> Vec<Vec<f64>> {
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -44,7 +26,7 @@ fn rows(path: PathBuf) -> Vec<Vec<f64>> {
 }
 
 fn classic_face() -> Option<Mesh> {
-    let dir = shared_dir()?.join("golden");
+    let dir = common::shared_with(&["golden/waters-vertices.csv"])?.join("golden");
     let positions = rows(dir.join("waters-vertices.csv"))
         .iter()
         .map(|r| Vec3::new(r[1] as f32, r[2] as f32, r[3] as f32))

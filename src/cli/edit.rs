@@ -10,7 +10,8 @@ use clap::Args;
 use crate::facs::{AuTable, TABLE_VERSION};
 use crate::io::lock::{self, LockOutcome};
 use crate::io::recovery;
-use crate::io::table_file::RigRef;
+use crate::io::rig_file::load_rig_ref;
+use crate::io::table_file::rig_ref;
 use crate::model::{Mesh, Rig};
 use crate::tui::app::{App, Colors, FileStamp, Mode, Question, Recovered, View};
 use crate::tui::scene::Scene;
@@ -182,54 +183,17 @@ fn builtin_table() -> Result<AuTable, String> {
 
 /// The built-in default rig, its mesh and the built-in AU table.
 pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
-    let (rig, mesh) =
-        builtin_rig("default").ok_or("the built-in default rig is missing from this build")?;
-    Ok((rig, mesh, builtin_table()?))
+    let loaded = load_rig_ref(Path::new("builtin:default"), None).map_err(|e| e.to_string())?;
+    Ok((loaded.rig, loaded.mesh, builtin_table()?))
 }
 
-/// An embedded rig and its mesh, by the name after `builtin:`.
-fn builtin_rig(name: &str) -> Option<(Rig, Mesh)> {
-    let rig = crate::io::builtin::rig(name)?;
-    let mesh_name = crate::io::builtin::builtin_name(&rig.mesh)?;
-    let mesh = crate::io::builtin::mesh(mesh_name)?;
-    Some((rig, mesh))
-}
-
-/// An embedded mesh, by the name after `builtin:`.
-fn builtin_mesh(name: &str) -> Option<Mesh> {
-    crate::io::builtin::mesh(name)
-}
-
-/// The rig and mesh to edit with: `--rig` if given, else the table's rig; `--mesh` replaces
-/// the rig's mesh.
+/// The rig and mesh to edit with: `--rig` (a file or `builtin:NAME`) if given, else the
+/// table's rig; `--mesh` replaces the rig's mesh.
 fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<(Rig, Mesh), String> {
     let reference = match &args.rig {
-        Some(rig) => rig_ref(Path::new("."), rig).unwrap_or_else(|| RigRef::File(rig.clone())),
-        None => rig_ref(table_path, &table.rig).unwrap_or(RigRef::File(table.rig.clone())),
+        Some(rig) => rig.clone(),
+        None => rig_ref(table_path, &table.rig).to_path(),
     };
-    let (rig, mesh) = match reference {
-        RigRef::Builtin(name) => {
-            let (rig, mesh) = builtin_rig(&name)
-                .ok_or_else(|| format!("there is no built-in rig named `{name}`"))?;
-            match &args.mesh {
-                Some(path) => (
-                    rig,
-                    crate::io::obj::read_obj(path).map_err(|e| e.to_string())?,
-                ),
-                None => (rig, mesh),
-            }
-        }
-        RigRef::File(path) => {
-            let loaded =
-                crate::io::rig_file::load_rig_with(&path, args.mesh.as_deref(), builtin_mesh)
-                    .map_err(|e| e.to_string())?;
-            (loaded.rig, loaded.mesh)
-        }
-    };
-    Ok((rig, mesh))
-}
-
-/// Resolves a rig reference (`builtin:NAME` or a path relative to `base`'s folder).
-fn rig_ref(base: &Path, rig: &Path) -> Option<RigRef> {
-    Some(crate::io::table_file::rig_ref(base, rig))
+    let loaded = load_rig_ref(&reference, args.mesh.as_deref()).map_err(|e| e.to_string())?;
+    Ok((loaded.rig, loaded.mesh))
 }

@@ -11,9 +11,9 @@ use rayon::prelude::*;
 
 use super::export::{self, SourceArgs, Sources, StateArgs};
 use crate::io::atomic::write_atomic_no_backup;
-use crate::io::rig_file::{self, LoadedRig};
-use crate::io::table_file::{self, RigRef};
-use crate::io::{builtin, obj};
+use crate::io::builtin;
+use crate::io::rig_file;
+use crate::io::table_file;
 use crate::model::{Activations, BoundRig, Mesh};
 use crate::render::{
     muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, Overlay, Palette,
@@ -227,21 +227,13 @@ fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
         None => (None, None),
     };
     let reference = match (&source.rig, table_rig) {
-        (Some(path), _) => match builtin::builtin_name(path) {
-            Some(name) => RigRef::Builtin(name.to_string()),
-            None => RigRef::File(path.clone()),
-        },
-        (None, Some(reference)) => reference,
+        (Some(path), _) => path.clone(),
+        (None, Some(reference)) => reference.to_path(),
         (None, None) => {
             bail!("no rig given: pass --rig RIG, or --table TABLE to use the rig it names")
         }
     };
-    let rig = match reference {
-        RigRef::Builtin(name) => builtin_rig(&name, source.mesh.as_deref())?,
-        RigRef::File(path) => {
-            rig_file::load_rig_with(&path, source.mesh.as_deref(), builtin::mesh)?
-        }
-    };
+    let rig = rig_file::load_rig_ref(&reference, source.mesh.as_deref())?;
     if let Some(table) = &table {
         let name = source.table.as_deref().unwrap_or(Path::new("")).display();
         table
@@ -252,30 +244,6 @@ fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
         rig,
         table,
         table_path: source.table.clone(),
-    })
-}
-
-/// A built-in rig with its built-in mesh (or the mesh file given instead).
-fn builtin_rig(name: &str, mesh: Option<&Path>) -> anyhow::Result<LoadedRig> {
-    let rig =
-        builtin::rig(name).ok_or_else(|| anyhow!("there is no built-in rig named `{name}`"))?;
-    let (mesh, mesh_path) = match mesh {
-        Some(path) => (obj::read_obj(path)?, Some(path.to_path_buf())),
-        None => {
-            let mesh_name = builtin::builtin_name(&rig.mesh).unwrap_or("face");
-            let mesh = builtin::mesh(mesh_name).ok_or_else(|| {
-                anyhow!("the built-in rig `{name}` names an unknown mesh `{mesh_name}`")
-            })?;
-            (mesh, None)
-        }
-    };
-    let path = PathBuf::from(format!("builtin:{name}"));
-    rig_file::check_rig_mesh(&rig, &mesh).map_err(|e| anyhow!("{}: {e}", path.display()))?;
-    Ok(LoadedRig {
-        rig,
-        mesh,
-        path,
-        mesh_path,
     })
 }
 

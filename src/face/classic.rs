@@ -23,7 +23,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::Vec3;
 use thiserror::Error;
 
-use super::rigs;
+use super::rigs::{self, mirror, pair, round3, rounded};
 use super::surface::smoothstep;
 use super::topology;
 use crate::model::{Convergence, Jaw, Mesh, Muscle, MuscleKind, Sheet, Side, Sphincter};
@@ -571,38 +571,6 @@ impl MouthLine {
         }
         k[k.len() - 1].1
     }
-}
-
-/// The left (x < 0) and right muscles of a pair, named `L_name` and `R_name`.
-fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 2] {
-    let (l, r) = (format!("L_{name}"), format!("R_{name}"));
-    [
-        Muscle {
-            name: l.clone(),
-            side: Side::Left,
-            mirror: Some(r.clone()),
-            kind: left,
-        },
-        Muscle {
-            name: r,
-            side: Side::Right,
-            mirror: Some(l),
-            kind: right,
-        },
-    ]
-}
-
-fn mirror(p: Vec3) -> Vec3 {
-    Vec3::new(-p.x, p.y, p.z)
-}
-
-/// Rounds to 3 decimals (the classic data's own precision) so rig files stay readable.
-fn round3(v: f32) -> f32 {
-    (v * 1000.0).round() / 1000.0
-}
-
-fn rounded(p: Vec3) -> Vec3 {
-    Vec3::new(round3(p.x), round3(p.y), round3(p.z))
 }
 
 #[cfg(test)]

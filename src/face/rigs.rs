@@ -475,7 +475,7 @@ pub fn skin_under(mesh: &Mesh, x: f32, y: f32) -> Option<Vec3> {
 }
 
 /// The left (x < 0) and right muscles of a pair, named `L_name` and `R_name`.
-fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 2] {
+pub(crate) fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 2] {
     let (l, r) = (format!("L_{name}"), format!("R_{name}"));
     [
         Muscle {
@@ -493,15 +493,17 @@ fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 2] {
     ]
 }
 
-fn mirror(p: Vec3) -> Vec3 {
+/// The point reflected across the face's midline (x = 0).
+pub(crate) fn mirror(p: Vec3) -> Vec3 {
     Vec3::new(-p.x, p.y, p.z)
 }
 
 /// Rounds to 3 decimals so rig files stay readable (0.001 units is 0.01 mm).
-fn round3(v: f32) -> f32 {
+pub(crate) fn round3(v: f32) -> f32 {
     (v * 1000.0).round() / 1000.0
 }
 
-fn rounded(p: Vec3) -> Vec3 {
+/// Each coordinate rounded with [`round3`].
+pub(crate) fn rounded(p: Vec3) -> Vec3 {
     Vec3::new(round3(p.x), round3(p.y), round3(p.z))
 }

@@ -22,6 +22,16 @@ pub enum RigRef {
     File(PathBuf),
 }
 
+impl RigRef {
+    /// The reference as [`super::rig_file::load_rig_ref`] takes it: `builtin:NAME` or the file.
+    pub fn to_path(&self) -> PathBuf {
+        match self {
+            RigRef::Builtin(name) => PathBuf::from(format!("{BUILTIN_PREFIX}{name}")),
+            RigRef::File(path) => path.clone(),
+        }
+    }
+}
+
 /// Resolves a table's `rig` field: `builtin:NAME`, or a path relative to the table file's
 /// folder (absolute paths are kept).
 pub fn rig_ref(table_path: &Path, rig: &Path) -> RigRef {

@@ -2,6 +2,9 @@
 //! temporary folder, the shared-sample lookup, and running the built binary.
 #![allow(dead_code)]
 
+#[path = "../common/mod.rs"]
+mod common;
+
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -16,27 +19,10 @@ pub fn grimace() -> Command {
     Command::new(env!("CARGO_BIN_EXE_grimace"))
 }
 
-/// The shared reference folder: `GRIMACE_SHARED`, else `../shared` beside the repository.
-/// `None` (with a printed reason) when it is missing outside CI; a panic under `CI=true`.
+/// The shared sample `sub` (see `tests/common`): `None` (with a printed reason) when it is
+/// missing outside CI; a panic under `CI=true`.
 pub fn shared(sub: &str) -> Option<PathBuf> {
-    let root = std::env::var_os("GRIMACE_SHARED")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared"));
-    let path = root.join(sub);
-    if path.exists() {
-        return Some(path);
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!(
-            "shared reference material missing: {} (set GRIMACE_SHARED)",
-            path.display()
-        );
-    }
-    eprintln!(
-        "skipping: {} not found (set GRIMACE_SHARED)",
-        path.display()
-    );
-    None
+    common::shared_with(&[sub]).map(|root| root.join(sub))
 }
 
 fn muscle(name: &str) -> Muscle {
