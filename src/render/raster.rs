@@ -198,6 +198,8 @@ impl Renderer {
             &mut self.projected,
         );
         classify(&self.triangles, &self.projected, sign, &mut self.facing);
+        // Face normals follow the pose and the facing of this frame.
+        self.face_normals_ready = false;
         Some(proj)
     }
 
