@@ -3,7 +3,9 @@
 
 use std::io::{Read, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use portable_pty::{native_pty_system, Child, CommandBuilder, MasterPty, PtySize};
@@ -15,11 +17,24 @@ struct Editor {
     writer: Box<dyn Write + Send>,
     parser: Arc<Mutex<vt100::Parser>>,
     bytes: Arc<Mutex<usize>>,
-    _master: Box<dyn MasterPty + Send>,
+    master: Box<dyn MasterPty + Send>,
+    /// Stops the reader thread, which holds a copy of the master end.
+    stop_reading: Arc<AtomicBool>,
+    reader: Option<JoinHandle<()>>,
 }
 
 impl Editor {
     fn start(state_dir: &Path, args: &[&str], cols: u16, rows: u16) -> Editor {
+        Editor::start_command(env!("CARGO_BIN_EXE_grimace"), args, state_dir, cols, rows)
+    }
+
+    fn start_command(
+        program: &str,
+        args: &[&str],
+        state_dir: &Path,
+        cols: u16,
+        rows: u16,
+    ) -> Editor {
         let pair = native_pty_system()
             .openpty(PtySize {
                 rows,
@@ -28,7 +43,7 @@ impl Editor {
                 pixel_height: 0,
             })
             .expect("a pseudo-terminal");
-        let mut cmd = CommandBuilder::new(env!("CARGO_BIN_EXE_grimace"));
+        let mut cmd = CommandBuilder::new(program);
         cmd.args(args);
         cmd.env("XDG_STATE_HOME", state_dir);
         cmd.env("TERM", "xterm-256color");
@@ -37,17 +52,29 @@ impl Editor {
         drop(pair.slave);
         let mut reader = pair.master.try_clone_reader().unwrap();
         let writer = pair.master.take_writer().unwrap();
+        let master_fd = pair.master.as_raw_fd().expect("a unix pseudo-terminal");
         let parser = Arc::new(Mutex::new(vt100::Parser::new(rows, cols, 0)));
         let bytes = Arc::new(Mutex::new(0usize));
-        let (p, b) = (Arc::clone(&parser), Arc::clone(&bytes));
-        std::thread::spawn(move || {
+        let stop_reading = Arc::new(AtomicBool::new(false));
+        let (p, b, stop) = (
+            Arc::clone(&parser),
+            Arc::clone(&bytes),
+            Arc::clone(&stop_reading),
+        );
+        let reader = std::thread::spawn(move || {
             let mut buf = [0u8; 8192];
-            while let Ok(n) = reader.read(&mut buf) {
-                if n == 0 {
-                    break;
+            // Wait with a timeout so the thread can be told to let go of the master end.
+            while !stop.load(Ordering::SeqCst) {
+                if !readable(master_fd, 50) {
+                    continue;
                 }
-                p.lock().unwrap().process(&buf[..n]);
-                *b.lock().unwrap() += n;
+                match reader.read(&mut buf) {
+                    Ok(0) | Err(_) => break,
+                    Ok(n) => {
+                        p.lock().unwrap().process(&buf[..n]);
+                        *b.lock().unwrap() += n;
+                    }
+                }
             }
         });
         Editor {
@@ -55,8 +82,32 @@ impl Editor {
             writer,
             parser,
             bytes,
-            _master: pair.master,
+            master: pair.master,
+            stop_reading,
+            reader: Some(reader),
         }
+    }
+
+    /// Closes every copy of the master end, as when a terminal emulator is killed: the
+    /// terminal is gone, and only the session leader gets a SIGHUP from the kernel.
+    fn close_terminal(mut self) {
+        self.stop_reading.store(true, Ordering::SeqCst);
+        if let Some(reader) = self.reader.take() {
+            reader.join().unwrap();
+        }
+        // portable-pty's writer types end-of-file on drop; a vanishing emulator types
+        // nothing, so clear the end-of-file character first.
+        let fd = self.master.as_raw_fd().unwrap();
+        // SAFETY: plain termios calls on an open descriptor with a zeroed struct to fill.
+        unsafe {
+            let mut t: libc::termios = std::mem::zeroed();
+            if libc::tcgetattr(fd, &mut t) == 0 {
+                t.c_cc[libc::VEOF] = 0;
+                libc::tcsetattr(fd, libc::TCSANOW, &t);
+            }
+        }
+        drop(self.writer);
+        drop(self.master);
     }
 
     fn send(&mut self, keys: &str) {
@@ -115,6 +166,17 @@ impl Editor {
         // portable-pty's killer sends SIGHUP on unix, like a dropped SSH connection.
         self.child.clone_killer().kill().unwrap();
     }
+}
+
+/// Whether `fd` has something to read within `timeout_ms`.
+fn readable(fd: i32, timeout_ms: i32) -> bool {
+    let mut pfd = libc::pollfd {
+        fd,
+        events: libc::POLLIN,
+        revents: 0,
+    };
+    // SAFETY: one valid pollfd, count 1.
+    unsafe { libc::poll(&mut pfd, 1, timeout_ms) > 0 }
 }
 
 /// The value shown on the selected muscle row (the row drawn with the marker).
@@ -195,6 +257,54 @@ fn a_hangup_loses_nothing_and_the_next_launch_offers_to_recover() {
     let entry = &table.aus[&"6".parse().unwrap()];
     assert_eq!(entry.muscles.values().next(), Some(&0.5));
     assert!(!dir.path().join(".work.au.ron.recover").exists());
+}
+
+/// The editor started by a shell that outlives it (`sh -c "grimace ...; ..."`): when the
+/// terminal goes away, the kernel's SIGHUP reaches only the shell.
+#[test]
+fn a_terminal_that_vanishes_without_a_signal_loses_nothing_and_the_editor_exits() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("gone.au.ron");
+    let script = format!(
+        "'{}' edit '{}'; sleep 30",
+        env!("CARGO_BIN_EXE_grimace"),
+        file.display()
+    );
+    let ed = Editor::start_command("sh", &["-c", &script], dir.path(), 100, 30);
+    ed.wait_for("new table");
+    let lock = dir.path().join(".gone.au.ron.lock");
+    let pid: i32 = std::fs::read_to_string(&lock)
+        .expect("the editor holds a lock")
+        .trim()
+        .parse()
+        .expect("the lock names the editor's process");
+    let mut ed = ed;
+    ed.send("LL");
+    ed.wait_for("0.50");
+    ed.close_terminal();
+
+    // The editor releases its lock as it exits.
+    let start = Instant::now();
+    while lock.exists() {
+        if start.elapsed() > TIMEOUT {
+            // SAFETY: signalling the editor process this test started.
+            unsafe { libc::kill(pid, libc::SIGKILL) };
+            panic!("the editor did not exit within {TIMEOUT:?} after its terminal vanished");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let recovery = dir.path().join(".gone.au.ron.recover");
+    let state = grimace::io::recovery::read(&recovery)
+        .expect("the recovery file reads")
+        .expect("the unsaved state is kept");
+    let changed: Vec<f32> = state
+        .muscles
+        .values()
+        .copied()
+        .filter(|&v| v != 0.0)
+        .collect();
+    assert_eq!(changed, [0.5], "{:?}", state.muscles);
+    assert!(!file.exists(), "the table file is untouched");
 }
 
 #[test]

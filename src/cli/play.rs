@@ -556,7 +556,8 @@ mod view {
         let mut due: Option<Instant> = None;
         let mut last_shown_due: Option<Instant> = None;
         loop {
-            if stop.load(Ordering::Relaxed) {
+            // A terminal that vanished without a SIGHUP reaching us ends the view too.
+            if stop.load(Ordering::Relaxed) || crate::tui::term::terminal_gone() {
                 return Ok(());
             }
             // Faster sources than the display rate: frames due in between are dropped.

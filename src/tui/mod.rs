@@ -128,7 +128,9 @@ fn event_loop<W: Write>(
                     terminal.autoresize()?;
                     state.redraw = true;
                 }
-                if state.quit || !event::poll(Duration::ZERO)? {
+                // A tiny timeout rather than zero: crossterm returns events it has already
+                // parsed only from a wait that has time left.
+                if state.quit || !event::poll(Duration::from_micros(1))? {
                     break;
                 }
             }

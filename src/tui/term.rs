@@ -111,14 +111,67 @@ impl Signals {
         Ok(Signals { hangup, terminate })
     }
 
-    /// The signal received, if any.
+    /// The signal received, if any. A terminal that has gone away without a SIGHUP reaching
+    /// us (its emulator killed while a shell sat between it and us) counts as a hangup.
     pub fn pending(&self) -> Option<Stop> {
-        if self.hangup.load(Ordering::SeqCst) {
+        if self.hangup.load(Ordering::SeqCst) || terminal_gone() {
             Some(Stop::Hangup)
         } else if self.terminate.load(Ordering::SeqCst) {
             Some(Stop::Terminate)
         } else {
             None
         }
+    }
+}
+
+/// Whether the terminal on standard input has hung up (its other end closed).
+#[cfg(unix)]
+pub fn terminal_gone() -> bool {
+    hung_up(libc::STDIN_FILENO)
+}
+
+/// Whether the other end of `fd` is closed.
+///
+/// Asks poll(2) for no events at all, so only hangup, error and invalid-descriptor
+/// conditions can be reported, and does not wait.
+#[cfg(unix)]
+fn hung_up(fd: libc::c_int) -> bool {
+    let mut poll_fd = libc::pollfd {
+        fd,
+        events: 0,
+        revents: 0,
+    };
+    // SAFETY: one valid pollfd, count 1, zero timeout; poll only writes `revents`.
+    let ready = unsafe { libc::poll(&mut poll_fd, 1, 0) };
+    ready > 0 && poll_fd.revents & (libc::POLLHUP | libc::POLLERR | libc::POLLNVAL) != 0
+}
+
+/// Whether the terminal has hung up (not detectable here; signals still stop the editor).
+#[cfg(not(unix))]
+pub fn terminal_gone() -> bool {
+    false
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::hung_up;
+    use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
+
+    #[test]
+    fn a_closed_other_end_is_a_hangup_and_pending_input_is_not() {
+        let mut fds = [0; 2];
+        // SAFETY: pipe fills two fresh descriptors, each then owned exactly once.
+        assert_eq!(unsafe { libc::pipe(fds.as_mut_ptr()) }, 0);
+        let (reader, writer) =
+            unsafe { (OwnedFd::from_raw_fd(fds[0]), OwnedFd::from_raw_fd(fds[1])) };
+        let mut writer = std::fs::File::from(writer);
+        assert!(!hung_up(reader.as_raw_fd()), "an open, empty pipe");
+        std::io::Write::write_all(&mut writer, b"j").unwrap();
+        assert!(
+            !hung_up(reader.as_raw_fd()),
+            "input waiting is not a hangup"
+        );
+        drop(writer);
+        assert!(hung_up(reader.as_raw_fd()), "the writer is gone");
     }
 }
