@@ -11,11 +11,12 @@
 //! A row that cannot be read is reported as [`RowOutcome::Malformed`] with its line number and
 //! column, never as a panic; the caller decides whether to skip it or stop.
 
-use std::fmt;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
+
+use super::error::LoadError;
 
 /// The highest AU intensity OpenFace writes (`AUxx_r` runs from 0 to 5).
 pub const OPENFACE_MAX_INTENSITY: f32 = 5.0;
@@ -23,31 +24,9 @@ pub const OPENFACE_MAX_INTENSITY: f32 = 5.0;
 /// The longest line the reader accepts, in bytes (a real row is under 16 KiB).
 pub const MAX_LINE_BYTES: usize = 1 << 20;
 
-/// An error that stops reading: the header is unusable, or the input cannot be read.
-#[derive(Debug, Error)]
-pub struct OpenFaceError {
-    /// The file read (`-` for stdin).
-    pub path: PathBuf,
-    /// 1-based line number, when the error belongs to a line.
-    pub line: Option<usize>,
-    /// 1-based column (in characters), when known.
-    pub column: Option<usize>,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl fmt::Display for OpenFaceError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.path.display())?;
-        if let Some(line) = self.line {
-            write!(f, ":{line}")?;
-            if let Some(column) = self.column {
-                write!(f, ":{column}")?;
-            }
-        }
-        write!(f, ": {}", self.message)
-    }
-}
+/// An error that stops reading: the header is unusable, or the input cannot be read. It
+/// names the file (`-` for stdin), line and column like every other load error.
+pub type OpenFaceError = LoadError;
 
 /// One AU intensity column of the header.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
