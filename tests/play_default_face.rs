@@ -121,7 +121,7 @@ fn builtin_names_and_custom_rig_without_table() {
     let out = run(&["--stdin", "--rig", "builtin:nope"], b"");
     assert_eq!(out.status.code(), Some(1));
     assert!(
-        stderr(&out).contains("no built-in rig `builtin:nope`"),
+        stderr(&out).contains("no built-in rig named `nope`"),
         "{}",
         stderr(&out)
     );

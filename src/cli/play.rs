@@ -11,13 +11,12 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
+use super::export::{self, SourceArgs};
 use crate::facs::AuTable;
-use crate::io::builtin::{self, builtin_name};
-use crate::io::parse_rig;
-use crate::io::rig_file::load_rig_with;
-use crate::io::table_file::{load_table, load_table_for, rig_ref, RigRef};
+use crate::io::rig_file::LoadedRig;
+use crate::io::table_file::load_table_ref_for;
 use crate::io::timeline::load_timeline;
-use crate::model::{Mesh, Rig};
+use crate::model::Rig;
 use crate::play::source::DEFAULT_FRAME_RATE;
 use crate::play::{
     AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, OpenFaceSource,
@@ -97,7 +96,7 @@ pub struct PlayArgs {
 /// Runs `grimace play`, returning the first error (named with file, line and column).
 pub fn run(args: &PlayArgs) -> Result<()> {
     check_args(args)?;
-    let (rig, table, mesh) = load_face(args, !args.headless)?;
+    let (LoadedRig { rig, mesh, .. }, table) = load_face(args)?;
     let mapper = AuMapper::new(&table, &rig);
     let source = open_source(args, &rig, &table, &mapper)?;
     if args.headless {
@@ -112,7 +111,6 @@ pub fn run(args: &PlayArgs) -> Result<()> {
         if !io::stdout().is_terminal() {
             bail!("stdout is not a terminal: use --headless to print frames instead of drawing");
         }
-        let mesh = mesh.context("no mesh to draw")?;
         let summary = view::play(args, source, mesh, &rig, &table, &mapper)?;
         println!(
             "played {} frames, skipped {}",
@@ -142,70 +140,24 @@ fn check_args(args: &PlayArgs) -> Result<()> {
     Ok(())
 }
 
-/// The rig, the table and (when `need_mesh`) the mesh.
+/// The rig with its mesh, and the table checked against the rig.
 ///
-/// The rig is `--rig` (a file or `builtin:NAME`), else the rig the `--table` file names, else
-/// the built-in default rig. The table is `--table` (a file or `builtin:NAME`), else the
-/// built-in default table; it is checked against the rig. Headless play draws nothing, so a
-/// rig file's mesh is not read then.
-fn load_face(args: &PlayArgs, need_mesh: bool) -> Result<(Rig, AuTable, Option<Mesh>)> {
-    // A table file names its rig; it is read here for that, and checked against the rig below.
-    let table_file = match &args.table {
-        Some(path) if builtin_name(path).is_none() => Some((path, load_table(path)?.rig)),
-        _ => None,
-    };
-    let rig_source = match (&args.rig, &table_file) {
-        (Some(path), _) => match builtin_name(path) {
-            Some(name) => RigRef::Builtin(name.to_string()),
-            None => RigRef::File(path.clone()),
-        },
-        (None, Some((path, table_rig))) => rig_ref(path, table_rig),
-        (None, None) => RigRef::Builtin("default".into()),
-    };
-    let (rig, mesh) = match rig_source {
-        RigRef::Builtin(name) => {
-            let rig = builtin::rig(&name).with_context(|| {
-                format!("there is no built-in rig `builtin:{name}` (built-in rigs: default, paper)")
-            })?;
-            let mesh = builtin_name(&rig.mesh).and_then(builtin::mesh);
-            (rig, mesh)
-        }
-        RigRef::File(path) if need_mesh => {
-            let loaded = load_rig_with(&path, None, builtin::mesh)?;
-            (loaded.rig, Some(loaded.mesh))
-        }
-        RigRef::File(path) => {
-            let text = std::fs::read_to_string(&path)
-                .with_context(|| format!("cannot read rig {}", path.display()))?;
-            (parse_rig(&text, &path)?, None)
-        }
-    };
-    let table = match (&args.table, table_file) {
-        (_, Some((path, _))) => load_table_for(path, &rig)?,
-        (Some(path), None) => {
-            let name = builtin_name(path).unwrap_or_default();
-            let table = builtin::table(name).with_context(|| {
-                format!("there is no built-in AU table `builtin:{name}` (built-in tables: default)")
-            })?;
-            check_builtin_table(table, &rig)?
-        }
-        (None, None) => check_builtin_table(builtin::default_table(), &rig)?,
-    };
-    if need_mesh && mesh.is_none() {
-        bail!(
-            "the rig's mesh `{}` is not a built-in mesh",
-            rig.mesh.display()
-        );
-    }
-    Ok((rig, table, mesh))
-}
-
-/// A built-in table must fit the rig (a custom rig needs its own `--table`).
-fn check_builtin_table(table: AuTable, rig: &Rig) -> Result<AuTable> {
-    table.check_rig(rig).map_err(|e| {
-        anyhow::anyhow!("the built-in AU table does not fit this rig ({e}); give --table")
+/// The rig is `--rig` (a file or `builtin:NAME`), else the rig the `--table` names, else the
+/// built-in default rig. The table is `--table` (a file or `builtin:NAME`), else the built-in
+/// default table.
+fn load_face(args: &PlayArgs) -> Result<(LoadedRig, AuTable)> {
+    let sources = export::load_sources(&SourceArgs {
+        rig: args.rig.clone(),
+        mesh: None,
+        table: args.table.clone(),
     })?;
-    Ok(table)
+    let table = match sources.table {
+        Some(table) => table,
+        // A rig alone plays through the built-in table, which a custom rig may not fit.
+        None => load_table_ref_for(Path::new(export::DEFAULT_TABLE), &sources.rig.rig)
+            .context("the built-in AU table does not fit this rig; give --table")?,
+    };
+    Ok((sources.rig, table))
 }
 
 fn is_timeline(path: &Path) -> bool {

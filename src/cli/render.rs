@@ -11,17 +11,11 @@ use rayon::prelude::*;
 
 use super::export::{self, SourceArgs, Sources, StateArgs};
 use crate::io::atomic::write_atomic_no_backup;
-use crate::io::builtin;
-use crate::io::rig_file;
-use crate::io::table_file;
 use crate::model::{Activations, BoundRig, Mesh};
 use crate::render::{
     muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, Overlay, Palette,
     Renderer, Scene, Style,
 };
-
-/// The table used when neither `--rig` nor `--table` is given.
-const DEFAULT_TABLE: &str = "builtin:default";
 
 /// Preset views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -211,42 +205,6 @@ fn color_mode(choice: ColorChoice) -> ColorMode {
     }
 }
 
-/// Loads the rig, its mesh and the table like `export` does, and also resolves built-in
-/// references (`builtin:default` tables and rigs, `builtin:face` meshes).
-fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
-    let (table, table_rig) = match &source.table {
-        Some(path) => {
-            let table = match builtin::builtin_name(path) {
-                Some(name) => builtin::table(name)
-                    .ok_or_else(|| anyhow!("there is no built-in AU table named `{name}`"))?,
-                None => table_file::load_table(path)?,
-            };
-            let rig = table_file::rig_ref(path, &table.rig);
-            (Some(table), Some(rig))
-        }
-        None => (None, None),
-    };
-    let reference = match (&source.rig, table_rig) {
-        (Some(path), _) => path.clone(),
-        (None, Some(reference)) => reference.to_path(),
-        (None, None) => {
-            bail!("no rig given: pass --rig RIG, or --table TABLE to use the rig it names")
-        }
-    };
-    let rig = rig_file::load_rig_ref(&reference, source.mesh.as_deref())?;
-    if let Some(table) = &table {
-        let name = source.table.as_deref().unwrap_or(Path::new("")).display();
-        table
-            .check_rig(&rig.rig)
-            .map_err(|e| anyhow!("{name}: does not fit the rig {}: {e}", rig.path.display()))?;
-    }
-    Ok(Sources {
-        rig,
-        table,
-        table_path: source.table.clone(),
-    })
-}
-
 /// An output format chosen from a file name's extension.
 fn format_of(path: &Path) -> anyhow::Result<Format> {
     let ext = path
@@ -308,11 +266,7 @@ fn deform(bound: &BoundRig, act: &Activations) -> anyhow::Result<Vec<Vec3>> {
 
 /// Runs `grimace render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let mut source = args.source.clone();
-    if source.rig.is_none() && source.table.is_none() {
-        source.table = Some(PathBuf::from(DEFAULT_TABLE));
-    }
-    let sources = load_sources(&source)?;
+    let sources = export::load_sources(&args.source)?;
     let bound = export::bind(&sources.rig)?;
     let look = Look::new(args, &sources)?;
     if args.all {
