@@ -8,6 +8,9 @@ use ratatui::widgets::{Block, Borders, Clear, Widget};
 use super::theme::Theme;
 use crate::tui::keymap;
 
+/// The width of the key column, in characters.
+const KEY_COLUMN: usize = 18;
+
 /// The overlay's lines.
 pub fn lines() -> Vec<(String, String, bool)> {
     let mut out = Vec::new();
@@ -47,24 +50,92 @@ pub fn draw(theme: &Theme, scroll: u16, area: Rect, buf: &mut Buffer) {
         .title(" Help: j/k scroll, any other key closes ");
     let inner = block.inner(popup);
     block.render(popup, buf);
-    let all = lines();
+    // Wide enough for nearly every key; the few longer ones get a line of their own.
+    let key_width = KEY_COLUMN.min(inner.width as usize / 2);
+    let text_width = (inner.width as usize).saturating_sub(key_width + 4).max(1);
+    let all = wrapped(theme, key_width, text_width);
     let max_scroll = all.len().saturating_sub(inner.height as usize);
     let skip = (scroll as usize).min(max_scroll);
-    let key_width = 30.min(inner.width as usize / 2);
-    for (k, (keys, description, heading)) in all
-        .iter()
-        .skip(skip)
-        .take(inner.height as usize)
-        .enumerate()
-    {
-        let line = if *heading {
-            Line::from(Span::styled(keys.clone(), theme.heading()))
+    for (k, line) in all.iter().skip(skip).take(inner.height as usize).enumerate() {
+        buf.set_line(inner.x, inner.y + k as u16, line, inner.width);
+    }
+}
+
+/// The overlay's lines laid out: keys in a column `key_width` wide, descriptions wrapped at
+/// word boundaries to `text_width` so nothing is cut off in a narrow terminal.
+fn wrapped(theme: &Theme, key_width: usize, text_width: usize) -> Vec<Line<'static>> {
+    let mut out = Vec::new();
+    for (keys, description, heading) in lines() {
+        if heading {
+            out.push(Line::from(Span::styled(keys, theme.heading())));
+            continue;
+        }
+        let mut keys = if keys.chars().count() > key_width {
+            out.push(Line::from(Span::styled(format!("  {keys}"), theme.partner())));
+            " ".repeat(key_width + 4)
         } else {
-            Line::from(vec![
-                Span::styled(format!("  {keys:<key_width$}"), theme.partner()),
-                Span::raw(description.clone()),
-            ])
+            format!("  {keys:<key_width$}  ")
         };
-        buf.set_line(inner.x, inner.y + k as u16, &line, inner.width);
+        for part in wrap_words(&description, text_width) {
+            out.push(Line::from(vec![
+                Span::styled(std::mem::take(&mut keys), theme.partner()),
+                Span::raw(part),
+            ]));
+            keys = " ".repeat(key_width + 4);
+        }
+    }
+    out
+}
+
+/// Splits `text` into lines of at most `width` characters, breaking between words (a word
+/// longer than `width` is split). Always at least one line.
+fn wrap_words(text: &str, width: usize) -> Vec<String> {
+    let mut out = vec![String::new()];
+    for word in text.split_whitespace() {
+        let mut word: Vec<char> = word.chars().collect();
+        loop {
+            let line = out.last_mut().expect("never empty");
+            let used = line.chars().count();
+            let gap = usize::from(used > 0);
+            if used + gap + word.len() <= width {
+                if gap == 1 {
+                    line.push(' ');
+                }
+                line.extend(word.iter());
+                break;
+            }
+            if used > 0 {
+                out.push(String::new());
+                continue;
+            }
+            let rest = word.split_off(width.min(word.len()));
+            line.extend(word.iter());
+            out.push(String::new());
+            word = rest;
+            if word.is_empty() {
+                out.pop();
+                break;
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::wrap_words;
+
+    #[test]
+    fn words_wrap_within_the_width_and_keep_every_character() {
+        let text = "load the selected AU or expression (muscles: type a value)";
+        for width in [1, 5, 12, 20, 80] {
+            let lines = wrap_words(text, width);
+            assert!(lines.iter().all(|l| l.chars().count() <= width), "{width}: {lines:?}");
+            let joined: String = lines.concat().split_whitespace().collect();
+            let expected: String = text.split_whitespace().collect();
+            assert_eq!(joined, expected, "width {width}");
+        }
+        assert_eq!(wrap_words("a bc de", 4), ["a bc", "de"]);
+        assert_eq!(wrap_words("", 10), [""]);
     }
 }
