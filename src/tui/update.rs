@@ -269,7 +269,7 @@ pub fn question_text(question: &Question) -> String {
             path.display()
         ),
         Question::Recover(found) => format!(
-            "Unsaved changes from {} were found. recover them? (y = recover, n = discard)",
+            "Recover unsaved changes from {}? (y = recover, n = discard)",
             found.when
         ),
     }
