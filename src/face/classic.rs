@@ -412,45 +412,18 @@ fn orbicularis_oris(marks: &Landmarks, mesh: &Mesh) -> Result<Muscle, ClassicErr
     })
 }
 
-/// The eye sphincters, centred on the lid line (halfway between the middles of the upper
-/// and lower lid) so both lids converge on it. A lid margin at `t = |Py| / ly` on the
-/// centre line moves `K t (1 - t)`; `ly` is chosen so that the margins just meet at K = 2
-/// (the smaller root of `2 t (1 - t) = h`, h the half opening, as on the default face).
+/// The eye sphincters on the lid line (see [`rigs::eye_sphincters`]), wider than the eye so
+/// the lids close along most of their length.
 fn orbicularis_oculi(marks: &Landmarks, p: &[Vec3]) -> Result<[Muscle; 2], ClassicError> {
     let eye = &marks.right_eye;
-    let (upper, lower) = eye
+    let lids = eye
         .centres(p)
         .ok_or(ClassicError::Missing("the middle of the right eyelids"))?;
-    let [inner, outer] = eye.corners.map(|v| p[v as usize]);
-    let half_opening = 0.5 * (upper.y - lower.y);
-    if half_opening.is_nan() || half_opening <= 0.0 {
-        return Err(ClassicError::Missing("an open right eye"));
-    }
-    let t = 0.5 * (1.0 - (1.0 - 2.0 * half_opening).max(0.0).sqrt());
-    let semi_minor = half_opening / t;
-    let half_width = 0.5 * (outer.x - inner.x).abs();
-    let centre = rounded(Vec3::new(
-        0.5 * (inner.x + outer.x),
-        0.5 * (upper.y + lower.y),
-        0.5 * (upper.z + lower.z),
-    ));
-    let right = Sphincter {
-        centre,
-        // wider than the eye so the lids close along most of their length
-        semi_major: round3((1.6 * half_width).max(1.05 * semi_minor)),
-        semi_minor: round3(semi_minor),
-        convergence: Convergence::MajorAxis,
-        bulge: 30.0,
-    };
-    let left = Sphincter {
-        centre: mirror(centre),
-        ..right.clone()
-    };
-    Ok(pair(
-        "Orbicularis_Oculi",
-        MuscleKind::Sphincter(left),
-        MuscleKind::Sphincter(right),
-    ))
+    let corners = eye.corners.map(|v| p[v as usize]);
+    rigs::eye_sphincters(corners, lids.into(), |half_width, semi_minor| {
+        (1.6 * half_width).max(1.05 * semi_minor)
+    })
+    .ok_or(ClassicError::Missing("an open right eye"))
 }
 
 /// The jaw: a pivot deep in the head at about the height of the nose's base, and weights 0

@@ -341,41 +341,16 @@ impl Placer<'_> {
         })
     }
 
-    /// The eye sphincters, centred on the line where the lids meet when they close (halfway
-    /// between the lid margins), so both lids converge on it at full activation.
+    /// The eye sphincters, reaching a little past the eye corners.
     fn orbicularis_oculi(&self) -> Result<[Muscle; 2], PlacementError> {
         let inner = self.landmark("right_inner_eye_corner")?;
         let outer = self.landmark("right_outer_eye_corner")?;
         let upper = self.landmark("right_upper_lid_centre")?;
         let lower = self.landmark("right_lower_lid_centre")?;
-        let half_fissure = 0.5 * (upper.y - lower.y);
-        let centre = rounded(Vec3::new(
-            0.5 * (inner.x + outer.x),
-            0.5 * (upper.y + lower.y),
-            0.5 * (upper.z + lower.z),
-        ));
-        // A lid margin at t = |Py| / ly on the centre line moves K t (1 - t) units toward the
-        // major axis. Choose ly so that at K = 2 the margins just reach the axis:
-        // 2 t (1 - t) = h, t = (1 - sqrt(1 - 2h)) / 2 (the smaller root, so the band of
-        // orbital skin between lid and brow moves with the lid).
-        let t = 0.5 * (1.0 - (1.0 - 2.0 * half_fissure).max(0.0).sqrt());
-        let semi_minor = if t > 0.0 { half_fissure / t } else { 1.0 };
-        let right = Sphincter {
-            centre,
-            semi_major: round3(0.5 * (outer.x - inner.x) + units(7.0) as f32),
-            semi_minor: round3(semi_minor),
-            convergence: Convergence::MajorAxis,
-            bulge: 30.0,
-        };
-        let left = Sphincter {
-            centre: mirror(centre),
-            ..right.clone()
-        };
-        Ok(pair(
-            "Orbicularis_Oculi",
-            MuscleKind::Sphincter(left),
-            MuscleKind::Sphincter(right),
-        ))
+        eye_sphincters([inner, outer], [upper, lower], |half_width, _| {
+            half_width + units(7.0) as f32
+        })
+        .ok_or_else(|| PlacementError::MissingLandmark("right_upper_lid_centre (open)".into()))
     }
 
     /// The procerus: a midline muscle from the nasal bones up into the glabella skin; it
@@ -475,6 +450,47 @@ pub fn skin_under(mesh: &Mesh, x: f32, y: f32) -> Option<Vec3> {
 }
 
 /// The left (x < 0) and right muscles of a pair, named `L_name` and `R_name`.
+/// Both eye sphincters from the right eye's corners and lid-margin centres: centred on the
+/// line where the lids meet when they close (halfway between the margins), so both lids
+/// converge on it. A lid margin at `t = |Py| / ly` on the centre line moves `K t (1 - t)`
+/// toward the major axis; `ly` is chosen so that the margins just reach it at K = 2:
+/// `2 t (1 - t) = h` with h the half opening, taking the smaller root so the band of orbital
+/// skin between lid and brow moves with the lid. `semi_major` gets the eye's half width and
+/// the semi-minor axis. `None` for an eye that is not open.
+pub(crate) fn eye_sphincters(
+    [inner, outer]: [Vec3; 2],
+    [upper, lower]: [Vec3; 2],
+    semi_major: impl Fn(f32, f32) -> f32,
+) -> Option<[Muscle; 2]> {
+    let half_opening = 0.5 * (upper.y - lower.y);
+    if half_opening.is_nan() || half_opening <= 0.0 {
+        return None;
+    }
+    let t = 0.5 * (1.0 - (1.0 - 2.0 * half_opening).max(0.0).sqrt());
+    let semi_minor = half_opening / t;
+    let centre = rounded(Vec3::new(
+        0.5 * (inner.x + outer.x),
+        0.5 * (upper.y + lower.y),
+        0.5 * (upper.z + lower.z),
+    ));
+    let right = Sphincter {
+        centre,
+        semi_major: round3(semi_major(0.5 * (outer.x - inner.x).abs(), semi_minor)),
+        semi_minor: round3(semi_minor),
+        convergence: Convergence::MajorAxis,
+        bulge: 30.0,
+    };
+    let left = Sphincter {
+        centre: mirror(centre),
+        ..right.clone()
+    };
+    Some(pair(
+        "Orbicularis_Oculi",
+        MuscleKind::Sphincter(left),
+        MuscleKind::Sphincter(right),
+    ))
+}
+
 pub(crate) fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 2] {
     let (l, r) = (format!("L_{name}"), format!("R_{name}"));
     [

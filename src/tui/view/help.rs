@@ -56,7 +56,12 @@ pub fn draw(theme: &Theme, scroll: u16, area: Rect, buf: &mut Buffer) {
     let all = wrapped(theme, key_width, text_width);
     let max_scroll = all.len().saturating_sub(inner.height as usize);
     let skip = (scroll as usize).min(max_scroll);
-    for (k, line) in all.iter().skip(skip).take(inner.height as usize).enumerate() {
+    for (k, line) in all
+        .iter()
+        .skip(skip)
+        .take(inner.height as usize)
+        .enumerate()
+    {
         buf.set_line(inner.x, inner.y + k as u16, line, inner.width);
     }
 }
@@ -71,7 +76,10 @@ fn wrapped(theme: &Theme, key_width: usize, text_width: usize) -> Vec<Line<'stat
             continue;
         }
         let mut keys = if keys.chars().count() > key_width {
-            out.push(Line::from(Span::styled(format!("  {keys}"), theme.partner())));
+            out.push(Line::from(Span::styled(
+                format!("  {keys}"),
+                theme.partner(),
+            )));
             " ".repeat(key_width + 4)
         } else {
             format!("  {keys:<key_width$}  ")
@@ -130,7 +138,10 @@ mod tests {
         let text = "load the selected AU or expression (muscles: type a value)";
         for width in [1, 5, 12, 20, 80] {
             let lines = wrap_words(text, width);
-            assert!(lines.iter().all(|l| l.chars().count() <= width), "{width}: {lines:?}");
+            assert!(
+                lines.iter().all(|l| l.chars().count() <= width),
+                "{width}: {lines:?}"
+            );
             let joined: String = lines.concat().split_whitespace().collect();
             let expected: String = text.split_whitespace().collect();
             assert_eq!(joined, expected, "width {width}");
