@@ -390,6 +390,22 @@ fn set_rows(app: &mut App, row: Row, value: f32, fx: &mut Vec<Effect>) {
     edited(app, fx);
 }
 
+/// `:set` and `:jaw`: like [`set_rows`], saying what was set (a typed command has no other
+/// feedback when the row is scrolled out of sight).
+fn set_from_command(app: &mut App, row: Row, value: f32, fx: &mut Vec<Effect>) {
+    let (lo, hi) = app.range(row);
+    set_rows(app, row, value, fx);
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        let partner = app.partner(row).filter(|_| app.mirror);
+        let also = partner.map_or(String::new(), |p| format!(" (and {})", app.row_name(p)));
+        app.info(format!(
+            "{} = {}{also}",
+            app.row_name(row),
+            format_value(value)
+        ));
+    }
+}
+
 fn apply_rows(app: &mut App, row: Row, value: f32) {
     set_one(app, row, value);
     if app.mirror {
@@ -896,7 +912,7 @@ fn run_command(app: &mut App, line: &str, fx: &mut Vec<Effect>) {
             [name, value] => match row_by_name(app, name) {
                 Some(row) => {
                     if let Some(v) = parse_value(app, value) {
-                        set_rows(app, row, v, fx);
+                        set_from_command(app, row, v, fx);
                     }
                 }
                 None => app.error(format!(
@@ -908,7 +924,7 @@ fn run_command(app: &mut App, line: &str, fx: &mut Vec<Effect>) {
         "jaw" => match args.as_slice() {
             [value] if app.rows.contains(&Row::Jaw) => {
                 if let Some(v) = parse_value(app, value) {
-                    set_rows(app, Row::Jaw, v, fx);
+                    set_from_command(app, Row::Jaw, v, fx);
                 }
             }
             [_] => app.error("this rig has no jaw"),
@@ -918,18 +934,24 @@ fn run_command(app: &mut App, line: &str, fx: &mut Vec<Effect>) {
         "undo" => undo(app, fx),
         "redo" => redo(app, fx),
         "help" => app.mode = Mode::Help(0),
-        "view" => match rest {
-            "front" => app.view.preset(ViewPreset::Front),
-            "side" => app.view.preset(ViewPreset::Side),
-            "three-quarter" | "3/4" => app.view.preset(ViewPreset::ThreeQuarter),
-            _ => app.error("usage: :view front|side|three-quarter"),
-        },
-        "style" => match rest {
-            "lines" => app.view.style = Style::Lines,
-            "shaded" => app.view.style = Style::Shaded,
-            "wireframe" => app.view.style = Style::Wireframe,
-            _ => app.error("usage: :style lines|shaded|wireframe"),
-        },
+        "view" => {
+            match rest {
+                "front" => app.view.preset(ViewPreset::Front),
+                "side" => app.view.preset(ViewPreset::Side),
+                "three-quarter" | "3/4" => app.view.preset(ViewPreset::ThreeQuarter),
+                _ => return app.error("usage: :view front|side|three-quarter"),
+            }
+            app.info(format!("view: {rest}"));
+        }
+        "style" => {
+            match rest {
+                "lines" => app.view.style = Style::Lines,
+                "shaded" => app.view.style = Style::Shaded,
+                "wireframe" => app.view.style = Style::Wireframe,
+                _ => return app.error("usage: :style lines|shaded|wireframe"),
+            }
+            app.info(format!("style: {rest}"));
+        }
         other => app.error(format!("unknown command `{other}` (? lists the commands)")),
     }
 }
@@ -1270,6 +1292,16 @@ mod tests {
         assert!(error(&app).contains("jaw must be between 0.00 and 4.00"));
         command(&mut app, "jaw 2");
         assert_eq!(app.activations.jaw, 2.0);
+        assert_eq!(app.message.as_ref().unwrap().text, "jaw = 2.00");
+        update(&mut app, Action::ToggleMirror);
+        command(&mut app, "set l_zygomatic_major 0.5");
+        assert_eq!(muscle(&app, "R_Zygomatic_Major"), 0.5);
+        let said = &app.message.as_ref().unwrap().text;
+        assert_eq!(said, "L_Zygomatic_Major = 0.50 (and R_Zygomatic_Major)");
+        command(&mut app, "view side");
+        assert_eq!(app.message.as_ref().unwrap().text, "view: side");
+        command(&mut app, "style wireframe");
+        assert_eq!(app.message.as_ref().unwrap().text, "style: wireframe");
         command(&mut app, "set");
         assert!(error(&app).starts_with("usage: :set"));
         command(&mut app, "frobnicate");
