@@ -23,6 +23,15 @@ struct Session {
 
 impl Session {
     fn start(dir: &Path, args: &[&str]) -> Session {
+        Session::start_with(dir, args, None)
+    }
+
+    /// Like [`Session::start`], with `input` piped into standard input by a shell.
+    fn start_piped(dir: &Path, input: &str, args: &[&str]) -> Session {
+        Session::start_with(dir, args, Some(input))
+    }
+
+    fn start_with(dir: &Path, args: &[&str], input: Option<&str>) -> Session {
         let (rig, table) = play_common::write_fixture(dir);
         let pty = native_pty_system()
             .openpty(PtySize {
@@ -32,15 +41,31 @@ impl Session {
                 pixel_height: 0,
             })
             .unwrap();
-        let mut command = CommandBuilder::new(env!("CARGO_BIN_EXE_grimace"));
-        command.arg("play");
-        command.arg("--rig");
-        command.arg(&rig);
-        command.arg("--table");
-        command.arg(&table);
-        for arg in args {
-            command.arg(arg);
-        }
+        let mut play = vec![
+            env!("CARGO_BIN_EXE_grimace").to_string(),
+            "play".into(),
+            "--rig".into(),
+            rig.display().to_string(),
+            "--table".into(),
+            table.display().to_string(),
+        ];
+        play.extend(args.iter().map(|a| a.to_string()));
+        let mut command = match input {
+            None => {
+                let mut command = CommandBuilder::new(&play[0]);
+                command.args(&play[1..]);
+                command
+            }
+            Some(input) => {
+                let file = dir.join("piped-input");
+                std::fs::write(&file, input).unwrap();
+                let quoted: Vec<String> = play.iter().map(|a| format!("'{a}'")).collect();
+                let mut command = CommandBuilder::new("sh");
+                command.arg("-c");
+                command.arg(format!("cat '{}' | {}", file.display(), quoted.join(" ")));
+                command
+            }
+        };
         command.env("TERM", "xterm-256color");
         command.cwd(dir);
         let child = pty.slave.spawn_command(command).unwrap();
@@ -178,6 +203,31 @@ fn plays_a_timeline_pauses_steps_and_quits_cleanly() {
     let screen = session.screen();
     assert!(screen.contains("played "), "{screen}");
     assert!(screen.contains("frames shown"), "--stats line: {screen}");
+}
+
+/// The end of piped input is not the terminal going away: the view stays until `q`.
+#[test]
+fn piped_input_that_ends_keeps_the_view_open() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut session = Session::start_piped(dir.path(), "{\"AU12\": 5}\n", &["--stdin"]);
+    assert!(
+        session.wait_for(10.0, |s| s.contains(" end ") && s.contains("frames 1")),
+        "{}",
+        session.screen()
+    );
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(
+        session.child.try_wait().unwrap().is_none(),
+        "the view closed by itself:\n{}",
+        session.screen()
+    );
+    session.key("q");
+    assert_eq!(session.finish(10.0), 0, "{}", session.screen());
+    assert!(
+        session.screen().contains("played 1 frames"),
+        "{}",
+        session.screen()
+    );
 }
 
 #[test]

@@ -124,10 +124,25 @@ impl Signals {
     }
 }
 
-/// Whether the terminal on standard input has hung up (its other end closed).
+/// Whether the terminal has hung up (its other end closed): standard input or output, when
+/// it is a character device, reports a hangup. A pipe on standard input (`play --stdin`)
+/// reports one at the end of its data, which is not the terminal going away.
 #[cfg(unix)]
 pub fn terminal_gone() -> bool {
-    hung_up(libc::STDIN_FILENO)
+    [libc::STDIN_FILENO, libc::STDOUT_FILENO]
+        .into_iter()
+        .any(|fd| is_character_device(fd) && hung_up(fd))
+}
+
+/// Whether `fd` is a character device (a terminal, even one that has hung up and so no
+/// longer answers as a terminal).
+#[cfg(unix)]
+fn is_character_device(fd: libc::c_int) -> bool {
+    // SAFETY: fstat only writes the zeroed struct it is given.
+    unsafe {
+        let mut stat: libc::stat = std::mem::zeroed();
+        libc::fstat(fd, &mut stat) == 0 && stat.st_mode & libc::S_IFMT == libc::S_IFCHR
+    }
 }
 
 /// Whether the other end of `fd` is closed.
@@ -154,7 +169,7 @@ pub fn terminal_gone() -> bool {
 
 #[cfg(all(test, unix))]
 mod tests {
-    use super::hung_up;
+    use super::{hung_up, is_character_device};
     use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
 
     #[test]
@@ -173,5 +188,12 @@ mod tests {
         );
         drop(writer);
         assert!(hung_up(reader.as_raw_fd()), "the writer is gone");
+        assert!(
+            !is_character_device(reader.as_raw_fd()),
+            "a pipe is not a terminal"
+        );
+        let null = std::fs::File::open("/dev/null").unwrap();
+        assert!(is_character_device(null.as_raw_fd()));
+        assert!(!hung_up(null.as_raw_fd()), "/dev/null never hangs up");
     }
 }
