@@ -211,7 +211,8 @@ fn piped_input_that_ends_keeps_the_view_open() {
     let dir = tempfile::tempdir().unwrap();
     let mut session = Session::start_piped(dir.path(), "{\"AU12\": 5}\n", &["--stdin"]);
     assert!(
-        session.wait_for(10.0, |s| s.contains(" end ") && s.contains("frames 1")),
+        session.wait_for(10.0, |s| s.contains(" end ")
+            && s.contains("frames 1  shown 1")),
         "{}",
         session.screen()
     );

@@ -536,12 +536,15 @@ mod view {
                     .draw(|f| draw(f, face, status, player, rig))
                     .context("cannot draw")?;
                 let done = Instant::now();
+                redraw = false;
                 if let Some(when) = due.take() {
                     player.shown(when, done, done - started);
                     // Spaced by due times, so a frame drawn late does not delay the next.
                     last_shown_due = Some(when);
+                    // The status line was drawn before this frame counted as shown; after
+                    // the last frame nothing else redraws, so show the final counts.
+                    redraw = status.ended;
                 }
-                redraw = false;
             }
             let now = Instant::now();
             let display_free = last_shown_due.map_or(now, |t| t + MIN_FRAME_INTERVAL);
