@@ -413,6 +413,15 @@ pub const OTHER_KEYS: &[(&str, &str)] = &[
     ("y / n", "answer a question (Esc = no)"),
 ];
 
+/// What the mouse does, for the help overlay.
+pub const MOUSE: &[(&str, &str)] = &[
+    ("click", "select a muscle row, AU or expression"),
+    ("wheel on a muscle", "adjust it by a fine step"),
+    ("wheel on the face", "zoom"),
+    ("wheel on the table", "move the selection"),
+    ("drag on the face", "turn and tilt the view"),
+];
+
 /// The commands of the `:` line, for the help overlay and completion.
 pub const COMMANDS: &[(&str, &str)] = &[
     ("w [FILE]", "save (to FILE: save as)"),

@@ -26,6 +26,10 @@ pub fn lines() -> Vec<(String, String, bool)> {
     for (keys, description) in keymap::OTHER_KEYS {
         out.push((keys.to_string(), description.to_string(), false));
     }
+    out.push(("mouse".into(), String::new(), true));
+    for (what, description) in keymap::MOUSE {
+        out.push((what.to_string(), description.to_string(), false));
+    }
     out.push(("commands (type : first)".into(), String::new(), true));
     for (command, description) in keymap::COMMANDS {
         out.push((format!(":{command}"), description.to_string(), false));
