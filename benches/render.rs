@@ -3,7 +3,9 @@
 //!
 //! Run: `cargo bench --bench render -- --warm-up-time 1 --measurement-time 3`. The CPU time
 //! per frame is printed first (set `GRIMACE_BENCH_CPU_ONLY=1` to print only that); with
-//! `GRIMACE_SHARED` set, the classic face is measured too.
+//! `GRIMACE_SHARED` set, the classic face is measured too. For profiling,
+//! `GRIMACE_BENCH_ONLY=frame_lines` keeps only the measurements whose name contains it and
+//! `GRIMACE_BENCH_RUNS=N` sets how many frames the CPU time is averaged over (300).
 
 use std::path::PathBuf;
 
@@ -59,6 +61,9 @@ fn frame(c: &mut Criterion) {
     let mut grid = CellGrid::default();
     let camera = Camera::three_quarter();
     for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
+        if !selected(&format!("frame_{style}")) {
+            continue;
+        }
         let mut one = || {
             bound.deform(&act, &mut positions).expect("in range");
             let scene = Scene::new(&mesh, &positions).with_rest(&mesh.positions);
@@ -79,6 +84,9 @@ fn frame(c: &mut Criterion) {
     }
     // Rendering alone, without the deformation.
     for style in [Style::Lines, Style::Shaded] {
+        if !selected(&format!("render_only_{style}")) {
+            continue;
+        }
         let mut one = || {
             let scene = Scene::new(&mesh, &mesh.positions);
             renderer.render(&scene, black_box(&camera), style, &mut canvas);
@@ -97,7 +105,7 @@ fn frame(c: &mut Criterion) {
             });
         }
     }
-    if let Some(classic) = classic_face() {
+    if let Some(classic) = classic_face().filter(|_| selected("classic_lines")) {
         let mut renderer = Renderer::new(&classic);
         let mut one = || {
             let scene = Scene::new(&classic, &classic.positions);
@@ -114,6 +122,12 @@ fn frame(c: &mut Criterion) {
     }
 }
 
+/// Whether the measurement `name` runs: all of them, or those whose name contains
+/// `GRIMACE_BENCH_ONLY` (for profiling one style).
+fn selected(name: &str) -> bool {
+    std::env::var("GRIMACE_BENCH_ONLY").map_or(true, |only| name.contains(&only))
+}
+
 /// Mean on-CPU time of `f` over many runs, from the kernel's per-thread scheduler
 /// statistics (Linux only; `None` elsewhere).
 fn cpu_time_per_frame(f: &mut impl FnMut()) -> Option<f64> {
@@ -124,12 +138,15 @@ fn cpu_time_per_frame(f: &mut impl FnMut()) -> Option<f64> {
     for _ in 0..50 {
         f();
     }
-    const RUNS: u32 = 300;
+    let runs: u32 = std::env::var("GRIMACE_BENCH_RUNS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(300);
     let start = read()?;
-    for _ in 0..RUNS {
+    for _ in 0..runs {
         f();
     }
-    Some((read()? - start) as f64 / RUNS as f64)
+    Some((read()? - start) as f64 / runs.max(1) as f64)
 }
 
 criterion_group!(benches, frame);
