@@ -98,6 +98,8 @@ pub struct Renderer {
     slopes: Vec<f32>,
     /// The dots some depth-tested line of this frame will be drawn on.
     line_dots: DotMask,
+    /// Per vertex, [`dot_span`] of its projection (this frame).
+    dot_spans: Vec<[u32; 4]>,
 }
 
 impl Renderer {
@@ -297,7 +299,7 @@ impl Renderer {
         // Marking costs a walk along every line; it pays when lines are few (feature
         // lines), not when they cover the surface (wireframe).
         let facing = self.facing.iter().filter(|&&f| f).count();
-        let sparse = self.segments.len() * 2 < facing;
+        let sparse = self.segments.len() * 2 < facing && w.max(h) <= u32::MAX as usize;
         self.line_dots.reset(w, h);
         if sparse {
             for s in &self.segments {
@@ -305,11 +307,27 @@ impl Renderer {
             }
         }
         let (depth, _, _, _) = canvas.buffers_mut();
+        if !sparse {
+            for (t, tri) in self.triangles.iter().enumerate() {
+                if self.facing[t] {
+                    depth_triangle(tri.map(|i| self.projected[i as usize]), w, h, depth);
+                }
+            }
+            return;
+        }
+        // Most triangles are rejected, so the test must be cheaper than the float box:
+        // each vertex's part of the box once, then integer min/max per triangle.
+        self.dot_spans.clear();
+        self.dot_spans
+            .extend(self.projected.iter().map(|&p| dot_span(p, w, h)));
         for (t, tri) in self.triangles.iter().enumerate() {
-            if self.facing[t] {
+            if !self.facing[t] {
+                continue;
+            }
+            let [x0, x1, y0, y1] = triangle_box(tri.map(|i| self.dot_spans[i as usize]));
+            if x0 < x1 && y0 < y1 && self.line_dots.any(x0, x1, y0, y1) {
                 let p = tri.map(|i| self.projected[i as usize]);
-                let wanted = sparse.then_some(&self.line_dots);
-                depth_triangle(p, w, h, wanted, depth);
+                depth_triangle_in(p, [x0, x1, y0, y1], w, depth);
             }
         }
     }
@@ -936,6 +954,8 @@ fn raster_triangle(
 /// One bit per dot of the canvas: the dots some depth-tested line will be drawn on.
 #[derive(Debug, Clone, Default)]
 struct DotMask {
+    width: usize,
+    height: usize,
     /// 64-bit words per row.
     stride: usize,
     words: Vec<u64>,
@@ -944,6 +964,7 @@ struct DotMask {
 impl DotMask {
     /// Clears every dot of a `w` x `h` dot canvas.
     fn reset(&mut self, w: usize, h: usize) {
+        (self.width, self.height) = (w, h);
         self.stride = w.div_ceil(64);
         self.words.clear();
         self.words.resize(self.stride * h, 0);
@@ -976,26 +997,63 @@ impl DotMask {
     }
 }
 
+/// The box of dots a projected vertex contributes to a triangle's bounding box of dot
+/// centres: `[x0, x1, y0, y1]`, the first column and row whose centre is at or past it and
+/// one past the last at or before it, clamped to the canvas.
+///
+/// A triangle's box is the minimum of its corners' starts and the maximum of their ends,
+/// exactly what [`depth_triangle`] computes from the corners' minimum and maximum
+/// (subtracting 0.5, rounding and clamping all keep the order), so it can be found with
+/// integer min/max from values computed once per vertex.
+#[inline]
+fn dot_span(p: Vec3, w: usize, h: usize) -> [u32; 4] {
+    // Callers keep w and h within u32.
+    [
+        ceil_nonneg(p.x - 0.5).min(w) as u32,
+        floor_end(p.x - 0.5, w) as u32,
+        ceil_nonneg(p.y - 0.5).min(h) as u32,
+        floor_end(p.y - 0.5, h) as u32,
+    ]
+}
+
+/// A triangle's box of dot centres `[x0, x1, y0, y1]` (exclusive ends) from its corners'
+/// [`dot_span`]s.
+#[inline]
+fn triangle_box(s: [[u32; 4]; 3]) -> [usize; 4] {
+    [
+        s[0][0].min(s[1][0]).min(s[2][0]) as usize,
+        s[0][1].max(s[1][1]).max(s[2][1]) as usize,
+        s[0][2].min(s[1][2]).min(s[2][2]) as usize,
+        s[0][3].max(s[1][3]).max(s[2][3]) as usize,
+    ]
+}
+
 /// Rasterizes a screen triangle into the depth buffer `depth` (`w` x `h`, row-major),
-/// keeping the nearer depth at every dot whose centre lies inside it, unless `wanted` is
-/// given and no dot of the triangle's bounding box is set in it.
+/// keeping the nearer depth at every dot whose centre lies inside it.
 ///
 /// The same dots and depths as [`raster_triangle`] with a max-depth callback (the same
 /// arithmetic in the same order), but without branches per dot: at terminal resolution a
 /// triangle covers a handful of dots, and whether the next one is inside is a coin toss the
 /// branch predictor loses.
-#[inline]
-fn depth_triangle(p: [Vec3; 3], w: usize, h: usize, wanted: Option<&DotMask>, depth: &mut [f32]) {
+// Always inlined: passed by value through the stack, its corners cost a stalled reload.
+#[inline(always)]
+fn depth_triangle(p: [Vec3; 3], w: usize, h: usize, depth: &mut [f32]) {
     let [a, b, c] = p;
-    let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-    if !area.is_finite() || area.abs() < 1e-9 {
-        return;
-    }
     let x0 = ceil_nonneg(a.x.min(b.x).min(c.x) - 0.5);
     let x1 = floor_end(a.x.max(b.x).max(c.x) - 0.5, w);
     let y0 = ceil_nonneg(a.y.min(b.y).min(c.y) - 0.5);
     let y1 = floor_end(a.y.max(b.y).max(c.y) - 0.5, h);
-    if x0 >= x1 || y0 >= y1 || wanted.is_some_and(|m| !m.any(x0, x1, y0, y1)) {
+    depth_triangle_in(p, [x0, x1, y0, y1], w, depth);
+}
+
+/// [`depth_triangle`] with the triangle's box of dot centres `[x0, x1, y0, y1]` already
+/// known (from [`triangle_box`]).
+#[inline(always)]
+fn depth_triangle_in(p: [Vec3; 3], dots: [usize; 4], w: usize, depth: &mut [f32]) {
+    let [a, b, c] = p;
+    let [x0, x1, y0, y1] = dots;
+    let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if !area.is_finite() || area.abs() < 1e-9 || x0 >= x1 || y0 >= y1 {
         return;
     }
     let inv = 1.0 / area;
@@ -1037,9 +1095,10 @@ fn ceil_nonneg(v: f32) -> usize {
     if v.is_nan() || v <= 0.0 {
         return 0;
     }
+    // The cast saturates for huge values and infinity: do not step past it.
     let t = v as usize;
     if (t as f32) < v {
-        t + 1
+        t.saturating_add(1)
     } else {
         t
     }
@@ -1051,9 +1110,16 @@ fn floor_end(v: f32, limit: usize) -> usize {
     if v.is_nan() {
         return 0;
     }
+    // Saturating: the cast saturates at infinities, and one more step must not overflow.
     let t = v as i64;
-    let floor = if (t as f32) > v { t - 1 } else { t };
-    (floor + 1).clamp(0, limit as i64) as usize
+    let floor = if (t as f32) > v {
+        t.saturating_sub(1)
+    } else {
+        t
+    };
+    floor
+        .saturating_add(1)
+        .clamp(0, limit.min(i64::MAX as usize) as i64) as usize
 }
 
 /// Clips the segment a-b (x, y in dots, z depth) to the rectangle [0, w] x [0, h].
@@ -1181,8 +1247,14 @@ mod tests {
             .prop_map(|(x, y, z)| Vec3::new(x as f32 * 0.25, y as f32 * 0.25, z))
     }
 
+    /// A corner far off the canvas, up to overflowing every integer conversion.
+    fn far_corner() -> impl Strategy<Value = Vec3> {
+        let far = prop_oneof![-1e12f32..1e12, Just(f32::INFINITY), Just(f32::NEG_INFINITY)];
+        (far, -6.0f32..38.0, -50.0f32..50.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+    }
+
     fn any_corner() -> impl Strategy<Value = Vec3> {
-        prop_oneof![corner(), snapped_corner()]
+        prop_oneof![4 => corner(), 4 => snapped_corner(), 1 => far_corner()]
     }
 
     /// A depth buffer with some dots already drawn.
@@ -1236,37 +1308,27 @@ mod tests {
             let mut expected = start.clone();
             reference_depth([a, b, c], &mut expected);
             let mut got = start;
-            depth_triangle([a, b, c], W, H, None, &mut got);
+            depth_triangle([a, b, c], W, H, &mut got);
             prop_assert_eq!(bits(&got), bits(&expected));
         }
 
-        /// With a mask, a triangle is either drawn exactly as without one (some dot of its
-        /// box is wanted) or not at all.
+        /// The box from the corners' spans is the box the rasterizer computes.
         #[test]
-        fn a_masked_triangle_is_drawn_whole_or_not_at_all(
+        fn the_box_from_vertex_spans_is_the_rasterizer_box(
             a in any_corner(), b in any_corner(), c in any_corner(),
-            line in (any_corner(), any_corner()),
         ) {
-            let mut mask = DotMask::default();
-            mask.reset(W, H);
-            mask.mark_line(line.0, line.1, W, H);
-            let mut full = vec![f32::NEG_INFINITY; W * H];
-            depth_triangle([a, b, c], W, H, None, &mut full);
-            let mut masked = vec![f32::NEG_INFINITY; W * H];
-            depth_triangle([a, b, c], W, H, Some(&mask), &mut masked);
-            let touched: Vec<usize> = (0..W * H).filter(|&i| full[i] != f32::NEG_INFINITY).collect();
-            let wanted_touched = touched.iter().any(|&i| {
-                let (x, y) = (i % W, i / W);
-                mask.words[y * mask.stride + x / 64] >> (x % 64) & 1 == 1
-            });
-            if wanted_touched {
-                prop_assert_eq!(bits(&masked), bits(&full));
-            } else {
-                // Only a box test: a triangle may still be drawn when its box holds a wanted
-                // dot that the triangle itself misses; then it is drawn exactly.
-                let untouched = masked.iter().all(|&z| z == f32::NEG_INFINITY);
-                prop_assert!(untouched || bits(&masked) == bits(&full));
-            }
+            let got = triangle_box([a, b, c].map(|p| dot_span(p, W, H)));
+            let x0 = ceil_nonneg(a.x.min(b.x).min(c.x) - 0.5);
+            let x1 = floor_end(a.x.max(b.x).max(c.x) - 0.5, W);
+            let y0 = ceil_nonneg(a.y.min(b.y).min(c.y) - 0.5);
+            let y1 = floor_end(a.y.max(b.y).max(c.y) - 0.5, H);
+            // Starts are clamped to the canvas; a start past it is an empty range either way.
+            prop_assert_eq!(got, [x0.min(W), x1, y0.min(H), y1]);
+            let mut expected = vec![f32::NEG_INFINITY; W * H];
+            depth_triangle([a, b, c], W, H, &mut expected);
+            let mut via_spans = vec![f32::NEG_INFINITY; W * H];
+            depth_triangle_in([a, b, c], got, W, &mut via_spans);
+            prop_assert_eq!(bits(&via_spans), bits(&expected));
         }
 
         /// Hidden-line removal does not change: on every dot a line visits, the depth
@@ -1284,8 +1346,11 @@ mod tests {
             let mut full = vec![f32::NEG_INFINITY; W * H];
             let mut culled = vec![f32::NEG_INFINITY; W * H];
             for &(a, b, c) in &tris {
-                depth_triangle([a, b, c], W, H, None, &mut full);
-                depth_triangle([a, b, c], W, H, Some(&mask), &mut culled);
+                depth_triangle([a, b, c], W, H, &mut full);
+                let [x0, x1, y0, y1] = triangle_box([a, b, c].map(|p| dot_span(p, W, H)));
+                if x0 < x1 && y0 < y1 && mask.any(x0, x1, y0, y1) {
+                    depth_triangle_in([a, b, c], [x0, x1, y0, y1], W, &mut culled);
+                }
             }
             for &(a, b) in &lines {
                 let mut visited = 0;
