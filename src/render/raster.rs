@@ -299,7 +299,7 @@ impl Renderer {
         // Marking costs a walk along every line; it pays when lines are few (feature
         // lines), not when they cover the surface (wireframe).
         let facing = self.facing.iter().filter(|&&f| f).count();
-        let sparse = self.segments.len() * 2 < facing && w.max(h) <= u32::MAX as usize;
+        let sparse = self.segments.len() * 2 < facing && w.max(h) < 1 << 24;
         self.line_dots.reset(w, h);
         if sparse {
             for s in &self.segments {
@@ -871,6 +871,7 @@ fn classify(triangles: &[[u32; 3]], projected: &[Vec3], sign: f32, facing: &mut 
 }
 
 /// The depth slope of a projected triangle: dots of depth per dot across the screen.
+#[inline(always)]
 fn depth_slope([a, b, c]: [Vec3; 3]) -> f32 {
     let (ab, ac) = (b - a, c - a);
     let area = ab.x * ac.y - ab.y * ac.x;
@@ -1004,16 +1005,28 @@ impl DotMask {
 /// A triangle's box is the minimum of its corners' starts and the maximum of their ends,
 /// exactly what [`depth_triangle`] computes from the corners' minimum and maximum
 /// (subtracting 0.5, rounding and clamping all keep the order), so it can be found with
-/// integer min/max from values computed once per vertex.
+/// integer min/max from values computed once per vertex. For canvases below 2^24 dots on
+/// a side.
 #[inline]
 fn dot_span(p: Vec3, w: usize, h: usize) -> [u32; 4] {
-    // Callers keep w and h within u32.
-    [
-        ceil_nonneg(p.x - 0.5).min(w) as u32,
-        floor_end(p.x - 0.5, w) as u32,
-        ceil_nonneg(p.y - 0.5).min(h) as u32,
-        floor_end(p.y - 0.5, h) as u32,
-    ]
+    let (x0, x1) = span(p.x - 0.5, w);
+    let (y0, y1) = span(p.y - 0.5, h);
+    [x0, x1, y0, y1]
+}
+
+/// `(ceil_nonneg(v).min(limit), floor_end(v, limit))` from one conversion and no branch,
+/// for a `limit` below 2^24 (exact as f32).
+#[inline]
+fn span(v: f32, limit: usize) -> (u32, u32) {
+    // Clamped to [-2, limit] (max() turns NaN into -2): both ends come out the same there,
+    // and NaN ends at (0, 0) as in the helpers. Truncation is floor from 0 up; below, the
+    // start clamps to 0 and the end to 0 whatever the rounding.
+    let c = v.max(-2.0).min(limit as f32);
+    let t = c as i32;
+    let back = t as f32;
+    let start = (t + (back < c) as i32).max(0);
+    let end = (t - (back > c) as i32 + 1).clamp(0, limit as i32);
+    (start as u32, end as u32)
 }
 
 /// A triangle's box of dot centres `[x0, x1, y0, y1]` (exclusive ends) from its corners'
@@ -1310,6 +1323,22 @@ mod tests {
             let mut got = start;
             depth_triangle([a, b, c], W, H, &mut got);
             prop_assert_eq!(bits(&got), bits(&expected));
+        }
+
+        /// The branch-free span ends agree with the rasterizer's rounding helpers on any
+        /// value, NaN and infinities included.
+        #[test]
+        fn span_ends_match_the_rounding_helpers(
+            v in prop_oneof![
+                4 => -50.0f32..500.0,
+                2 => (-200i32..2000).prop_map(|k| k as f32 * 0.25),
+                1 => proptest::num::f32::ANY,
+            ],
+            limit in 0usize..400,
+        ) {
+            let (start, end) = span(v, limit);
+            prop_assert_eq!(start as usize, ceil_nonneg(v).min(limit));
+            prop_assert_eq!(end as usize, floor_end(v, limit));
         }
 
         /// The box from the corners' spans is the box the rasterizer computes.
