@@ -98,6 +98,10 @@ pub struct Renderer {
     slopes: Vec<f32>,
     /// The dots some depth-tested line of this frame will be drawn on.
     line_dots: DotMask,
+    /// The dot steps of the gathered lines, walked while marking `line_dots`, and where
+    /// each line's steps end (empty when the lines were not walked ahead).
+    walked: Vec<LineDot>,
+    walk_ends: Vec<u32>,
     /// Per vertex, [`dot_span`] of its projection (this frame).
     dot_spans: Vec<[u32; 4]>,
 }
@@ -244,6 +248,8 @@ impl Renderer {
             // The lines are gathered first, so the depth buffer only needs the surfaces
             // under them; then they are drawn, depth-tested, in the same order.
             self.segments.clear();
+            self.walked.clear();
+            self.walk_ends.clear();
             self.slopes.clear();
             self.slopes.resize(self.triangles.len(), f32::NAN);
             self.compute_heat(scene);
@@ -302,8 +308,15 @@ impl Renderer {
         let sparse = self.segments.len() * 2 < facing && w.max(h) < 1 << 24;
         self.line_dots.reset(w, h);
         if sparse {
+            // The steps are kept, so drawing does not walk the lines again.
             for s in &self.segments {
-                self.line_dots.mark_line(s.a, s.b, w, h);
+                walk_line(s.a, s.b, w, h, |x, y, p| {
+                    self.line_dots.set(x, y);
+                    // A canvas side fits in u32 here (checked above).
+                    let (x, y) = (x as u32, y as u32);
+                    self.walked.push(LineDot { x, y, p });
+                });
+                self.walk_ends.push(self.walked.len() as u32);
             }
         }
         let (depth, _, _, _) = canvas.buffers_mut();
@@ -336,6 +349,17 @@ impl Renderer {
     #[inline(never)]
     fn draw_segments(&mut self, canvas: &mut DotCanvas) {
         let mut runs = self.runs.take();
+        if self.walk_ends.len() == self.segments.len() {
+            // Walked once already, while marking the depth buffer's dots.
+            let mut from = 0;
+            for (s, &end) in self.segments.iter().zip(&self.walk_ends) {
+                let dots = &self.walked[from..end as usize];
+                draw_walked(canvas, runs.as_mut(), dots, s.bias, s.color);
+                from = end as usize;
+            }
+            self.runs = runs;
+            return;
+        }
         for s in &self.segments {
             draw_line(
                 canvas,
@@ -971,11 +995,16 @@ impl DotMask {
         self.words.resize(self.stride * h, 0);
     }
 
+    /// Sets the dot (x, y) (inside the canvas).
+    #[inline]
+    fn set(&mut self, x: usize, y: usize) {
+        self.words[y * self.stride + x / 64] |= 1 << (x % 64);
+    }
+
     /// Sets the dots the line a-b will visit on a `w` x `h` canvas.
+    #[cfg(test)]
     fn mark_line(&mut self, a: Vec3, b: Vec3, w: usize, h: usize) {
-        walk_line(a, b, w, h, |x, y, _| {
-            self.words[y * self.stride + x / 64] |= 1 << (x % 64);
-        });
+        walk_line(a, b, w, h, |x, y, _| self.set(x, y));
     }
 
     /// Whether any dot of [x0, x1) x [y0, y1) is set (non-empty ranges inside the canvas).
@@ -1198,7 +1227,7 @@ fn walk_line(a: Vec3, b: Vec3, w: usize, h: usize, mut f: impl FnMut(usize, usiz
 #[allow(clippy::too_many_arguments)]
 fn draw_line(
     canvas: &mut DotCanvas,
-    mut runs: Option<&mut Vec<Run>>,
+    runs: Option<&mut Vec<Run>>,
     a: Vec3,
     b: Vec3,
     bias: Option<f32>,
@@ -1207,19 +1236,90 @@ fn draw_line(
     if_dark: bool,
 ) {
     let (w, h) = (canvas.width(), canvas.height());
-    let mut run_start: Option<Vec3> = None;
-    // Only read while a run is open, which needs an earlier step to have set it.
-    let mut last = a;
+    let mut pieces = Pieces::new(runs, a, color, layer);
     walk_line(a, b, w, h, |x, y, p| {
-        if canvas.line_dot(x, y, p.z, bias, color, layer, if_dark) {
-            run_start.get_or_insert(p);
-        } else if let Some(start) = run_start.take() {
-            push_run(runs.as_deref_mut(), start, last, color, layer);
-        }
-        last = p;
+        pieces.step(canvas.line_dot(x, y, p.z, bias, color, layer, if_dark), p);
     });
-    if let Some(start) = run_start {
-        push_run(runs, start, last, color, layer);
+    pieces.finish();
+}
+
+/// [`draw_line`] over dot steps walked earlier (see [`Renderer::fill_depth`]), depth-tested
+/// with `bias`, on the mesh layer.
+fn draw_walked(
+    canvas: &mut DotCanvas,
+    runs: Option<&mut Vec<Run>>,
+    dots: &[LineDot],
+    bias: f32,
+    color: Rgb,
+) {
+    let Some(first) = dots.first() else {
+        return;
+    };
+    let mut pieces = Pieces::new(runs, first.p, color, Layer::Mesh);
+    for d in dots {
+        let visible = canvas.line_dot(
+            d.x as usize,
+            d.y as usize,
+            d.p.z,
+            Some(bias),
+            color,
+            Layer::Mesh,
+            false,
+        );
+        pieces.step(visible, d.p);
+    }
+    pieces.finish();
+}
+
+/// One dot step of a line: the dot, and the point on the line there (depth included).
+#[derive(Debug, Clone, Copy)]
+struct LineDot {
+    x: u32,
+    y: u32,
+    p: Vec3,
+}
+
+/// Follows which steps of a line were visible, to report its visible pieces as runs.
+struct Pieces<'a> {
+    out: Option<&'a mut Vec<Run>>,
+    start: Option<Vec3>,
+    /// The previous step; only read while a piece is open, which needs an earlier step.
+    last: Vec3,
+    color: Rgb,
+    layer: Layer,
+}
+
+impl<'a> Pieces<'a> {
+    fn new(out: Option<&'a mut Vec<Run>>, first: Vec3, color: Rgb, layer: Layer) -> Self {
+        Pieces {
+            out,
+            start: None,
+            last: first,
+            color,
+            layer,
+        }
+    }
+
+    #[inline]
+    fn step(&mut self, visible: bool, p: Vec3) {
+        if visible {
+            self.start.get_or_insert(p);
+        } else if let Some(start) = self.start.take() {
+            push_run(
+                self.out.as_deref_mut(),
+                start,
+                self.last,
+                self.color,
+                self.layer,
+            );
+        }
+        self.last = p;
+    }
+
+    fn finish(self) {
+        if let Some(start) = self.start {
+            push_run(self.out, start, self.last, self.color, self.layer);
+        }
     }
 }
 
@@ -1420,6 +1520,38 @@ mod tests {
             for (g, e) in got.iter().zip(&expected) {
                 prop_assert_eq!((g.0, g.1), (e.0, e.1));
                 prop_assert_eq!(g.2.to_array().map(f32::to_bits), e.2.to_array().map(f32::to_bits));
+            }
+        }
+
+        /// Drawing steps walked ahead lights the same dots, in the same colours, and
+        /// reports the same visible pieces as drawing the line itself.
+        #[test]
+        fn drawing_walked_steps_matches_drawing_the_line(
+            tris in proptest::collection::vec((any_corner(), any_corner(), any_corner()), 0..12),
+            lines in proptest::collection::vec((any_corner(), any_corner(), 0.0f32..4.0), 1..6),
+        ) {
+            let mut direct = DotCanvas::new(W, H);
+            {
+                let (depth, _, _, _) = direct.buffers_mut();
+                for &(a, b, c) in &tris {
+                    depth_triangle([a, b, c], W, H, depth);
+                }
+            }
+            let mut walked = direct.clone();
+            let color = Rgb(1, 2, 3);
+            let (mut direct_runs, mut walked_runs) = (Vec::new(), Vec::new());
+            for &(a, b, bias) in &lines {
+                draw_line(&mut direct, Some(&mut direct_runs), a, b, Some(bias), color, Layer::Mesh, false);
+                let mut dots = Vec::new();
+                walk_line(a, b, W, H, |x, y, p| dots.push(LineDot { x: x as u32, y: y as u32, p }));
+                draw_walked(&mut walked, Some(&mut walked_runs), &dots, bias, color);
+            }
+            prop_assert_eq!(direct_runs, walked_runs);
+            for y in 0..H {
+                for x in 0..W {
+                    prop_assert_eq!(direct.color(x, y), walked.color(x, y));
+                    prop_assert_eq!(direct.layer(x, y), walked.layer(x, y));
+                }
             }
         }
 
