@@ -332,7 +332,7 @@ impl Renderer {
         // each vertex's part of the box once, then integer min/max per triangle.
         self.dot_spans.clear();
         self.dot_spans
-            .extend(self.projected.iter().map(|&p| dot_span(p, w, h)));
+            .extend(self.projected.iter().map(move |&p| dot_span(p, w, h)));
         for (t, tri) in self.triangles.iter().enumerate() {
             if !self.facing[t] {
                 continue;
@@ -451,15 +451,21 @@ impl Renderer {
         self.normals.clear();
         self.normals.resize(n, Vec3::ZERO);
         let sign = self.sign(scene.orientation);
-        for (tri, normal) in self.triangles.iter().zip(&self.face_normals) {
-            let normal = *normal * sign;
-            for &i in tri {
-                self.normals[i as usize] += normal;
+        for ((tri, normal), &facing) in self
+            .triangles
+            .iter()
+            .zip(&self.face_normals)
+            .zip(&self.facing)
+        {
+            // Faces turned away have a zero normal: adding it changes nothing.
+            if facing {
+                let normal = *normal * sign;
+                for &i in tri {
+                    self.normals[i as usize] += normal;
+                }
             }
         }
-        for normal in &mut self.normals {
-            *normal = normal.normalize_or_zero();
-        }
+        normalize_or_zero_all(&mut self.normals);
     }
 }
 
@@ -871,10 +877,36 @@ pub(crate) fn finite_bounds(points: &[Vec3]) -> (Vec3, Vec3) {
     }
 }
 
+/// `Vec3::normalize_or_zero` on every vector, four at a time so that the square roots and
+/// divisions run side by side (the same operations in the same order, so the same bits).
+fn normalize_or_zero_all(v: &mut [Vec3]) {
+    let mut chunks = v.chunks_exact_mut(4);
+    for c in &mut chunks {
+        let mut rcp = [0.0f32; 4];
+        for (r, n) in rcp.iter_mut().zip(c.iter()) {
+            *r = 1.0 / n.dot(*n).sqrt();
+        }
+        for (n, r) in c.iter_mut().zip(rcp) {
+            *n = if r.is_finite() && r > 0.0 {
+                *n * r
+            } else {
+                Vec3::ZERO
+            };
+        }
+    }
+    for n in chunks.into_remainder() {
+        *n = n.normalize_or_zero();
+    }
+}
+
 /// Projects `count` vertices (missing ones become NaN, so they are skipped).
 #[inline(never)]
 fn project_all(proj: &Projection, positions: &[Vec3], count: usize, out: &mut Vec<Vec3>) {
     out.clear();
+    if let Some(all) = positions.get(..count) {
+        out.extend(all.iter().map(|&p| proj.project(p)));
+        return;
+    }
     out.extend((0..count).map(|i| positions.get(i).map_or(Vec3::NAN, |&p| proj.project(p))));
 }
 
@@ -1050,11 +1082,12 @@ fn span(v: f32, limit: usize) -> (u32, u32) {
     // Clamped to [-2, limit] (max() turns NaN into -2): both ends come out the same there,
     // and NaN ends at (0, 0) as in the helpers. Truncation is floor from 0 up; below, the
     // start clamps to 0 and the end to 0 whatever the rounding.
+    let limit = limit.min(1 << 24) as i32;
     let c = v.max(-2.0).min(limit as f32);
     let t = c as i32;
     let back = t as f32;
     let start = (t + (back < c) as i32).max(0);
-    let end = (t - (back > c) as i32 + 1).clamp(0, limit as i32);
+    let end = (t - (back > c) as i32 + 1).clamp(0, limit);
     (start as u32, end as u32)
 }
 
@@ -1520,6 +1553,28 @@ mod tests {
             for (g, e) in got.iter().zip(&expected) {
                 prop_assert_eq!((g.0, g.1), (e.0, e.1));
                 prop_assert_eq!(g.2.to_array().map(f32::to_bits), e.2.to_array().map(f32::to_bits));
+            }
+        }
+
+        /// Normalizing four at a time gives the same bits as one at a time.
+        #[test]
+        fn normalizing_in_fours_matches_glam(
+            v in proptest::collection::vec(
+                proptest::array::uniform3(prop_oneof![
+                    4 => -10.0f32..10.0,
+                    1 => Just(0.0f32),
+                    1 => proptest::num::f32::ANY,
+                    1 => -1e-20f32..1e-20,
+                ]),
+                0..11,
+            ),
+        ) {
+            let v: Vec<Vec3> = v.into_iter().map(Vec3::from_array).collect();
+            let mut got = v.clone();
+            normalize_or_zero_all(&mut got);
+            for (g, n) in got.iter().zip(&v) {
+                let e = n.normalize_or_zero();
+                prop_assert_eq!(g.to_array().map(f32::to_bits), e.to_array().map(f32::to_bits));
             }
         }
 
