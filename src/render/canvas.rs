@@ -198,9 +198,9 @@ impl DotCanvas {
 
     /// The depth buffer at (x, y): the nearest surface drawn there, or negative infinity.
     ///
-    /// With the line styles the renderer only rasterizes the surface where it may hide a
-    /// line (the triangles whose box holds a dot some depth-tested line visits), so away
-    /// from the lines the buffer may stay at negative infinity; the shaded style fills it
+    /// With the line styles the renderer may rasterize the surface only where it can hide
+    /// a line (the dots some depth-tested line visits, and some around them), so away from
+    /// the lines the buffer may stay at negative infinity; the shaded style fills it
     /// everywhere.
     pub fn depth(&self, x: usize, y: usize) -> f32 {
         self.index(x, y)

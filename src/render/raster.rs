@@ -340,7 +340,7 @@ impl Renderer {
             let [x0, x1, y0, y1] = triangle_box(tri.map(|i| self.dot_spans[i as usize]));
             if x0 < x1 && y0 < y1 && self.line_dots.any(x0, x1, y0, y1) {
                 let p = tri.map(|i| self.projected[i as usize]);
-                depth_triangle_in(p, [x0, x1, y0, y1], w, depth);
+                depth_triangle_in(p, [x0, x1, y0, y1], w, Some(&self.line_dots), depth);
             }
         }
     }
@@ -1039,6 +1039,24 @@ impl DotMask {
         walk_line(a, b, w, h, |x, y, _| self.set(x, y));
     }
 
+    /// One past the last set dot of row `y` within [x0, x1), if any is set (a non-empty
+    /// range inside the canvas).
+    #[inline]
+    fn last_set(&self, y: usize, x0: usize, x1: usize) -> Option<usize> {
+        let row = &self.words[y * self.stride..];
+        let (k0, k1) = (x0 / 64, (x1 - 1) / 64);
+        (k0..=k1).rev().find_map(|k| {
+            let mut bits = row[k];
+            if k == k1 {
+                bits &= u64::MAX >> (63 - (x1 - 1) % 64);
+            }
+            if k == k0 {
+                bits &= u64::MAX << (x0 % 64);
+            }
+            (bits != 0).then(|| k * 64 + 64 - bits.leading_zeros() as usize)
+        })
+    }
+
     /// Whether any dot of [x0, x1) x [y0, y1) is set (non-empty ranges inside the canvas).
     #[inline]
     fn any(&self, x0: usize, x1: usize, y0: usize, y1: usize) -> bool {
@@ -1118,13 +1136,21 @@ fn depth_triangle(p: [Vec3; 3], w: usize, h: usize, depth: &mut [f32]) {
     let x1 = floor_end(a.x.max(b.x).max(c.x) - 0.5, w);
     let y0 = ceil_nonneg(a.y.min(b.y).min(c.y) - 0.5);
     let y1 = floor_end(a.y.max(b.y).max(c.y) - 0.5, h);
-    depth_triangle_in(p, [x0, x1, y0, y1], w, depth);
+    depth_triangle_in(p, [x0, x1, y0, y1], w, None, depth);
 }
 
 /// [`depth_triangle`] with the triangle's box of dot centres `[x0, x1, y0, y1]` already
-/// known (from [`triangle_box`]).
+/// known (from [`triangle_box`]). With `wanted`, only the dots it sets are sure to be
+/// written: rows without one are skipped and each row stops after its last one (the dots
+/// before it are stepped through as usual, so the wanted dots get the same bits).
 #[inline(always)]
-fn depth_triangle_in(p: [Vec3; 3], dots: [usize; 4], w: usize, depth: &mut [f32]) {
+fn depth_triangle_in(
+    p: [Vec3; 3],
+    dots: [usize; 4],
+    w: usize,
+    wanted: Option<&DotMask>,
+    depth: &mut [f32],
+) {
     let [a, b, c] = p;
     let [x0, x1, y0, y1] = dots;
     let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
@@ -1146,11 +1172,18 @@ fn depth_triangle_in(p: [Vec3; 3], dots: [usize; 4], w: usize, depth: &mut [f32]
     const EPS: f32 = -1e-5;
     let px = x0 as f32 + 0.5;
     for y in y0..y1 {
+        let end = match wanted {
+            Some(mask) => match mask.last_set(y, x0, x1) {
+                Some(end) => end,
+                None => continue,
+            },
+            None => x1,
+        };
         let py = y as f32 + 0.5;
         let mut la = ax * px + ay * py + a0;
         let mut lb = bx * px + by * py + b0;
         let mut z = zx * px + zy * py + z0;
-        let Some(row) = depth.get_mut(y * w + x0..y * w + x1) else {
+        let Some(row) = depth.get_mut(y * w + x0..y * w + end) else {
             return;
         };
         for d in row {
@@ -1489,7 +1522,7 @@ mod tests {
             let mut expected = vec![f32::NEG_INFINITY; W * H];
             depth_triangle([a, b, c], W, H, &mut expected);
             let mut via_spans = vec![f32::NEG_INFINITY; W * H];
-            depth_triangle_in([a, b, c], got, W, &mut via_spans);
+            depth_triangle_in([a, b, c], got, W, None, &mut via_spans);
             prop_assert_eq!(bits(&via_spans), bits(&expected));
         }
 
@@ -1511,7 +1544,7 @@ mod tests {
                 depth_triangle([a, b, c], W, H, &mut full);
                 let [x0, x1, y0, y1] = triangle_box([a, b, c].map(|p| dot_span(p, W, H)));
                 if x0 < x1 && y0 < y1 && mask.any(x0, x1, y0, y1) {
-                    depth_triangle_in([a, b, c], [x0, x1, y0, y1], W, &mut culled);
+                    depth_triangle_in([a, b, c], [x0, x1, y0, y1], W, Some(&mask), &mut culled);
                 }
             }
             for &(a, b) in &lines {
@@ -1540,6 +1573,14 @@ mod tests {
             let (x1, y1) = ((x0 + dx).min(w), (y0 + dy).min(h));
             let brute = dots.iter().any(|&(x, y)| (x0..x1).contains(&x) && (y0..y1).contains(&y));
             prop_assert_eq!(mask.any(x0, x1, y0, y1), brute);
+            for y in y0..y1 {
+                let last = dots
+                    .iter()
+                    .filter(|&&(x, dy)| dy == y && (x0..x1).contains(&x))
+                    .map(|&(x, _)| x + 1)
+                    .max();
+                prop_assert_eq!(mask.last_set(y, x0, x1), last);
+            }
         }
 
         /// Skipping the clip for lines inside the canvas visits the same dots at the same
