@@ -144,7 +144,7 @@ impl DotCanvas {
     /// buffer is more than `bias` nearer; `if_dark` draws only on dark dots. Returns
     /// whether the line is visible there. The caller keeps (x, y) inside the canvas.
     #[allow(clippy::too_many_arguments)]
-    #[inline]
+    #[inline(always)]
     pub(crate) fn line_dot(
         &mut self,
         x: usize,

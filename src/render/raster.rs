@@ -302,25 +302,10 @@ impl Renderer {
     fn fill_depth(&mut self, canvas: &mut DotCanvas) {
         self.mark_faces_dirty(canvas);
         let (w, h) = (canvas.width(), canvas.height());
-        // Marking costs a walk along every line; it pays when lines are few (feature
-        // lines), not when they cover the surface (wireframe).
-        let facing = self.facing.iter().filter(|&&f| f).count();
-        let sparse = self.segments.len() * 2 < facing && w.max(h) < 1 << 24;
         self.line_dots.reset(w, h);
-        if sparse {
-            // The steps are kept, so drawing does not walk the lines again.
-            for s in &self.segments {
-                walk_line(s.a, s.b, w, h, |x, y, p| {
-                    self.line_dots.set(x, y);
-                    // A canvas side fits in u32 here (checked above).
-                    let (x, y) = (x as u32, y as u32);
-                    self.walked.push(LineDot { x, y, p });
-                });
-                self.walk_ends.push(self.walked.len() as u32);
-            }
-        }
         let (depth, _, _, _) = canvas.buffers_mut();
-        if !sparse {
+        if w.max(h) >= 1 << 24 {
+            // Beyond what the integer boxes below handle: every front face, everywhere.
             for (t, tri) in self.triangles.iter().enumerate() {
                 if self.facing[t] {
                     depth_triangle(tri.map(|i| self.projected[i as usize]), w, h, depth);
@@ -328,8 +313,19 @@ impl Renderer {
             }
             return;
         }
-        // Most triangles are rejected, so the test must be cheaper than the float box:
-        // each vertex's part of the box once, then integer min/max per triangle.
+        // The steps are kept, so drawing does not walk the lines again.
+        for s in &self.segments {
+            walk_line(s.a, s.b, w, h, |x, y, p| {
+                self.line_dots.set(x, y);
+                // A canvas side fits in u32 here (checked above).
+                let (x, y) = (x as u32, y as u32);
+                self.walked.push(LineDot { x, y, p });
+            });
+            self.walk_ends.push(self.walked.len() as u32);
+        }
+        // With feature lines most triangles are rejected, so the test must be cheaper than
+        // the float box: each vertex's part of the box once, then integer min/max per
+        // triangle.
         self.dot_spans.clear();
         self.dot_spans
             .extend(self.projected.iter().map(move |&p| dot_span(p, w, h)));
