@@ -3,7 +3,10 @@
 //!
 //! Run: `cargo bench --bench render -- --warm-up-time 1 --measurement-time 3`. The CPU time
 //! per frame is printed first (set `GRIMACE_BENCH_CPU_ONLY=1` to print only that); with
-//! `GRIMACE_SHARED` set, the classic face is measured too.
+//! `GRIMACE_SHARED` set, the classic face is measured too. For profiling,
+//! `GRIMACE_BENCH_ONLY=frame_lines` keeps only the measurements whose name contains it and
+//! `GRIMACE_BENCH_RUNS=N` sets the frames in each of the five batches the CPU time is
+//! measured over (2000).
 
 use std::path::PathBuf;
 
@@ -59,6 +62,9 @@ fn frame(c: &mut Criterion) {
     let mut grid = CellGrid::default();
     let camera = Camera::three_quarter();
     for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
+        if !selected(&format!("frame_{style}")) {
+            continue;
+        }
         let mut one = || {
             bound.deform(&act, &mut positions).expect("in range");
             let scene = Scene::new(&mesh, &positions).with_rest(&mesh.positions);
@@ -68,8 +74,12 @@ fn frame(c: &mut Criterion) {
         };
         // On a shared machine wall time includes waiting for a core; the thread's own CPU
         // time per frame is printed too.
-        if let Some(ns) = cpu_time_per_frame(&mut one) {
-            eprintln!("frame_{COLS}x{ROWS}_face_{style}: {:.1} us CPU per frame (deform + render + cells)", ns / 1000.0);
+        if let Some((median, min)) = cpu_time_per_frame(&mut one) {
+            eprintln!(
+                "frame_{COLS}x{ROWS}_face_{style}: {:.1} us CPU per frame (deform + render + cells; min {:.1})",
+                median / 1000.0,
+                min / 1000.0
+            );
         }
         if !cpu_only {
             c.bench_function(&format!("frame_{COLS}x{ROWS}_face_{style}"), |b| {
@@ -79,16 +89,20 @@ fn frame(c: &mut Criterion) {
     }
     // Rendering alone, without the deformation.
     for style in [Style::Lines, Style::Shaded] {
+        if !selected(&format!("render_only_{style}")) {
+            continue;
+        }
         let mut one = || {
             let scene = Scene::new(&mesh, &mesh.positions);
             renderer.render(&scene, black_box(&camera), style, &mut canvas);
             grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
             black_box(&grid);
         };
-        if let Some(ns) = cpu_time_per_frame(&mut one) {
+        if let Some((median, min)) = cpu_time_per_frame(&mut one) {
             eprintln!(
-                "render_only_{COLS}x{ROWS}_face_{style}: {:.1} us CPU per frame",
-                ns / 1000.0
+                "render_only_{COLS}x{ROWS}_face_{style}: {:.1} us CPU per frame (min {:.1})",
+                median / 1000.0,
+                min / 1000.0
             );
         }
         if !cpu_only {
@@ -97,7 +111,7 @@ fn frame(c: &mut Criterion) {
             });
         }
     }
-    if let Some(classic) = classic_face() {
+    if let Some(classic) = classic_face().filter(|_| selected("classic_lines")) {
         let mut renderer = Renderer::new(&classic);
         let mut one = || {
             let scene = Scene::new(&classic, &classic.positions);
@@ -105,18 +119,32 @@ fn frame(c: &mut Criterion) {
             grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
             black_box(&grid);
         };
-        if let Some(ns) = cpu_time_per_frame(&mut one) {
+        if let Some((median, min)) = cpu_time_per_frame(&mut one) {
             eprintln!(
-                "render_only_{COLS}x{ROWS}_classic_lines: {:.1} us CPU per frame",
-                ns / 1000.0
+                "render_only_{COLS}x{ROWS}_classic_lines: {:.1} us CPU per frame (min {:.1})",
+                median / 1000.0,
+                min / 1000.0
             );
         }
     }
 }
 
-/// Mean on-CPU time of `f` over many runs, from the kernel's per-thread scheduler
-/// statistics (Linux only; `None` elsewhere).
-fn cpu_time_per_frame(f: &mut impl FnMut()) -> Option<f64> {
+/// Whether the measurement `name` runs: all of them, or those whose name contains
+/// `GRIMACE_BENCH_ONLY` (for profiling one style).
+fn selected(name: &str) -> bool {
+    std::env::var("GRIMACE_BENCH_ONLY").map_or(true, |only| name.contains(&only))
+}
+
+/// On-CPU time of `f` per run, from the kernel's per-thread scheduler statistics (Linux
+/// only; `None` elsewhere): the median over `BATCHES` batches of many runs, and the
+/// smallest batch.
+///
+/// The kernel brings a running thread's counter up to date only at scheduler ticks and
+/// switches, so each batch runs long enough (hundreds of milliseconds) for that to be a
+/// small error; the median keeps a burst of other work on a shared machine from skewing
+/// the result.
+fn cpu_time_per_frame(f: &mut impl FnMut()) -> Option<(f64, f64)> {
+    const BATCHES: usize = 5;
     let read = || -> Option<u64> {
         let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
         text.split_whitespace().next()?.parse().ok()
@@ -124,12 +152,21 @@ fn cpu_time_per_frame(f: &mut impl FnMut()) -> Option<f64> {
     for _ in 0..50 {
         f();
     }
-    const RUNS: u32 = 300;
-    let start = read()?;
-    for _ in 0..RUNS {
-        f();
+    let runs: u32 = std::env::var("GRIMACE_BENCH_RUNS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(2000)
+        .max(1);
+    let mut batches = Vec::with_capacity(BATCHES);
+    for _ in 0..BATCHES {
+        let start = read()?;
+        for _ in 0..runs {
+            f();
+        }
+        batches.push((read()? - start) as f64 / runs as f64);
     }
-    Some((read()? - start) as f64 / RUNS as f64)
+    batches.sort_by(f64::total_cmp);
+    Some((batches[BATCHES / 2], batches[0]))
 }
 
 criterion_group!(benches, frame);

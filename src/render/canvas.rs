@@ -144,7 +144,7 @@ impl DotCanvas {
     /// buffer is more than `bias` nearer; `if_dark` draws only on dark dots. Returns
     /// whether the line is visible there. The caller keeps (x, y) inside the canvas.
     #[allow(clippy::too_many_arguments)]
-    #[inline]
+    #[inline(always)]
     pub(crate) fn line_dot(
         &mut self,
         x: usize,
@@ -197,6 +197,11 @@ impl DotCanvas {
     }
 
     /// The depth buffer at (x, y): the nearest surface drawn there, or negative infinity.
+    ///
+    /// With the line styles the renderer may rasterize the surface only where it can hide
+    /// a line (the dots some depth-tested line visits, and some around them), so away from
+    /// the lines the buffer may stay at negative infinity; the shaded style fills it
+    /// everywhere.
     pub fn depth(&self, x: usize, y: usize) -> f32 {
         self.index(x, y)
             .map_or(f32::NEG_INFINITY, |i| self.depth[i])

@@ -156,41 +156,77 @@ impl CellGrid {
         if self.width != cols || self.height != rows {
             self.resize(cols, rows);
         }
-        let (on, color, layer) = canvas.buffers();
-        let cw = canvas.width();
         // Cells wholly outside the drawn rectangle are blank.
         let (x0, y0, x1, y1) = canvas.dirty_rect();
         let (c0, c1) = (x0 / dx, x1.div_ceil(dx).min(cols));
         let (r0, r1) = (y0 / dy, y1.div_ceil(dy).min(rows));
         self.cells.fill(Cell::BLANK);
+        if mode != CellMode::HalfBlock {
+            self.fill_2x4(canvas, mode, colors, (c0, c1), (r0, r1));
+            return;
+        }
+        let (on, color, _) = canvas.buffers();
+        let cw = canvas.width();
         for row in r0..r1 {
             for col in c0..c1 {
-                let cell = match mode {
-                    CellMode::Braille | CellMode::Ascii => {
-                        let (bits, fg) = gather_2x4(on, color, layer, cw, col * 2, row * 4);
-                        let ch = if mode == CellMode::Braille {
-                            braille_char(bits)
-                        } else {
-                            ascii_char(bits)
-                        };
-                        Cell {
-                            ch,
-                            fg: if bits == 0 { None } else { reduce(fg, colors) },
-                            bg: None,
-                        }
-                    }
-                    CellMode::HalfBlock => {
-                        let top = row * 2 * cw + col;
-                        let bottom = top + cw;
-                        let t = on[top].then_some(color[top]);
-                        let b = on[bottom].then_some(color[bottom]);
-                        half_block(t, b, colors)
-                    }
-                };
-                self.cells[row * cols + col] = cell;
+                let top = row * 2 * cw + col;
+                let bottom = top + cw;
+                let t = on[top].then_some(color[top]);
+                let b = on[bottom].then_some(color[bottom]);
+                self.cells[row * cols + col] = half_block(t, b, colors);
             }
         }
     }
+
+    /// Fills the cells `cols` x `rows` (ranges) of an already blanked grid with braille or
+    /// ASCII characters of 2x4 dots. A frame of feature lines leaves most cells dark, so
+    /// four dark cells (eight dots on each of four rows) are skipped at once, and a dark
+    /// cell is left blank (a pattern of no dots is a blank cell in both modes).
+    fn fill_2x4(
+        &mut self,
+        canvas: &DotCanvas,
+        mode: CellMode,
+        colors: ColorMode,
+        (c0, c1): (usize, usize),
+        (r0, r1): (usize, usize),
+    ) {
+        let (on, color, layer) = canvas.buffers();
+        let cw = canvas.width();
+        let cols = self.width;
+        for row in r0..r1 {
+            let mut col = c0;
+            while col < c1 {
+                if col + 4 <= c1 && dark_2x4_run(on, cw, col * 2, row * 4) {
+                    col += 4;
+                    continue;
+                }
+                let (bits, fg) = gather_2x4(on, color, layer, cw, col * 2, row * 4);
+                if bits != 0 {
+                    let ch = if mode == CellMode::Braille {
+                        braille_char(bits)
+                    } else {
+                        ascii_char(bits)
+                    };
+                    self.cells[row * cols + col] = Cell {
+                        ch,
+                        fg: reduce(fg, colors),
+                        bg: None,
+                    };
+                }
+                col += 1;
+            }
+        }
+    }
+}
+
+/// Whether the 8 x 4 dots from (x, y) (four cells of 2x4) are all dark.
+#[inline]
+fn dark_2x4_run(on: &[bool], width: usize, x: usize, y: usize) -> bool {
+    (y..y + 4).all(|row| {
+        let dots: &[bool; 8] = on[row * width + x..][..8].try_into().expect("eight dots");
+        // Read as one word: a bool is one byte, 0 or 1.
+        u64::from_ne_bytes(dots.map(u8::from)) == 0
+    })
 }
 
 /// The 2x4 dot pattern of a cell in braille bit order, and the colour of its highest-layer
