@@ -24,10 +24,13 @@
 //! # Pipeline
 //!
 //! [`Renderer::render`] projects the current positions with a [`Camera`] fitted to the rest
-//! pose ([`Camera::fit`]), culls triangles facing away, rasterizes the rest into the
-//! canvas's depth buffer at dot resolution, then draws the [`Style`]'s lines with a depth
-//! test and a small slope-scaled bias (or, for [`Style::Shaded`], lit and dithered dots),
-//! the rest-pose ghost, and the [`Overlay`]s on top. [`CellGrid::fill`] turns the dots into
+//! pose ([`Camera::fit`]) and culls triangles facing away. For the line styles it gathers
+//! the [`Style`]'s lines first, marks the dots they pass through, and rasterizes into the
+//! canvas's depth buffer (at dot resolution) only the front faces over marked dots: the
+//! depth test reads nothing else, so hidden lines are removed exactly as with a full fill.
+//! The lines are then drawn with that depth test and a small slope-scaled bias (or, for
+//! [`Style::Shaded`], every front face is filled with lit and dithered dots); the rest-pose
+//! ghost and the [`Overlay`]s go on top. [`CellGrid::fill`] turns the dots into
 //! braille, ASCII or half-block [`Cell`]s; [`svg`] and [`png`] write files.
 //!
 //! # Styles
