@@ -128,3 +128,30 @@ fn table_focus_gives_the_table_more_room_80x24() {
     assert!(text.contains("loaded expression surprise"), "{text}");
     insta::assert_snapshot!(text);
 }
+
+/// A message longer than the terminal is wide wraps onto extra bottom rows instead of being
+/// cut off at the edge.
+#[test]
+fn a_long_message_wraps_at_80x24() {
+    let mut app = app(80, 24);
+    let long = "/a/rather/deep/folder/of/research/data/subject-017/session-3/expressions.au.ron";
+    act(
+        &mut app,
+        &[Action::SaveFailed {
+            path: long.into(),
+            error: "No such file or directory (os error 2)".into(),
+        }],
+    );
+    let text = screen(&app);
+    let rows: Vec<&str> = text.lines().collect();
+    let bottom: String = rows[rows.len() - 3..]
+        .iter()
+        .map(|r| r.trim_matches('"').trim())
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(
+        bottom.contains("your edits are kept, nothing was lost"),
+        "{text}"
+    );
+    insta::assert_snapshot!(text);
+}

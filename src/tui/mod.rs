@@ -269,7 +269,7 @@ fn mouse_actions(app: &App, mouse: MouseEvent, drag: &mut Option<(u16, u16)>) ->
         return Vec::new();
     }
     let area = Rect::new(0, 0, app.size.0, app.size.1);
-    let Some(panels) = view::layout(area, app.focus) else {
+    let Some(panels) = view::layout(area, app) else {
         return Vec::new();
     };
     let (x, y) = (mouse.column, mouse.row);
@@ -404,7 +404,7 @@ mod tests {
     #[test]
     fn dragging_in_the_viewport_rotates() {
         let app = app();
-        let panels = view::layout(Rect::new(0, 0, 120, 40), Focus::Muscles).unwrap();
+        let panels = view::layout(Rect::new(0, 0, 120, 40), &app).unwrap();
         let (x, y) = (panels.viewport.x + 10, panels.viewport.y + 10);
         let mut drag = None;
         assert!(actions_for(

@@ -88,7 +88,7 @@ fn wrapped(theme: &Theme, key_width: usize, text_width: usize) -> Vec<Line<'stat
         } else {
             format!("  {keys:<key_width$}  ")
         };
-        for part in wrap_words(&description, text_width) {
+        for part in super::wrap_words(&description, text_width) {
             out.push(Line::from(vec![
                 Span::styled(std::mem::take(&mut keys), theme.partner()),
                 Span::raw(part),
@@ -99,43 +99,9 @@ fn wrapped(theme: &Theme, key_width: usize, text_width: usize) -> Vec<Line<'stat
     out
 }
 
-/// Splits `text` into lines of at most `width` characters, breaking between words (a word
-/// longer than `width` is split). Always at least one line.
-fn wrap_words(text: &str, width: usize) -> Vec<String> {
-    let mut out = vec![String::new()];
-    for word in text.split_whitespace() {
-        let mut word: Vec<char> = word.chars().collect();
-        loop {
-            let line = out.last_mut().expect("never empty");
-            let used = line.chars().count();
-            let gap = usize::from(used > 0);
-            if used + gap + word.len() <= width {
-                if gap == 1 {
-                    line.push(' ');
-                }
-                line.extend(word.iter());
-                break;
-            }
-            if used > 0 {
-                out.push(String::new());
-                continue;
-            }
-            let rest = word.split_off(width.min(word.len()));
-            line.extend(word.iter());
-            out.push(String::new());
-            word = rest;
-            if word.is_empty() {
-                out.pop();
-                break;
-            }
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
-    use super::wrap_words;
+    use super::super::wrap_words;
 
     #[test]
     fn words_wrap_within_the_width_and_keep_every_character() {

@@ -33,14 +33,16 @@ pub struct Panels {
 
 /// The panels for a terminal area, or `None` when it is too small to be useful. In narrow
 /// terminals the muscle list and the AU table share a column; the focused one gets more of it.
-pub fn layout(area: Rect, focus: Focus) -> Option<Panels> {
+/// The bottom line grows to fit a long message or question (see [`prompt::rows`]).
+pub fn layout(area: Rect, app: &App) -> Option<Panels> {
     if area.width < MIN_SIZE.0 || area.height < MIN_SIZE.1 {
         return None;
     }
+    let focus = app.focus;
     let [body, status, line] = Layout::vertical([
         Constraint::Min(1),
         Constraint::Length(1),
-        Constraint::Length(1),
+        Constraint::Length(prompt::rows(app, area.width)),
     ])
     .areas(area);
     if area.width >= 110 {
@@ -83,7 +85,7 @@ pub fn layout(area: Rect, focus: Focus) -> Option<Panels> {
 pub fn draw(app: &App, frame: &mut Frame) {
     let area = frame.area();
     let theme = Theme::new(app.colors);
-    let Some(panels) = layout(area, app.focus) else {
+    let Some(panels) = layout(area, app) else {
         let text = format!(
             "Terminal too small: {}x{}. grimace needs at least {}x{}. Enlarge the window (q quits).",
             area.width, area.height, MIN_SIZE.0, MIN_SIZE.1
@@ -103,4 +105,38 @@ pub fn draw(app: &App, frame: &mut Frame) {
     if let Mode::Help(scroll) = app.mode {
         help::draw(&theme, scroll, area, frame.buffer_mut());
     }
+}
+
+/// Splits `text` into lines of at most `width` characters, breaking between words (a word
+/// longer than `width` is split). Always at least one line.
+pub fn wrap_words(text: &str, width: usize) -> Vec<String> {
+    let mut out = vec![String::new()];
+    for word in text.split_whitespace() {
+        let mut word: Vec<char> = word.chars().collect();
+        loop {
+            let line = out.last_mut().expect("never empty");
+            let used = line.chars().count();
+            let gap = usize::from(used > 0);
+            if used + gap + word.len() <= width {
+                if gap == 1 {
+                    line.push(' ');
+                }
+                line.extend(word.iter());
+                break;
+            }
+            if used > 0 {
+                out.push(String::new());
+                continue;
+            }
+            let rest = word.split_off(width.min(word.len()));
+            line.extend(word.iter());
+            out.push(String::new());
+            word = rest;
+            if word.is_empty() {
+                out.pop();
+                break;
+            }
+        }
+    }
+    out
 }

@@ -28,25 +28,43 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, frame: &mut Frame) {
             let x = area.x + (prompt.chars().count() + input.cursor - skip) as u16;
             frame.set_cursor_position(Position::new(x.min(area.right().saturating_sub(1)), area.y));
         }
-        Mode::Confirm(question) => {
-            let line = Line::from(Span::styled(
-                question_text(question),
-                theme.message(Severity::Warning),
-            ));
-            frame
-                .buffer_mut()
-                .set_line(area.x, area.y, &line, area.width);
-        }
         _ => {
-            if let Some(message) = &app.message {
-                let line = Line::from(Span::styled(
-                    message.text.clone(),
-                    theme.message(message.severity),
-                ));
+            let Some((text, severity)) = shown_text(app) else {
+                return;
+            };
+            let lines = super::wrap_words(&text, width);
+            for (row, part) in lines.into_iter().take(area.height as usize).enumerate() {
+                let line = Line::from(Span::styled(part, theme.message(severity)));
                 frame
                     .buffer_mut()
-                    .set_line(area.x, area.y, &line, area.width);
+                    .set_line(area.x, area.y + row as u16, &line, area.width);
             }
         }
+    }
+}
+
+/// The most rows the line takes for a long message or question.
+pub const MAX_ROWS: u16 = 3;
+
+/// How many rows the line needs at `width` columns: one while typing, else enough for the
+/// message or question to wrap (at most [`MAX_ROWS`]), so nothing is cut off at the edge.
+pub fn rows(app: &App, width: u16) -> u16 {
+    match shown_text(app) {
+        Some((text, _)) if !matches!(app.mode, Mode::Input(_)) => {
+            let lines = super::wrap_words(&text, width.max(1) as usize).len();
+            (lines as u16).clamp(1, MAX_ROWS)
+        }
+        _ => 1,
+    }
+}
+
+/// The question being asked, else the last message.
+fn shown_text(app: &App) -> Option<(String, Severity)> {
+    match &app.mode {
+        Mode::Confirm(question) => Some((question_text(question), Severity::Warning)),
+        _ => app
+            .message
+            .as_ref()
+            .map(|message| (message.text.clone(), message.severity)),
     }
 }
