@@ -60,13 +60,24 @@ pub fn item_at(app: &App, area: Rect, x: u16, y: u16) -> Option<usize> {
     }
 }
 
+/// "AU table 48 AUs, 7 expr", and "(full)" when no more AUs fit.
+fn title(app: &App) -> String {
+    let aus = app.table.aus.len();
+    let full = if aus >= MAX_AUS { " (full)" } else { "" };
+    let plural = if aus == 1 { "" } else { "s" };
+    format!(
+        " AU table {aus} AU{plural}{full}, {} expr ",
+        app.table.expressions.len()
+    )
+}
+
 /// Draws the panel.
 pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     let focused = app.focus == Focus::Table;
     let block = Block::default()
         .borders(Borders::ALL)
         .border_style(theme.border(focused))
-        .title(format!(" AU table {}/{MAX_AUS} ", app.table.aus.len()));
+        .title(title(app));
     let inner = block.inner(area);
     block.render(area, buf);
     let items = app.table_items();
@@ -111,5 +122,31 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
             }
         };
         buf.set_line(inner.x, y, &rendered, inner.width);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::title;
+    use crate::facs::{AuKey, MAX_AUS};
+    use crate::tui::fixture;
+
+    #[test]
+    fn the_title_counts_aus_and_expressions_and_says_when_full() {
+        let mut app = fixture::app();
+        app.table.expressions.clear();
+        let entry = app.table.aus.values().next().unwrap().clone();
+        app.table.aus.clear();
+        assert_eq!(title(&app), " AU table 0 AUs, 0 expr ");
+        app.table.aus.insert(AuKey::new(1), entry.clone());
+        app.table.expressions.insert("brows".into(), "1".into());
+        assert_eq!(title(&app), " AU table 1 AU, 1 expr ");
+        for n in 1..=MAX_AUS as u8 {
+            app.table.aus.insert(AuKey::new(n), entry.clone());
+        }
+        assert_eq!(
+            title(&app),
+            format!(" AU table {MAX_AUS} AUs (full), 1 expr ")
+        );
     }
 }
