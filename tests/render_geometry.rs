@@ -575,3 +575,39 @@ proptest! {
         }
     }
 }
+
+/// Fitting points rather than their box centres a turned, one-sided shape (like a face,
+/// which has no back) on what is drawn.
+#[test]
+fn fitting_points_centres_a_turned_one_sided_shape() {
+    // A square plate at z = 1; its box below reaches back to z = -3, like a head's.
+    let plate = &[
+        Vec3::new(-1.0, -1.0, 1.0),
+        Vec3::new(1.0, -1.0, 1.0),
+        Vec3::new(1.0, 1.0, 1.0),
+        Vec3::new(-1.0, 1.0, 1.0),
+    ];
+    let camera = Camera::three_quarter();
+    let proj = camera.fit_points(plate, 200, 200, 1.0);
+    let xs: Vec<f32> = plate.iter().map(|p| proj.project(*p).x).collect();
+    let (lo, hi) = xs
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+    assert!(((lo + hi) * 0.5 - 100.0).abs() < 1e-3, "{lo}..{hi}");
+    // Fitting that deep box instead puts the plate off-centre.
+    let boxed = camera.fit(
+        (Vec3::new(-1.0, -1.0, -3.0), Vec3::new(1.0, 1.0, 1.0)),
+        200,
+        200,
+        1.0,
+    );
+    let xs: Vec<f32> = plate.iter().map(|p| boxed.project(*p).x).collect();
+    let (lo, hi) = xs
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+    assert!(((lo + hi) * 0.5 - 100.0).abs() > 5.0, "{lo}..{hi}");
+    // Non-finite points are ignored.
+    let mut with_nan = plate.to_vec();
+    with_nan.push(Vec3::NAN);
+    assert_eq!(camera.fit_points(&with_nan, 200, 200, 1.0), proj);
+}

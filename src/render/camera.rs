@@ -91,17 +91,45 @@ impl Camera {
         height: usize,
         dot_aspect: f32,
     ) -> Projection {
-        let view = self.view_matrix();
         let (lo, hi) = bounds;
-        let mut vlo = Vec3::splat(f32::INFINITY);
-        let mut vhi = Vec3::splat(f32::NEG_INFINITY);
-        for i in 0..8 {
-            let corner = Vec3::new(
+        let corners = (0..8).map(|i| {
+            Vec3::new(
                 if i & 1 == 0 { lo.x } else { hi.x },
                 if i & 2 == 0 { lo.y } else { hi.y },
                 if i & 4 == 0 { lo.z } else { hi.z },
-            );
-            let v = view * corner;
+            )
+        });
+        self.fit_seen(corners, width, height, dot_aspect)
+    }
+
+    /// Like [`Camera::fit`], fitting the points themselves as seen from this camera rather
+    /// than their box: a turned face is centred on what is drawn, not on the empty corners
+    /// of its box. Non-finite points are ignored. The extent still changes continuously as
+    /// the camera turns; pass the rest pose so deformation does not move the fit.
+    pub fn fit_points(
+        &self,
+        points: &[Vec3],
+        width: usize,
+        height: usize,
+        dot_aspect: f32,
+    ) -> Projection {
+        let finite = points.iter().copied().filter(|p| p.is_finite());
+        self.fit_seen(finite, width, height, dot_aspect)
+    }
+
+    /// Fits the view-space extent of `points` (mesh coordinates) to the canvas.
+    fn fit_seen(
+        &self,
+        points: impl Iterator<Item = Vec3>,
+        width: usize,
+        height: usize,
+        dot_aspect: f32,
+    ) -> Projection {
+        let view = self.view_matrix();
+        let mut vlo = Vec3::splat(f32::INFINITY);
+        let mut vhi = Vec3::splat(f32::NEG_INFINITY);
+        for p in points {
+            let v = view * p;
             vlo = vlo.min(v);
             vhi = vhi.max(v);
         }

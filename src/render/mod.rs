@@ -24,7 +24,7 @@
 //! # Pipeline
 //!
 //! [`Renderer::render`] projects the current positions with a [`Camera`] fitted to the rest
-//! pose ([`Camera::fit`]) and culls triangles facing away. For the line styles it gathers
+//! pose ([`Camera::fit_points`]) and culls triangles facing away. For the line styles it gathers
 //! the [`Style`]'s lines first, marks the dots they pass through, and rasterizes into the
 //! canvas's depth buffer (at dot resolution) only the front faces over marked dots: the
 //! depth test reads nothing else, so hidden lines are removed exactly as with a full fill.

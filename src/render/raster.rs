@@ -131,7 +131,7 @@ impl Renderer {
     }
 
     /// Draws `scene` seen by `camera` in `style` into `canvas` (cleared first), fitting the
-    /// rest pose's bounds to the canvas.
+    /// rest pose, as this camera sees it, to the canvas.
     pub fn render(&mut self, scene: &Scene, camera: &Camera, style: Style, canvas: &mut DotCanvas) {
         self.runs = None;
         self.draw(scene, camera, style, canvas);
@@ -206,12 +206,7 @@ impl Renderer {
         if width == 0 || height == 0 {
             return None;
         }
-        let proj = camera.fit(
-            finite_bounds(scene.rest_positions()),
-            width,
-            height,
-            dot_aspect,
-        );
+        let proj = camera.fit_points(scene.rest_positions(), width, height, dot_aspect);
         let sign = self.sign(scene.orientation);
         self.light_mesh = proj.view.transpose() * LIGHT.normalize();
         self.viewer_mesh = proj.view.transpose() * Vec3::Z;
