@@ -932,6 +932,20 @@ fn depth_slope([a, b, c]: [Vec3; 3]) -> f32 {
     }
 }
 
+/// The barycentric weights of corners a and b of `[a, b, c]` (signed doubled area `area`)
+/// as linear functions of the dot position, `l = kx * x + ky * y + k0`, as `(kx, ky, k0)`;
+/// the weight of c is `1 - la - lb`.
+#[inline(always)]
+fn corner_weights([a, b, c]: [Vec3; 3], area: f32) -> [(f32, f32, f32); 2] {
+    let inv = 1.0 / area;
+    let weight = |p: Vec3, q: Vec3| {
+        let kx = -(q.y - p.y) * inv;
+        let ky = (q.x - p.x) * inv;
+        (kx, ky, -(kx * p.x + ky * p.y))
+    };
+    [weight(b, c), weight(c, a)]
+}
+
 /// Rasterizes a screen triangle: calls `f(index, x, y, depth, attribute)` for every dot
 /// whose centre lies inside it (either winding), with depth and attribute interpolated.
 ///
@@ -958,16 +972,7 @@ fn raster_triangle(
     if x0 >= x1 || y0 >= y1 {
         return;
     }
-    // Barycentric weight of corners a and b as linear functions l = kx * x + ky * y + k0
-    // (the weight of c is 1 - la - lb).
-    let inv = 1.0 / area;
-    let weight = |p: Vec3, q: Vec3| {
-        let kx = -(q.y - p.y) * inv;
-        let ky = (q.x - p.x) * inv;
-        (kx, ky, -(kx * p.x + ky * p.y))
-    };
-    let (ax, ay, a0) = weight(b, c);
-    let (bx, by, b0) = weight(c, a);
+    let [(ax, ay, a0), (bx, by, b0)] = corner_weights(p, area);
     // Depth and attribute as linear functions of (x, y).
     let plane = |va: f32, vb: f32, vc: f32| {
         (
@@ -1148,14 +1153,7 @@ fn depth_triangle_in(
     if !area.is_finite() || area.abs() < 1e-9 || x0 >= x1 || y0 >= y1 {
         return;
     }
-    let inv = 1.0 / area;
-    let weight = |p: Vec3, q: Vec3| {
-        let kx = -(q.y - p.y) * inv;
-        let ky = (q.x - p.x) * inv;
-        (kx, ky, -(kx * p.x + ky * p.y))
-    };
-    let (ax, ay, a0) = weight(b, c);
-    let (bx, by, b0) = weight(c, a);
+    let [(ax, ay, a0), (bx, by, b0)] = corner_weights(p, area);
     let (va, vb, vc) = (a.z, b.z, c.z);
     let zx = ax * (va - vc) + bx * (vb - vc);
     let zy = ay * (va - vc) + by * (vb - vc);
