@@ -23,7 +23,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::Vec3;
 use thiserror::Error;
 
-use super::rigs::{self, mirror, pair, round3, rounded};
+use super::rigs::{self, round3, rounded};
 use super::surface::smoothstep;
 use super::topology;
 use crate::model::{Convergence, Jaw, Mesh, Muscle, MuscleKind, Sheet, Side, Sphincter};
@@ -352,22 +352,12 @@ fn frontalis_sheets(
     } else {
         span * 1.05
     };
-    let right = Sheet {
+    Ok(rigs::frontalis_pair(Sheet {
         attachment: [a1, a2],
         insertion: [l1, l2],
         length: round3(length),
         width: round3(inner.x + outer.x),
-    };
-    let left = Sheet {
-        attachment: [mirror(a2), mirror(a1)],
-        insertion: [mirror(l2), mirror(l1)],
-        ..right.clone()
-    };
-    Ok(pair(
-        "Frontalis_Sheet",
-        MuscleKind::Sheet(left),
-        MuscleKind::Sheet(right),
-    ))
+    }))
 }
 
 /// The mouth sphincter, centred between the lips at the midline. Its semi-minor axis is

@@ -300,24 +300,14 @@ impl Placer<'_> {
         let l1 = self.anchor(name, Anchor::Skin(6.0, 8.0, 0.0))?;
         let l2 = self.anchor(name, Anchor::Skin(50.0, 6.0, 0.0))?;
         let axis = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
-        let right = Sheet {
+        Ok(frontalis_pair(Sheet {
             attachment: [a1, a2],
             insertion: [l1, l2],
             // the insertion runs just under the brows; the pull fades out 8 mm below it,
             // above the upper lids
             length: round3(axis + units(8.0) as f32),
             width: round3(units(52.0) as f32),
-        };
-        let left = Sheet {
-            attachment: [mirror(a2), mirror(a1)],
-            insertion: [mirror(l2), mirror(l1)],
-            ..right.clone()
-        };
-        Ok(pair(
-            "Frontalis_Sheet",
-            MuscleKind::Sheet(left),
-            MuscleKind::Sheet(right),
-        ))
+        }))
     }
 
     /// The mouth sphincter, centred between the lips; its protected central disc keeps the
@@ -489,6 +479,23 @@ pub(crate) fn eye_sphincters(
         MuscleKind::Sphincter(left),
         MuscleKind::Sphincter(right),
     ))
+}
+
+/// Both frontalis sheets from the right one: the left mirrors its corners (listed in the
+/// same order around the sheet, so the mirror keeps the sheet's orientation).
+pub(crate) fn frontalis_pair(right: Sheet) -> [Muscle; 2] {
+    let [a1, a2] = right.attachment;
+    let [l1, l2] = right.insertion;
+    let left = Sheet {
+        attachment: [mirror(a2), mirror(a1)],
+        insertion: [mirror(l2), mirror(l1)],
+        ..right.clone()
+    };
+    pair(
+        "Frontalis_Sheet",
+        MuscleKind::Sheet(left),
+        MuscleKind::Sheet(right),
+    )
 }
 
 pub(crate) fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 2] {
