@@ -326,9 +326,8 @@ pub fn frame_line(frame: &Frame, rig: &Rig) -> String {
 
 /// The full-screen terminal view.
 mod view {
+    use crate::tui::term::Signals;
     use std::io;
-    use std::sync::atomic::{AtomicBool, Ordering};
-    use std::sync::Arc;
     use std::time::{Duration, Instant};
 
     use anyhow::{Context, Result};
@@ -460,11 +459,7 @@ mod view {
         let reopen = args.repeat.then_some(reopen);
         let mut player = Player::new(source, reopen, args.speed, args.strict, args.frames);
 
-        let stop = Arc::new(AtomicBool::new(false));
-        for signal in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP] {
-            signal_hook::flag::register(signal, Arc::clone(&stop))
-                .context("cannot watch for termination signals")?;
-        }
+        let signals = Signals::register().context("cannot watch for termination signals")?;
         let guard = TerminalGuard;
         let mut terminal = ratatui::try_init().context("cannot open the terminal")?;
         let mut status = Status {
@@ -479,7 +474,7 @@ mod view {
             &mut face,
             &mut status,
             rig,
-            &stop,
+            &signals,
             args,
         );
         drop(guard);
@@ -501,15 +496,15 @@ mod view {
         face: &mut Face,
         status: &mut Status,
         rig: &Rig,
-        stop: &AtomicBool,
+        signals: &Signals,
         args: &PlayArgs,
     ) -> Result<()> {
         let mut redraw = true;
         let mut due: Option<Instant> = None;
         let mut last_shown_due: Option<Instant> = None;
         loop {
-            // A terminal that vanished without a SIGHUP reaching us ends the view too.
-            if stop.load(Ordering::Relaxed) || crate::tui::term::terminal_gone() {
+            // SIGHUP, SIGTERM, or a terminal that vanished without a signal.
+            if signals.pending().is_some() {
                 return Ok(());
             }
             // Faster sources than the display rate: frames due in between are dropped.

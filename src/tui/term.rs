@@ -128,7 +128,7 @@ impl Signals {
 /// it is a character device, reports a hangup. A pipe on standard input (`play --stdin`)
 /// reports one at the end of its data, which is not the terminal going away.
 #[cfg(unix)]
-pub fn terminal_gone() -> bool {
+fn terminal_gone() -> bool {
     [libc::STDIN_FILENO, libc::STDOUT_FILENO]
         .into_iter()
         .any(|fd| is_character_device(fd) && hung_up(fd))
@@ -163,7 +163,7 @@ fn hung_up(fd: libc::c_int) -> bool {
 
 /// Whether the terminal has hung up (not detectable here; signals still stop the editor).
 #[cfg(not(unix))]
-pub fn terminal_gone() -> bool {
+fn terminal_gone() -> bool {
     false
 }
 
