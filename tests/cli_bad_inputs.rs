@@ -4,7 +4,9 @@
 //! panic). The `good.*` files must validate.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+mod common;
+use common::grimace_in as grimace;
 
 fn corpus() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs")
@@ -26,14 +28,6 @@ fn expected(name: &str) -> String {
         .unwrap_or_else(|_| panic!("{name} has no expected error file {}", path.display()))
         .trim_end()
         .to_string()
-}
-
-fn grimace(dir: &Path, args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_grimace"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
 }
 
 #[test]

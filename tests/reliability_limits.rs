@@ -3,19 +3,14 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
 use grimace::io::obj::parse_obj;
 use grimace::io::openface::{OpenFaceReader, RowOutcome, MAX_LINE_BYTES};
 use grimace::model::mesh::{MAX_TRIANGLES, MAX_VERTICES};
 
-fn grimace(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_grimace"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
+mod common;
+use common::grimace_in as grimace;
 
 /// Runs the binary and checks it exits 1 with `grimace COMMAND: FILE...` on stderr.
 fn refused(dir: &Path, args: &[&str], file: &str) -> String {

@@ -1,7 +1,17 @@
 //! Helpers shared by the integration tests (`mod common;` in each test file).
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs the `grimace` binary with `args` in `dir`, capturing its output.
+pub fn grimace_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_grimace"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
 
 /// The shared reference folder: `GRIMACE_SHARED`, else `../shared` beside the package.
 fn shared_root() -> PathBuf {
