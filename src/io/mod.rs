@@ -7,6 +7,7 @@
 pub mod atomic;
 pub mod builtin;
 pub mod error;
+pub mod landmarks;
 pub mod lock;
 pub mod obj;
 pub mod openface;
