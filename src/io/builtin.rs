@@ -23,6 +23,8 @@ pub const PAPER_RIG: &str = include_str!("../../presets/paper.rig.ron");
 pub const DEFAULT_RIG: &str = include_str!("../../presets/default.rig.ron");
 /// The default AU table (`presets/default.au.ron`).
 pub const DEFAULT_TABLE: &str = include_str!("../../presets/default.au.ron");
+/// The map from ARKit's 52 blendshape names to AU keys (`presets/arkit.map.ron`).
+pub const ARKIT_MAP: &str = include_str!("../../presets/arkit.map.ron");
 /// The 68 landmarks of the default face (`presets/default.landmarks.ron`).
 pub const DEFAULT_LANDMARKS: &str = include_str!("../../presets/default.landmarks.ron");
 

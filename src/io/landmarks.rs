@@ -65,12 +65,14 @@ pub fn parse_landmarks(text: &str, path: &Path) -> Result<Landmarks, LoadError> 
                 "give either `vertices` or `points`, not both",
             ));
         }
-        (None, None) => return Err(LoadError::new(
-            path,
-            format!(
+        (None, None) => {
+            return Err(LoadError::new(
+                path,
+                format!(
                 "no landmarks: expected `vertices: [...]` or `points: [...]` with {COUNT} entries"
             ),
-        )),
+            ))
+        }
     };
     if file.version != LANDMARKS_VERSION {
         return Err(LoadError::new(

@@ -13,6 +13,7 @@ pub mod obj;
 pub mod openface;
 pub mod recovery;
 pub mod rig_file;
+pub mod shape_map;
 pub mod table_file;
 pub mod timeline;
 pub mod waters;
