@@ -123,6 +123,7 @@ pub fn fit_rig(
         &openings_to,
     );
     rig.masks.extend(still_mask(&rig, &parts));
+    rig.masks.extend(depth_masks(&rig, mesh, &parts, &to));
     for (name, gain) in gains {
         rig.masks.push(Mask {
             muscles: vec![name],
@@ -300,6 +301,41 @@ fn action_point(kind: &MuscleKind) -> Vec3 {
         MuscleKind::Sheet(m) => 0.5 * (m.insertion[0] + m.insertion[1]),
         MuscleKind::Sphincter(m) => m.centre,
     }
+}
+
+/// A sphincter pulls everything inside its ellipse, however deep: on a whole head that would
+/// include the back of the head. Each sphincter gets weight 0 on skin more than its
+/// semi-major axis behind its centre (along the face's forward direction), fading in over
+/// the half-axis in front of that.
+fn depth_masks(rig: &Rig, mesh: &Mesh, parts: &Parts, frame: &FaceFrame) -> Vec<Mask> {
+    let mut masks = Vec::new();
+    for m in &rig.muscles {
+        let MuscleKind::Sphincter(s) = &m.kind else {
+            continue;
+        };
+        let field = crate::model::Field::of(&m.kind, &mesh.positions);
+        let reach = f64::from(s.semi_major);
+        let weights: Vec<(u32, f32)> = field
+            .vertices
+            .iter()
+            .filter(|&&v| parts.of_vertex[v as usize] == Part::Skin)
+            .filter_map(|&v| {
+                let behind = -(mesh.positions[v as usize] - s.centre)
+                    .as_dvec3()
+                    .dot(frame.forward);
+                let w = 1.0 - super::regions::smoothstep(0.5 * reach, reach, behind);
+                (w < 1.0).then_some((v, w as f32))
+            })
+            .collect();
+        if !weights.is_empty() {
+            masks.push(Mask {
+                muscles: vec![m.name.clone()],
+                gain: 1.0,
+                weights,
+            });
+        }
+    }
+    masks
 }
 
 /// One mask for every muscle: weight 0 on every vertex that is not skin.
