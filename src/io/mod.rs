@@ -10,6 +10,7 @@ pub mod builtin;
 pub mod error;
 pub mod gltf;
 pub mod landmarks;
+pub mod livelink;
 pub mod lock;
 pub mod obj;
 pub mod openface;

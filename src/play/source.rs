@@ -18,6 +18,7 @@ use thiserror::Error;
 
 use crate::facs::combo::parse_combo;
 use crate::facs::{AuKey, AuTable};
+use crate::io::arkit::{self, ArkitMap};
 use crate::io::openface::{OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome};
 use crate::io::timeline::{Timeline, TimelineError};
 use crate::model::{Activations, Rig};
@@ -160,6 +161,11 @@ impl AuFrames {
                 list.join(", ")
             ));
         }
+    }
+
+    /// Queues a notice to hand out before the next frame.
+    pub fn push_notice(&mut self, notice: String) {
+        self.pending.push(notice);
     }
 
     /// A notice waiting to be handed out.
@@ -466,6 +472,7 @@ pub struct LiveSource {
     ignored: BTreeSet<String>,
     csv_allowed: bool,
     stashed: Option<Event>,
+    arkit: ArkitMap,
 }
 
 impl LiveSource {
@@ -558,6 +565,7 @@ impl LiveSource {
             ignored: BTreeSet::new(),
             csv_allowed,
             stashed: None,
+            arkit: ArkitMap::builtin(),
         }
     }
 
@@ -637,6 +645,15 @@ impl LiveSource {
                 time = Some(value);
             } else if let Some(key) = json_au_key(&name) {
                 raw.push((key, value as f32));
+            } else if let Some(shape) = arkit::canonical(&name) {
+                // ARKit weights are 0-1 whatever the stream's AU scale.
+                match self.arkit.au(shape) {
+                    Some(key) => raw.push((key, value as f32 * self.builder.scale.max())),
+                    None if self.ignored.insert(name.clone()) => self.builder.pending.push(
+                        format!("{}: ARKit shape `{name}` has no AU (ignored)", self.name),
+                    ),
+                    None => {}
+                }
             } else if self.ignored.insert(name.clone()) && !name.eq_ignore_ascii_case("frame") {
                 self.builder.pending.push(format!(
                     "{}: field `{name}` is not an AU (ignored)",
