@@ -25,6 +25,7 @@
 pub mod cli;
 pub mod face;
 pub mod facs;
+pub mod fit;
 pub mod io;
 pub mod model;
 pub mod play;
