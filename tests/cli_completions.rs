@@ -20,7 +20,7 @@ fn completions(shell: &str) -> String {
 }
 
 /// Every subcommand, as `grimace --help` lists them (without `help`).
-const SUBCOMMANDS: [&str; 9] = [
+const SUBCOMMANDS: [&str; 11] = [
     "edit",
     "gen-face",
     "import-waters",
@@ -29,6 +29,8 @@ const SUBCOMMANDS: [&str; 9] = [
     "list",
     "play",
     "render",
+    "fit-rig",
+    "fit-au",
     "completions",
 ];
 
