@@ -5,6 +5,7 @@
 
 pub mod action;
 pub mod app;
+pub mod command;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;

@@ -8,10 +8,10 @@ use crate::model::Activations;
 
 use super::action::{Action, Effect};
 use super::app::{
-    App, CellMode, Focus, Input, InputKind, Mode, Question, Row, Style, TableItem, ViewPreset,
+    App, CellMode, Focus, Input, InputKind, Mode, Question, Row, TableItem, ViewPreset,
     COARSE_STEP, FINE_STEP,
 };
-use super::keymap::COMMAND_NAMES;
+use super::command;
 use super::table_ops;
 
 /// Applies one action to the state and returns the effects to run.
@@ -174,7 +174,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
                 _ => Mode::Help(0),
             }
         }
-        Action::Command(line) => run_command(app, &line, &mut fx),
+        Action::Command(line) => command::run(app, &line, &mut fx),
         Action::InputChar(c) => edit_input(app, |input| {
             let at = byte_index(&input.text, input.cursor);
             input.text.insert(at, c);
@@ -392,7 +392,7 @@ fn set_rows(app: &mut App, row: Row, value: f32, fx: &mut Vec<Effect>) {
 
 /// `:set` and `:jaw`: like [`set_rows`], saying what was set (a typed command has no other
 /// feedback when the row is scrolled out of sight).
-fn set_from_command(app: &mut App, row: Row, value: f32, fx: &mut Vec<Effect>) {
+pub(super) fn set_from_command(app: &mut App, row: Row, value: f32, fx: &mut Vec<Effect>) {
     let (lo, hi) = app.range(row);
     set_rows(app, row, value, fx);
     if value.is_finite() && (lo..=hi).contains(&value) {
@@ -452,7 +452,7 @@ fn restore(app: &mut App, snapshot: super::app::Snapshot) {
     app.table_selected = app.table_selected.min(items.saturating_sub(1));
 }
 
-fn undo(app: &mut App, fx: &mut Vec<Effect>) {
+pub(super) fn undo(app: &mut App, fx: &mut Vec<Effect>) {
     match app.undo.pop() {
         Some(snapshot) => {
             app.redo.push(app.snapshot());
@@ -464,7 +464,7 @@ fn undo(app: &mut App, fx: &mut Vec<Effect>) {
     }
 }
 
-fn redo(app: &mut App, fx: &mut Vec<Effect>) {
+pub(super) fn redo(app: &mut App, fx: &mut Vec<Effect>) {
     match app.redo.pop() {
         Some(snapshot) => {
             app.undo.push(app.snapshot());
@@ -476,7 +476,7 @@ fn redo(app: &mut App, fx: &mut Vec<Effect>) {
     }
 }
 
-fn save(app: &mut App, to: Option<PathBuf>, quit_after: bool, fx: &mut Vec<Effect>) {
+pub(super) fn save(app: &mut App, to: Option<PathBuf>, quit_after: bool, fx: &mut Vec<Effect>) {
     let path = match to.or_else(|| app.file.clone()) {
         Some(path) => path,
         None => {
@@ -498,7 +498,7 @@ fn save(app: &mut App, to: Option<PathBuf>, quit_after: bool, fx: &mut Vec<Effec
     });
 }
 
-fn quit(app: &mut App, fx: &mut Vec<Effect>) {
+pub(super) fn quit(app: &mut App, fx: &mut Vec<Effect>) {
     if app.dirty() {
         app.mode = Mode::Confirm(Question::QuitUnsaved);
     } else {
@@ -555,7 +555,7 @@ fn update_into(app: &mut App, action: Action, fx: &mut Vec<Effect>) {
     fx.extend(more);
 }
 
-fn load_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
+pub(super) fn load_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
     match table_ops::activations_of(&app.table, key, app.rig()) {
         Ok(activations) => {
             replace_activations(app, activations, Some(key), fx);
@@ -571,7 +571,7 @@ fn load_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
     }
 }
 
-fn load_expression(app: &mut App, name: &str, fx: &mut Vec<Effect>) {
+pub(super) fn load_expression(app: &mut App, name: &str, fx: &mut Vec<Effect>) {
     let Some(combo) = app.table.expressions.get(name).cloned() else {
         app.error(format!("the table has no expression named `{name}`"));
         return;
@@ -606,7 +606,7 @@ fn record(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
     }
 }
 
-fn delete_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
+pub(super) fn delete_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
     let mut table = app.table.clone();
     if let Err(e) = table_ops::remove(&mut table, key) {
         app.error(e);
@@ -636,7 +636,7 @@ fn delete_expression(app: &mut App, name: &str, fx: &mut Vec<Effect>) {
     edited(app, fx);
 }
 
-fn rename(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
+pub(super) fn rename(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
     let name = name.trim();
     if name.is_empty() {
         app.error("an AU's name cannot be empty");
@@ -656,7 +656,7 @@ fn rename(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
 
 /// Adds an AU (`12`) or a combination with FACS intensities (`12C`, `6+12B`) at `intensity`
 /// to the current state.
-fn add_au(app: &mut App, what: &str, intensity: f32, fx: &mut Vec<Effect>) {
+pub(super) fn add_au(app: &mut App, what: &str, intensity: f32, fx: &mut Vec<Effect>) {
     if !intensity.is_finite() || !(0.0..=2.0).contains(&intensity) {
         app.error(format!(
             "intensity must be between 0 and 2; {intensity} rejected"
@@ -677,7 +677,7 @@ fn add_au(app: &mut App, what: &str, intensity: f32, fx: &mut Vec<Effect>) {
     }
 }
 
-fn store_expression(app: &mut App, name: &str, combo: &str, fx: &mut Vec<Effect>) {
+pub(super) fn store_expression(app: &mut App, name: &str, combo: &str, fx: &mut Vec<Effect>) {
     let mut table = app.table.clone();
     if let Err(e) = table_ops::set_expression(&mut table, name, combo) {
         app.error(e);
@@ -689,7 +689,7 @@ fn store_expression(app: &mut App, name: &str, combo: &str, fx: &mut Vec<Effect>
     edited(app, fx);
 }
 
-fn set_combo(app: &mut App, combo: &str, fx: &mut Vec<Effect>) {
+pub(super) fn set_combo(app: &mut App, combo: &str, fx: &mut Vec<Effect>) {
     match table_ops::evaluate(&app.table, combo, app.rig()) {
         Ok(activations) => {
             replace_activations(app, activations, None, fx);
@@ -699,7 +699,7 @@ fn set_combo(app: &mut App, combo: &str, fx: &mut Vec<Effect>) {
     }
 }
 
-fn parse_key(app: &mut App, text: &str) -> Option<AuKey> {
+pub(super) fn parse_key(app: &mut App, text: &str) -> Option<AuKey> {
     match text.parse::<AuKey>() {
         Ok(key) => Some(key),
         Err(e) => {
@@ -709,7 +709,7 @@ fn parse_key(app: &mut App, text: &str) -> Option<AuKey> {
     }
 }
 
-fn parse_value(app: &mut App, text: &str) -> Option<f32> {
+pub(super) fn parse_value(app: &mut App, text: &str) -> Option<f32> {
     match text.trim().parse::<f32>() {
         Ok(v) if v.is_finite() => Some(v),
         _ => {
@@ -720,7 +720,7 @@ fn parse_value(app: &mut App, text: &str) -> Option<f32> {
 }
 
 /// The name an AU is recorded under when none is typed: its current name, else the FACS name.
-fn suggested_name(app: &App, key: AuKey) -> String {
+pub(super) fn suggested_name(app: &App, key: AuKey) -> String {
     app.table
         .aus
         .get(&key)
@@ -729,7 +729,7 @@ fn suggested_name(app: &App, key: AuKey) -> String {
         .unwrap_or_else(|| format!("AU {key}"))
 }
 
-fn record_or_ask(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
+pub(super) fn record_or_ask(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
     if app.table.aus.contains_key(&key) {
         app.mode = Mode::Confirm(Question::OverwriteAu {
             key,
@@ -743,7 +743,7 @@ fn record_or_ask(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
 fn submit(app: &mut App, input: Input, fx: &mut Vec<Effect>) {
     let text = input.text.trim().to_string();
     match input.kind {
-        InputKind::Command => run_command(app, &text, fx),
+        InputKind::Command => command::run(app, &text, fx),
         InputKind::Find => find(app, &text),
         InputKind::Value => {
             if let Some(v) = parse_value(app, &text) {
@@ -814,7 +814,7 @@ fn find(app: &mut App, text: &str) {
     }
 }
 
-fn row_by_name(app: &App, name: &str) -> Option<Row> {
+pub(super) fn row_by_name(app: &App, name: &str) -> Option<Row> {
     if fold(name) == "jaw" {
         return app.rows.iter().copied().find(|r| *r == Row::Jaw);
     }
@@ -826,167 +826,13 @@ fn row_by_name(app: &App, name: &str) -> Option<Row> {
         .map(Row::Muscle)
 }
 
-fn run_command(app: &mut App, line: &str, fx: &mut Vec<Effect>) {
-    let line = line.trim();
-    let (command, rest) = match line.split_once(char::is_whitespace) {
-        Some((c, r)) => (c, r.trim()),
-        None => (line, ""),
-    };
-    let args: Vec<&str> = rest.split_whitespace().collect();
-    match command {
-        "" => {}
-        "w" | "write" => save(
-            app,
-            (!rest.is_empty()).then(|| PathBuf::from(rest)),
-            false,
-            fx,
-        ),
-        "wq" | "x" => save(
-            app,
-            (!rest.is_empty()).then(|| PathBuf::from(rest)),
-            true,
-            fx,
-        ),
-        "q" | "quit" => quit(app, fx),
-        "q!" | "quit!" => {
-            fx.push(Effect::RemoveRecovery);
-            fx.push(Effect::Quit);
-        }
-        "record" => match args.first() {
-            None => app.error("usage: :record N [NAME], e.g. :record 12 or :record R12"),
-            Some(k) => {
-                if let Some(key) = parse_key(app, k) {
-                    let name = rest[k.len()..].trim();
-                    let name = if name.is_empty() {
-                        suggested_name(app, key)
-                    } else {
-                        name.to_string()
-                    };
-                    record_or_ask(app, key, &name, fx);
-                }
-            }
-        },
-        "load" => match args.as_slice() {
-            [k] => {
-                if let Some(key) = parse_key(app, k) {
-                    load_au(app, key, fx);
-                }
-            }
-            _ => app.error("usage: :load N"),
-        },
-        "delete" => match args.as_slice() {
-            [k] => {
-                if let Some(key) = parse_key(app, k) {
-                    delete_au(app, key, fx);
-                }
-            }
-            _ => app.error("usage: :delete N"),
-        },
-        "rename" => match args.first() {
-            Some(k) if args.len() >= 2 => {
-                if let Some(key) = parse_key(app, k) {
-                    rename(app, key, rest[k.len()..].trim(), fx);
-                }
-            }
-            _ => app.error("usage: :rename N NAME"),
-        },
-        "add" => match args.as_slice() {
-            [what] | [what, _] => {
-                let intensity = args.get(1).map_or(Some(1.0), |w| parse_value(app, w));
-                if let Some(i) = intensity {
-                    add_au(app, what, i, fx);
-                }
-            }
-            _ => app.error("usage: :add N [INTENSITY], e.g. :add 12 0.5"),
-        },
-        "combo" => match args.as_slice() {
-            [combo] => set_combo(app, combo, fx),
-            _ => app.error("usage: :combo STR, e.g. :combo 1+2+5B+26"),
-        },
-        "expr" => match args.as_slice() {
-            [name] => load_expression(app, name, fx),
-            [name, combo] => store_expression(app, name, combo, fx),
-            _ => app.error("usage: :expr NAME [COMBO], e.g. :expr smile 6+12"),
-        },
-        "set" => match args.as_slice() {
-            [name, value] => match row_by_name(app, name) {
-                Some(row) => {
-                    if let Some(v) = parse_value(app, value) {
-                        set_from_command(app, row, v, fx);
-                    }
-                }
-                None => app.error(format!(
-                    "the rig has no muscle named `{name}` (Tab completes)"
-                )),
-            },
-            _ => app.error("usage: :set MUSCLE VALUE, e.g. :set L_Zygomatic_Major 0.8"),
-        },
-        "jaw" => match args.as_slice() {
-            [value] if app.rows.contains(&Row::Jaw) => {
-                if let Some(v) = parse_value(app, value) {
-                    set_from_command(app, Row::Jaw, v, fx);
-                }
-            }
-            [_] => app.error("this rig has no jaw"),
-            _ => app.error("usage: :jaw VALUE (0 to 4)"),
-        },
-        "zero" | "reset" => update_into(app, Action::ResetAll, fx),
-        "undo" => undo(app, fx),
-        "redo" => redo(app, fx),
-        "help" => app.mode = Mode::Help(0),
-        "view" => {
-            match rest {
-                "front" => app.view.preset(ViewPreset::Front),
-                "side" => app.view.preset(ViewPreset::Side),
-                "three-quarter" | "3/4" => app.view.preset(ViewPreset::ThreeQuarter),
-                _ => return app.error("usage: :view front|side|three-quarter"),
-            }
-            app.info(format!("view: {rest}"));
-        }
-        "style" => {
-            match rest {
-                "lines" => app.view.style = Style::Lines,
-                "shaded" => app.view.style = Style::Shaded,
-                "wireframe" => app.view.style = Style::Wireframe,
-                _ => return app.error("usage: :style lines|shaded|wireframe"),
-            }
-            app.info(format!("style: {rest}"));
-        }
-        other => app.error(format!("unknown command `{other}` (? lists the commands)")),
-    }
-}
-
 /// The completions of the word being typed.
 fn candidates(app: &App, kind: &InputKind, before: &str) -> Vec<String> {
-    let words: Vec<&str> = before.split(' ').collect();
-    let au_keys = || {
-        app.table
-            .aus
-            .keys()
-            .map(|k| k.to_string())
-            .collect::<Vec<_>>()
-    };
-    let muscles = || {
-        let mut names: Vec<String> = app.rig().muscles.iter().map(|m| m.name.clone()).collect();
-        if app.rig().jaw.is_some() {
-            names.push("jaw".into());
-        }
-        names
-    };
+    let first_word = !before.contains(' ');
     match kind {
-        InputKind::Find => muscles(),
-        InputKind::RecordKey | InputKind::AddAu if words.len() == 1 => au_keys(),
-        InputKind::Command if words.len() == 1 => {
-            COMMAND_NAMES.iter().map(|s| s.to_string()).collect()
-        }
-        InputKind::Command if words.len() == 2 => match words[0] {
-            "set" => muscles(),
-            "record" | "load" | "delete" | "rename" | "add" => au_keys(),
-            "expr" => app.table.expressions.keys().cloned().collect(),
-            "view" => vec!["front".into(), "side".into(), "three-quarter".into()],
-            "style" => vec!["lines".into(), "shaded".into(), "wireframe".into()],
-            _ => Vec::new(),
-        },
+        InputKind::Find => command::muscle_names(app),
+        InputKind::RecordKey | InputKind::AddAu if first_word => command::au_keys(app),
+        InputKind::Command => command::candidates(app, before),
         _ => Vec::new(),
     }
 }
@@ -1053,7 +899,7 @@ mod tests {
     use super::*;
     use crate::facs::AuTable;
     use crate::model::Side;
-    use crate::tui::app::{FileStamp, Message, Severity};
+    use crate::tui::app::{FileStamp, Message, Severity, Style};
 
     fn app() -> App {
         crate::tui::fixture::app()
