@@ -1,8 +1,9 @@
-//! Starting the editor (without a terminal): loading, the recovery offer, the lock, --ascii.
+//! Starting the editor (without a terminal): loading, the recovery offer, the lock, --cells.
 
 use std::path::PathBuf;
 
 use grimace::cli::edit::{prepare, EditArgs};
+use grimace::cli::CellsArgs;
 use grimace::io::recovery::{self, RecoveryState};
 use grimace::tui::action::{Action, Effect};
 use grimace::tui::app::{CellMode, Mode, Question, Severity};
@@ -106,15 +107,28 @@ fn a_table_that_fails_to_load_names_file_line_and_column() {
 }
 
 #[test]
-fn ascii_flag_starts_in_ascii_cells() {
+fn cells_flags_choose_the_starting_cells() {
     let dir = tempfile::tempdir().unwrap();
-    let (app, _session) = prepare(&EditArgs {
-        file: Some(dir.path().join("a.au.ron")),
+    let start = |cells: CellsArgs| {
+        let (app, _session) = prepare(&EditArgs {
+            file: Some(dir.path().join("a.au.ron")),
+            cells,
+            ..EditArgs::default()
+        })
+        .unwrap();
+        app.view.cells
+    };
+    let ascii = CellsArgs {
         ascii: true,
-        ..EditArgs::default()
-    })
-    .unwrap();
-    assert_eq!(app.view.cells, CellMode::Ascii);
+        ..CellsArgs::default()
+    };
+    assert_eq!(start(ascii), CellMode::Ascii);
+    let half_block = CellsArgs {
+        cells: Some(CellMode::HalfBlock),
+        ..CellsArgs::default()
+    };
+    assert_eq!(start(half_block), CellMode::HalfBlock);
+    assert_eq!(start(CellsArgs::default()), CellMode::Braille);
 }
 
 #[test]

@@ -43,9 +43,9 @@ pub struct EditArgs {
     /// The mesh to place the rig on (instead of the rig's own mesh).
     #[arg(long, value_name = "OBJ")]
     pub mesh: Option<PathBuf>,
-    /// Draw with ASCII characters instead of braille.
-    #[arg(long)]
-    pub ascii: bool,
+    /// Braille, half-block or ASCII cells.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
 }
 
 /// Runs the editor.
@@ -78,7 +78,7 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     let scene = Scene::new(rig, mesh)?;
     let mut app = App::new(scene, table, args.file.clone());
     app.file_stamp = stamp;
-    app.view = View::new(args.ascii);
+    app.view = View::new(args.cells.mode());
     app.colors = Colors::from_env();
     if new_file {
         if let Some(path) = &args.file {

@@ -135,19 +135,15 @@ pub struct View {
 }
 
 impl View {
-    /// The initial view: front, feature lines, braille.
-    pub fn new(ascii: bool) -> View {
+    /// The initial view: front, feature lines, in `cells`.
+    pub fn new(cells: CellMode) -> View {
         View {
             yaw: 0.0,
             pitch: 0.0,
             zoom: DEFAULT_ZOOM,
             pan: (0.0, 0.0),
             style: Style::Lines,
-            cells: if ascii {
-                CellMode::Ascii
-            } else {
-                CellMode::Braille
-            },
+            cells,
             show_muscles: false,
             show_ghost: false,
             show_displacement: false,
@@ -438,7 +434,7 @@ impl App {
             table_selected: 0,
             loaded: None,
             mode: Mode::Normal,
-            view: View::new(false),
+            view: View::new(CellMode::Braille),
             mirror: false,
             undo: Vec::new(),
             redo: Vec::new(),
