@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use super::action::{Action, Effect};
 use super::app::{App, Mode, Row, Style, ViewPreset};
-use super::update as up;
+use super::update::{self as up, edit, prompt, table};
 
 /// A command line split after its command word.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -325,15 +325,15 @@ fn path_arg(args: &Args) -> Option<PathBuf> {
 }
 
 fn write(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
-    up::save(app, path_arg(args), false, fx);
+    table::save(app, path_arg(args), false, fx);
 }
 
 fn write_quit(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
-    up::save(app, path_arg(args), true, fx);
+    table::save(app, path_arg(args), true, fx);
 }
 
 fn quit(app: &mut App, _: &Args, fx: &mut Vec<Effect>) {
-    up::quit(app, fx);
+    table::quit(app, fx);
 }
 
 fn quit_discarding(_: &mut App, _: &Args, fx: &mut Vec<Effect>) {
@@ -345,20 +345,20 @@ fn record(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     let Some(k) = args.words.first() else {
         return app.error("usage: :record N [NAME], e.g. :record 12 or :record R12");
     };
-    if let Some(key) = up::parse_key(app, k) {
+    if let Some(key) = prompt::parse_key(app, k) {
         let name = match args.after_first() {
-            "" => up::suggested_name(app, key),
+            "" => table::suggested_name(app, key),
             name => name.to_string(),
         };
-        up::record_or_ask(app, key, &name, fx);
+        table::record_or_ask(app, key, &name, fx);
     }
 }
 
 fn load(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     match args.words.as_slice() {
         [k] => {
-            if let Some(key) = up::parse_key(app, k) {
-                up::load_au(app, key, fx);
+            if let Some(key) = prompt::parse_key(app, k) {
+                table::load_au(app, key, fx);
             }
         }
         _ => app.error("usage: :load N"),
@@ -368,8 +368,8 @@ fn load(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
 fn delete(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     match args.words.as_slice() {
         [k] => {
-            if let Some(key) = up::parse_key(app, k) {
-                up::delete_au(app, key, fx);
+            if let Some(key) = prompt::parse_key(app, k) {
+                table::delete_au(app, key, fx);
             }
         }
         _ => app.error("usage: :delete N"),
@@ -379,8 +379,8 @@ fn delete(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
 fn rename(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     match args.words.first() {
         Some(k) if args.words.len() >= 2 => {
-            if let Some(key) = up::parse_key(app, k) {
-                up::rename(app, key, args.after_first(), fx);
+            if let Some(key) = prompt::parse_key(app, k) {
+                table::rename(app, key, args.after_first(), fx);
             }
         }
         _ => app.error("usage: :rename N NAME"),
@@ -393,9 +393,9 @@ fn add(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
             let intensity = args
                 .words
                 .get(1)
-                .map_or(Some(1.0), |w| up::parse_value(app, w));
+                .map_or(Some(1.0), |w| prompt::parse_value(app, w));
             if let Some(i) = intensity {
-                up::add_au(app, what, i, fx);
+                table::add_au(app, what, i, fx);
             }
         }
         _ => app.error("usage: :add N [INTENSITY], e.g. :add 12 0.5"),
@@ -404,25 +404,25 @@ fn add(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
 
 fn combo(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     match args.words.as_slice() {
-        [combo] => up::set_combo(app, combo, fx),
+        [combo] => table::set_combo(app, combo, fx),
         _ => app.error("usage: :combo STR, e.g. :combo 1+2+5B+26"),
     }
 }
 
 fn expr(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     match args.words.as_slice() {
-        [name] => up::load_expression(app, name, fx),
-        [name, combo] => up::store_expression(app, name, combo, fx),
+        [name] => table::load_expression(app, name, fx),
+        [name, combo] => table::store_expression(app, name, combo, fx),
         _ => app.error("usage: :expr NAME [COMBO], e.g. :expr smile 6+12"),
     }
 }
 
 fn set(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     match args.words.as_slice() {
-        [name, value] => match up::row_by_name(app, name) {
+        [name, value] => match prompt::row_by_name(app, name) {
             Some(row) => {
-                if let Some(v) = up::parse_value(app, value) {
-                    up::set_from_command(app, row, v, fx);
+                if let Some(v) = prompt::parse_value(app, value) {
+                    edit::set_from_command(app, row, v, fx);
                 }
             }
             None => app.error(format!(
@@ -436,8 +436,8 @@ fn set(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
 fn jaw(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     match args.words.as_slice() {
         [value] if app.rows.contains(&Row::Jaw) => {
-            if let Some(v) = up::parse_value(app, value) {
-                up::set_from_command(app, Row::Jaw, v, fx);
+            if let Some(v) = prompt::parse_value(app, value) {
+                edit::set_from_command(app, Row::Jaw, v, fx);
             }
         }
         [_] => app.error("this rig has no jaw"),
@@ -450,11 +450,11 @@ fn zero(app: &mut App, _: &Args, fx: &mut Vec<Effect>) {
 }
 
 fn undo(app: &mut App, _: &Args, fx: &mut Vec<Effect>) {
-    up::undo(app, fx);
+    edit::undo(app, fx);
 }
 
 fn redo(app: &mut App, _: &Args, fx: &mut Vec<Effect>) {
-    up::redo(app, fx);
+    edit::redo(app, fx);
 }
 
 fn view(app: &mut App, args: &Args, _: &mut Vec<Effect>) {
