@@ -58,7 +58,7 @@ impl Completer {
             Completer::Nothing => Vec::new(),
             Completer::Muscles => muscle_names(app),
             Completer::AuKeys => au_keys(app),
-            Completer::Expressions => app.table.expressions.keys().cloned().collect(),
+            Completer::Expressions => app.doc.table.expressions.keys().cloned().collect(),
             Completer::Words(words) => words.iter().map(|w| w.to_string()).collect(),
         }
     }
@@ -75,7 +75,7 @@ pub fn muscle_names(app: &App) -> Vec<String> {
 
 /// The keys of the table's AUs.
 pub fn au_keys(app: &App) -> Vec<String> {
-    app.table.aus.keys().map(|k| k.to_string()).collect()
+    app.doc.table.aus.keys().map(|k| k.to_string()).collect()
 }
 
 /// Runs a command with its arguments, pushing the effects it asks for.
@@ -435,7 +435,7 @@ fn set(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
 
 fn jaw(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     match args.words.as_slice() {
-        [value] if app.rows.contains(&Row::Jaw) => {
+        [value] if app.selection.rows.contains(&Row::Jaw) => {
             if let Some(v) = prompt::parse_value(app, value) {
                 edit::set_from_command(app, Row::Jaw, v, fx);
             }

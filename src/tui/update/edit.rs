@@ -4,12 +4,12 @@ use super::*;
 
 /// Remembers the state before an edit, for undo.
 pub(crate) fn begin_edit(app: &mut App) {
-    app.undo.push(app.snapshot());
-    app.redo.clear();
+    app.history.undo.push(app.snapshot());
+    app.history.redo.clear();
 }
 
 pub(crate) fn edited(app: &mut App, fx: &mut Vec<Effect>) {
-    app.edits += 1;
+    app.history.edits += 1;
     fx.push(Effect::RecoveryDue);
 }
 
@@ -28,12 +28,12 @@ pub(crate) fn step(app: &mut App, by: f32, fx: &mut Vec<Effect>) {
         ));
         return;
     }
-    let coalesce = app.last_step == Some(row) && !app.undo.is_empty();
+    let coalesce = app.history.last_step == Some(row) && !app.history.undo.is_empty();
     if !coalesce {
         begin_edit(app);
     }
     apply_rows(app, row, new);
-    app.last_step = Some(row);
+    app.history.last_step = Some(row);
     edited(app, fx);
 }
 
@@ -51,7 +51,7 @@ pub(crate) fn set_rows(app: &mut App, row: Row, value: f32, fx: &mut Vec<Effect>
     }
     let partner_differs = app
         .partner(row)
-        .filter(|_| app.mirror)
+        .filter(|_| app.selection.mirror)
         .is_some_and(|p| app.value(p) != value);
     if app.value(row) == value && !partner_differs {
         return;
@@ -67,7 +67,7 @@ pub(crate) fn set_from_command(app: &mut App, row: Row, value: f32, fx: &mut Vec
     let (lo, hi) = app.range(row);
     set_rows(app, row, value, fx);
     if value.is_finite() && (lo..=hi).contains(&value) {
-        let partner = app.partner(row).filter(|_| app.mirror);
+        let partner = app.partner(row).filter(|_| app.selection.mirror);
         let also = partner.map_or(String::new(), |p| format!(" (and {})", app.row_name(p)));
         app.info(format!(
             "{} = {}{also}",
@@ -79,7 +79,7 @@ pub(crate) fn set_from_command(app: &mut App, row: Row, value: f32, fx: &mut Vec
 
 pub(crate) fn apply_rows(app: &mut App, row: Row, value: f32) {
     set_one(app, row, value);
-    if app.mirror {
+    if app.selection.mirror {
         if let Some(partner) = app.partner(row) {
             set_one(app, partner, value);
         }
@@ -89,14 +89,14 @@ pub(crate) fn apply_rows(app: &mut App, row: Row, value: f32) {
 pub(crate) fn set_one(app: &mut App, row: Row, value: f32) {
     match row {
         Row::Muscle(i) => {
-            if let Some(slot) = app.activations.muscles.get_mut(i) {
+            if let Some(slot) = app.doc.activations.muscles.get_mut(i) {
                 *slot = value;
             }
-            app.scene.update_muscle(&app.activations, Some(i));
+            app.doc.scene.update_muscle(&app.doc.activations, Some(i));
         }
         Row::Jaw => {
-            app.activations.jaw = value;
-            app.scene.update_muscle(&app.activations, None);
+            app.doc.activations.jaw = value;
+            app.doc.scene.update_muscle(&app.doc.activations, None);
         }
     }
 }
@@ -108,27 +108,27 @@ pub(crate) fn replace_activations(
     fx: &mut Vec<Effect>,
 ) {
     begin_edit(app);
-    app.activations = activations;
-    app.loaded = loaded;
-    app.scene.deform(&app.activations);
+    app.doc.activations = activations;
+    app.doc.loaded = loaded;
+    app.doc.scene.deform(&app.doc.activations);
     edited(app, fx);
 }
 
 pub(crate) fn restore(app: &mut App, snapshot: crate::tui::app::Snapshot) {
-    app.activations = snapshot.activations;
-    app.table = snapshot.table;
-    app.loaded = snapshot.loaded;
-    app.scene.deform(&app.activations);
+    app.doc.activations = snapshot.activations;
+    app.doc.table = snapshot.table;
+    app.doc.loaded = snapshot.loaded;
+    app.doc.scene.deform(&app.doc.activations);
     let items = app.table_items().len();
-    app.table_selected = app.table_selected.min(items.saturating_sub(1));
+    app.selection.table_selected = app.selection.table_selected.min(items.saturating_sub(1));
 }
 
 pub(crate) fn undo(app: &mut App, fx: &mut Vec<Effect>) {
-    match app.undo.pop() {
+    match app.history.undo.pop() {
         Some(snapshot) => {
-            app.redo.push(app.snapshot());
+            app.history.redo.push(app.snapshot());
             restore(app, snapshot);
-            app.info(format!("undone ({} more to undo)", app.undo.len()));
+            app.info(format!("undone ({} more to undo)", app.history.undo.len()));
             edited(app, fx);
         }
         None => app.error("nothing to undo"),
@@ -136,11 +136,11 @@ pub(crate) fn undo(app: &mut App, fx: &mut Vec<Effect>) {
 }
 
 pub(crate) fn redo(app: &mut App, fx: &mut Vec<Effect>) {
-    match app.redo.pop() {
+    match app.history.redo.pop() {
         Some(snapshot) => {
-            app.undo.push(app.snapshot());
+            app.history.undo.push(app.snapshot());
             restore(app, snapshot);
-            app.info(format!("redone ({} more to redo)", app.redo.len()));
+            app.info(format!("redone ({} more to redo)", app.history.redo.len()));
             edited(app, fx);
         }
         None => app.error("nothing to redo"),

@@ -34,7 +34,7 @@ use table::*;
 pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
     let mut fx = Vec::new();
     if !matches!(action, Action::StepFine(_) | Action::StepCoarse(_)) {
-        app.last_step = None;
+        app.history.last_step = None;
     }
     match action {
         Action::SelectNext => move_selection(app, 1),
@@ -42,19 +42,19 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         Action::SelectFirst => move_selection(app, i64::MIN / 2),
         Action::SelectLast => move_selection(app, i64::MAX / 2),
         Action::SelectRow(row) => {
-            if let Some(i) = app.rows.iter().position(|&r| r == row) {
-                app.selected = i;
-                app.focus = Focus::Muscles;
+            if let Some(i) = app.selection.rows.iter().position(|&r| r == row) {
+                app.selection.selected = i;
+                app.selection.focus = Focus::Muscles;
             }
         }
         Action::SelectTableItem(i) => {
             if i < app.table_items().len() {
-                app.table_selected = i;
-                app.focus = Focus::Table;
+                app.selection.table_selected = i;
+                app.selection.focus = Focus::Table;
             }
         }
         Action::SwitchFocus => {
-            app.focus = match app.focus {
+            app.selection.focus = match app.selection.focus {
                 Focus::Muscles => Focus::Table,
                 Focus::Table => Focus::Muscles,
             };
@@ -71,7 +71,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             set_rows(app, row, 0.0, &mut fx);
         }
         Action::ResetAll => {
-            if app.activations.is_rest() {
+            if app.doc.activations.is_rest() {
                 app.info("already at rest");
             } else {
                 let rest = Activations::zero(app.rig());
@@ -80,8 +80,8 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             }
         }
         Action::ToggleMirror => {
-            app.mirror = !app.mirror;
-            let state = if app.mirror {
+            app.selection.mirror = !app.selection.mirror;
+            let state = if app.selection.mirror {
                 "on: left/right pairs move together"
             } else {
                 "off"
@@ -90,7 +90,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         }
         Action::StartRecord => {
             let suggestion = match selected_item(app) {
-                Some(TableItem::Au(key)) if app.focus == Focus::Table => key.to_string(),
+                Some(TableItem::Au(key)) if app.selection.focus == Focus::Table => key.to_string(),
                 _ => String::new(),
             };
             open(app, InputKind::RecordKey, suggestion);
@@ -99,6 +99,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         Action::OverwriteSelected => match selected_item(app) {
             Some(TableItem::Au(key)) => {
                 let name = app
+                    .doc
                     .table
                     .aus
                     .get(&key)
@@ -116,6 +117,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         Action::RenameSelected => match selected_item(app) {
             Some(TableItem::Au(key)) => {
                 let name = app
+                    .doc
                     .table
                     .aus
                     .get(&key)
@@ -188,16 +190,16 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
                 *scroll = (i32::from(*scroll) + i32::from(by)).clamp(0, 500) as u16;
             }
         }
-        Action::Resize(w, h) => app.size = (w, h),
+        Action::Resize(w, h) => app.view.size = (w, h),
         Action::Saved {
             path,
             stamp,
             quit_after,
         } => {
             app.info(format!("saved {}", path.display()));
-            app.file = Some(path);
-            app.file_stamp = Some(stamp);
-            app.saved_table = app.table.clone();
+            app.doc.file = Some(path);
+            app.doc.file_stamp = Some(stamp);
+            app.doc.saved_table = app.doc.table.clone();
             fx.push(Effect::RemoveRecovery);
             if quit_after {
                 fx.push(Effect::Quit);
@@ -241,17 +243,17 @@ pub fn format_value(value: f32) -> String {
 }
 
 fn move_selection(app: &mut App, by: i64) {
-    let (current, len) = match app.focus {
-        Focus::Muscles => (app.selected, app.rows.len()),
-        Focus::Table => (app.table_selected, app.table_items().len()),
+    let (current, len) = match app.selection.focus {
+        Focus::Muscles => (app.selection.selected, app.selection.rows.len()),
+        Focus::Table => (app.selection.table_selected, app.table_items().len()),
     };
     if len == 0 {
         return;
     }
     let next = (current as i64).saturating_add(by).clamp(0, len as i64 - 1) as usize;
-    match app.focus {
-        Focus::Muscles => app.selected = next,
-        Focus::Table => app.table_selected = next,
+    match app.selection.focus {
+        Focus::Muscles => app.selection.selected = next,
+        Focus::Table => app.selection.table_selected = next,
     }
 }
 

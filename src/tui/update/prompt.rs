@@ -136,16 +136,16 @@ pub(crate) fn find(app: &mut App, text: &str) {
         return;
     }
     let wanted = fold(text);
-    let start = app.selected + 1;
-    let n = app.rows.len();
+    let start = app.selection.selected + 1;
+    let n = app.selection.rows.len();
     let hit = (0..n)
         .map(|k| (start + k) % n)
-        .find(|&i| fold(app.row_name(app.rows[i])).contains(&wanted));
+        .find(|&i| fold(app.row_name(app.selection.rows[i])).contains(&wanted));
     match hit {
         Some(i) => {
-            app.selected = i;
-            app.focus = Focus::Muscles;
-            app.info(format!("found {}", app.row_name(app.rows[i])));
+            app.selection.selected = i;
+            app.selection.focus = Focus::Muscles;
+            app.info(format!("found {}", app.row_name(app.selection.rows[i])));
         }
         None => app.error(format!("no muscle matches `{text}`")),
     }
@@ -153,7 +153,7 @@ pub(crate) fn find(app: &mut App, text: &str) {
 
 pub(crate) fn row_by_name(app: &App, name: &str) -> Option<Row> {
     if fold(name) == "jaw" {
-        return app.rows.iter().copied().find(|r| *r == Row::Jaw);
+        return app.selection.rows.iter().copied().find(|r| *r == Row::Jaw);
     }
     let wanted = fold(name);
     app.rig()

@@ -6,26 +6,30 @@ use super::*;
 pub(crate) fn selected_item(app: &App) -> Option<TableItem> {
     let items = app.table_items();
     items
-        .get(app.table_selected.min(items.len().saturating_sub(1)))
+        .get(
+            app.selection
+                .table_selected
+                .min(items.len().saturating_sub(1)),
+        )
         .cloned()
 }
 
 pub(crate) fn save(app: &mut App, to: Option<PathBuf>, quit_after: bool, fx: &mut Vec<Effect>) {
-    let path = match to.or_else(|| app.file.clone()) {
+    let path = match to.or_else(|| app.doc.file.clone()) {
         Some(path) => path,
         None => {
             app.error("the built-in table has no file: save it with :w FILE");
             return;
         }
     };
-    let expected = if Some(&path) == app.file.as_ref() {
-        app.file_stamp
+    let expected = if Some(&path) == app.doc.file.as_ref() {
+        app.doc.file_stamp
     } else {
         None
     };
     fx.push(Effect::Save {
         path,
-        contents: table_ops::to_ron(&app.table),
+        contents: table_ops::to_ron(&app.doc.table),
         expected,
         force: false,
         quit_after,
@@ -51,16 +55,16 @@ pub(crate) fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<
         (Question::DeleteAu(key), true) => delete_au(app, key, fx),
         (Question::OverwriteFile { path, quit_after }, true) => fx.push(Effect::Save {
             path,
-            contents: table_ops::to_ron(&app.table),
+            contents: table_ops::to_ron(&app.doc.table),
             expected: None,
             force: true,
             quit_after,
         }),
         (Question::Recover(found), true) => {
             begin_edit(app);
-            app.activations = found.activations;
-            app.table = found.table;
-            app.scene.deform(&app.activations);
+            app.doc.activations = found.activations;
+            app.doc.table = found.table;
+            app.doc.scene.deform(&app.doc.activations);
             app.info("recovered the unsaved changes; :w saves them");
             edited(app, fx);
         }
@@ -73,7 +77,7 @@ pub(crate) fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<
 }
 
 pub(crate) fn activate(app: &mut App, fx: &mut Vec<Effect>) {
-    if app.focus == Focus::Muscles {
+    if app.selection.focus == Focus::Muscles {
         update_into(app, Action::StartSetValue, fx);
         return;
     }
@@ -85,10 +89,11 @@ pub(crate) fn activate(app: &mut App, fx: &mut Vec<Effect>) {
 }
 
 pub(crate) fn load_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
-    match table_ops::activations_of(&app.table, key, app.rig()) {
+    match table_ops::activations_of(&app.doc.table, key, app.rig()) {
         Ok(activations) => {
             replace_activations(app, activations, Some(key), fx);
             let name = app
+                .doc
                 .table
                 .aus
                 .get(&key)
@@ -101,11 +106,11 @@ pub(crate) fn load_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
 }
 
 pub(crate) fn load_expression(app: &mut App, name: &str, fx: &mut Vec<Effect>) {
-    let Some(combo) = app.table.expressions.get(name).cloned() else {
+    let Some(combo) = app.doc.table.expressions.get(name).cloned() else {
         app.error(format!("the table has no expression named `{name}`"));
         return;
     };
-    match table_ops::evaluate(&app.table, &combo, app.rig()) {
+    match table_ops::evaluate(&app.doc.table, &combo, app.rig()) {
         Ok(activations) => {
             replace_activations(app, activations, None, fx);
             app.info(format!("loaded expression {name} = {combo}"));
@@ -115,18 +120,18 @@ pub(crate) fn load_expression(app: &mut App, name: &str, fx: &mut Vec<Effect>) {
 }
 
 pub(crate) fn record(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
-    let mut table = app.table.clone();
-    match table_ops::record(&mut table, key, name, app.rig(), &app.activations) {
+    let mut table = app.doc.table.clone();
+    match table_ops::record(&mut table, key, name, app.rig(), &app.doc.activations) {
         Ok(()) => {
             begin_edit(app);
-            app.table = table;
-            app.loaded = Some(key);
+            app.doc.table = table;
+            app.doc.loaded = Some(key);
             if let Some(i) = app
                 .table_items()
                 .iter()
                 .position(|it| *it == TableItem::Au(key))
             {
-                app.table_selected = i;
+                app.selection.table_selected = i;
             }
             app.info(format!("recorded AU {key} {name}"));
             edited(app, fx);
@@ -136,31 +141,31 @@ pub(crate) fn record(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>
 }
 
 pub(crate) fn delete_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
-    let mut table = app.table.clone();
+    let mut table = app.doc.table.clone();
     if let Err(e) = table_ops::remove(&mut table, key) {
         app.error(e);
         return;
     }
     begin_edit(app);
-    app.table = table;
-    if app.loaded == Some(key) {
-        app.loaded = None;
+    app.doc.table = table;
+    if app.doc.loaded == Some(key) {
+        app.doc.loaded = None;
     }
     let items = app.table_items().len();
-    app.table_selected = app.table_selected.min(items.saturating_sub(1));
+    app.selection.table_selected = app.selection.table_selected.min(items.saturating_sub(1));
     app.info(format!("deleted AU {key} (u undoes)"));
     edited(app, fx);
 }
 
 pub(crate) fn delete_expression(app: &mut App, name: &str, fx: &mut Vec<Effect>) {
-    if !app.table.expressions.contains_key(name) {
+    if !app.doc.table.expressions.contains_key(name) {
         app.error(format!("the table has no expression named `{name}`"));
         return;
     }
     begin_edit(app);
-    app.table.expressions.remove(name);
+    app.doc.table.expressions.remove(name);
     let items = app.table_items().len();
-    app.table_selected = app.table_selected.min(items.saturating_sub(1));
+    app.selection.table_selected = app.selection.table_selected.min(items.saturating_sub(1));
     app.info(format!("deleted expression {name} (u undoes)"));
     edited(app, fx);
 }
@@ -171,12 +176,12 @@ pub(crate) fn rename(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>
         app.error("an AU's name cannot be empty");
         return;
     }
-    if !app.table.aus.contains_key(&key) {
+    if !app.doc.table.aus.contains_key(&key) {
         app.error(format!("the table has no AU {key}"));
         return;
     }
     begin_edit(app);
-    if let Some(entry) = app.table.aus.get_mut(&key) {
+    if let Some(entry) = app.doc.table.aus.get_mut(&key) {
         entry.name = name.to_string();
     }
     app.info(format!("AU {key} renamed to {name}"));
@@ -193,12 +198,12 @@ pub(crate) fn add_au(app: &mut App, what: &str, intensity: f32, fx: &mut Vec<Eff
         return;
     }
     let add = match what.parse::<AuKey>() {
-        Ok(key) => table_ops::activations_of(&app.table, key, app.rig()),
-        Err(_) => table_ops::evaluate(&app.table, what, app.rig()),
+        Ok(key) => table_ops::activations_of(&app.doc.table, key, app.rig()),
+        Err(_) => table_ops::evaluate(&app.doc.table, what, app.rig()),
     };
     match add {
         Ok(add) => {
-            let sum = table_ops::add_scaled(&app.activations, &add, intensity);
+            let sum = table_ops::add_scaled(&app.doc.activations, &add, intensity);
             replace_activations(app, sum, None, fx);
             app.info(format!("added {what} at {}", format_value(intensity)));
         }
@@ -207,19 +212,19 @@ pub(crate) fn add_au(app: &mut App, what: &str, intensity: f32, fx: &mut Vec<Eff
 }
 
 pub(crate) fn store_expression(app: &mut App, name: &str, combo: &str, fx: &mut Vec<Effect>) {
-    let mut table = app.table.clone();
+    let mut table = app.doc.table.clone();
     if let Err(e) = table_ops::set_expression(&mut table, name, combo) {
         app.error(e);
         return;
     }
     begin_edit(app);
-    app.table = table;
+    app.doc.table = table;
     app.info(format!("expression {name} = {combo} stored"));
     edited(app, fx);
 }
 
 pub(crate) fn set_combo(app: &mut App, combo: &str, fx: &mut Vec<Effect>) {
-    match table_ops::evaluate(&app.table, combo, app.rig()) {
+    match table_ops::evaluate(&app.doc.table, combo, app.rig()) {
         Ok(activations) => {
             replace_activations(app, activations, None, fx);
             app.info(format!("state set from {combo}"));
@@ -230,7 +235,8 @@ pub(crate) fn set_combo(app: &mut App, combo: &str, fx: &mut Vec<Effect>) {
 
 /// The name an AU is recorded under when none is typed: its current name, else the FACS name.
 pub(crate) fn suggested_name(app: &App, key: AuKey) -> String {
-    app.table
+    app.doc
+        .table
         .aus
         .get(&key)
         .map(|e| e.name.clone())
@@ -239,7 +245,7 @@ pub(crate) fn suggested_name(app: &App, key: AuKey) -> String {
 }
 
 pub(crate) fn record_or_ask(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
-    if app.table.aus.contains_key(&key) {
+    if app.doc.table.aus.contains_key(&key) {
         app.mode = Mode::Confirm(Question::OverwriteAu {
             key,
             name: name.to_string(),

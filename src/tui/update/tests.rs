@@ -40,14 +40,14 @@ fn error(app: &App) -> String {
 }
 
 fn muscle(app: &App, name: &str) -> f32 {
-    app.activations.muscles[app.rig().muscle_index(name).unwrap()]
+    app.doc.activations.muscles[app.rig().muscle_index(name).unwrap()]
 }
 
 #[test]
 fn rows_are_grouped_linear_sheet_sphincter_jaw() {
     let app = app();
     assert_eq!(
-        app.rows,
+        app.selection.rows,
         vec![
             Row::Muscle(1),
             Row::Muscle(2),
@@ -62,17 +62,17 @@ fn rows_are_grouped_linear_sheet_sphincter_jaw() {
 fn selection_moves_and_stops_at_the_ends() {
     let mut app = app();
     run(&mut app, &[Action::SelectPrev]);
-    assert_eq!(app.selected, 0);
+    assert_eq!(app.selection.selected, 0);
     run(&mut app, &[Action::SelectNext, Action::SelectNext]);
-    assert_eq!(app.selected, 2);
+    assert_eq!(app.selection.selected, 2);
     run(&mut app, &[Action::SelectLast]);
     assert_eq!(app.selected_row(), Row::Jaw);
     run(&mut app, &[Action::SelectNext]);
     assert_eq!(app.selected_row(), Row::Jaw);
     run(&mut app, &[Action::SelectFirst]);
-    assert_eq!(app.selected, 0);
+    assert_eq!(app.selection.selected, 0);
     run(&mut app, &[Action::SelectRow(Row::Muscle(0))]);
-    assert_eq!(app.selected, 3);
+    assert_eq!(app.selection.selected, 3);
 }
 
 #[test]
@@ -98,7 +98,7 @@ fn fine_and_coarse_steps_stay_in_range() {
     for _ in 0..20 {
         update(&mut app, Action::StepCoarse(1));
     }
-    assert_eq!(app.activations.jaw, 4.0);
+    assert_eq!(app.doc.activations.jaw, 4.0);
 }
 
 #[test]
@@ -112,14 +112,14 @@ fn consecutive_steps_on_one_muscle_undo_together() {
             Action::StepFine(1),
         ],
     );
-    assert_eq!(app.undo.len(), 1);
+    assert_eq!(app.history.undo.len(), 1);
     run(&mut app, &[Action::SelectNext, Action::StepFine(1)]);
-    assert_eq!(app.undo.len(), 2);
+    assert_eq!(app.history.undo.len(), 2);
     run(&mut app, &[Action::Undo]);
     assert_eq!(muscle(&app, "R_Zygomatic_Major"), 0.0);
     assert!((muscle(&app, "L_Zygomatic_Major") - 0.15).abs() < 1e-6);
     run(&mut app, &[Action::Undo]);
-    assert!(app.activations.is_rest());
+    assert!(app.doc.activations.is_rest());
     run(&mut app, &[Action::Undo]);
     assert_eq!(error(&app), "nothing to undo");
     run(&mut app, &[Action::Redo, Action::Redo]);
@@ -132,15 +132,15 @@ fn consecutive_steps_on_one_muscle_undo_together() {
 fn a_new_edit_clears_redo() {
     let mut app = app();
     run(&mut app, &[Action::StepFine(1), Action::Undo]);
-    assert_eq!(app.redo.len(), 1);
+    assert_eq!(app.history.redo.len(), 1);
     run(&mut app, &[Action::ZeroSelected, Action::StepCoarse(1)]);
-    assert!(app.redo.is_empty());
+    assert!(app.history.redo.is_empty());
 }
 
 #[test]
 fn edits_deform_the_face_and_undo_restores_it() {
     let mut app = app();
-    let rest = app.scene.mesh().positions.clone();
+    let rest = app.doc.scene.mesh().positions.clone();
     run(
         &mut app,
         &[
@@ -150,20 +150,20 @@ fn edits_deform_the_face_and_undo_restores_it() {
         ],
     );
     assert_ne!(
-        app.scene.positions(),
+        app.doc.scene.positions(),
         &rest[..],
         "the zygomatics move the grid"
     );
     // The incremental update matches a full deformation.
-    let mut full = app.scene.clone();
-    full.deform(&app.activations);
-    assert_eq!(app.scene.positions(), full.positions());
+    let mut full = app.doc.scene.clone();
+    full.deform(&app.doc.activations);
+    assert_eq!(app.doc.scene.positions(), full.positions());
     command(&mut app, "jaw 2");
-    let mut full = app.scene.clone();
-    full.deform(&app.activations);
-    assert_eq!(app.scene.positions(), full.positions());
+    let mut full = app.doc.scene.clone();
+    full.deform(&app.doc.activations);
+    assert_eq!(app.doc.scene.positions(), full.positions());
     run(&mut app, &[Action::Undo, Action::Undo]);
-    assert_eq!(app.scene.positions(), &rest[..]);
+    assert_eq!(app.doc.scene.positions(), &rest[..]);
 }
 
 #[test]
@@ -229,9 +229,9 @@ fn zero_and_reset_all() {
     assert_eq!(muscle(&app, "L_Zygomatic_Major"), 0.0);
     assert_eq!(muscle(&app, "Frontalis"), 1.0);
     update(&mut app, Action::ResetAll);
-    assert!(app.activations.is_rest());
+    assert!(app.doc.activations.is_rest());
     update(&mut app, Action::Undo);
-    assert_eq!(app.activations.jaw, 3.0);
+    assert_eq!(app.doc.activations.jaw, 3.0);
 }
 
 #[test]
@@ -244,7 +244,7 @@ fn set_and_jaw_commands_check_names_and_ranges() {
     command(&mut app, "jaw 4.5");
     assert!(error(&app).contains("jaw must be between 0.00 and 4.00"));
     command(&mut app, "jaw 2");
-    assert_eq!(app.activations.jaw, 2.0);
+    assert_eq!(app.doc.activations.jaw, 2.0);
     assert_eq!(app.message.as_ref().unwrap().text, "jaw = 2.00");
     update(&mut app, Action::ToggleMirror);
     command(&mut app, "set l_zygomatic_major 0.5");
@@ -299,14 +299,14 @@ fn record_prompts_for_key_then_name_and_asks_before_overwriting() {
     }
     typed(&mut app, "Brow raiser");
     update(&mut app, Action::InputSubmit);
-    let entry = &app.table.aus[&AuKey::new(1)];
+    let entry = &app.doc.table.aus[&AuKey::new(1)];
     assert_eq!(entry.name, "Brow raiser");
     assert_eq!(
         entry.muscles,
         BTreeMap::from([("Frontalis".to_string(), 0.8)])
     );
     assert!(app.dirty());
-    assert_eq!(app.loaded, Some(AuKey::new(1)));
+    assert_eq!(app.doc.loaded, Some(AuKey::new(1)));
     // Recording over AU 12 asks first; "no" keeps the old entry.
     command(&mut app, "record 12 Smile");
     assert!(matches!(
@@ -314,12 +314,12 @@ fn record_prompts_for_key_then_name_and_asks_before_overwriting() {
         Mode::Confirm(Question::OverwriteAu { .. })
     ));
     update(&mut app, Action::Answer(false));
-    assert_eq!(app.table.aus[&AuKey::new(12)].name, "Lip Corner Puller");
+    assert_eq!(app.doc.table.aus[&AuKey::new(12)].name, "Lip Corner Puller");
     command(&mut app, "record 12 Smile");
     update(&mut app, Action::Answer(true));
-    assert_eq!(app.table.aus[&AuKey::new(12)].name, "Smile");
+    assert_eq!(app.doc.table.aus[&AuKey::new(12)].name, "Smile");
     assert_eq!(
-        app.table.aus[&AuKey::new(12)].muscles,
+        app.doc.table.aus[&AuKey::new(12)].muscles,
         BTreeMap::from([("Frontalis".to_string(), 0.8)])
     );
     command(&mut app, "record R99x");
@@ -343,10 +343,10 @@ fn record_refuses_a_65th_au() {
     for key in keys.take(63) {
         command(&mut app, &format!("record {key} x"));
     }
-    assert_eq!(app.table.aus.len(), 64);
+    assert_eq!(app.doc.table.aus.len(), 64);
     command(&mut app, &format!("record {} x", codes[40]));
     assert!(error(&app).contains("full"), "{}", error(&app));
-    assert_eq!(app.table.aus.len(), 64);
+    assert_eq!(app.doc.table.aus.len(), 64);
 }
 
 #[test]
@@ -354,7 +354,7 @@ fn load_delete_rename_and_add() {
     let mut app = app();
     command(&mut app, "load 12");
     assert_eq!(muscle(&app, "L_Zygomatic_Major"), 1.0);
-    assert_eq!(app.loaded, Some(AuKey::new(12)));
+    assert_eq!(app.doc.loaded, Some(AuKey::new(12)));
     command(&mut app, "zero");
     command(&mut app, "add 12 0.5");
     assert_eq!(muscle(&app, "R_Zygomatic_Major"), 0.5);
@@ -374,14 +374,14 @@ fn load_delete_rename_and_add() {
     command(&mut app, "add 12Z");
     assert!(error(&app).starts_with("`12Z`"), "{}", error(&app));
     command(&mut app, "rename 12 Smile wide");
-    assert_eq!(app.table.aus[&AuKey::new(12)].name, "Smile wide");
+    assert_eq!(app.doc.table.aus[&AuKey::new(12)].name, "Smile wide");
     command(&mut app, "load 4");
     assert_eq!(error(&app), "the table has no AU 4");
     command(&mut app, "delete 12");
-    assert!(app.table.aus.is_empty());
-    assert_eq!(app.loaded, None);
+    assert!(app.doc.table.aus.is_empty());
+    assert_eq!(app.doc.loaded, None);
     update(&mut app, Action::Undo);
-    assert_eq!(app.table.aus[&AuKey::new(12)].name, "Smile wide");
+    assert_eq!(app.doc.table.aus[&AuKey::new(12)].name, "Smile wide");
 }
 
 #[test]
@@ -392,19 +392,19 @@ fn table_panel_keys_act_on_the_selected_au() {
         &mut app,
         &[Action::SwitchFocus, Action::SelectLast, Action::Activate],
     );
-    assert_eq!(app.loaded, Some(AuKey::new(12)));
+    assert_eq!(app.doc.loaded, Some(AuKey::new(12)));
     assert_eq!(muscle(&app, "L_Zygomatic_Major"), 1.0);
     update(&mut app, Action::DeleteSelected);
     assert_eq!(app.mode, Mode::Confirm(Question::DeleteAu(AuKey::new(12))));
     update(&mut app, Action::Answer(true));
-    assert!(!app.table.aus.contains_key(&AuKey::new(12)));
+    assert!(!app.doc.table.aus.contains_key(&AuKey::new(12)));
     update(&mut app, Action::RenameSelected);
     assert!(
         matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Rename(AuKey::new(1)) && i.text == "Brow")
     );
     typed(&mut app, " raiser");
     update(&mut app, Action::InputSubmit);
-    assert_eq!(app.table.aus[&AuKey::new(1)].name, "Brow raiser");
+    assert_eq!(app.doc.table.aus[&AuKey::new(1)].name, "Brow raiser");
     update(&mut app, Action::OverwriteSelected);
     assert!(
         matches!(app.mode, Mode::Confirm(Question::OverwriteAu { key, .. }) if key == AuKey::new(1))
@@ -438,7 +438,7 @@ fn save_writes_the_table_and_clears_dirty() {
     assert_eq!(expected, Some(FileStamp { len: 1, hash: 1 }));
     assert!(!force && !quit_after);
     let back: AuTable = ron::from_str(&contents).unwrap();
-    assert_eq!(back, app.table);
+    assert_eq!(back, app.doc.table);
     let stamp = FileStamp::of(contents.as_bytes());
     let fx = update(
         &mut app,
@@ -481,7 +481,7 @@ fn save_as_expects_a_new_file_and_wq_quits_after() {
 #[test]
 fn the_built_in_table_needs_a_file_name() {
     let mut app = app();
-    app.file = None;
+    app.doc.file = None;
     let fx = update(&mut app, Action::Save);
     assert!(fx.is_empty());
     assert!(error(&app).contains(":w FILE"));
@@ -563,9 +563,9 @@ fn quit_asks_only_when_there_are_unsaved_changes() {
 #[test]
 fn recovery_offer_restores_or_discards() {
     let mut app = app();
-    let mut activations = app.activations.clone();
+    let mut activations = app.doc.activations.clone();
     activations.muscles[3] = 1.5;
-    let mut table = app.table.clone();
+    let mut table = app.doc.table.clone();
     table.aus.clear();
     let question = Question::Recover(Box::new(crate::tui::app::Recovered {
         activations: activations.clone(),
@@ -576,8 +576,8 @@ fn recovery_offer_restores_or_discards() {
     assert!(question_text(&question).contains("recover"));
     let fx = update(&mut app, Action::Answer(true));
     assert_eq!(fx, vec![Effect::RecoveryDue]);
-    assert_eq!(app.activations, activations);
-    assert_eq!(app.table, table);
+    assert_eq!(app.doc.activations, activations);
+    assert_eq!(app.doc.table, table);
     assert!(app.dirty());
     let mut app2 = self::app();
     app2.mode = Mode::Confirm(question);
@@ -585,7 +585,7 @@ fn recovery_offer_restores_or_discards() {
         update(&mut app2, Action::Answer(false)),
         vec![Effect::RemoveRecovery]
     );
-    assert!(app2.activations.is_rest());
+    assert!(app2.doc.activations.is_rest());
 }
 
 #[test]
@@ -620,7 +620,7 @@ fn view_actions_move_the_camera_within_limits() {
     );
     assert!(app.view.show_muscles && app.view.show_ghost && app.view.show_displacement);
     // View changes are not edits.
-    assert!(app.undo.is_empty());
+    assert!(app.history.undo.is_empty());
     assert!(!app.dirty());
 }
 
@@ -703,9 +703,9 @@ fn expressions_need_a_valid_combination() {
     assert!(error(&app).starts_with("usage: :expr"));
     command(&mut app, "expr smile 12+4");
     assert!(error(&app).contains('4'), "{}", error(&app));
-    assert!(app.table.expressions.is_empty());
+    assert!(app.doc.table.expressions.is_empty());
     command(&mut app, "expr smile 12C");
-    assert_eq!(app.table.expressions["smile"], "12C");
+    assert_eq!(app.doc.table.expressions["smile"], "12C");
     assert!(app.dirty());
     command(&mut app, "expr smile");
     assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
@@ -722,11 +722,11 @@ fn expressions_need_a_valid_combination() {
     update(&mut app, Action::Activate);
     assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
     update(&mut app, Action::DeleteSelected);
-    assert!(app.table.expressions.is_empty());
+    assert!(app.doc.table.expressions.is_empty());
     update(&mut app, Action::StartExpression);
     typed(&mut app, "grin = 12E");
     update(&mut app, Action::InputSubmit);
-    assert_eq!(app.table.expressions["grin"], "12E");
+    assert_eq!(app.doc.table.expressions["grin"], "12E");
 }
 
 #[test]
@@ -734,9 +734,15 @@ fn table_selection_record_suggestion_and_enter_on_a_muscle() {
     let mut app = app();
     command(&mut app, "record 1 Brow");
     update(&mut app, Action::SelectTableItem(1));
-    assert_eq!((app.focus, app.table_selected), (Focus::Table, 1));
+    assert_eq!(
+        (app.selection.focus, app.selection.table_selected),
+        (Focus::Table, 1)
+    );
     update(&mut app, Action::SelectTableItem(9));
-    assert_eq!(app.table_selected, 1, "no such line: the selection stays");
+    assert_eq!(
+        app.selection.table_selected, 1,
+        "no such line: the selection stays"
+    );
     update(&mut app, Action::StartRecord);
     assert!(
         matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::RecordKey && i.text == "12")
@@ -758,5 +764,5 @@ fn table_selection_record_suggestion_and_enter_on_a_muscle() {
 fn resize_records_the_size() {
     let mut app = app();
     update(&mut app, Action::Resize(200, 60));
-    assert_eq!(app.size, (200, 60));
+    assert_eq!(app.view.size, (200, 60));
 }
