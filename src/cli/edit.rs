@@ -43,9 +43,9 @@ pub struct EditArgs {
     /// The mesh to place the rig on (instead of the rig's own mesh).
     #[arg(long, value_name = "OBJ")]
     pub mesh: Option<PathBuf>,
-    /// Draw with ASCII characters instead of braille.
-    #[arg(long)]
-    pub ascii: bool,
+    /// Braille, half-block or ASCII cells.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
 }
 
 /// Runs the editor.
@@ -77,9 +77,9 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     }
     let scene = Scene::new(rig, mesh)?;
     let mut app = App::new(scene, table, args.file.clone());
-    app.file_stamp = stamp;
-    app.view = View::new(args.ascii);
-    app.colors = Colors::from_env();
+    app.doc.file_stamp = stamp;
+    app.view = View::new(args.cells.mode());
+    app.view.colors = Colors::from_env();
     if new_file {
         if let Some(path) = &args.file {
             app.info(format!(
@@ -112,7 +112,7 @@ fn offer_recovery(app: &mut App, path: &Path) {
     match recovery::read(path) {
         Ok(Some(state)) => {
             let activations = state.activations(app.rig());
-            if activations == app.activations && state.table == app.table {
+            if activations == app.doc.activations && state.table == app.doc.table {
                 // Nothing that differs from what is on disk: nothing to offer.
                 let _ = recovery::remove(path);
                 return;
