@@ -35,7 +35,7 @@ fn combo() -> impl Strategy<Value = Combo> {
 
 fn rig(n: usize) -> Rig {
     Rig {
-        version: 1,
+        version: grimace::model::RIG_VERSION,
         mesh: PathBuf::from("m.obj"),
         combine: Default::default(),
         muscles: (0..n)
