@@ -70,7 +70,7 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         (Some(_), None) => (new_table(args.rig.as_deref()), None, true),
         (None, None) => (builtin_table()?, None, false),
     };
-    let (rig, mesh) = load_face(args, &table, &table_path)?;
+    let (rig, mesh, notice) = load_face(args, &table, &table_path)?;
     if let Some(loaded) = &loaded {
         crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
@@ -87,6 +87,9 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
                 path.display()
             ));
         }
+    }
+    if let Some(notice) = notice {
+        app.warn(notice);
     }
     let mut session = Session {
         recovery: recovery::recovery_path(args.file.as_deref()),
@@ -188,12 +191,17 @@ pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
 }
 
 /// The rig and mesh to edit with: `--rig` (a file or `builtin:NAME`) if given, else the
-/// table's rig; `--mesh` replaces the rig's mesh.
-fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<(Rig, Mesh), String> {
+/// table's rig; `--mesh` replaces the rig's mesh. Also what loading an older rig file did
+/// (see [`crate::io::LoadedRig::notice`]), for the status line.
+fn load_face(
+    args: &EditArgs,
+    table: &AuTable,
+    table_path: &Path,
+) -> Result<(Rig, Mesh, Option<String>), String> {
     let reference = match &args.rig {
         Some(rig) => rig.clone(),
         None => rig_ref(table_path, &table.rig).to_path(),
     };
     let loaded = load_rig_ref(&reference, args.mesh.as_deref()).map_err(|e| e.to_string())?;
-    Ok((loaded.rig, loaded.mesh))
+    Ok((loaded.rig, loaded.mesh, loaded.notice))
 }
