@@ -123,7 +123,7 @@ fn malformed_rows_are_named_by_line_and_skipped() {
     );
     let err = stderr(&out);
     assert!(
-        err.contains("bad.csv:3: 4 fields, but the header has 5 (row skipped)"),
+        err.contains("bad.csv:3: 4 of 5 fields, the row is cut short (row skipped)"),
         "{err}"
     );
     assert!(

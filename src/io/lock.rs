@@ -45,8 +45,10 @@ pub enum LockOutcome {
     Unavailable(String),
 }
 
-/// The lock file of a table file.
+/// The lock file of a table file; for a symbolic link, that of the file it points to, so
+/// editors on the link and on the file see each other.
 pub fn lock_path(table: &Path) -> Option<PathBuf> {
+    let table = &super::atomic::save_target(table).unwrap_or_else(|_| table.to_path_buf());
     let name = table.file_name()?.to_string_lossy();
     let dir = table.parent().unwrap_or_else(|| Path::new(""));
     Some(dir.join(format!(".{name}.lock")))

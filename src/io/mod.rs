@@ -7,9 +7,11 @@
 pub mod atomic;
 pub mod builtin;
 pub mod error;
+pub mod lines;
 pub mod lock;
 pub mod obj;
 pub mod openface;
+pub mod printable;
 pub mod recovery;
 pub mod rig_file;
 pub mod table_file;

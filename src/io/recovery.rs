@@ -9,7 +9,7 @@
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::io::{self, Write};
+use std::io;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -85,10 +85,13 @@ impl RecoveryState {
 }
 
 /// The recovery file for a table file, or for the built-in table when `table` is `None`
-/// (`None` back when no state folder can be found).
+/// (`None` back when no state folder can be found). For a symbolic link, the recovery file
+/// sits beside the file it points to.
 pub fn recovery_path(table: Option<&Path>) -> Option<PathBuf> {
     match table {
         Some(path) => {
+            // Beside the file a symbolic link points to, like the lock and the backup.
+            let path = &super::atomic::save_target(path).unwrap_or_else(|_| path.to_path_buf());
             let name = path.file_name()?.to_string_lossy();
             let dir = path.parent().unwrap_or_else(|| Path::new(""));
             Some(dir.join(format!(".{name}.recover")))
@@ -117,7 +120,7 @@ pub fn write(path: &Path, state: &RecoveryState) -> io::Result<()> {
     }
     let text = ron::ser::to_string_pretty(state, ron::ser::PrettyConfig::new())
         .map_err(|e| io::Error::other(e.to_string()))?;
-    write_atomic(path, text.as_bytes())
+    super::atomic::write_atomic_no_backup(path, text.as_bytes())
 }
 
 /// Reads a recovery file: `Ok(None)` when there is none, an error message naming the file
@@ -160,39 +163,6 @@ pub fn remove(path: &Path) -> io::Result<()> {
         Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
         _ => Ok(()),
     }
-}
-
-/// Writes a file atomically: a temporary file in the same folder, fsync, rename over the
-/// target, fsync of the folder.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::other(format!("{} is not a file name", path.display())))?;
-    let temp = dir.join(format!(
-        ".{}.tmp{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let mut file = fs::File::create(&temp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        fs::rename(&temp, path)?;
-        if let Ok(d) = fs::File::open(&dir) {
-            // Not every platform can fsync a folder; the rename is done either way.
-            let _ = d.sync_all();
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&temp);
-    }
-    result
 }
 
 #[cfg(test)]
