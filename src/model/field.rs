@@ -40,6 +40,14 @@ impl Field {
         self.vertices.is_empty()
     }
 
+    /// How many of `rest` a muscle moves: [`Field::of`]'s length, without keeping the field.
+    pub fn count(kind: &MuscleKind, rest: &[Vec3]) -> usize {
+        let shape = Shape::new(kind);
+        rest.iter()
+            .filter(|p| shape.unit_displacement(**p) != Vec3::ZERO)
+            .count()
+    }
+
     /// The field of a muscle over a set of rest positions.
     pub fn of(kind: &MuscleKind, rest: &[Vec3]) -> Field {
         let shape = Shape::new(kind);
