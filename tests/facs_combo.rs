@@ -35,6 +35,7 @@ fn combo() -> impl Strategy<Value = Combo> {
 
 fn rig(n: usize) -> Rig {
     Rig {
+        masks: Vec::new(),
         version: 1,
         mesh: PathBuf::from("m.obj"),
         combine: Default::default(),

@@ -154,7 +154,7 @@ fn strict_stops_at_the_first_malformed_row() {
         "{frames:?} {last}"
     );
     assert!(
-        stderr(&out).contains("bad.csv:3: 4 fields"),
+        stderr(&out).contains("bad.csv:3: 4 of 5 fields, the row is cut short"),
         "{}",
         stderr(&out)
     );
