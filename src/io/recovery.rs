@@ -39,6 +39,15 @@ pub struct RecoveryState {
     pub jaw: f32,
     /// The AU table as edited.
     pub table: AuTable,
+    /// The process that wrote the state. While it runs the file is its own: another editor
+    /// neither offers nor removes it. Absent in files from older versions.
+    #[serde(default)]
+    pub pid: Option<u32>,
+    /// The table file the edits started from: its length and content hash, `None` when it did
+    /// not exist (or the recovery file predates this field). After recovering, a save asks
+    /// before replacing a file that no longer matches.
+    #[serde(default)]
+    pub base: Option<(u64, u64)>,
 }
 
 impl RecoveryState {
@@ -63,7 +72,16 @@ impl RecoveryState {
                 .collect(),
             jaw: activations.jaw,
             table: table.clone(),
+            pid: Some(std::process::id()),
+            base: None,
         }
+    }
+
+    /// The process id of the grimace that wrote the state, if that process still runs and is
+    /// not this one: the state is then in use and must be left alone.
+    pub fn live_owner(&self) -> Option<u32> {
+        self.pid
+            .filter(|&pid| pid != std::process::id() && super::lock::is_running(pid))
     }
 
     /// The activations for `rig`: muscles the rig lacks are dropped, values outside their
@@ -195,12 +213,32 @@ mod tests {
             muscles: BTreeMap::from([("A".to_string(), 0.75)]),
             jaw: 1.5,
             table: table(),
+            pid: Some(7),
+            base: Some((12, 34)),
         };
         write(&path, &state).unwrap();
         assert_eq!(read(&path).unwrap(), Some(state));
         remove(&path).unwrap();
         assert_eq!(read(&path).unwrap(), None);
         remove(&path).unwrap();
+    }
+
+    #[test]
+    fn an_older_recovery_file_reads_without_owner_or_base() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(".t.recover");
+        let text = "(version: 1, table_file: None, written_at: 1, muscles: {}, jaw: 0.0, \
+                    table: (version: 1, rig: \"builtin:default\", aus: {}, expressions: {}))";
+        fs::write(&path, text).unwrap();
+        let state = read(&path).unwrap().unwrap();
+        assert_eq!((state.pid, state.base), (None, None));
+        assert_eq!(state.live_owner(), None);
+        // pid 1 always runs; this process is never its own other owner.
+        let mut state = state;
+        state.pid = Some(1);
+        assert_eq!(state.live_owner(), Some(1));
+        state.pid = Some(std::process::id());
+        assert_eq!(state.live_owner(), None);
     }
 
     #[test]
