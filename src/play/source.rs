@@ -20,8 +20,9 @@ use crate::facs::combo::parse_combo;
 use crate::facs::{AuKey, AuTable};
 use crate::io::lines::LineReader;
 use crate::io::openface::{
-    OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome, MAX_LINE_BYTES,
+    OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome, MAX_LINE_BYTES, MAX_TIMESTAMP,
 };
+use crate::io::printable::printable;
 use crate::io::timeline::{Timeline, TimelineError};
 use crate::model::{Activations, Rig};
 
@@ -76,6 +77,21 @@ pub enum Poll {
     Pending,
     /// The source is finished.
     End,
+}
+
+impl Poll {
+    /// The poll with the text of its messages made safe to print: they quote rows, fields
+    /// and keys of the input, which may hold terminal escapes (see [`printable`]).
+    fn printable(self) -> Poll {
+        let safe = |text: String| printable(&text).into_owned();
+        match self {
+            Poll::Event(Event::Malformed { message }) => Poll::Event(Event::Malformed {
+                message: safe(message),
+            }),
+            Poll::Event(Event::Notice(text)) => Poll::Event(Event::Notice(safe(text))),
+            other => other,
+        }
+    }
 }
 
 /// A source that cannot be opened or read on.
@@ -314,6 +330,16 @@ impl OpenFaceSource {
 
 impl FrameSource for OpenFaceSource {
     fn poll(&mut self, _wait: Duration) -> Result<Poll, SourceError> {
+        self.next_event().map(Poll::printable)
+    }
+
+    fn is_live(&self) -> bool {
+        false
+    }
+}
+
+impl OpenFaceSource {
+    fn next_event(&mut self) -> Result<Poll, SourceError> {
         if let Some(notice) = self.builder.take_notice() {
             return Ok(Poll::Event(Event::Notice(notice)));
         }
@@ -339,10 +365,6 @@ impl FrameSource for OpenFaceSource {
             }
             None => Ok(Poll::Event(event)),
         }
-    }
-
-    fn is_live(&self) -> bool {
-        false
     }
 }
 
@@ -663,6 +685,14 @@ impl LiveSource {
         let mut raw = Vec::new();
         for (name, value) in pairs {
             if name.eq_ignore_ascii_case("timestamp") {
+                if value.is_nan() || value.abs() > MAX_TIMESTAMP {
+                    return Event::Malformed {
+                        message: format!(
+                            "{}:{number}: timestamp {value:e} is out of range (at most {MAX_TIMESTAMP} in size)",
+                            self.name
+                        ),
+                    };
+                }
                 time = Some(value);
             } else if let Some(key) = json_au_key(&name) {
                 raw.push((key, value as f32));
@@ -709,6 +739,16 @@ fn loopback_address(text: &str) -> Result<SocketAddr, SourceError> {
 
 impl FrameSource for LiveSource {
     fn poll(&mut self, wait: Duration) -> Result<Poll, SourceError> {
+        self.next_event(wait).map(Poll::printable)
+    }
+
+    fn is_live(&self) -> bool {
+        true
+    }
+}
+
+impl LiveSource {
+    fn next_event(&mut self, wait: Duration) -> Result<Poll, SourceError> {
         let deadline = Instant::now() + wait;
         loop {
             // Notices a line raised go out before the line's own event.
@@ -739,9 +779,5 @@ impl FrameSource for LiveSource {
                 }
             }
         }
-    }
-
-    fn is_live(&self) -> bool {
-        true
     }
 }
