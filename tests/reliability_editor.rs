@@ -275,3 +275,49 @@ fn a_file_size_limit_is_a_write_error_not_a_crash() {
         .collect();
     assert_eq!(names, ["small.au.ron"], "files left behind");
 }
+
+/// Edits recovered after the table changed on disk are saved only after asking, like any
+/// save over a file changed since it was loaded; unchanged, the table saves without a question.
+#[test]
+fn recovered_edits_ask_before_replacing_a_table_changed_on_disk() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("t.au.ron");
+    let arg = file.to_str().unwrap();
+    let recovery = dir.path().join(".t.au.ron.recover");
+    let table = "(version: 1, rig: \"builtin:default\", aus: {}, expressions: {})\n";
+    for changed in [true, false] {
+        std::fs::write(&file, table).unwrap();
+        let mut first = Editor::start(dir.path(), &["edit", arg], 200, 30);
+        first.wait_for("Zygomatic");
+        first.send("L:record 12\r");
+        first.wait_for("recorded AU 12");
+        wait_for_file(&recovery);
+        kill_hard(&mut first);
+        let theirs = table.replace(
+            "aus: {}",
+            "aus: {\"1\": (name: \"Theirs\", muscles: {}, jaw: 0.0)}",
+        );
+        if changed {
+            std::fs::write(&file, &theirs).unwrap();
+        }
+        let mut second = Editor::start(dir.path(), &["edit", arg], 200, 30);
+        second.wait_for("Recover");
+        second.send("y");
+        second.wait_for("recovered");
+        second.send(":w\r");
+        if changed {
+            second.wait_for("changed on disk");
+            second.send("n");
+            second.wait_for("cancelled");
+            assert_eq!(std::fs::read_to_string(&file).unwrap(), theirs);
+            second.send(":q!\r");
+        } else {
+            second.wait_for(&format!("saved {arg}"));
+            let saved = grimace::io::load_table(&file).unwrap();
+            assert_eq!(saved.aus.len(), 1);
+            second.send(":q\r");
+        }
+        assert!(second.wait_exit().success());
+        let _ = std::fs::remove_file(&recovery);
+    }
+}

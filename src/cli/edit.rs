@@ -137,6 +137,7 @@ fn offer_recovery(app: &mut App, path: &Path) -> bool {
                 activations,
                 table: state.table,
                 when: describe_age(state.written_at),
+                base: state.base.map(|(len, hash)| FileStamp { len, hash }),
             })));
         }
         Ok(None) => {}

@@ -526,6 +526,7 @@ fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<Effect>) {
             begin_edit(app);
             app.activations = found.activations;
             app.table = found.table;
+            app.file_stamp = found.base;
             app.scene.deform(&app.activations);
             app.info("recovered the unsaved changes; :w saves them");
             edited(app, fx);
@@ -1620,6 +1621,7 @@ mod tests {
             activations: activations.clone(),
             table: table.clone(),
             when: "5 s ago".into(),
+            base: None,
         }));
         app.mode = Mode::Confirm(question.clone());
         assert!(question_text(&question).contains("recover"));
