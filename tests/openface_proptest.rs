@@ -53,6 +53,8 @@ proptest! {
         if final_newline {
             text.push_str(end);
         }
+        // A field may hold a CR, which ends a line like LF does.
+        let data_lines = text.replace("\r\n", "\n").replace('\r', "\n").lines().count() - 1;
         let reader = OpenFaceReader::new(text.as_bytes(), Path::new("r.csv")).unwrap();
         let mut seen = 0;
         for outcome in reader {
@@ -66,10 +68,10 @@ proptest! {
                         prop_assert_eq!(row.intensities.len(), 2);
                     }
                 }
-                RowOutcome::Malformed(e) => prop_assert!(e.line >= 2 && e.line <= lines.len() + 1),
+                RowOutcome::Malformed(e) => prop_assert!(e.line >= 2 && e.line <= data_lines + 1),
             }
         }
-        prop_assert!(seen <= lines.len());
+        prop_assert!(seen <= data_lines);
     }
 
     #[test]
