@@ -35,7 +35,7 @@ fn grid_obj(side: usize) -> String {
 
 /// `count` sphincters, each reaching the whole grid.
 fn wide_rig(count: usize) -> String {
-    let mut text = String::from("(version: 1, mesh: \"grid.obj\", muscles: [\n");
+    let mut text = String::from("(version: 2, mesh: \"grid.obj\", muscles: [\n");
     for i in 0..count {
         let _ = writeln!(
             text,
