@@ -273,3 +273,27 @@ fn the_khronos_validator_finds_no_errors() {
         assert_eq!(report["info"]["totalVertexCount"], 3463);
     }
 }
+
+/// The share of a target's displacement (by length) on vertices at positive x.
+fn share_at_positive_x(read: &Read, name: &str) -> f32 {
+    let i = read.names.iter().position(|n| n == name).unwrap();
+    let (mut plus, mut all) = (0.0f32, 0.0f32);
+    for (rest, delta) in read.rest.iter().zip(&read.deltas[i]) {
+        all += delta.length();
+        if rest.x > 0.0 {
+            plus += delta.length();
+        }
+    }
+    plus / all
+}
+
+#[test]
+fn sides_follow_gltf_the_subjects_left_at_positive_x() {
+    let dir = tempfile::tempdir().unwrap();
+    let read = export_glb(dir.path(), "aus");
+    assert!(share_at_positive_x(&read, "AU_L12") > 0.95);
+    assert!(share_at_positive_x(&read, "AU_R12") < 0.05);
+    let read = export_glb(dir.path(), "arkit");
+    assert!(share_at_positive_x(&read, "mouthSmile_L") > 0.95);
+    assert!(share_at_positive_x(&read, "mouthSmile_R") < 0.05);
+}

@@ -7,7 +7,7 @@
 
 use std::collections::BTreeSet;
 use std::fs::File;
-use std::io::{BufRead, BufReader};
+use std::io::BufReader;
 use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
 use std::path::Path;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
@@ -19,7 +19,11 @@ use thiserror::Error;
 use crate::facs::combo::parse_combo;
 use crate::facs::{AuKey, AuTable};
 use crate::io::arkit::{self, ArkitMap};
-use crate::io::openface::{OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome};
+use crate::io::lines::LineReader;
+use crate::io::openface::{
+    OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome, MAX_LINE_BYTES, MAX_TIMESTAMP,
+};
+use crate::io::printable::printable;
 use crate::io::timeline::{Timeline, TimelineError};
 use crate::model::{Activations, Rig};
 
@@ -74,6 +78,21 @@ pub enum Poll {
     Pending,
     /// The source is finished.
     End,
+}
+
+impl Poll {
+    /// The poll with the text of its messages made safe to print: they quote rows, fields
+    /// and keys of the input, which may hold terminal escapes (see [`printable`]).
+    fn printable(self) -> Poll {
+        let safe = |text: String| printable(&text).into_owned();
+        match self {
+            Poll::Event(Event::Malformed { message }) => Poll::Event(Event::Malformed {
+                message: safe(message),
+            }),
+            Poll::Event(Event::Notice(text)) => Poll::Event(Event::Notice(safe(text))),
+            other => other,
+        }
+    }
 }
 
 /// A source that cannot be opened or read on.
@@ -296,6 +315,7 @@ impl OpenFaceSource {
         scale: IntensityScale,
         frame_rate: f64,
     ) -> Result<OpenFaceSource, SourceError> {
+        refuse_special(path)?;
         let file = File::open(path).map_err(|source| SourceError::Io {
             what: format!("cannot open {}", path.display()),
             source,
@@ -316,6 +336,16 @@ impl OpenFaceSource {
 
 impl FrameSource for OpenFaceSource {
     fn poll(&mut self, _wait: Duration) -> Result<Poll, SourceError> {
+        self.next_event().map(Poll::printable)
+    }
+
+    fn is_live(&self) -> bool {
+        false
+    }
+}
+
+impl OpenFaceSource {
+    fn next_event(&mut self) -> Result<Poll, SourceError> {
         if let Some(notice) = self.builder.take_notice() {
             return Ok(Poll::Event(Event::Notice(notice)));
         }
@@ -342,9 +372,24 @@ impl FrameSource for OpenFaceSource {
             None => Ok(Poll::Event(event)),
         }
     }
+}
 
-    fn is_live(&self) -> bool {
-        false
+/// Refuses a folder, a device or a socket as an OpenFace CSV, saying what it is. A named pipe
+/// is fine: the file is read once, as a stream (`grimace play <(tracker ...)`).
+fn refuse_special(path: &Path) -> Result<(), SourceError> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo()) {
+            return Ok(());
+        }
+    }
+    match crate::io::error::not_a_file(path) {
+        // A missing or unreadable file is reported by the open itself.
+        Some(reason) if std::fs::metadata(path).is_ok() => {
+            Err(SourceError::OpenFace(OpenFaceError::new(path, reason)))
+        }
+        _ => Ok(()),
     }
 }
 
@@ -447,11 +492,16 @@ fn keyframe_aus(text: &str, table: &AuTable, rig: &Rig) -> Result<Activations, S
     table.evaluate(&combo, rig).map_err(|e| e.to_string())
 }
 
-/// What a reader thread sends: one line (or datagram) with its number, or a read failure.
+/// What a reader thread sends: one line (or datagram) with its number, a line too long to
+/// read (its number and why), or a read failure.
 enum Message {
     Line(usize, String),
+    TooLong(usize, String),
     Failed(String),
 }
+
+/// The most lines (or datagrams) of a live stream waiting to be shown.
+pub const QUEUE_LINES: usize = 1024;
 
 /// How a live stream is written, decided by its first line.
 enum LiveFormat {
@@ -477,28 +527,27 @@ pub struct LiveSource {
 
 impl LiveSource {
     /// Reads stdin on a thread; the first non-blank line says CSV (a header) or JSON (`{`).
+    ///
+    /// Memory stays bounded whatever the producer does: a line longer than
+    /// [`MAX_LINE_BYTES`] is read past and reported, and at most [`QUEUE_LINES`] lines wait
+    /// to be shown; past that the reader stops reading, so a faster producer waits on its
+    /// pipe (back-pressure) rather than growing a backlog.
     pub fn stdin(mapper: AuMapper, scale: IntensityScale, frame_rate: f64) -> LiveSource {
-        let (sender, receiver) = mpsc::channel();
+        let (sender, receiver) = mpsc::sync_channel(QUEUE_LINES);
         thread::spawn(move || {
-            let stdin = std::io::stdin();
-            let mut lock = stdin.lock();
-            let mut buffer = Vec::new();
-            let mut number = 0;
+            let mut lines = LineReader::new(std::io::stdin().lock(), MAX_LINE_BYTES);
             loop {
-                buffer.clear();
-                number += 1;
-                match lock.read_until(b'\n', &mut buffer) {
-                    Ok(0) => break,
-                    Ok(_) => {
-                        let text = String::from_utf8_lossy(&buffer).into_owned();
-                        if sender.send(Message::Line(number, text)).is_err() {
-                            break;
-                        }
-                    }
-                    Err(e) => {
-                        let _ = sender.send(Message::Failed(format!("cannot read stdin: {e}")));
-                        break;
-                    }
+                let message = match lines.next_line() {
+                    Ok(None) => break,
+                    Ok(Some(line)) => match line.too_long(MAX_LINE_BYTES) {
+                        Some(why) => Message::TooLong(line.number, why),
+                        None => Message::Line(line.number, line.text),
+                    },
+                    Err(e) => Message::Failed(format!("cannot read stdin: {e}")),
+                };
+                let failed = matches!(message, Message::Failed(_));
+                if sender.send(message).is_err() || failed {
+                    break;
                 }
             }
         });
@@ -521,7 +570,9 @@ impl LiveSource {
             what: "cannot read the bound address".into(),
             source,
         })?;
-        let (sender, receiver) = mpsc::channel();
+        // Bounded like stdin: when the queue is full the reader waits and the system drops
+        // datagrams that overflow the socket's buffer, as UDP does.
+        let (sender, receiver) = mpsc::sync_channel(QUEUE_LINES);
         thread::spawn(move || {
             let mut buffer = vec![0u8; MAX_DATAGRAM];
             let mut number = 0;
@@ -571,7 +622,7 @@ impl LiveSource {
 
     /// Handles one line; `None` when it produced nothing (blank, or a CSV header).
     fn line(&mut self, number: usize, text: &str) -> Option<Event> {
-        let trimmed = text.trim();
+        let trimmed = text.trim().trim_start_matches('\u{feff}');
         if trimmed.is_empty() {
             return None;
         }
@@ -640,19 +691,37 @@ impl LiveSource {
         };
         let mut time = None;
         let mut raw = Vec::new();
+        let mut au_names: Vec<String> = Vec::new();
         for (name, value) in pairs {
             if name.eq_ignore_ascii_case("timestamp") {
+                if value.is_nan() || value.abs() > MAX_TIMESTAMP {
+                    return Event::Malformed {
+                        message: format!(
+                            "{}:{number}: timestamp {value:e} is out of range (at most {MAX_TIMESTAMP} in size)",
+                            self.name
+                        ),
+                    };
+                }
                 time = Some(value);
-            } else if let Some(key) = json_au_key(&name) {
-                raw.push((key, value as f32));
-            } else if let Some(shape) = arkit::canonical(&name) {
-                // ARKit weights are 0-1 whatever the stream's AU scale.
-                match self.arkit.au(shape) {
-                    Some(key) => raw.push((key, value as f32 * self.builder.scale.max())),
-                    None if self.ignored.insert(name.clone()) => self.builder.pending.push(
-                        format!("{}: ARKit shape `{name}` has no AU (ignored)", self.name),
-                    ),
-                    None => {}
+            } else if let Some((key, value)) = self.au_value(&name, value) {
+                // Two spellings of one AU (`AU12`, `AU12_r`, or an AU and the ARKit name
+                // that shows it) would add up: refuse the frame, as for a key given twice.
+                if let Some(k) = raw.iter().position(|(seen, _)| *seen == key) {
+                    return Event::Malformed {
+                        message: format!(
+                            "{}:{number}: AU{key} is given twice, as `{}` and `{name}`",
+                            self.name, au_names[k]
+                        ),
+                    };
+                }
+                raw.push((key, value));
+                au_names.push(name);
+            } else if arkit::canonical(&name).is_some() {
+                if self.ignored.insert(name.clone()) {
+                    self.builder.pending.push(format!(
+                        "{}: ARKit shape `{name}` has no AU (ignored)",
+                        self.name
+                    ));
                 }
             } else if self.ignored.insert(name.clone()) && !name.eq_ignore_ascii_case("frame") {
                 self.builder.pending.push(format!(
@@ -664,6 +733,18 @@ impl LiveSource {
         self.builder.report_missing(raw.iter().map(|(k, _)| *k));
         let time = time.unwrap_or_else(|| self.opened.elapsed().as_secs_f64());
         Event::Frame(self.builder.frame(time, Some(number), raw))
+    }
+}
+
+impl LiveSource {
+    /// The AU and intensity a JSON key gives: an AU name as is, or an ARKit name through
+    /// the ARKit map, its 0-1 weight put on the stream's scale.
+    fn au_value(&self, name: &str, value: f64) -> Option<(AuKey, f32)> {
+        if let Some(key) = json_au_key(name) {
+            return Some((key, value as f32));
+        }
+        let key = self.arkit.au(name)?;
+        Some((key, value as f32 * self.builder.scale.max()))
     }
 }
 
@@ -697,6 +778,16 @@ fn loopback_address(text: &str) -> Result<SocketAddr, SourceError> {
 
 impl FrameSource for LiveSource {
     fn poll(&mut self, wait: Duration) -> Result<Poll, SourceError> {
+        self.next_event(wait).map(Poll::printable)
+    }
+
+    fn is_live(&self) -> bool {
+        true
+    }
+}
+
+impl LiveSource {
+    fn next_event(&mut self, wait: Duration) -> Result<Poll, SourceError> {
         let deadline = Instant::now() + wait;
         loop {
             // Notices a line raised go out before the line's own event.
@@ -714,6 +805,11 @@ impl FrameSource for LiveSource {
             };
             match message {
                 Message::Line(number, text) => self.stashed = self.line(number, &text),
+                Message::TooLong(number, why) => {
+                    self.stashed = Some(Event::Malformed {
+                        message: format!("{}:{number}: {why}", self.name),
+                    })
+                }
                 Message::Failed(message) => {
                     return Err(SourceError::Io {
                         what: self.name.clone(),
@@ -722,9 +818,5 @@ impl FrameSource for LiveSource {
                 }
             }
         }
-    }
-
-    fn is_live(&self) -> bool {
-        true
     }
 }
