@@ -1,7 +1,7 @@
 //! `grimace play` with no `--rig` or `--table`: the built-in default face, rig and AU table.
 //! Each frame's activations must be what the table's own combination evaluation gives.
 
-mod play_common;
+use crate::play_common;
 
 use std::io::Write;
 use std::process::{Output, Stdio};

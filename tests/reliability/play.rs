@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-mod common;
+use crate::common;
 use common::grimace_in as grimace;
 
 /// A folder with the corpus' good rig, mesh and table (AU 12 pulls `L_pull` and `R_pull`).

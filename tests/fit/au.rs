@@ -1,8 +1,6 @@
 //! Fitting AU entries to target shapes: activations the rig itself made come back, shapes no
 //! muscle can make are reported as poorly explained, and the command writes tables.
 
-mod common;
-
 use glam::Vec3;
 use grimace::fit::fit_au;
 use grimace::io::builtin;

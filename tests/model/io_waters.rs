@@ -5,7 +5,7 @@
 //! `waters::from_classic`); the reference is converted the same way as it is read here, so
 //! the comparison is in grimace's frame and still bit for bit.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

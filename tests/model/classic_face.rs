@@ -3,7 +3,7 @@
 //! without tearing its corners, the rig is mirror-symmetric, and the 18 linear muscles still
 //! match the classic reference outputs. Also `grimace import-waters` end to end.
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! glTF's convention as `grimace import-waters` converts it) in every style and checks that
 //! the features come out where they belong.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

@@ -1,7 +1,7 @@
 //! `grimace fit-rig` and `grimace fit-au` end to end: a face from an OBJ to a rig that the
 //! other commands accept, a blendshape set into a table, and bad inputs that write nothing.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! The file commands end to end through the built binary: `import-waters`, `export`,
 //! `validate`, `list`. Outputs are parsed back and checked against the classic reference.
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use std::path::Path;

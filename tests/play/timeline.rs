@@ -1,6 +1,6 @@
 //! `grimace play` on timelines, end to end.
 
-mod play_common;
+use crate::play_common;
 
 use play_common::{lines, play_headless, stderr};
 

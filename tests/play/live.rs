@@ -1,6 +1,6 @@
 //! `grimace play` on live streams: stdin (JSON lines, CSV) and loopback UDP JSON, end to end.
 
-mod play_common;
+use crate::play_common;
 
 use std::io::{BufRead, BufReader, Read};
 use std::net::UdpSocket;

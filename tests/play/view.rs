@@ -1,7 +1,7 @@
 //! `grimace play` in its terminal view, driven through a pseudo-terminal: it draws the face,
 //! answers the keys, and leaves the terminal as it found it.
 
-mod play_common;
+use crate::play_common;
 
 use std::io::{Read, Write};
 use std::path::Path;

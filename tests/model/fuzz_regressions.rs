@@ -3,7 +3,7 @@
 //! that hold. `tests/fuzz_regressions/TARGET/` holds, per target, inputs kept from fuzzing
 //! runs (a sample of the corpus that reached new code) and any input that once failed.
 
-#[path = "../fuzz/fuzz_targets/checks.rs"]
+#[path = "../../fuzz/fuzz_targets/checks.rs"]
 mod checks;
 
 use std::path::PathBuf;

@@ -3,7 +3,7 @@
 //! muscles and `L` AUs act at positive x in exported meshes, and version 1 rig files (the
 //! subject's left at negative x) are converted on load.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

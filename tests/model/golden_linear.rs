@@ -5,7 +5,7 @@
 //! import converts the classic files (`waters::from_classic`, x negated), so the comparison
 //! is in grimace's frame.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

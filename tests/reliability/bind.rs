@@ -6,7 +6,7 @@ use std::fmt::Write;
 
 use grimace::model::deform::MAX_INFLUENCES;
 
-mod common;
+use crate::common;
 use common::grimace_in as grimace;
 
 /// A flat grid of `side` x `side` vertices in -1..1, two triangles per cell.

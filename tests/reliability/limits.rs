@@ -9,7 +9,7 @@ use grimace::io::obj::parse_obj;
 use grimace::io::openface::{OpenFaceReader, RowOutcome, MAX_LINE_BYTES};
 use grimace::model::mesh::{MAX_TRIANGLES, MAX_VERTICES};
 
-mod common;
+use crate::common;
 use common::grimace_in as grimace;
 
 /// Runs the binary and checks it exits 1 with `grimace COMMAND: FILE...` on stderr.

@@ -1,7 +1,7 @@
 //! `grimace play --headless` on real OpenFace output and on small hand-made CSVs, end to end
 //! through the built binary.
 
-mod play_common;
+use crate::play_common;
 
 use play_common::{lines, play_headless, shared, stderr};
 

@@ -1,7 +1,7 @@
 //! The built-in default face rendered in every style, view and size: the features come out
 //! where they belong, and deformation shows.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-mod common;
+use crate::common;
 use common::grimace_in as grimace;
 
 fn corpus() -> PathBuf {

@@ -2,8 +2,7 @@
 //! temporary folder, the shared-sample lookup, and running the built binary.
 #![allow(dead_code)]
 
-#[path = "../common/mod.rs"]
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::io::Write;
