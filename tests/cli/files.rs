@@ -75,7 +75,7 @@ fn import_then_export_each_muscle_matches_the_classic_output() {
     }
     let out = dir.path().join("out.obj");
     let mut checked = 0;
-    // The 18 linear muscles; the paper's extras placed for this face (tests/classic_face.rs)
+    // The 18 linear muscles; the paper's extras placed for this face (tests/model/classic_face.rs)
     // must leave them exactly as the classic program has them.
     let linear = rig
         .rig

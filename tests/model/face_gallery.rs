@@ -1,6 +1,6 @@
 //! `docs/gallery.md`: every AU and expression of the default table rendered as braille text.
 //!
-//! `GRIMACE_WRITE_GALLERY=1 cargo test --test face_gallery` rewrites the gallery; without it
+//! `GRIMACE_WRITE_GALLERY=1 cargo test --test model face_gallery::` rewrites the gallery; without it
 //! the test checks that the committed gallery shows every AU and expression of the table.
 
 use std::fmt::Write;
@@ -64,7 +64,7 @@ fn gallery(mesh: &Mesh, rig: &Rig, table: &AuTable) -> String {
          renderer (`render::render_text`, feature lines, braille, front view, \
          44x26 cells), as it appears in the editor. The face is seen as a photograph: the \
          subject's left (`L` AUs and `L_` muscles) is on the viewer's right.\n\n\
-         Regenerate with `GRIMACE_WRITE_GALLERY=1 cargo test --test face_gallery`.\n\n",
+         Regenerate with `GRIMACE_WRITE_GALLERY=1 cargo test --test model face_gallery::`.\n\n",
     );
     out.push_str("## The neutral face\n\n");
     let rest = Activations::zero(rig);
