@@ -35,7 +35,8 @@ fn combo() -> impl Strategy<Value = Combo> {
 
 fn rig(n: usize) -> Rig {
     Rig {
-        version: 1,
+        masks: Vec::new(),
+        version: grimace::model::RIG_VERSION,
         mesh: PathBuf::from("m.obj"),
         combine: Default::default(),
         muscles: (0..n)

@@ -30,6 +30,7 @@ fn linear(name: &str, side: Side, mirror: Option<&str>, x: f32) -> Muscle {
 
 fn sample_rig() -> Rig {
     Rig {
+        masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("face.obj"),
         combine: Combine::Average,
@@ -71,6 +72,7 @@ fn sample_rig() -> Rig {
             },
         ],
         jaw: Some(Jaw {
+            axis: glam::Vec3::X,
             pivot: Vec3::new(0.0, -1.0, 2.0),
             degrees_per_unit: 1.0,
             weights: (0..14).map(|v| (v, v as f32 / 13.0)).collect(),
@@ -195,10 +197,10 @@ fn rig_semantic_errors_name_the_muscle_and_place() {
         rig_error(&duplicate),
         "t.ron:43:13: muscle `L_Frontalis`: the name is used by an earlier muscle; names must be unique"
     );
-    let version = good.replace("version: 1", "version: 2");
+    let version = good.replace("version: 2", "version: 3");
     assert_eq!(
         rig_error(&version),
-        "t.ron:3:5: rig version 2 is not supported; this grimace reads version 1"
+        "t.ron:3:5: rig version 3 is not supported; this grimace reads versions 1 and 2"
     );
     let unknown = good.replace("combine: Average", "combine: Average,\n    colour: 3");
     assert!(

@@ -10,11 +10,14 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use crate::io::printable::printable;
 use crate::render::CellMode;
 
 pub mod completions;
 pub mod edit;
 pub mod export;
+pub mod fit_au;
+pub mod fit_rig;
 pub mod gen_face;
 pub mod import_waters;
 pub mod list;
@@ -106,7 +109,8 @@ pub enum Command {
     ImportWaters(import_waters::ImportWatersArgs),
     /// Write the mesh deformed by an AU, expression, combination or muscle values as OBJ.
     Export(export::ExportArgs),
-    /// Check rig (*.rig.ron), AU table (*.au.ron) and mesh (*.obj) files.
+    /// Check rig (*.rig.ron), AU table (*.au.ron), landmark (*.landmarks.ron) and mesh (*.obj)
+    /// files.
     Validate(validate::ValidateArgs),
     /// List the muscles of a rig, the AUs and expressions of a table, or the FACS catalogue.
     List(list::ListArgs),
@@ -115,6 +119,10 @@ pub enum Command {
     /// Draw one state of the face as braille or ASCII text, SVG or PNG (or every AU and
     /// expression of a table with --all).
     Render(render::RenderArgs),
+    /// Fit a rig to your own mesh from its 68 landmarks.
+    FitRig(fit_rig::FitRigArgs),
+    /// Fit AU entries to target shapes of a rig's mesh (blendshapes, scans).
+    FitAu(fit_au::FitAuArgs),
     /// Write a shell completion script (bash, zsh, fish, elvish, powershell) to stdout.
     Completions(completions::CompletionsArgs),
 }
@@ -122,6 +130,7 @@ pub enum Command {
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
 /// with 2 on usage errors).
 pub fn main() -> ExitCode {
+    ignore_file_size_signal();
     let cli = Cli::parse();
     match cli.command {
         None => finish("edit", edit::run(&cli.editor.to_edit_args())),
@@ -135,7 +144,21 @@ pub fn main() -> ExitCode {
             Command::Play(args) => finish("play", play::run(&args)),
             Command::Render(args) => finish("render", render::run(&args)),
             Command::Completions(args) => completions::run(&args),
+            Command::FitRig(args) => finish("fit-rig", fit_rig::run(&args)),
+            Command::FitAu(args) => finish("fit-au", fit_au::run(&args)),
         },
+    }
+}
+
+/// Makes a file-size limit (`ulimit -f`) an error a write returns ("file too large"), reported
+/// and handled like a full disk, instead of the signal SIGXFSZ, which would kill grimace
+/// mid-save: edits lost, a temporary file and a lock left behind, the terminal not restored.
+fn ignore_file_size_signal() {
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to SIG_IGN installs no handler and touches no
+    // memory; it happens before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }
 }
 
@@ -151,16 +174,31 @@ pub fn finish<E: Display>(command: &str, result: Result<(), E>) -> ExitCode {
     }
 }
 
-/// Prints an error of a command to stderr.
+/// Prints an error of a command to stderr, control characters escaped (a message may quote
+/// text from a file).
 pub fn report(command: &str, err: &dyn Display) {
-    let _ = writeln!(std::io::stderr(), "grimace {command}: {err:#}");
+    let text = format!("grimace {command}: {err:#}");
+    let _ = writeln!(std::io::stderr(), "{}", printable(&text));
 }
 
-/// Writes text to stdout, ignoring a closed pipe (`grimace list | head` must not fail).
-pub fn print(text: &str) {
+/// Writes text to stdout with control characters escaped (names and paths come from files;
+/// see [`printable`]). A closed pipe is not an error (`grimace list | head` must not fail);
+/// any other failure (a full disk) is, so the command exits 1.
+pub fn print(text: &str) -> anyhow::Result<()> {
+    print_raw(printable(text).as_bytes())
+}
+
+/// Writes bytes to stdout as they are: for output grimace makes itself (a picture's colour
+/// escapes), never for text from files. Errors as for [`print`].
+pub fn print_raw(bytes: &[u8]) -> anyhow::Result<()> {
     let mut out = std::io::stdout().lock();
-    let _ = out.write_all(text.as_bytes());
-    let _ = out.flush();
+    match out.write_all(bytes).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(anyhow::anyhow!(
+            "cannot write to stdout: {}",
+            crate::io::error::io_reason(&e)
+        )),
+        _ => Ok(()),
+    }
 }
 
 #[cfg(test)]

@@ -18,6 +18,7 @@ use crate::io::table_file::load_table_ref_for;
 use crate::io::timeline::load_timeline;
 use crate::model::{Mesh, Rig};
 use crate::play::player::Reopen;
+use crate::play::skips::Skips;
 use crate::play::source::DEFAULT_FRAME_RATE;
 use crate::play::{
     AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, OpenFaceSource,
@@ -262,6 +263,7 @@ fn play_headless(
     out: &mut impl Write,
 ) -> Result<Summary> {
     let mut summary = Summary::default();
+    let mut skips = Skips::default();
     let live = source.is_live();
     let wait = args.idle_timeout.map_or(LIVE_WAIT, Duration::from_secs_f64);
     let mut clock: Option<PlayClock> = None;
@@ -281,8 +283,9 @@ fn play_headless(
                         summary.stats.shown(lateness, Duration::ZERO);
                     }
                 }
+                // Live and real-time frames go out when they are due, not at the end.
                 let written = writeln!(out, "{}", frame_line(&frame, rig)).and_then(|()| {
-                    if live {
+                    if live || args.realtime {
                         out.flush()
                     } else {
                         Ok(())
@@ -293,12 +296,17 @@ fn play_headless(
                 }
                 summary.played += 1;
             }
-            Poll::Event(Event::Untracked { .. }) => summary.skipped += 1,
+            Poll::Event(Event::Untracked { .. }) => {
+                skips.untracked();
+                summary.skipped += 1;
+            }
             Poll::Event(Event::Malformed { message }) => {
                 if args.strict {
                     bail!("{message}");
                 }
-                eprintln!("{message} (row skipped)");
+                if let Some(line) = skips.malformed(&message) {
+                    eprintln!("{line}");
+                }
                 summary.skipped += 1;
             }
             Poll::Event(Event::Notice(notice)) => eprintln!("warning: {notice}"),
@@ -316,6 +324,9 @@ fn play_headless(
                 break;
             }
         }
+    }
+    if let Some(line) = skips.summary() {
+        eprintln!("{line}");
     }
     let written = writeln!(
         out,

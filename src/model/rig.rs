@@ -7,8 +7,10 @@ use serde::{Deserialize, Serialize};
 use super::jaw::Jaw;
 use super::muscle::Muscle;
 
-/// The rig file format version this build reads and writes.
-pub const RIG_VERSION: u32 = 1;
+/// The rig file format version this build writes (and reads; older versions are converted
+/// on load, see `docs/formats.md`). Version 2 uses glTF's convention, the subject's left at
+/// positive x; version 1 had it at negative x.
+pub const RIG_VERSION: u32 = 2;
 
 /// How the displacements of several muscles acting on one vertex combine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -36,6 +38,26 @@ pub struct Rig {
     /// The jaw, if the rig has one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub jaw: Option<Jaw>,
+    /// Where some muscles may not move the mesh: per-vertex weights that scale their fields
+    /// (eyeballs and teeth kept still, one lip kept out of the other lip's muscles).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub masks: Vec<Mask>,
+}
+
+/// A gain and per-vertex weights applied to the fields of some muscles.
+///
+/// A muscle's displacement of every vertex is multiplied by `gain`, and that of a listed
+/// vertex also by the vertex's weight. A muscle named by several masks gets the product.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Mask {
+    /// The muscles the mask applies to.
+    pub muscles: Vec<String>,
+    /// A factor on the whole field (sheets and sphincters pull by lengths of their own, so a
+    /// rig fitted to a face of another size scales them by it).
+    #[serde(default = "one")]
+    pub gain: f32,
+    /// `(vertex, weight)` pairs, weight in 0.0 to 1.0, sorted by vertex with no repeats.
+    pub weights: Vec<(u32, f32)>,
 }
 
 impl Rig {
@@ -49,4 +71,8 @@ impl Rig {
         let partner = self.muscles.get(index)?.mirror.as_deref()?;
         self.muscle_index(partner)
     }
+}
+
+fn one() -> f32 {
+    1.0
 }

@@ -286,6 +286,10 @@ pub struct Recovered {
     pub table: AuTable,
     /// When it was written, for the question.
     pub when: String,
+    /// The table file the recovered edits started from (`None`: it did not exist, or the
+    /// recovery file does not say). Recovering makes it the file's stamp, so a save asks
+    /// before replacing a file that has changed since.
+    pub base: Option<FileStamp>,
 }
 
 /// The editor's mode.

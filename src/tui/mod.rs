@@ -204,12 +204,13 @@ fn write_recovery(app: &mut App, session: &Session) {
     let Some(path) = &session.recovery else {
         return;
     };
-    let state = RecoveryState::new(
+    let mut state = RecoveryState::new(
         app.doc.file.as_deref(),
         app.rig(),
         &app.doc.activations,
         &app.doc.table,
     );
+    state.base = app.doc.file_stamp.map(|s| (s.len, s.hash));
     if let Err(e) = recovery::write(path, &state) {
         app.warn(format!(
             "could not write the recovery file {}: {e}",
@@ -226,6 +227,16 @@ pub fn save(
     force: bool,
     quit_after: bool,
 ) -> Action {
+    // Reading a named pipe would wait for a writer: refuse what a save would refuse anyway.
+    if let Some(kind) = fs::metadata(path)
+        .ok()
+        .and_then(|m| crate::io::error::special_kind(&m.file_type()))
+    {
+        return Action::SaveFailed {
+            path: path.to_path_buf(),
+            error: format!("it is {kind}; grimace only replaces regular files"),
+        };
+    }
     let current = match fs::read(path) {
         Ok(bytes) => Some(FileStamp::of(&bytes)),
         Err(e) if e.kind() == io::ErrorKind::NotFound => None,
@@ -464,6 +475,25 @@ mod tests {
         let action = save(&path, "mine", None, true, false);
         assert!(matches!(action, Action::Saved { .. }));
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "mine");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_save_over_a_named_pipe_is_refused_without_waiting() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("pipe.au.ron");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&path)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        match save(&path, "mine", None, true, false) {
+            Action::SaveFailed { error, .. } => assert_eq!(
+                error,
+                "it is a named pipe (FIFO); grimace only replaces regular files"
+            ),
+            other => panic!("{other:?}"),
+        }
     }
 
     #[cfg(unix)]

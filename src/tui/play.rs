@@ -24,6 +24,7 @@ use super::view::cells::CellGridView;
 use super::view::theme::Theme;
 use crate::model::deform::BoundRig;
 use crate::model::{Activations, Mesh, Rig};
+use crate::play::skips::Skips;
 use crate::play::{Frame, Message, Player};
 use crate::render::{Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Scene, Style};
 
@@ -102,12 +103,14 @@ impl Playback {
 struct Status {
     current: Option<Frame>,
     messages: Vec<String>,
-    malformed: Vec<String>,
+    /// Malformed rows, counted; the first few named, printed on stderr at the end.
+    skips: Skips,
+    named: Vec<String>,
     playback: Playback,
 }
 
 /// Plays in the terminal until `q`, a signal, or `frames` frames; the counts stay in
-/// `player`. Malformed rows skipped are printed to stderr once the terminal is restored.
+/// `player`. Skipped rows are named and counted on stderr once the terminal is restored.
 pub fn run(
     player: &mut Player,
     mesh: Mesh,
@@ -134,7 +137,8 @@ pub fn run(
     let mut status = Status {
         current: None,
         messages: Vec::new(),
-        malformed: Vec::new(),
+        skips: Skips::default(),
+        named: Vec::new(),
         playback: Playback::Playing,
     };
     let result = run_loop(
@@ -148,8 +152,15 @@ pub fn run(
     );
     drop(terminal);
     drop(guard);
-    for line in &status.malformed {
-        eprintln!("{line} (row skipped)");
+    for line in &status.named {
+        eprintln!("{line}");
+    }
+    // The player counts every skipped row; those not malformed were untracked.
+    for _ in status.skips.total()..player.skipped {
+        status.skips.untracked();
+    }
+    if let Some(line) = status.skips.summary() {
+        eprintln!("{line}");
     }
     result
 }
@@ -248,7 +259,9 @@ fn collect(player: &mut Player, status: &mut Status) {
         let text = match message {
             Message::Notice(text) => format!("warning: {text}"),
             Message::Malformed(text) => {
-                status.malformed.push(text.clone());
+                if let Some(line) = status.skips.malformed(&text) {
+                    status.named.push(line);
+                }
                 format!("{text} (row skipped)")
             }
         };

@@ -64,6 +64,7 @@ pub(crate) fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<
             begin_edit(app);
             app.doc.activations = found.activations;
             app.doc.table = found.table;
+            app.doc.file_stamp = found.base;
             app.doc.scene.deform(&app.doc.activations);
             app.info("recovered the unsaved changes; :w saves them");
             edited(app, fx);

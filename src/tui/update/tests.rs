@@ -571,6 +571,7 @@ fn recovery_offer_restores_or_discards() {
         activations: activations.clone(),
         table: table.clone(),
         when: "5 s ago".into(),
+        base: None,
     }));
     app.mode = Mode::Confirm(question.clone());
     assert!(question_text(&question).contains("recover"));
