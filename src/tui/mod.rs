@@ -9,6 +9,7 @@ pub mod command;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;
+pub mod play;
 pub mod scene;
 pub mod table_ops;
 pub mod term;

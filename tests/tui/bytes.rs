@@ -7,7 +7,7 @@ use std::io::{self, Write};
 use std::sync::{Arc, Mutex};
 
 use grimace::tui::action::Action;
-use grimace::tui::app::{App, Colors};
+use grimace::tui::app::{App, ColorMode};
 use grimace::tui::scene::Scene;
 use grimace::tui::update::update;
 use ratatui::backend::CrosstermBackend;
@@ -37,7 +37,7 @@ impl Counter {
 fn app(cols: u16, rows: u16) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
     let mut app = App::new(Scene::new(rig, mesh).unwrap(), table, None);
-    app.view.colors = Colors::Ansi16;
+    app.view.colors = ColorMode::Ansi16;
     update(&mut app, Action::Resize(cols, rows));
     app
 }

@@ -2,7 +2,7 @@
 //! TestBackend at 80x24 and 200x60 (and the too-small message).
 
 use grimace::tui::action::Action;
-use grimace::tui::app::{App, Colors};
+use grimace::tui::app::{App, ColorMode};
 use grimace::tui::scene::Scene;
 use grimace::tui::update::update;
 use grimace::tui::view;
@@ -13,7 +13,7 @@ fn app(cols: u16, rows: u16) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
     let scene = Scene::new(rig, mesh).expect("the default rig binds");
     let mut app = App::new(scene, table, Some("expressions.au.ron".into()));
-    app.view.colors = Colors::None;
+    app.view.colors = ColorMode::None;
     update(&mut app, Action::Resize(cols, rows));
     app
 }
