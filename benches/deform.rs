@@ -159,6 +159,7 @@ fn jaw_for(mesh: &Mesh) -> Jaw {
         })
         .collect();
     Jaw {
+        axis: glam::Vec3::X,
         pivot: Vec3::new(0.0, -0.5, 2.0),
         degrees_per_unit: 1.0,
         weights,
@@ -167,6 +168,7 @@ fn jaw_for(mesh: &Mesh) -> Jaw {
 
 fn rig(muscles: Vec<Muscle>, jaw: Option<Jaw>) -> Rig {
     Rig {
+        masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("classic"),
         combine: Combine::Sum,

@@ -35,6 +35,7 @@ fn combo() -> impl Strategy<Value = Combo> {
 
 fn rig(n: usize) -> Rig {
     Rig {
+        masks: Vec::new(),
         version: grimace::model::RIG_VERSION,
         mesh: PathBuf::from("m.obj"),
         combine: Default::default(),

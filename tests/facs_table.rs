@@ -10,6 +10,7 @@ use grimace::model::{Activations, Linear, Muscle, MuscleKind, Rig, Side, RIG_VER
 
 fn rig(names: &[&str]) -> Rig {
     Rig {
+        masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("m.obj"),
         combine: Default::default(),

@@ -111,6 +111,7 @@ fn load(dir: &Path) -> Golden {
 
 fn rig_of(g: &Golden) -> Rig {
     Rig {
+        masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("golden"),
         combine: Combine::Sum,

@@ -30,6 +30,7 @@ fn linear(name: &str, side: Side, mirror: Option<&str>, x: f32) -> Muscle {
 
 fn sample_rig() -> Rig {
     Rig {
+        masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("face.obj"),
         combine: Combine::Average,
@@ -71,6 +72,7 @@ fn sample_rig() -> Rig {
             },
         ],
         jaw: Some(Jaw {
+            axis: glam::Vec3::X,
             pivot: Vec3::new(0.0, -1.0, 2.0),
             degrees_per_unit: 1.0,
             weights: (0..14).map(|v| (v, v as f32 / 13.0)).collect(),

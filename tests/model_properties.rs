@@ -152,11 +152,13 @@ fn symmetric_rig(combine: Combine) -> Rig {
         .map(|(v, p)| (v as u32, (1.0 - p.x.abs() / 3.0).clamp(0.0, 1.0)))
         .collect();
     Rig {
+        masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("dome.obj"),
         combine,
         muscles,
         jaw: Some(Jaw {
+            axis: glam::Vec3::X,
             pivot: Vec3::new(0.0, 1.0, -2.0),
             degrees_per_unit: 3.0,
             weights,

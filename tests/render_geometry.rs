@@ -429,11 +429,13 @@ fn muscle_overlays_cover_every_muscle_and_the_jaw() {
         }),
     };
     let rig = Rig {
+        masks: Vec::new(),
         version: grimace::model::RIG_VERSION,
         mesh: "builtin:default".into(),
         combine: Default::default(),
         muscles: vec![linear, sphincter, sheet],
         jaw: Some(Jaw {
+            axis: glam::Vec3::X,
             pivot: Vec3::new(0.0, -0.2, -0.5),
             degrees_per_unit: 1.0,
             weights: vec![],

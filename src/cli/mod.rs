@@ -13,6 +13,8 @@ use clap::{Parser, Subcommand};
 pub mod completions;
 pub mod edit;
 pub mod export;
+pub mod fit_au;
+pub mod fit_rig;
 pub mod gen_face;
 pub mod import_waters;
 pub mod list;
@@ -71,7 +73,8 @@ pub enum Command {
     ImportWaters(import_waters::ImportWatersArgs),
     /// Write the mesh deformed by an AU, expression, combination or muscle values as OBJ.
     Export(export::ExportArgs),
-    /// Check rig (*.rig.ron), AU table (*.au.ron) and mesh (*.obj) files.
+    /// Check rig (*.rig.ron), AU table (*.au.ron), landmark (*.landmarks.ron) and mesh (*.obj)
+    /// files.
     Validate(validate::ValidateArgs),
     /// List the muscles of a rig, the AUs and expressions of a table, or the FACS catalogue.
     List(list::ListArgs),
@@ -80,6 +83,10 @@ pub enum Command {
     /// Draw one state of the face as braille or ASCII text, SVG or PNG (or every AU and
     /// expression of a table with --all).
     Render(render::RenderArgs),
+    /// Fit a rig to your own mesh from its 68 landmarks.
+    FitRig(fit_rig::FitRigArgs),
+    /// Fit AU entries to target shapes of a rig's mesh (blendshapes, scans).
+    FitAu(fit_au::FitAuArgs),
     /// Write a shell completion script (bash, zsh, fish, elvish, powershell) to stdout.
     Completions(completions::CompletionsArgs),
 }
@@ -100,6 +107,8 @@ pub fn main() -> ExitCode {
             Command::Play(args) => finish("play", play::run(&args)),
             Command::Render(args) => finish("render", render::run(&args)),
             Command::Completions(args) => completions::run(&args),
+            Command::FitRig(args) => finish("fit-rig", fit_rig::run(&args)),
+            Command::FitAu(args) => finish("fit-au", fit_au::run(&args)),
         },
     }
 }

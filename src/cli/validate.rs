@@ -2,6 +2,7 @@
 //!
 //! `*.rig.ron` (and `rig.ron`): syntax, version, muscles, the mesh it names, binding to it.
 //! `*.au.ron`: syntax, version, AUs, ranges, expressions, and the rig it names (muscle names).
+//! `*.landmarks.ron`: 68 landmarks, checked against `NAME.obj` beside the file if there is one.
 //! `*.obj`: a usable mesh. The exit status is 0 only when every file is valid.
 
 use std::path::{Path, PathBuf};
@@ -17,7 +18,7 @@ use crate::model::BoundRig;
 /// Arguments of `grimace validate`.
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
-    /// The files to check (*.rig.ron, *.au.ron, *.obj).
+    /// The files to check (*.rig.ron, *.au.ron, *.landmarks.ron, *.obj).
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<PathBuf>,
 }
@@ -31,6 +32,8 @@ pub enum FileKind {
     Table,
     /// A Wavefront OBJ mesh.
     Mesh,
+    /// Landmarks, `*.landmarks.ron`.
+    Landmarks,
 }
 
 /// The kind of file a path names, from its file name.
@@ -42,6 +45,8 @@ pub fn kind_of(path: &Path) -> Option<FileKind> {
         Some(FileKind::Table)
     } else if name.ends_with(".obj") {
         Some(FileKind::Mesh)
+    } else if name.ends_with("landmarks.ron") {
+        Some(FileKind::Landmarks)
     } else {
         None
     }
@@ -71,6 +76,7 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
     match kind_of(path) {
         Some(FileKind::Rig) => check_rig(path),
         Some(FileKind::Table) => check_table(path),
+        Some(FileKind::Landmarks) => check_landmarks(path),
         Some(FileKind::Mesh) => {
             let mesh = obj::read_obj(path)?;
             Ok(format!(
@@ -81,7 +87,7 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
         }
         None => Err(LoadError::new(
             path,
-            "unknown kind of file; expected a name ending in .rig.ron, .au.ron or .obj",
+            "unknown kind of file; expected a name ending in .rig.ron, .au.ron, .landmarks.ron or .obj",
         )),
     }
 }
@@ -102,6 +108,25 @@ fn check_rig(path: &Path) -> Result<String, LoadError> {
         },
         loaded.mesh.vertex_count()
     ))
+}
+
+/// A landmark file on its own, and against `NAME.obj` beside it when there is one.
+fn check_landmarks(path: &Path) -> Result<String, LoadError> {
+    let text = crate::io::error::read_text(path, crate::io::MAX_FILE_BYTES)?;
+    let landmarks = crate::io::landmarks::parse_landmarks(&text, path)?;
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+    let stem = &name[..name.len() - "landmarks.ron".len()];
+    let mesh = path.with_file_name(format!("{}obj", stem));
+    if !stem.is_empty() && mesh.is_file() {
+        let m = obj::read_obj(&mesh)?;
+        crate::io::landmarks::check_against(&landmarks, &m, path, Some(&text))?;
+        return Ok(format!(
+            "landmarks: {} points, on {}",
+            landmarks.len(),
+            mesh.display()
+        ));
+    }
+    Ok(format!("landmarks: {} points", landmarks.len()))
 }
 
 fn check_table(path: &Path) -> Result<String, LoadError> {

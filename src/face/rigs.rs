@@ -215,6 +215,7 @@ pub fn paper_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
     muscles.push(place.orbicularis_oris()?);
     muscles.extend(place.orbicularis_oculi()?);
     Ok(Rig {
+        masks: Vec::new(),
         version: RIG_VERSION,
         mesh: FACE_PATH.into(),
         combine: Default::default(),
@@ -375,6 +376,7 @@ impl Placer<'_> {
         let mouth_y = 0.5 * (upper.y + lower.y);
         let weights = jaw_weights(&self.mesh.positions, mouth_y, corner.x);
         Ok(Jaw {
+            axis: glam::Vec3::X,
             // just in front of the tragus, at the height of the ala-tragus line, deep in the
             // head; only y and z matter for a turn about the x axis
             pivot: rounded(Vec3::new(

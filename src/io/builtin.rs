@@ -23,6 +23,10 @@ pub const PAPER_RIG: &str = include_str!("../../presets/paper.rig.ron");
 pub const DEFAULT_RIG: &str = include_str!("../../presets/default.rig.ron");
 /// The default AU table (`presets/default.au.ron`).
 pub const DEFAULT_TABLE: &str = include_str!("../../presets/default.au.ron");
+/// The map from ARKit's 52 blendshape names to AU keys (`presets/arkit.map.ron`).
+pub const ARKIT_MAP: &str = include_str!("../../presets/arkit.map.ron");
+/// The 68 landmarks of the default face (`presets/default.landmarks.ron`).
+pub const DEFAULT_LANDMARKS: &str = include_str!("../../presets/default.landmarks.ron");
 
 /// The default face with its named vertex groups (landmarks, lids, lips, brows).
 ///
@@ -56,6 +60,18 @@ pub fn paper_rig() -> Rig {
 /// Never in a correctly built binary: the embedded file is checked by the tests.
 pub fn default_table() -> AuTable {
     load_table(DEFAULT_TABLE, "default.au.ron").unwrap_or_else(|e| panic!("embedded table: {e}"))
+}
+
+/// The landmarks of the built-in mesh called `name` (`face`, `default`, `paper`): the
+/// templates' landmarks for fitting.
+///
+/// # Panics
+/// Never in a correctly built binary: the embedded file is checked by the tests.
+pub fn landmarks(name: &str) -> Option<crate::fit::Landmarks> {
+    matches!(name, "face" | "default" | "paper").then(|| {
+        super::landmarks::parse_landmarks(DEFAULT_LANDMARKS, &embedded("default.landmarks.ron"))
+            .unwrap_or_else(|e| panic!("embedded landmarks: {e}"))
+    })
 }
 
 /// The name after `builtin:` in a path, if it is a built-in reference.

@@ -7,11 +7,13 @@
 pub mod atomic;
 pub mod builtin;
 pub mod error;
+pub mod landmarks;
 pub mod lock;
 pub mod obj;
 pub mod openface;
 pub mod recovery;
 pub mod rig_file;
+pub mod shape_map;
 pub mod table_file;
 pub mod timeline;
 pub mod waters;

@@ -2,8 +2,10 @@
 //!
 //! Reading: polygons are fan-triangulated (`a b c d` gives `a b c` and `a c d`); face corners
 //! may be `v`, `v/vt`, `v//vn` or `v/vt/vn`, with negative (relative) indices; `vt`, `vn`,
-//! `o`, `s`, `usemtl`, `mtllib` and other statements are ignored. Each `g NAME` line starts a
-//! group: the vertices of the faces that follow it form the mesh's vertex group `NAME`.
+//! `s`, `mtllib` and other statements are ignored. Each `g NAME` line starts a group: the
+//! vertices of the faces that follow it form the mesh's vertex group `NAME`. Objects and
+//! materials group faces the same way: `o NAME` gives the group `object:NAME` and
+//! `usemtl NAME` the group `material:NAME` (fitting finds eyes and teeth by them).
 //! Errors name the line and column: a bad number, an index out of range, a non-finite
 //! coordinate, a face with fewer than three corners, a mesh with no faces.
 //!
@@ -35,6 +37,8 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<Mesh, LoadError> {
         triangles: vec![],
         groups: BTreeMap::new(),
         group: None,
+        object: None,
+        material: None,
         forward: vec![],
     };
     for (number, line) in text.split('\n').enumerate() {
@@ -56,6 +60,8 @@ struct Reader<'a> {
     triangles: Vec<[u32; 3]>,
     groups: BTreeMap<String, BTreeSet<u32>>,
     group: Option<String>,
+    object: Option<String>,
+    material: Option<String>,
     forward: Vec<Forward>,
 }
 
@@ -115,8 +121,20 @@ impl Reader<'_> {
                 self.group = tokens(content, 2).get(1).map(|(_, name)| name.to_string());
                 Ok(())
             }
-            // Texture coordinates, normals, objects, smoothing, materials and anything else
-            // carry nothing a muscle rig uses.
+            "o" => {
+                self.object = tokens(content, 2)
+                    .get(1)
+                    .map(|(_, name)| format!("object:{name}"));
+                Ok(())
+            }
+            "usemtl" => {
+                self.material = tokens(content, 2)
+                    .get(1)
+                    .map(|(_, name)| format!("material:{name}"));
+                Ok(())
+            }
+            // Texture coordinates, normals, smoothing and anything else carry nothing a
+            // muscle rig uses.
             _ => Ok(()),
         }
     }
@@ -184,7 +202,10 @@ impl Reader<'_> {
             self.triangles
                 .push([corners[0], corners[i], corners[i + 1]]);
         }
-        if let Some(group) = &self.group {
+        for group in [&self.group, &self.object, &self.material]
+            .into_iter()
+            .flatten()
+        {
             self.groups
                 .entry(group.clone())
                 .or_default()
@@ -325,6 +346,17 @@ mod tests {
         assert_eq!(mesh.groups["lip"], vec![0, 1, 2]);
         assert_eq!(mesh.groups["jaw"], vec![1, 2, 3]);
         assert_eq!(mesh.groups.len(), 2);
+    }
+
+    #[test]
+    fn objects_and_materials_are_groups_too() {
+        let mesh = parse(
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\no Head\nusemtl skin\nf 1 2 3\no Eyes\nusemtl cornea\nf 2 4 3\n",
+        )
+        .unwrap();
+        assert_eq!(mesh.groups["object:Head"], vec![0, 1, 2]);
+        assert_eq!(mesh.groups["material:cornea"], vec![1, 2, 3]);
+        assert_eq!(mesh.groups.len(), 4);
     }
 
     #[test]

@@ -23,7 +23,7 @@ use super::{atomic, builtin, obj, ron_text};
 use crate::model::field::validate_muscle;
 use crate::model::muscle::mirror_x;
 use crate::model::{
-    BindError, Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side,
+    BindError, Combine, Convergence, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side,
     Sphincter, RIG_VERSION,
 };
 
@@ -368,6 +368,49 @@ pub fn check_rig(rig: &Rig) -> Result<(), RigIssue> {
     if let Some(jaw) = &rig.jaw {
         check_jaw(jaw)?;
     }
+    for mask in &rig.masks {
+        check_mask(rig, mask)?;
+    }
+    Ok(())
+}
+
+fn check_mask(rig: &Rig, mask: &Mask) -> Result<(), RigIssue> {
+    if !(mask.gain.is_finite() && mask.gain > 0.0 && mask.gain <= 1e6) {
+        return Err(issue(
+            None,
+            "gain",
+            format!(
+                "a mask's gain is {}; expected a finite number above 0 and at most 1e6",
+                mask.gain
+            ),
+        ));
+    }
+    if let Some(name) = mask.muscles.iter().find(|n| rig.muscle_index(n).is_none()) {
+        return Err(issue(
+            None,
+            "masks",
+            format!("a mask names the muscle `{name}`, which is not a muscle of this rig"),
+        ));
+    }
+    for (i, &(vertex, weight)) in mask.weights.iter().enumerate() {
+        if !(weight.is_finite() && (0.0..=1.0).contains(&weight)) {
+            return Err(issue(
+                None,
+                "masks",
+                format!("mask weight of vertex {vertex} is {weight}; expected 0.0 to 1.0"),
+            ));
+        }
+        if i > 0 && mask.weights[i - 1].0 >= vertex {
+            return Err(issue(
+                None,
+                "masks",
+                format!(
+                    "mask weights must be sorted by vertex with no repeats; vertex {vertex} comes after {}",
+                    mask.weights[i - 1].0
+                ),
+            ));
+        }
+    }
     Ok(())
 }
 
@@ -465,6 +508,16 @@ fn check_jaw(jaw: &Jaw) -> Result<(), RigIssue> {
             format!("the jaw pivot {} is not finite", jaw.pivot),
         ));
     }
+    if !(jaw.axis.is_finite() && jaw.axis.length() > 0.0) {
+        return Err(issue(
+            None,
+            "axis",
+            format!(
+                "the jaw axis {} is not a finite, non-zero direction",
+                jaw.axis
+            ),
+        ));
+    }
     if !jaw.degrees_per_unit.is_finite() {
         return Err(issue(
             None,
@@ -506,6 +559,15 @@ pub fn check_rig_mesh(rig: &Rig, mesh: &Mesh) -> Result<(), RigIssue> {
                 None,
                 "weights",
                 format!("jaw weight for vertex {vertex}, but the mesh has only {count} vertices"),
+            ));
+        }
+    }
+    for mask in &rig.masks {
+        if let Some(&(vertex, _)) = mask.weights.iter().find(|(v, _)| *v as usize >= count) {
+            return Err(issue(
+                None,
+                "masks",
+                format!("mask weight for vertex {vertex}, but the mesh has only {count} vertices"),
             ));
         }
     }
@@ -562,6 +624,7 @@ pub fn rig_to_ron(rig: &Rig) -> String {
         combine,
         muscles,
         jaw,
+        masks,
     } = rig;
     let mut out = String::new();
     out.push_str("// grimace rig: muscles placed on a mesh; see docs/formats.md\n(\n");
@@ -638,10 +701,14 @@ pub fn rig_to_ron(rig: &Rig) -> String {
         pivot,
         degrees_per_unit,
         weights,
+        axis,
     }) = jaw
     {
         out.push_str("    jaw: (\n");
         out.push_str(&format!("        pivot: {},\n", point(*pivot)));
+        if *axis != Vec3::X {
+            out.push_str(&format!("        axis: {},\n", point(*axis)));
+        }
         out.push_str(&format!(
             "        degrees_per_unit: {},\n",
             float(*degrees_per_unit)
@@ -656,6 +723,34 @@ pub fn rig_to_ron(rig: &Rig) -> String {
             out.push_str(&format!("            {},\n", pairs.join(", ")));
         }
         out.push_str("        ],\n    ),\n");
+    }
+    if !masks.is_empty() {
+        out.push_str("    masks: [\n");
+        for Mask {
+            muscles,
+            gain,
+            weights,
+        } in masks
+        {
+            out.push_str("        (\n            muscles: [\n");
+            for name in muscles {
+                out.push_str(&format!("                {},\n", string(name)));
+            }
+            out.push_str("            ],\n");
+            if *gain != 1.0 {
+                out.push_str(&format!("            gain: {},\n", float(*gain)));
+            }
+            out.push_str("            weights: [\n");
+            for chunk in weights.chunks(6) {
+                let pairs: Vec<String> = chunk
+                    .iter()
+                    .map(|(v, w)| format!("({v}, {})", float(*w)))
+                    .collect();
+                out.push_str(&format!("                {},\n", pairs.join(", ")));
+            }
+            out.push_str("            ],\n        ),\n");
+        }
+        out.push_str("    ],\n");
     }
     out.push_str(")\n");
     out
@@ -684,6 +779,18 @@ struct RigFile {
     muscles: Vec<MuscleFile>,
     #[serde(default, deserialize_with = "bare_some")]
     jaw: Option<JawFile>,
+    #[serde(default)]
+    masks: Vec<MaskFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename = "mask")]
+struct MaskFile {
+    muscles: Vec<String>,
+    #[serde(default = "one")]
+    gain: f32,
+    #[serde(default)]
+    weights: Vec<(u32, f32)>,
 }
 
 #[derive(Deserialize)]
@@ -729,6 +836,12 @@ struct JawFile {
     degrees_per_unit: f32,
     #[serde(default)]
     weights: Vec<(u32, f32)>,
+    #[serde(default = "crate::model::jaw::x_axis_p3")]
+    axis: P3,
+}
+
+fn one() -> f32 {
+    1.0
 }
 
 /// An optional field written as its bare value (`mirror: "R_x"` rather than `Some("R_x")`).
@@ -751,7 +864,17 @@ impl RigFile {
                 pivot: Vec3::from(j.pivot),
                 degrees_per_unit: j.degrees_per_unit,
                 weights: j.weights,
+                axis: Vec3::from(j.axis),
             }),
+            masks: self
+                .masks
+                .into_iter()
+                .map(|m| Mask {
+                    muscles: m.muscles,
+                    gain: m.gain,
+                    weights: m.weights,
+                })
+                .collect(),
         }
     }
 }

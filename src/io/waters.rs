@@ -223,6 +223,7 @@ pub fn build_face(
 pub fn linear_rig(muscles: &[WatersMuscle], mesh: PathBuf) -> Rig {
     let names: Vec<&str> = muscles.iter().map(|m| m.name.as_str()).collect();
     Rig {
+        masks: Vec::new(),
         version: RIG_VERSION,
         mesh,
         combine: Combine::Sum,

@@ -82,6 +82,15 @@ pub enum BindError {
     /// A jaw vertex is listed twice.
     #[error("jaw: vertex {0} is listed twice")]
     JawDuplicateVertex(u32),
+    /// A mask is malformed: an unknown muscle, a vertex out of range or repeated, a weight
+    /// outside 0.0-1.0.
+    #[error("mask {mask}: {message}")]
+    Mask {
+        /// The mask's position in the rig's list (0-based).
+        mask: usize,
+        /// What is wrong.
+        message: String,
+    },
     /// The rig and mesh together have more `(vertex, muscle)` pairs than can be indexed.
     #[error("the muscles influence more than {} (vertex, muscle) pairs", u32::MAX)]
     TooManyPairs,
@@ -106,6 +115,8 @@ struct Entry {
 #[derive(Debug, Clone, PartialEq)]
 struct BoundJaw {
     pivot: Vec3,
+    /// Unit axis of the turn; exactly `Vec3::X` for the usual jaw.
+    axis: Vec3,
     radians_per_unit: f64,
     /// Jaw vertices with a non-zero weight, sorted.
     vertices: Vec<u32>,
@@ -123,12 +134,19 @@ struct JawTurn {
     pivot: Vec3,
     cos: f32,
     sin: f32,
+    /// The rotation matrix when the axis is not the x axis.
+    general: Option<glam::Mat3>,
 }
 
 impl JawTurn {
     /// Eqs. 16-19: rotate `p` about the x axis through the pivot, then blend by `weight`.
+    /// A jaw with another axis turns about it instead.
     #[inline]
     fn apply(&self, p: Vec3, weight: f32) -> Vec3 {
+        if let Some(rotation) = &self.general {
+            let turned = self.pivot + *rotation * (p - self.pivot);
+            return turned * weight + p * (1.0 - weight);
+        }
         let y = p.y - self.pivot.y;
         let z = p.z - self.pivot.z;
         let ry = self.pivot.y + (self.cos * y - self.sin * z);
@@ -167,10 +185,18 @@ impl BoundRig {
         }
         let rest = mesh.positions.clone();
         let jaw = bind_jaw(rig, rest.len())?;
+        let scales = mask_scales(rig, rest.len())?;
         let fields: Vec<Field> = rig
             .muscles
             .iter()
-            .map(|m| Field::of(&m.kind, &rest))
+            .zip(&scales)
+            .map(|(m, scale)| {
+                let field = Field::of(&m.kind, &rest);
+                match scale {
+                    Some(scale) => field.scaled(scale),
+                    None => field,
+                }
+            })
             .collect();
         check_reach(rig, &rest, &fields)?;
         let mut bound = BoundRig {
@@ -432,6 +458,8 @@ impl BoundRig {
             pivot: jaw.pivot,
             cos: angle.cos() as f32,
             sin: angle.sin() as f32,
+            general: (jaw.axis != Vec3::X)
+                .then(|| glam::Mat3::from_axis_angle(jaw.axis, angle as f32)),
         })
     }
 }
@@ -493,6 +521,13 @@ fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
             value: jaw.degrees_per_unit.to_string(),
         });
     }
+    let axis = jaw.axis.normalize_or_zero();
+    if axis == Vec3::ZERO {
+        return Err(BindError::JawParameter {
+            parameter: "axis",
+            value: jaw.axis.to_string(),
+        });
+    }
     let mut weights = jaw.weights.clone();
     weights.sort_by_key(|&(v, _)| v);
     for pair in weights.windows(2) {
@@ -511,11 +546,63 @@ fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
     weights.retain(|&(_, w)| w > 0.0);
     Ok(Some(BoundJaw {
         pivot: jaw.pivot,
+        axis,
         radians_per_unit: (jaw.degrees_per_unit as f64).to_radians(),
         vertices: weights.iter().map(|&(v, _)| v).collect(),
         weights: weights.iter().map(|&(_, w)| w).collect(),
         rows: Vec::new(),
     }))
+}
+
+/// Per muscle, the product of the weights of the masks naming it (one per vertex), or
+/// `None` for a muscle no mask names.
+fn mask_scales(rig: &Rig, count: usize) -> Result<Vec<Option<Vec<f32>>>, BindError> {
+    let mut scales: Vec<Option<Vec<f32>>> = vec![None; rig.muscles.len()];
+    for (index, mask) in rig.masks.iter().enumerate() {
+        let bad = |message: String| BindError::Mask {
+            mask: index,
+            message,
+        };
+        let mut previous: Option<u32> = None;
+        for &(vertex, weight) in &mask.weights {
+            if vertex as usize >= count {
+                return Err(bad(format!(
+                    "vertex {vertex} does not exist; the mesh has {count} vertices"
+                )));
+            }
+            if previous.is_some_and(|p| p >= vertex) {
+                return Err(bad(format!(
+                    "vertices must be sorted with no repeats; {vertex} comes after {}",
+                    previous.unwrap_or(0)
+                )));
+            }
+            previous = Some(vertex);
+            if !(weight.is_finite() && (0.0..=1.0).contains(&weight)) {
+                return Err(bad(format!(
+                    "vertex {vertex} has weight {weight}, outside 0.0 to 1.0"
+                )));
+            }
+        }
+        if !(mask.gain.is_finite() && mask.gain > 0.0 && mask.gain <= 1e6) {
+            return Err(bad(format!(
+                "gain {} must be a finite number above 0 and at most 1e6",
+                mask.gain
+            )));
+        }
+        for name in &mask.muscles {
+            let muscle = rig
+                .muscle_index(name)
+                .ok_or_else(|| bad(format!("names `{name}`, which is not a muscle of the rig")))?;
+            let scale = scales[muscle].get_or_insert_with(|| vec![1.0; count]);
+            if mask.gain != 1.0 {
+                scale.iter_mut().for_each(|s| *s *= mask.gain);
+            }
+            for &(vertex, weight) in &mask.weights {
+                scale[vertex as usize] *= weight;
+            }
+        }
+    }
+    Ok(scales)
 }
 
 /// Refuses rigs whose full activation would leave the range where `f32` sums stay finite.
@@ -577,6 +664,7 @@ mod tests {
 
     fn rig(muscles: Vec<Muscle>, jaw: Option<Jaw>) -> Rig {
         Rig {
+            masks: Vec::new(),
             version: RIG_VERSION,
             mesh: PathBuf::from("test.obj"),
             combine: Combine::Sum,
@@ -587,6 +675,7 @@ mod tests {
 
     fn jaw(weight: f32) -> Jaw {
         Jaw {
+            axis: glam::Vec3::X,
             pivot: Vec3::ZERO,
             degrees_per_unit: 1.0,
             weights: vec![(2, weight)],
@@ -642,6 +731,7 @@ mod tests {
         // (0,0,-1) relative, i.e. (0,1,-1).
         let mut r = rig(vec![linear("a")], None);
         r.jaw = Some(Jaw {
+            axis: glam::Vec3::X,
             pivot: Vec3::Y,
             degrees_per_unit: 90.0,
             weights: vec![(0, 1.0)],

@@ -40,6 +40,20 @@ impl Field {
         self.vertices.is_empty()
     }
 
+    /// The field with each vertex's displacement multiplied by `scale[vertex]` (a mask);
+    /// vertices scaled to zero are left out.
+    pub fn scaled(self, scale: &[f32]) -> Field {
+        let mut out = Field::default();
+        for (v, d) in self.vertices.into_iter().zip(self.displacements) {
+            let d = d * scale[v as usize];
+            if d != Vec3::ZERO {
+                out.vertices.push(v);
+                out.displacements.push(d);
+            }
+        }
+        out
+    }
+
     /// The field of a muscle over a set of rest positions.
     pub fn of(kind: &MuscleKind, rest: &[Vec3]) -> Field {
         let shape = Shape::new(kind);

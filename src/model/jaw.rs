@@ -5,8 +5,8 @@ use serde::{Deserialize, Serialize};
 
 /// The jaw of a rig.
 ///
-/// Activation `K` (0.0 to 4.0) turns the jaw by `K * degrees_per_unit` degrees about the x
-/// axis through `pivot`; positive angles open the mouth (the chin moves down and back). Each
+/// Activation `K` (0.0 to 4.0) turns the jaw by `K * degrees_per_unit` degrees about `axis`
+/// (the x axis unless given) through `pivot`; positive angles open the mouth (the chin moves down and back). Each
 /// vertex's weight blends between its rotated and unrotated position, so the lip corners
 /// (weight 0) never tear.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -18,4 +18,23 @@ pub struct Jaw {
     /// `(vertex, weight)` pairs, weight in 0.0 to 1.0, sorted by vertex; vertices not listed
     /// do not move with the jaw.
     pub weights: Vec<(u32, f32)>,
+    /// The axis the jaw turns about (through `pivot`; right-hand rule, so positive angles
+    /// open the mouth when it points along the face's x axis). The x axis unless a fitted
+    /// mesh lies another way round.
+    #[serde(default = "x_axis", skip_serializing_if = "is_x_axis")]
+    pub axis: Vec3,
+}
+
+/// The jaw's axis in rigs that do not give one.
+pub fn x_axis() -> Vec3 {
+    Vec3::X
+}
+
+/// [`x_axis`] as an array, for file readers.
+pub fn x_axis_p3() -> [f32; 3] {
+    [1.0, 0.0, 0.0]
+}
+
+fn is_x_axis(axis: &Vec3) -> bool {
+    *axis == Vec3::X
 }

@@ -16,4 +16,4 @@ pub use field::Field;
 pub use jaw::Jaw;
 pub use mesh::{Mesh, MeshError};
 pub use muscle::{Convergence, Linear, Muscle, MuscleKind, Sheet, Side, Sphincter};
-pub use rig::{Combine, Rig, RIG_VERSION};
+pub use rig::{Combine, Mask, Rig, RIG_VERSION};

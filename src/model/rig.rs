@@ -38,6 +38,26 @@ pub struct Rig {
     /// The jaw, if the rig has one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub jaw: Option<Jaw>,
+    /// Where some muscles may not move the mesh: per-vertex weights that scale their fields
+    /// (eyeballs and teeth kept still, one lip kept out of the other lip's muscles).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub masks: Vec<Mask>,
+}
+
+/// A gain and per-vertex weights applied to the fields of some muscles.
+///
+/// A muscle's displacement of every vertex is multiplied by `gain`, and that of a listed
+/// vertex also by the vertex's weight. A muscle named by several masks gets the product.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Mask {
+    /// The muscles the mask applies to.
+    pub muscles: Vec<String>,
+    /// A factor on the whole field (sheets and sphincters pull by lengths of their own, so a
+    /// rig fitted to a face of another size scales them by it).
+    #[serde(default = "one")]
+    pub gain: f32,
+    /// `(vertex, weight)` pairs, weight in 0.0 to 1.0, sorted by vertex with no repeats.
+    pub weights: Vec<(u32, f32)>,
 }
 
 impl Rig {
@@ -51,4 +71,8 @@ impl Rig {
         let partner = self.muscles.get(index)?.mirror.as_deref()?;
         self.muscle_index(partner)
     }
+}
+
+fn one() -> f32 {
+    1.0
 }

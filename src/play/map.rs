@@ -189,6 +189,7 @@ mod tests {
 
     fn rig_and_table() -> (Rig, AuTable) {
         let rig = Rig {
+            masks: Vec::new(),
             version: 1,
             mesh: PathBuf::from("builtin:test"),
             combine: Default::default(),

@@ -45,6 +45,7 @@ pub(crate) fn app() -> App {
     }
     let mesh = Mesh::new(positions, triangles).unwrap();
     let rig = Rig {
+        masks: Vec::new(),
         version: 1,
         mesh: PathBuf::from("grid.obj"),
         combine: Combine::Sum,
@@ -76,6 +77,7 @@ pub(crate) fn app() -> App {
             },
         ],
         jaw: Some(Jaw {
+            axis: glam::Vec3::X,
             pivot: Vec3::new(0.0, 0.0, -1.0),
             degrees_per_unit: 1.0,
             weights: vec![(0, 1.0), (1, 1.0)],

@@ -43,6 +43,7 @@ fn muscle(name: &str) -> Muscle {
 /// A small rig (`brow`, `cheek`, `mouth`) and a table recording AU1, AU6, AU12 and AU26.
 pub fn fixture_rig_and_table() -> (Rig, AuTable) {
     let rig = Rig {
+        masks: Vec::new(),
         version: grimace::model::RIG_VERSION,
         mesh: PathBuf::from("builtin:default"),
         combine: Default::default(),

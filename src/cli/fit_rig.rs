@@ -1,0 +1,216 @@
+//! `grimace fit-rig MESH.obj --landmarks FILE --out NAME.rig.ron`: carries a rig (the built-in
+//! default rig unless `--template` names another) to a mesh from its 68 landmarks, and
+//! writes it as an ordinary rig file that names the mesh.
+//!
+//! The mesh is used as it is, in its own units and orientation. The command prints how the
+//! faces were aligned and which parts of the mesh it took for skin, for still parts and for
+//! parts that turn with the jaw. Nothing is written when anything fails.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Context};
+use clap::Args;
+
+use crate::fit::{self, Landmarks, Part, PartOverrides, Template};
+use crate::io::landmarks::{check_against, load_landmarks, parse_landmarks};
+use crate::io::rig_file::{self, LoadedRig, MeshRef};
+use crate::io::{builtin, error::read_text, obj, LoadError, MAX_FILE_BYTES};
+use crate::model::{BoundRig, Mesh};
+
+/// Arguments of `grimace fit-rig`.
+#[derive(Debug, Args)]
+pub struct FitRigArgs {
+    /// The mesh to rig (Wavefront OBJ), in its own units and orientation.
+    #[arg(value_name = "MESH.obj")]
+    pub mesh: PathBuf,
+    /// The mesh's 68 iBUG landmarks: a *.landmarks.ron file, or `mediapipe` for a MediaPipe
+    /// face mesh (468 or 478 vertices, numbered like MediaPipe's landmarks).
+    #[arg(long, value_name = "FILE|mediapipe")]
+    pub landmarks: String,
+    /// The rig file to write.
+    #[arg(long, value_name = "NAME.rig.ron")]
+    pub out: PathBuf,
+    /// The rig to carry over (a *.rig.ron, builtin:default or builtin:paper).
+    #[arg(long, value_name = "RIG", default_value = "builtin:default")]
+    pub template: PathBuf,
+    /// The template's landmarks, when its mesh is not built in and has no
+    /// MESH.landmarks.ron beside it.
+    #[arg(long, value_name = "FILE")]
+    pub template_landmarks: Option<PathBuf>,
+    /// Groups of the mesh that are skin, whatever their names say (repeatable).
+    #[arg(long = "skin", value_name = "GROUP")]
+    pub skin: Vec<String>,
+    /// Groups of the mesh that muscles must not move (repeatable); those inside the mouth
+    /// below the lips, or named like lower teeth or a tongue, turn with the jaw.
+    #[arg(long = "rigid", value_name = "GROUP")]
+    pub rigid: Vec<String>,
+}
+
+/// Runs `grimace fit-rig`.
+pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
+    let mesh = obj::read_obj(&args.mesh)?;
+    for group in args.skin.iter().chain(&args.rigid) {
+        if !mesh.groups.contains_key(group) {
+            let known: Vec<&str> = mesh.groups.keys().map(String::as_str).collect();
+            return Err(anyhow!(LoadError::new(
+                &args.mesh,
+                format!(
+                    "has no group `{group}`; its groups are: {}",
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            )));
+        }
+    }
+    let (landmarks, landmark_file) = target_landmarks(args, &mesh)?;
+    let template = rig_file::load_rig_ref(&args.template, None)?;
+    let template_points = template_landmarks(args, &template)?;
+    let mesh_path = mesh_reference(&args.mesh, &args.out)?;
+    let overrides = PartOverrides {
+        skin: args.skin.clone(),
+        rigid: args.rigid.clone(),
+    };
+    let fitted = fit::fit_rig(
+        Template {
+            rig: &template.rig,
+            mesh: &template.mesh,
+            landmarks: &template_points,
+        },
+        &mesh,
+        &landmarks,
+        mesh_path,
+        &overrides,
+    )
+    .map_err(|e| anyhow!(LoadError::new(&landmark_file, e.to_string())))?;
+    BoundRig::bind(&fitted.rig, &mesh)
+        .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
+    rig_file::save_rig(&args.out, &fitted.rig)?;
+    super::print(&summary(args, &mesh, &fitted));
+    Ok(())
+}
+
+/// The mesh's landmarks and the file to name in messages about them.
+fn target_landmarks(args: &FitRigArgs, mesh: &Mesh) -> anyhow::Result<(Landmarks, PathBuf)> {
+    if args.landmarks == "mediapipe" {
+        let landmarks = Landmarks::mediapipe(mesh)
+            .map_err(|e| anyhow!(LoadError::new(&args.mesh, e.to_string())))?;
+        check_against(&landmarks, mesh, &args.mesh, None)?;
+        return Ok((landmarks, args.mesh.clone()));
+    }
+    let path = PathBuf::from(&args.landmarks);
+    let text = read_text(&path, MAX_FILE_BYTES)?;
+    let landmarks = parse_landmarks(&text, &path)?;
+    check_against(&landmarks, mesh, &path, Some(&text))?;
+    Ok((landmarks, path))
+}
+
+/// The template's landmark positions: given, built in, or `MESH.landmarks.ron` beside the
+/// template's mesh.
+fn template_landmarks(args: &FitRigArgs, template: &LoadedRig) -> anyhow::Result<Vec<glam::Vec3>> {
+    let (landmarks, path) = match &args.template_landmarks {
+        Some(path) => (load_landmarks(path)?, path.clone()),
+        None => match rig_file::mesh_ref(&template.path, &template.rig.mesh) {
+            MeshRef::Builtin(name) => {
+                let landmarks = builtin::landmarks(&name).ok_or_else(|| {
+                    anyhow!(
+                        "the built-in mesh `{name}` has no landmarks; give --template-landmarks"
+                    )
+                })?;
+                (
+                    landmarks,
+                    PathBuf::from(format!("builtin:{name}.landmarks.ron")),
+                )
+            }
+            MeshRef::File(mesh) => {
+                let path = beside(&mesh);
+                if !path.is_file() {
+                    return Err(anyhow!(
+                        "the template's mesh {} has no landmarks beside it ({}); give --template-landmarks",
+                        mesh.display(),
+                        path.display()
+                    ));
+                }
+                (load_landmarks(&path)?, path)
+            }
+        },
+    };
+    Ok(check_against(&landmarks, &template.mesh, &path, None)?)
+}
+
+/// `head.obj` -> `head.landmarks.ron`, in the same folder.
+pub fn beside(mesh: &Path) -> PathBuf {
+    let stem = mesh
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    mesh.with_file_name(format!("{stem}.landmarks.ron"))
+}
+
+/// The mesh as the new rig names it: relative to the rig file's folder when the mesh lies in
+/// it or below, else absolute.
+fn mesh_reference(mesh: &Path, out: &Path) -> anyhow::Result<PathBuf> {
+    let mesh_abs = std::fs::canonicalize(mesh)
+        .with_context(|| format!("cannot resolve {}", mesh.display()))?;
+    let out_dir = match out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        Some(dir) => std::fs::canonicalize(dir)
+            .with_context(|| format!("the folder of {} does not exist", out.display()))?,
+        None => std::env::current_dir().context("cannot read the current folder")?,
+    };
+    Ok(match mesh_abs.strip_prefix(&out_dir) {
+        Ok(relative) => relative.to_path_buf(),
+        Err(_) => mesh_abs,
+    })
+}
+
+fn summary(args: &FitRigArgs, mesh: &Mesh, fitted: &fit::Fitted) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{}: {} muscles from {} fitted to {} ({} vertices): scale {:.4}, landmark bend {:.1}% of the face",
+        args.out.display(),
+        fitted.rig.muscles.len(),
+        args.template.display(),
+        args.mesh.display(),
+        mesh.vertex_count(),
+        fitted.scale,
+        100.0 * fitted.bend
+    );
+    for choice in &fitted.parts.choices {
+        let what = match choice.part {
+            Part::Skin => "skin",
+            Part::Still => "kept still",
+            Part::Jaw => "turns with the jaw",
+        };
+        let _ = writeln!(
+            out,
+            "  {}: {} ({} vertices, by {})",
+            choice.name, what, choice.vertices, choice.reason
+        );
+    }
+    let count = |p: Part| fitted.parts.of_vertex.iter().filter(|&&x| x == p).count();
+    let _ = writeln!(
+        out,
+        "  vertices: {} skin, {} kept still, {} turn with the jaw",
+        count(Part::Skin),
+        count(Part::Still),
+        count(Part::Jaw)
+    );
+    if let Some(jaw) = &fitted.rig.jaw {
+        let _ = writeln!(out, "  jaw: {} weighted vertices", jaw.weights.len());
+    }
+    for (opening, upper, lower) in &fitted.sides {
+        if !upper.is_empty() || !lower.is_empty() {
+            let _ = writeln!(
+                out,
+                "  {opening}: {} muscles kept above its line, {} below",
+                upper.len(),
+                lower.len()
+            );
+        }
+    }
+    out
+}

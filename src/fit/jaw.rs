@@ -1,0 +1,80 @@
+//! Jaw weights for a fitted mesh: the template's weights carried over by nearest point, then
+//! split along the inner lip line so that a closed mouth opens.
+//!
+//! Each skin vertex takes the weight of the nearest template vertex after the warp, fading to
+//! 0 where no template vertex is near (a neck or body beyond the template's face). Between
+//! the mouth corners, a vertex above the inner lip line gets 0 (tapering back to the carried
+//! weight at the corners), and one below takes its weight from the template's lower lip
+//! only. Parts that turn with the jaw (lower teeth, tongue) get 1, still parts 0.
+
+use glam::Vec3;
+
+use super::nearest::Nearest;
+use super::parts::{Part, Parts};
+use super::regions::{smoothstep, Opening, Side};
+use super::transport::Template;
+use super::warp::Warp;
+use crate::model::{Jaw, Mesh};
+
+/// Weights fade out between these distances from the nearest carried template vertex, as
+/// fractions of the landmarks' spread.
+const FADE: (f64, f64) = (0.08, 0.2);
+
+/// The jaw weights of `mesh`, sorted by vertex, zeros left out.
+pub fn weights(
+    template: Template<'_>,
+    jaw: &Jaw,
+    warp: &Warp,
+    mesh: &Mesh,
+    parts: &Parts,
+    mouth_from: Option<&Opening>,
+    mouth_to: Option<&Opening>,
+) -> Vec<(u32, f32)> {
+    let mut dense = vec![0.0f32; template.mesh.vertex_count()];
+    for &(v, w) in &jaw.weights {
+        if let Some(slot) = dense.get_mut(v as usize) {
+            *slot = w;
+        }
+    }
+    let carried: Vec<Vec3> = template
+        .mesh
+        .positions
+        .iter()
+        .map(|p| warp.apply_f32(*p))
+        .collect();
+    let all = Nearest::new(carried.clone(), (0..carried.len() as u32).collect());
+    let lower_ids: Vec<u32> = match mouth_from {
+        Some(m) => (0..carried.len() as u32)
+            .filter(|&v| m.side_weight(template.mesh.positions[v as usize], Side::Lower) > 0.0)
+            .collect(),
+        None => Vec::new(),
+    };
+    let lower = Nearest::new(
+        lower_ids.iter().map(|&v| carried[v as usize]).collect(),
+        lower_ids,
+    );
+    let (near, far) = (FADE.0 * warp.spread, FADE.1 * warp.spread);
+    let mut out = Vec::new();
+    for (v, p) in mesh.positions.iter().enumerate() {
+        let w = match parts.of_vertex[v] {
+            Part::Still => 0.0,
+            Part::Jaw => 1.0,
+            Part::Skin => {
+                let below = mouth_to.map_or(0.0, |m| m.side_weight(*p, Side::Lower));
+                let above = mouth_to.map_or(0.0, |m| m.side_weight(*p, Side::Upper));
+                let index = if below > 0.0 { &lower } else { &all };
+                let (id, d) = index
+                    .nearest(*p)
+                    .or(all.nearest(*p))
+                    .unwrap_or((0, f32::INFINITY));
+                let fade = 1.0 - smoothstep(near, far, f64::from(d));
+                let w = f64::from(dense.get(id as usize).copied().unwrap_or(0.0)) * fade;
+                (w * (1.0 - above)) as f32
+            }
+        };
+        if w > 0.0 {
+            out.push((v as u32, w));
+        }
+    }
+    out
+}

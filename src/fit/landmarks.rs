@@ -1,0 +1,317 @@
+//! The 68 facial landmarks of the iBUG 300-W scheme (the one dlib and OpenFace 2.0 use), as
+//! vertex numbers or points, and what fitting needs from them: the face's own frame, checks
+//! that a set is usable, and the correspondence for MediaPipe face meshes.
+//!
+//! Numbering (0-based): 0-16 jaw line from the subject's right to left; 17-21 right brow
+//! (outer to inner); 22-26 left brow (inner to outer); 27-30 nose bridge down to the tip;
+//! 31-35 nostrils right to left (33 below the tip); 36-41 right eye (36 outer corner, 37-38
+//! upper lid, 39 inner corner, 40-41 lower lid); 42-47 left eye (42 inner corner, 43-44 upper
+//! lid, 45 outer corner, 46-47 lower lid); 48-59 outer lip line (48 right corner, 51 top, 54
+//! left corner, 57 bottom); 60-67 inner lip line (60 right corner, 62 upper middle, 64 left
+//! corner, 66 lower middle).
+
+use glam::{DVec3, Vec3};
+use thiserror::Error;
+
+use super::warp::rms_spread;
+use crate::model::Mesh;
+
+/// Number of landmarks in the scheme.
+pub const COUNT: usize = 68;
+
+/// Outer lip corners (subject's right, left).
+pub const MOUTH_CORNERS: [usize; 2] = [48, 54];
+/// The inner lip line's upper half, right corner to left corner.
+pub const INNER_UPPER: [usize; 5] = [60, 61, 62, 63, 64];
+/// The inner lip line's lower half, right corner to left corner.
+pub const INNER_LOWER: [usize; 5] = [60, 67, 66, 65, 64];
+/// Right eye: upper lid from the outer corner to the inner corner.
+pub const RIGHT_EYE_UPPER: [usize; 4] = [36, 37, 38, 39];
+/// Right eye: lower lid from the outer corner to the inner corner.
+pub const RIGHT_EYE_LOWER: [usize; 4] = [36, 41, 40, 39];
+/// Left eye: upper lid from the inner corner to the outer corner.
+pub const LEFT_EYE_UPPER: [usize; 4] = [42, 43, 44, 45];
+/// Left eye: lower lid from the inner corner to the outer corner.
+pub const LEFT_EYE_LOWER: [usize; 4] = [42, 47, 46, 45];
+/// The chin's lowest point.
+pub const CHIN: usize = 8;
+/// The nose tip.
+pub const NOSE_TIP: usize = 30;
+
+/// The mirror partner of each landmark (itself on the midline).
+pub fn mirror(i: usize) -> usize {
+    match i {
+        0..=16 => 16 - i,
+        17..=26 => 43 - i,
+        27..=30 => i,
+        31..=35 => 66 - i,
+        36..=39 => 81 - i,
+        40 | 41 => 87 - i,
+        42..=45 => 81 - i,
+        46 | 47 => 87 - i,
+        48..=54 => 102 - i,
+        55..=59 => 114 - i,
+        60..=64 => 124 - i,
+        _ => 132 - i,
+    }
+}
+
+/// MediaPipe face-mesh vertex for each of the 68 landmarks: vertex `i` of a MediaPipe mesh
+/// is face-mesh landmark `i`, so such meshes need no landmark file.
+pub const MEDIAPIPE: [u32; COUNT] = [
+    127, 234, 93, 132, 58, 136, 150, 176, 152, 400, 379, 365, 288, 361, 323, 454, 356, // jaw
+    70, 63, 105, 66, 107, 336, 296, 334, 293, 300, // brows
+    168, 197, 5, 4, 75, 97, 2, 326, 305, // nose
+    33, 160, 158, 133, 153, 144, 362, 385, 387, 263, 373, 380, // eyes
+    61, 39, 37, 0, 267, 269, 291, 405, 314, 17, 84, 181, // outer lips
+    78, 82, 13, 312, 308, 317, 14, 87, // inner lips
+];
+
+/// Number of vertices of a MediaPipe face mesh (468, or 478 with the irises).
+pub const MEDIAPIPE_VERTICES: [usize; 2] = [468, 478];
+
+/// Landmarks as given: vertex numbers of the mesh, or points in its coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Landmarks {
+    /// Vertex numbers (0-based), one per landmark.
+    Vertices(Vec<u32>),
+    /// Points in the mesh's coordinates, one per landmark.
+    Points(Vec<Vec3>),
+}
+
+/// Why a landmark set cannot be used.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum LandmarkError {
+    /// Not 68 landmarks.
+    #[error("{found} landmarks given; the iBUG scheme has exactly {COUNT}")]
+    Count {
+        /// How many were given.
+        found: usize,
+    },
+    /// A vertex number the mesh does not have.
+    #[error("landmark {landmark} is vertex {vertex}, but the mesh has only {count} vertices")]
+    VertexOutOfRange {
+        /// The landmark (0-based).
+        landmark: usize,
+        /// The vertex given.
+        vertex: u32,
+        /// Vertices in the mesh.
+        count: usize,
+    },
+    /// A point that is not finite.
+    #[error("landmark {landmark} is not a finite point")]
+    NonFinite {
+        /// The landmark (0-based).
+        landmark: usize,
+    },
+    /// The landmarks do not span a face (all on one point, or on a line).
+    #[error("the landmarks do not span a face: they lie on one point or on a line")]
+    Degenerate,
+    /// The landmarks are the template's mirror image.
+    #[error(
+        "the landmarks are mirrored: the subject's left and right are swapped relative to the \
+         template (check the order of the points: 0 is on the subject's right, 16 on the left)"
+    )]
+    Mirrored,
+    /// `--landmarks mediapipe` on a mesh that is not a MediaPipe face mesh.
+    #[error(
+        "the mesh has {count} vertices; a MediaPipe face mesh has 468 (or 478 with the \
+         irises), so `--landmarks mediapipe` does not apply"
+    )]
+    NotMediapipe {
+        /// Vertices in the mesh.
+        count: usize,
+    },
+}
+
+impl Landmarks {
+    /// The MediaPipe correspondence, for a mesh with a MediaPipe face mesh's vertex count.
+    pub fn mediapipe(mesh: &Mesh) -> Result<Landmarks, LandmarkError> {
+        let count = mesh.vertex_count();
+        if !MEDIAPIPE_VERTICES.contains(&count) {
+            return Err(LandmarkError::NotMediapipe { count });
+        }
+        Ok(Landmarks::Vertices(MEDIAPIPE.to_vec()))
+    }
+
+    /// Number of landmarks given.
+    pub fn len(&self) -> usize {
+        match self {
+            Landmarks::Vertices(v) => v.len(),
+            Landmarks::Points(p) => p.len(),
+        }
+    }
+
+    /// True when no landmark is given.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Checks what can be checked without a mesh: the count and finite points.
+    pub fn check(&self) -> Result<(), LandmarkError> {
+        if self.len() != COUNT {
+            return Err(LandmarkError::Count { found: self.len() });
+        }
+        if let Landmarks::Points(points) = self {
+            if let Some(landmark) = points.iter().position(|p| !p.is_finite()) {
+                return Err(LandmarkError::NonFinite { landmark });
+            }
+        }
+        Ok(())
+    }
+
+    /// The landmark positions on `mesh`, checked: 68 of them, every vertex in range, not
+    /// degenerate.
+    pub fn positions(&self, mesh: &Mesh) -> Result<Vec<Vec3>, LandmarkError> {
+        self.check()?;
+        let points = match self {
+            Landmarks::Vertices(vertices) => {
+                let count = mesh.vertex_count();
+                vertices
+                    .iter()
+                    .enumerate()
+                    .map(|(landmark, &vertex)| {
+                        mesh.positions.get(vertex as usize).copied().ok_or(
+                            LandmarkError::VertexOutOfRange {
+                                landmark,
+                                vertex,
+                                count,
+                            },
+                        )
+                    })
+                    .collect::<Result<Vec<_>, _>>()?
+            }
+            Landmarks::Points(points) => points.clone(),
+        };
+        check_shape(&points)?;
+        Ok(points)
+    }
+
+    /// The vertex of each landmark: as given, or the mesh vertex nearest each point.
+    pub fn vertices(&self, mesh: &Mesh) -> Vec<u32> {
+        match self {
+            Landmarks::Vertices(v) => v.clone(),
+            Landmarks::Points(points) => points
+                .iter()
+                .map(|p| nearest_vertex(&mesh.positions, *p))
+                .collect(),
+        }
+    }
+}
+
+/// The vertex nearest a point (0 for an empty list).
+pub fn nearest_vertex(positions: &[Vec3], p: Vec3) -> u32 {
+    let mut best = (f32::INFINITY, 0u32);
+    for (i, q) in positions.iter().enumerate() {
+        let d = q.distance_squared(p);
+        if d < best.0 {
+            best = (d, i as u32);
+        }
+    }
+    best.1
+}
+
+/// Refuses landmark sets that do not span a face: every point nearly on one point or line.
+pub fn check_shape(points: &[Vec3]) -> Result<(), LandmarkError> {
+    let frame = FaceFrame::of(points).ok_or(LandmarkError::Degenerate)?;
+    let spread = rms_spread(&points.iter().map(|p| p.as_dvec3()).collect::<Vec<_>>());
+    // The eye line and the eyes-to-mouth line must both be a fair part of the face.
+    if !(frame.eye_distance > 0.2 * spread && frame.eyes_to_mouth > 0.2 * spread) {
+        return Err(LandmarkError::Degenerate);
+    }
+    Ok(())
+}
+
+/// A face's own frame from its landmarks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceFrame {
+    /// Unit vector from the subject's right toward the left (between the eye centres).
+    pub lateral: DVec3,
+    /// Unit vector from the mouth toward the eyes, made orthogonal to `lateral`.
+    pub up: DVec3,
+    /// Unit vector out of the face (toward the nose tip's side).
+    pub forward: DVec3,
+    /// Whether `lateral x up` points out of the face (a right-handed face) or into it.
+    pub right_handed: bool,
+    /// Distance between the eye centres.
+    pub eye_distance: f64,
+    /// Distance from the eye centres' midpoint to the mouth's centre.
+    pub eyes_to_mouth: f64,
+}
+
+impl FaceFrame {
+    /// The frame of a set of 68 landmarks; `None` when the eyes or mouth coincide.
+    pub fn of(points: &[Vec3]) -> Option<FaceFrame> {
+        if points.len() != COUNT {
+            return None;
+        }
+        let mean = |ids: &[usize]| {
+            ids.iter().map(|&i| points[i].as_dvec3()).sum::<DVec3>() / ids.len() as f64
+        };
+        let right_eye = mean(&[36, 37, 38, 39, 40, 41]);
+        let left_eye = mean(&[42, 43, 44, 45, 46, 47]);
+        let mouth = mean(&[48, 51, 54, 57, 60, 62, 64, 66]);
+        let eyes = 0.5 * (right_eye + left_eye);
+        let across = left_eye - right_eye;
+        let eye_distance = across.length();
+        let lateral = across.normalize_or_zero();
+        let rise = eyes - mouth;
+        let eyes_to_mouth = rise.length();
+        let up = (rise - lateral * rise.dot(lateral)).normalize_or_zero();
+        if lateral == DVec3::ZERO || up == DVec3::ZERO {
+            return None;
+        }
+        let normal = lateral.cross(up);
+        // The nose tip stands out of the face: in front of the eyes-mouth plane.
+        let nose = points[NOSE_TIP].as_dvec3() - 0.5 * (eyes + mouth);
+        let out = nose.dot(normal);
+        if out == 0.0 || !out.is_finite() {
+            return None;
+        }
+        Some(FaceFrame {
+            lateral,
+            up,
+            forward: normal * out.signum(),
+            right_handed: out > 0.0,
+            eye_distance,
+            eyes_to_mouth,
+        })
+    }
+
+    /// Coordinates of `p` in this frame about `origin`: (across, up, out of the face).
+    pub fn local(&self, origin: DVec3, p: DVec3) -> DVec3 {
+        let d = p - origin;
+        DVec3::new(d.dot(self.lateral), d.dot(self.up), d.dot(self.forward))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mirror_is_an_involution_that_keeps_the_midline() {
+        for i in 0..COUNT {
+            assert_eq!(mirror(mirror(i)), i, "landmark {i}");
+        }
+        for i in [8, 27, 28, 29, 30, 33, 51, 57, 62, 66] {
+            assert_eq!(mirror(i), i);
+        }
+        assert_eq!(mirror(36), 45);
+        assert_eq!(mirror(37), 44);
+        assert_eq!(mirror(41), 46);
+        assert_eq!(mirror(48), 54);
+        assert_eq!(mirror(55), 59);
+        assert_eq!(mirror(61), 63);
+        assert_eq!(mirror(67), 65);
+    }
+
+    #[test]
+    fn mediapipe_table_has_distinct_vertices() {
+        let mut v = MEDIAPIPE.to_vec();
+        v.sort_unstable();
+        v.dedup();
+        assert_eq!(v.len(), COUNT);
+        assert!(v.iter().all(|&i| i < 468));
+    }
+}

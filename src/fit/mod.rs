@@ -1,0 +1,27 @@
+//! Fitting: carrying a muscle rig to any face from its landmarks, and fitting AU entries to
+//! target shapes.
+//!
+//! - [`landmarks`]: the 68-point iBUG scheme, the face's own frame, MediaPipe's numbering;
+//! - [`warp`]: the similarity and thin-plate spline from one face to another;
+//! - [`parts`]: which parts of a mesh are skin, still, or turn with the jaw;
+//! - [`regions`]: the mouth and eye lines and which side of them things lie on;
+//! - [`jaw`]: jaw weights for a new mesh;
+//! - [`transport`]: the whole fit ([`fit_rig`]);
+//! - [`solve`]: activations that best reproduce a target shape ([`fit_au`]).
+//!
+//! Nothing here reads files or knows about terminals.
+
+pub mod jaw;
+pub mod landmarks;
+pub mod nearest;
+pub mod parts;
+pub mod regions;
+pub mod solve;
+pub mod transport;
+pub mod warp;
+
+pub use landmarks::{LandmarkError, Landmarks};
+pub use parts::{Part, PartOverrides, Parts};
+pub use solve::{fit_au, AuFit, SolveError};
+pub use transport::{fit_rig, FitError, Fitted, Template};
+pub use warp::Warp;

@@ -1,0 +1,109 @@
+//! Nearest-point queries over a fixed point set, on a uniform grid.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+/// A point set bucketed on a uniform grid for nearest-point queries.
+#[derive(Debug, Clone)]
+pub struct Nearest {
+    points: Vec<Vec3>,
+    /// The original index of each point.
+    ids: Vec<u32>,
+    cell: f32,
+    cells: HashMap<[i32; 3], Vec<u32>>,
+}
+
+impl Nearest {
+    /// Buckets `points` (with their ids) on a grid of about two points per cell.
+    pub fn new(points: Vec<Vec3>, ids: Vec<u32>) -> Nearest {
+        let (lo, hi) = crate::model::mesh::bounds_of(&points);
+        let extent = (hi - lo).max_element().max(f32::MIN_POSITIVE);
+        let per_axis = ((points.len() as f32 / 2.0).cbrt()).max(1.0);
+        let cell = extent / per_axis;
+        let mut cells: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
+        for (i, p) in points.iter().enumerate() {
+            cells.entry(key(*p, cell)).or_default().push(i as u32);
+        }
+        Nearest {
+            points,
+            ids,
+            cell,
+            cells,
+        }
+    }
+
+    /// The id of the point nearest `p` and its distance; `None` for an empty set.
+    pub fn nearest(&self, p: Vec3) -> Option<(u32, f32)> {
+        if self.points.is_empty() {
+            return None;
+        }
+        let centre = key(p, self.cell);
+        let mut best: Option<(u32, f32)> = None;
+        let mut ring = 0i32;
+        loop {
+            for dx in -ring..=ring {
+                for dy in -ring..=ring {
+                    for dz in -ring..=ring {
+                        if dx.abs().max(dy.abs()).max(dz.abs()) != ring {
+                            continue;
+                        }
+                        let k = [centre[0] + dx, centre[1] + dy, centre[2] + dz];
+                        for &i in self.cells.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
+                            let d = self.points[i as usize].distance(p);
+                            if best.is_none_or(|(_, b)| d < b) {
+                                best = Some((i, d));
+                            }
+                        }
+                    }
+                }
+            }
+            // Every point not yet seen lies at least `ring * cell` away.
+            if let Some((i, d)) = best {
+                if d <= ring as f32 * self.cell {
+                    return Some((self.ids[i as usize], d));
+                }
+            }
+            ring += 1;
+            if ring > 4096 {
+                return best.map(|(i, d)| (self.ids[i as usize], d));
+            }
+        }
+    }
+}
+
+fn key(p: Vec3, cell: f32) -> [i32; 3] {
+    let k = (p / cell).floor();
+    [k.x as i32, k.y as i32, k.z as i32]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn matches_brute_force() {
+        let points: Vec<Vec3> = (0..500)
+            .map(|i| {
+                let t = i as f32;
+                Vec3::new(
+                    (t * 1.3).sin() * 5.0,
+                    (t * 0.7).cos() * 2.0,
+                    (t * 0.11).sin() * 9.0,
+                )
+            })
+            .collect();
+        let index = Nearest::new(points.clone(), (0..500).collect());
+        for q in 0..200 {
+            let t = q as f32 * 0.37;
+            let p = Vec3::new(t.cos() * 7.0, t.sin() * 3.0, (t * 0.5).cos() * 12.0);
+            let (i, d) = index.nearest(p).unwrap();
+            let brute = points
+                .iter()
+                .map(|x| x.distance(p))
+                .fold(f32::INFINITY, f32::min);
+            assert_eq!(d, brute);
+            assert_eq!(points[i as usize].distance(p), brute);
+        }
+    }
+}

@@ -1,0 +1,328 @@
+//! Which parts of a mesh are skin, which stay still and which turn with the jaw.
+//!
+//! Muscles move skin only. Eyeballs, teeth, tongue, eyelashes and helper geometry are found
+//! from the mesh's named groups (OBJ `g`, `o` and `usemtl`) and its connected pieces:
+//!
+//! - skin is every piece (connected component) that holds a landmark, and, when the mesh has
+//!   named groups, only the groups that hold a landmark;
+//! - everything else is a rigid part; a part named like lower teeth or a tongue, or a piece
+//!   inside the mouth below the lip line, turns with the jaw; the rest keeps still.
+//!
+//! `--skin GROUP` and `--rigid GROUP` override the choice for whole groups.
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use super::landmarks::{FaceFrame, INNER_LOWER, INNER_UPPER, MOUTH_CORNERS};
+use crate::model::Mesh;
+
+/// What a vertex is for fitting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Part {
+    /// Moved by muscles (and by the jaw, by its weights).
+    Skin,
+    /// Moved by nothing.
+    Still,
+    /// Turned rigidly with the jaw, never moved by muscles.
+    Jaw,
+}
+
+/// One named piece of the mesh and what it was taken for, for the report.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PartChoice {
+    /// A group name, or `piece N` for an unnamed connected component.
+    pub name: String,
+    /// Number of vertices.
+    pub vertices: usize,
+    /// What it was taken for.
+    pub part: Part,
+    /// Why: `landmarks`, `name`, `position`, `--skin`, `--rigid`.
+    pub reason: &'static str,
+}
+
+/// The parts of a mesh: one per vertex, and the choices per named piece.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parts {
+    /// The part of each vertex.
+    pub of_vertex: Vec<Part>,
+    /// The choice made for each group or unnamed piece.
+    pub choices: Vec<PartChoice>,
+}
+
+/// Overrides from the command line: groups forced to skin or to rigid.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct PartOverrides {
+    /// Groups that are skin.
+    pub skin: Vec<String>,
+    /// Groups that are rigid (still, or turning with the jaw when named so).
+    pub rigid: Vec<String>,
+}
+
+/// Words in a group name that mark a rigid part; the first list turns with the jaw.
+const JAW_WORDS: [&str; 2] = ["tongue", "lower"];
+const RIGID_WORDS: [&str; 14] = [
+    "eye",
+    "iris",
+    "pupil",
+    "cornea",
+    "sclera",
+    "lash",
+    "teeth",
+    "tooth",
+    "gum",
+    "tongue",
+    "helper",
+    "joint",
+    "hair",
+    "mouth_interior",
+];
+
+/// True when a group's name says it is a rigid part.
+fn rigid_name(name: &str) -> bool {
+    let lower = name.to_ascii_lowercase();
+    // "eyebrow" and "brow" are skin on most heads (or hair cards that should follow it).
+    if lower.contains("brow") {
+        return false;
+    }
+    RIGID_WORDS.iter().any(|w| lower.contains(w))
+}
+
+/// True when a rigid part's name says it turns with the jaw (lower teeth, lower gums, tongue).
+fn jaw_name(name: &str) -> bool {
+    let lower = name.to_ascii_lowercase();
+    lower.contains(JAW_WORDS[0])
+        || (lower.contains(JAW_WORDS[1])
+            && ["teeth", "tooth", "gum", "jaw"]
+                .iter()
+                .any(|w| lower.contains(w)))
+}
+
+/// Connected components of the mesh's vertices (by triangles): a component id per vertex.
+pub fn components(mesh: &Mesh) -> Vec<u32> {
+    let n = mesh.vertex_count();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(parent: &mut [u32], mut v: u32) -> u32 {
+        while parent[v as usize] != v {
+            let up = parent[parent[v as usize] as usize];
+            parent[v as usize] = up;
+            v = up;
+        }
+        v
+    }
+    for t in &mesh.triangles {
+        for k in 1..3 {
+            let (a, b) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+    }
+    (0..n as u32).map(|v| find(&mut parent, v)).collect()
+}
+
+/// Sorts the mesh's vertices into skin, still and jaw parts.
+///
+/// `landmark_vertices` are the landmarks' vertices; `points` their positions (for the mouth
+/// test of pieces that hold no landmark).
+pub fn find_parts(
+    mesh: &Mesh,
+    landmark_vertices: &[u32],
+    points: &[glam::Vec3],
+    overrides: &PartOverrides,
+) -> Parts {
+    let n = mesh.vertex_count();
+    let component = components(mesh);
+    let mut marked = vec![false; n];
+    for &v in landmark_vertices {
+        if let Some(slot) = marked.get_mut(v as usize) {
+            *slot = true;
+        }
+    }
+    let mouth = MouthTest::new(points);
+    // Pieces: skin when they hold a landmark, else by where they sit.
+    let mut pieces: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for (v, &c) in component.iter().enumerate() {
+        pieces.entry(c).or_default().push(v as u32);
+    }
+    let mut piece_part: BTreeMap<u32, Part> = BTreeMap::new();
+    for (c, members) in &pieces {
+        let part = if members.iter().any(|&v| marked[v as usize]) {
+            Part::Skin
+        } else if mouth
+            .as_ref()
+            .is_some_and(|m| m.turns_with_jaw(mesh, members))
+        {
+            Part::Jaw
+        } else {
+            Part::Still
+        };
+        piece_part.insert(*c, part);
+    }
+    let mut of_vertex: Vec<Part> = component.iter().map(|c| piece_part[c]).collect();
+    let mut grouped = vec![false; n];
+    let mut choices = Vec::new();
+    // Named groups: a rigid name or an override decides for the whole group; otherwise the
+    // group follows its pieces.
+    for (name, members) in mesh.groups.iter().filter(|(_, m)| !m.is_empty()) {
+        let holds_landmark = members.iter().any(|&v| marked[v as usize]);
+        let (part, reason) = if overrides.skin.iter().any(|g| g == name) {
+            (Some(Part::Skin), "--skin")
+        } else if overrides.rigid.iter().any(|g| g == name) {
+            let jaw = jaw_name(name)
+                || mouth
+                    .as_ref()
+                    .is_some_and(|m| m.turns_with_jaw(mesh, members));
+            (Some(if jaw { Part::Jaw } else { Part::Still }), "--rigid")
+        } else if rigid_name(name) && !holds_landmark {
+            (
+                Some(if jaw_name(name) {
+                    Part::Jaw
+                } else {
+                    Part::Still
+                }),
+                "name",
+            )
+        } else {
+            (
+                None,
+                if holds_landmark {
+                    "landmarks"
+                } else {
+                    "position"
+                },
+            )
+        };
+        for &v in members {
+            grouped[v as usize] = true;
+            if let Some(part) = part {
+                of_vertex[v as usize] = part;
+            }
+        }
+        let shown =
+            part.unwrap_or_else(|| majority(members.iter().map(|&v| of_vertex[v as usize])));
+        choices.push(PartChoice {
+            name: name.clone(),
+            vertices: members.len(),
+            part: shown,
+            reason,
+        });
+    }
+    // Vertices a group's override made skin stay skin even where a rigid group shares them.
+    for (name, members) in &mesh.groups {
+        if overrides.skin.iter().any(|g| g == name) {
+            for &v in members {
+                of_vertex[v as usize] = Part::Skin;
+            }
+        }
+    }
+    for (number, (c, members)) in pieces.iter().enumerate() {
+        if members.iter().all(|&v| grouped[v as usize]) {
+            continue;
+        }
+        let reason = if piece_part[c] == Part::Skin {
+            "landmarks"
+        } else {
+            "position"
+        };
+        choices.push(PartChoice {
+            name: format!("piece {}", number + 1),
+            vertices: members.iter().filter(|&&v| !grouped[v as usize]).count(),
+            part: piece_part[c],
+            reason,
+        });
+    }
+    Parts { of_vertex, choices }
+}
+
+/// The most common part among some vertices.
+fn majority(parts: impl Iterator<Item = Part>) -> Part {
+    let mut counts = [0usize; 3];
+    for p in parts {
+        counts[p as usize] += 1;
+    }
+    [Part::Skin, Part::Still, Part::Jaw]
+        .into_iter()
+        .max_by_key(|p| counts[*p as usize])
+        .unwrap_or(Part::Skin)
+}
+
+/// Decides whether an unnamed piece sits inside the mouth below the lip line (lower teeth,
+/// tongue): its centre lies between the mouth corners, behind the lips and below the inner
+/// lip line, within a mouth's height of it.
+struct MouthTest {
+    frame: FaceFrame,
+    centre: DVec3,
+    half_width: f64,
+}
+
+impl MouthTest {
+    fn new(points: &[glam::Vec3]) -> Option<MouthTest> {
+        let frame = FaceFrame::of(points)?;
+        let p = |i: usize| points[i].as_dvec3();
+        let centre = (INNER_UPPER
+            .iter()
+            .chain(&INNER_LOWER)
+            .map(|&i| p(i))
+            .sum::<DVec3>())
+            / (INNER_UPPER.len() + INNER_LOWER.len()) as f64;
+        let half_width = 0.5 * p(MOUTH_CORNERS[0]).distance(p(MOUTH_CORNERS[1]));
+        Some(MouthTest {
+            frame,
+            centre,
+            half_width,
+        })
+    }
+
+    fn turns_with_jaw(&self, mesh: &Mesh, members: &[u32]) -> bool {
+        if members.is_empty() {
+            return false;
+        }
+        let mean = members
+            .iter()
+            .map(|&v| mesh.positions[v as usize].as_dvec3())
+            .sum::<DVec3>()
+            / members.len() as f64;
+        let local = self.frame.local(self.centre, mean);
+        local.x.abs() < 1.2 * self.half_width
+            && local.y < 0.0
+            && local.y > -1.5 * self.half_width
+            && local.z < 0.0
+            && local.z > -3.0 * self.half_width
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names() {
+        for name in [
+            "helper-l-eye",
+            "Eyeball_L",
+            "teeth_upper",
+            "helper-tongue",
+            "lashes",
+        ] {
+            assert!(rigid_name(name), "{name}");
+        }
+        for name in ["body", "Head", "skin", "eyebrows"] {
+            assert!(!rigid_name(name), "{name}");
+        }
+        assert!(jaw_name("helper-lower-teeth"));
+        assert!(jaw_name("Tongue"));
+        assert!(!jaw_name("helper-upper-teeth"));
+        assert!(!jaw_name("helper-l-eye"));
+    }
+
+    #[test]
+    fn components_split_separate_pieces() {
+        let p = glam::Vec3::ZERO;
+        let mesh = Mesh::new(vec![p; 7], vec![[0, 1, 2], [2, 3, 0], [4, 5, 6]]).unwrap();
+        let c = components(&mesh);
+        assert_eq!(c[0], c[3]);
+        assert_ne!(c[0], c[4]);
+        assert_eq!(c[4], c[6]);
+    }
+}

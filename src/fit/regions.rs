@@ -1,0 +1,181 @@
+//! The lines along which a face opens (the inner lip line, each eye's lid line) and which
+//! side of them each vertex and each muscle lies on.
+//!
+//! A closed mouth is one surface across the lips; a jaw weight or a muscle mask that changes
+//! sharply at the inner lip line still lets it open, and keeps a muscle of one lip from
+//! dragging the other across the mouth. The same holds for the lids.
+
+use glam::{DVec3, Vec3};
+
+use super::landmarks::{
+    FaceFrame, INNER_LOWER, INNER_UPPER, LEFT_EYE_LOWER, LEFT_EYE_UPPER, RIGHT_EYE_LOWER,
+    RIGHT_EYE_UPPER,
+};
+
+/// Which side of an opening a muscle works on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    /// Above the line (upper lip, upper lid).
+    Upper,
+    /// Below the line (lower lip, lower lid).
+    Lower,
+}
+
+/// An opening of the face: the line halfway between its upper and lower margins, in the
+/// face's frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Opening {
+    /// A short name for reports: `mouth`, `right eye`, `left eye`.
+    pub name: &'static str,
+    frame: FaceFrame,
+    origin: DVec3,
+    /// The line's points as (across, up) in the frame, sorted by `across`.
+    line: Vec<(f64, f64)>,
+    /// Half the opening's width (corner to corner).
+    half_width: f64,
+    /// How far above and below the line the opening's zone reaches.
+    reach_up: f64,
+    reach_down: f64,
+    /// How far behind the line (into the head) the zone reaches.
+    depth: f64,
+}
+
+impl Opening {
+    /// The mouth and both eyes of a landmark set; empty when the set has no frame.
+    pub fn all(points: &[Vec3]) -> Vec<Opening> {
+        let Some(frame) = FaceFrame::of(points) else {
+            return Vec::new();
+        };
+        let p = |i: usize| points[i].as_dvec3();
+        let mouth_height = p(33).distance(p(8));
+        let eye_height = frame.eyes_to_mouth;
+        vec![
+            Opening::new(
+                "mouth",
+                frame,
+                points,
+                (&INNER_UPPER, &INNER_LOWER),
+                (0.5 * mouth_height, mouth_height),
+            ),
+            Opening::new(
+                "right eye",
+                frame,
+                points,
+                (&RIGHT_EYE_UPPER, &RIGHT_EYE_LOWER),
+                (0.5 * eye_height, 0.5 * eye_height),
+            ),
+            Opening::new(
+                "left eye",
+                frame,
+                points,
+                (&LEFT_EYE_UPPER, &LEFT_EYE_LOWER),
+                (0.5 * eye_height, 0.5 * eye_height),
+            ),
+        ]
+    }
+
+    fn new(
+        name: &'static str,
+        frame: FaceFrame,
+        points: &[Vec3],
+        (upper, lower): (&[usize], &[usize]),
+        (reach_up, reach_down): (f64, f64),
+    ) -> Opening {
+        let mid: Vec<DVec3> = upper
+            .iter()
+            .zip(lower)
+            .map(|(&u, &l)| 0.5 * (points[u].as_dvec3() + points[l].as_dvec3()))
+            .collect();
+        let origin = mid.iter().copied().sum::<DVec3>() / mid.len() as f64;
+        let mut line: Vec<(f64, f64)> = mid
+            .iter()
+            .map(|&m| {
+                let l = frame.local(origin, m);
+                (l.x, l.y)
+            })
+            .collect();
+        line.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let half_width = 0.5 * (line[line.len() - 1].0 - line[0].0).abs();
+        Opening {
+            name,
+            frame,
+            origin,
+            line,
+            half_width,
+            reach_up,
+            reach_down,
+            depth: 2.0 * half_width,
+        }
+    }
+
+    /// The line's height (frame `up`) at `across`, held level beyond the corners.
+    fn line_height(&self, across: f64) -> f64 {
+        let line = &self.line;
+        if across <= line[0].0 {
+            return line[0].1;
+        }
+        for w in line.windows(2) {
+            if across <= w[1].0 {
+                let span = w[1].0 - w[0].0;
+                let t = if span > 0.0 {
+                    (across - w[0].0) / span
+                } else {
+                    0.0
+                };
+                return w[0].1 + t * (w[1].1 - w[0].1);
+            }
+        }
+        line[line.len() - 1].1
+    }
+
+    /// 1 between the corners, falling smoothly to 0 at them.
+    fn across_weight(&self, across: f64) -> f64 {
+        let centre = 0.5 * (self.line[0].0 + self.line[self.line.len() - 1].0);
+        let t = (across - centre).abs() / self.half_width.max(1e-300);
+        1.0 - smoothstep(0.7, 1.0, t)
+    }
+
+    /// How much `p` belongs to the given side of the opening: 0 outside the zone, up to 1
+    /// between the corners, on that side of the line.
+    pub fn side_weight(&self, p: Vec3, side: Side) -> f64 {
+        let local = self.frame.local(self.origin, p.as_dvec3());
+        if local.z < -self.depth {
+            return 0.0;
+        }
+        let dy = local.y - self.line_height(local.x);
+        let inside = match side {
+            Side::Upper => dy > 0.0 && dy < self.reach_up,
+            Side::Lower => dy <= 0.0 && -dy < self.reach_down,
+        };
+        if inside {
+            self.across_weight(local.x)
+        } else {
+            0.0
+        }
+    }
+
+    /// The side of the opening a muscle acting at `p` works on: `None` when it acts at the
+    /// corners, outside the opening's width, or far away.
+    pub fn side_of(&self, p: Vec3) -> Option<Side> {
+        let local = self.frame.local(self.origin, p.as_dvec3());
+        let centre = 0.5 * (self.line[0].0 + self.line[self.line.len() - 1].0);
+        if (local.x - centre).abs() >= self.half_width {
+            return None;
+        }
+        let dy = local.y - self.line_height(local.x);
+        let margin = 0.2 * self.half_width;
+        if dy > margin {
+            Some(Side::Upper)
+        } else if dy < -margin {
+            Some(Side::Lower)
+        } else {
+            None
+        }
+    }
+}
+
+/// Hermite smoothstep: 0 below `a`, 1 above `b`.
+pub fn smoothstep(a: f64, b: f64, x: f64) -> f64 {
+    let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}

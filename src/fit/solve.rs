@@ -1,0 +1,409 @@
+//! Fitting an AU entry to a target shape: the muscle activations (0 to 2) and jaw activation
+//! (0 to 4) whose deformation best reproduces the target's displacement from rest.
+//!
+//! For a fixed jaw activation the deformation is affine in the muscle activations (each
+//! vertex's jaw blend is an affine map of its post-muscle position), so the muscles come from
+//! a box-constrained linear least-squares problem solved exactly by an active-set method. The
+//! jaw is found by a scan and a golden-section search over its range around that.
+
+use glam::{DMat3, DVec3, Vec3};
+use thiserror::Error;
+
+use crate::model::{Activations, BoundRig, JAW_RANGE, MUSCLE_RANGE};
+
+/// Why a target cannot be fitted.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SolveError {
+    /// The target has another vertex count than the rig's mesh.
+    #[error("the target has {given} vertices but the rig's mesh has {expected}; a target must be the same mesh, vertex for vertex")]
+    VertexCount {
+        /// Vertices in the target.
+        given: usize,
+        /// Vertices in the rig's mesh.
+        expected: usize,
+    },
+    /// The target does not differ from the rest shape.
+    #[error("the target is the rest shape: nothing to fit")]
+    NoDisplacement,
+}
+
+/// The result of fitting one target.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AuFit {
+    /// The best activations.
+    pub activations: Activations,
+    /// `1 - |residual|^2 / |target|^2` over all vertices.
+    pub explained: f64,
+}
+
+/// Fits activations to a target shape of the bound rig's mesh.
+pub fn fit_au(bound: &BoundRig, target: &[Vec3]) -> Result<AuFit, SolveError> {
+    let rest = bound.rest();
+    if target.len() != rest.len() {
+        return Err(SolveError::VertexCount {
+            given: target.len(),
+            expected: rest.len(),
+        });
+    }
+    let problem = Problem::new(bound, target);
+    if problem.target_norm.is_nan() || problem.target_norm <= 0.0 {
+        return Err(SolveError::NoDisplacement);
+    }
+    let (jaw, muscles, residual) = problem.best_jaw();
+    let activations = Activations {
+        muscles: muscles
+            .iter()
+            .map(|&a| clean(a, *MUSCLE_RANGE.end()))
+            .collect(),
+        jaw: clean(jaw, *JAW_RANGE.end()),
+    };
+    Ok(AuFit {
+        activations,
+        explained: 1.0 - residual / problem.target_norm,
+    })
+}
+
+/// An activation in range, with values within rounding of a bound set to it.
+fn clean(a: f64, hi: f32) -> f32 {
+    let a = a.clamp(0.0, f64::from(hi)) as f32;
+    if a < 1e-6 {
+        0.0
+    } else if (hi - a).abs() < 1e-6 {
+        hi
+    } else {
+        a
+    }
+}
+
+/// One vertex the rig moves: its rest position, target displacement, jaw weight and muscle
+/// entries.
+struct Row {
+    rest: DVec3,
+    target: DVec3,
+    jaw: f64,
+    entries: Vec<(usize, DVec3)>,
+}
+
+struct Problem {
+    rows: Vec<Row>,
+    muscles: usize,
+    /// `|target - rest|^2` over all vertices.
+    target_norm: f64,
+    /// `|target - rest|^2` over the vertices no muscle or jaw moves (always residual).
+    fixed_residual: f64,
+    pivot: DVec3,
+    axis: DVec3,
+    radians_per_unit: f64,
+}
+
+impl Problem {
+    fn new(bound: &BoundRig, target: &[Vec3]) -> Problem {
+        let rest = bound.rest();
+        let rig = bound.rig();
+        let n = rest.len();
+        let mut entries: Vec<Vec<(usize, DVec3)>> = vec![Vec::new(); n];
+        for m in 0..bound.muscle_count() {
+            if let Some(field) = bound.field(m) {
+                for (&v, d) in field.vertices.iter().zip(&field.displacements) {
+                    entries[v as usize].push((m, d.as_dvec3()));
+                }
+            }
+        }
+        let mut jaw = vec![0.0; n];
+        if let Some(j) = &rig.jaw {
+            for &(v, w) in &j.weights {
+                if let Some(slot) = jaw.get_mut(v as usize) {
+                    *slot = f64::from(w);
+                }
+            }
+        }
+        let mut rows = Vec::new();
+        let mut target_norm = 0.0;
+        let mut fixed_residual = 0.0;
+        for (v, row_entries) in entries.into_iter().enumerate() {
+            let d = target[v].as_dvec3() - rest[v].as_dvec3();
+            target_norm += d.length_squared();
+            if row_entries.is_empty() && jaw[v] == 0.0 {
+                fixed_residual += d.length_squared();
+                continue;
+            }
+            rows.push(Row {
+                rest: rest[v].as_dvec3(),
+                target: d,
+                jaw: jaw[v],
+                entries: row_entries,
+            });
+        }
+        let (pivot, axis, radians_per_unit) = match &rig.jaw {
+            Some(j) => (
+                j.pivot.as_dvec3(),
+                j.axis.as_dvec3().normalize_or(DVec3::X),
+                f64::from(j.degrees_per_unit).to_radians(),
+            ),
+            None => (DVec3::ZERO, DVec3::X, 0.0),
+        };
+        Problem {
+            rows,
+            muscles: bound.muscle_count(),
+            target_norm,
+            fixed_residual,
+            pivot,
+            axis,
+            radians_per_unit,
+        }
+    }
+
+    /// The best jaw activation with its muscles and residual: a scan of the jaw's range, then
+    /// a golden-section search around the best sample.
+    fn best_jaw(&self) -> (f64, Vec<f64>, f64) {
+        let hi = f64::from(*JAW_RANGE.end());
+        if self.radians_per_unit == 0.0 || self.rows.iter().all(|r| r.jaw == 0.0) {
+            let (m, r) = self.muscles_at(0.0);
+            return (0.0, m, r);
+        }
+        let steps = 16;
+        let samples: Vec<(f64, f64)> = (0..=steps)
+            .map(|i| {
+                let k = hi * i as f64 / steps as f64;
+                (k, self.muscles_at(k).1)
+            })
+            .collect();
+        let best = (0..samples.len())
+            .min_by(|&a, &b| samples[a].1.total_cmp(&samples[b].1))
+            .unwrap_or(0);
+        let step = hi / steps as f64;
+        let (mut a, mut b) = (
+            (samples[best].0 - step).max(0.0),
+            (samples[best].0 + step).min(hi),
+        );
+        let ratio = 0.5 * (5f64.sqrt() - 1.0);
+        let mut c = b - ratio * (b - a);
+        let mut d = a + ratio * (b - a);
+        let (mut fc, mut fd) = (self.muscles_at(c).1, self.muscles_at(d).1);
+        for _ in 0..60 {
+            if (b - a) < 1e-9 {
+                break;
+            }
+            if fc < fd {
+                b = d;
+                d = c;
+                fd = fc;
+                c = b - ratio * (b - a);
+                fc = self.muscles_at(c).1;
+            } else {
+                a = c;
+                c = d;
+                fc = fd;
+                d = a + ratio * (b - a);
+                fd = self.muscles_at(d).1;
+            }
+        }
+        let mut candidates = vec![0.5 * (a + b), samples[best].0];
+        candidates.extend([0.0, hi]);
+        candidates
+            .into_iter()
+            .map(|k| {
+                let (m, r) = self.muscles_at(k);
+                (k, m, r)
+            })
+            .min_by(|x, y| x.2.total_cmp(&y.2))
+            .unwrap_or((0.0, vec![0.0; self.muscles], self.target_norm))
+    }
+
+    /// The best muscle activations for jaw activation `k`, and the residual `|r|^2`.
+    fn muscles_at(&self, k: f64) -> (Vec<f64>, f64) {
+        let rotation = DMat3::from_axis_angle(self.axis, k * self.radians_per_unit);
+        let m = self.muscles;
+        let mut gram = vec![0.0; m * m];
+        let mut rhs = vec![0.0; m];
+        let mut constant = self.fixed_residual;
+        // Per vertex: deformed = B (rest + sum a_i f_i) + (1 - B)-part, with
+        // B = w R + (1 - w) I about the pivot; displacement = B f . a + (B rest + c - rest).
+        let mut columns: Vec<(usize, DVec3)> = Vec::new();
+        for row in &self.rows {
+            let w = row.jaw;
+            let blend = |p: DVec3| p + (rotation * p - p) * w;
+            let base = self.pivot + blend(row.rest - self.pivot) - row.rest;
+            let r0 = row.target - base;
+            constant += r0.length_squared();
+            columns.clear();
+            columns.extend(row.entries.iter().map(|&(i, f)| (i, blend(f))));
+            for &(i, fi) in &columns {
+                rhs[i] += fi.dot(r0);
+                for &(j, fj) in &columns {
+                    gram[i * m + j] += fi.dot(fj);
+                }
+            }
+        }
+        let lo = 0.0;
+        let hi = f64::from(*MUSCLE_RANGE.end());
+        let x = box_least_squares(&gram, &rhs, m, lo, hi);
+        // |r|^2 = constant - 2 x.rhs + x G x
+        let mut quad = 0.0;
+        for i in 0..m {
+            for j in 0..m {
+                quad += x[i] * gram[i * m + j] * x[j];
+            }
+        }
+        let lin: f64 = x.iter().zip(&rhs).map(|(a, b)| a * b).sum();
+        (x, (constant - 2.0 * lin + quad).max(0.0))
+    }
+}
+
+/// Minimises `x G x / 2 - c x` over `lo <= x <= hi` (G symmetric positive semi-definite) by
+/// a primal active-set method; a tiny ridge makes indistinguishable muscles share.
+fn box_least_squares(gram: &[f64], c: &[f64], m: usize, lo: f64, hi: f64) -> Vec<f64> {
+    let trace: f64 = (0..m).map(|i| gram[i * m + i]).sum();
+    let ridge = 1e-10 * trace.max(1e-300) / m.max(1) as f64;
+    let g = |i: usize, j: usize| gram[i * m + j] + if i == j { ridge } else { 0.0 };
+    // Muscles that move nothing stay at 0.
+    let live: Vec<bool> = (0..m).map(|i| gram[i * m + i] > 0.0).collect();
+    let mut x = vec![lo; m];
+    // free[i]: not held at a bound.
+    let mut free: Vec<bool> = vec![false; m];
+    for _ in 0..(4 * m + 20) {
+        // Release the bound variable whose gradient most wants to move inward.
+        let grad: Vec<f64> = (0..m)
+            .map(|i| (0..m).map(|j| g(i, j) * x[j]).sum::<f64>() - c[i])
+            .collect();
+        let scale = 1e-12 * (1.0 + c.iter().fold(0.0f64, |a, v| a.max(v.abs())));
+        let release = (0..m)
+            .filter(|&i| live[i] && !free[i])
+            .filter(|&i| (x[i] <= lo && grad[i] < -scale) || (x[i] >= hi && grad[i] > scale))
+            .max_by(|&a, &b| grad[a].abs().total_cmp(&grad[b].abs()));
+        let Some(i) = release else {
+            if free.iter().any(|&f| f) && !inner(&g, c, &mut x, &mut free, lo, hi) {
+                continue;
+            }
+            return x;
+        };
+        free[i] = true;
+        while !inner(&g, c, &mut x, &mut free, lo, hi) {}
+    }
+    x
+}
+
+/// Solves for the free variables with the others held; if the solution leaves the box, steps
+/// toward it until the first variable hits a bound, holds that one and returns `false`.
+fn inner(
+    g: &dyn Fn(usize, usize) -> f64,
+    c: &[f64],
+    x: &mut [f64],
+    free: &mut [bool],
+    lo: f64,
+    hi: f64,
+) -> bool {
+    let ids: Vec<usize> = (0..x.len()).filter(|&i| free[i]).collect();
+    if ids.is_empty() {
+        return true;
+    }
+    let k = ids.len();
+    let mut a = vec![0.0; k * k];
+    let mut b = vec![0.0; k];
+    for (r, &i) in ids.iter().enumerate() {
+        b[r] = c[i]
+            - (0..x.len())
+                .filter(|&j| !free[j])
+                .map(|j| g(i, j) * x[j])
+                .sum::<f64>();
+        for (s, &j) in ids.iter().enumerate() {
+            a[r * k + s] = g(i, j);
+        }
+    }
+    let Some(solution) = cholesky_solve(a, b, k) else {
+        // Singular even with the ridge: hold the last released variable where it is.
+        if let Some(&last) = ids.last() {
+            free[last] = false;
+        }
+        return true;
+    };
+    let mut step = 1.0f64;
+    let mut blocking = None;
+    for (r, &i) in ids.iter().enumerate() {
+        let target = solution[r];
+        let delta = target - x[i];
+        if target < lo && delta < 0.0 {
+            let t = (lo - x[i]) / delta;
+            if t < step {
+                step = t;
+                blocking = Some((i, lo));
+            }
+        } else if target > hi && delta > 0.0 {
+            let t = (hi - x[i]) / delta;
+            if t < step {
+                step = t;
+                blocking = Some((i, hi));
+            }
+        }
+    }
+    for (r, &i) in ids.iter().enumerate() {
+        x[i] += step.max(0.0) * (solution[r] - x[i]);
+    }
+    match blocking {
+        Some((i, bound)) => {
+            x[i] = bound;
+            free[i] = false;
+            false
+        }
+        None => true,
+    }
+}
+
+/// Solves a symmetric positive definite system by Cholesky; `None` when not definite.
+fn cholesky_solve(mut a: Vec<f64>, mut b: Vec<f64>, n: usize) -> Option<Vec<f64>> {
+    for j in 0..n {
+        let mut d = a[j * n + j];
+        for k in 0..j {
+            d -= a[j * n + k] * a[j * n + k];
+        }
+        if d.is_nan() || d <= 0.0 {
+            return None;
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        for i in j + 1..n {
+            let mut s = a[i * n + j];
+            for k in 0..j {
+                s -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = s / d;
+        }
+    }
+    for i in 0..n {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= a[i * n + k] * b[k];
+        }
+        b[i] = s / a[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in i + 1..n {
+            s -= a[k * n + i] * b[k];
+        }
+        b[i] = s / a[i * n + i];
+    }
+    Some(b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn box_least_squares_clamps_and_solves() {
+        // G = I: the solution is c clamped to the box.
+        let g = vec![1.0, 0.0, 0.0, 1.0];
+        let x = box_least_squares(&g, &[0.5, 3.0], 2, 0.0, 2.0);
+        assert!(
+            (x[0] - 0.5).abs() < 1e-9 && (x[1] - 2.0).abs() < 1e-9,
+            "{x:?}"
+        );
+        let x = box_least_squares(&g, &[-1.0, 1.0], 2, 0.0, 2.0);
+        assert!(x[0].abs() < 1e-9 && (x[1] - 1.0).abs() < 1e-9, "{x:?}");
+        // Coupled: G = [[2,1],[1,2]], c = [3, 0]: unconstrained (2,-1); with x2 >= 0: x1 = 1.5.
+        let g = vec![2.0, 1.0, 1.0, 2.0];
+        let x = box_least_squares(&g, &[3.0, 0.0], 2, 0.0, 2.0);
+        assert!((x[0] - 1.5).abs() < 1e-9 && x[1].abs() < 1e-9, "{x:?}");
+    }
+}

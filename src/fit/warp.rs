@@ -1,0 +1,366 @@
+//! The map from a template face to a target face: a similarity (rotation, uniform scale,
+//! translation) that best aligns the landmarks, then a thin-plate spline that takes each
+//! aligned template landmark onto its target landmark and bends space smoothly in between.
+//!
+//! Everything is computed in `f64`. The spline uses the 3D biharmonic kernel `|r|` with a
+//! small regularisation so repeated or nearly repeated landmarks do not make it singular.
+
+use glam::{DMat3, DVec3, Vec3};
+
+/// A rotation, uniform scale and translation: `x -> scale * rotation * x + translation`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Similarity {
+    /// A proper rotation (determinant +1).
+    pub rotation: DMat3,
+    /// The uniform scale.
+    pub scale: f64,
+    /// The translation.
+    pub translation: DVec3,
+}
+
+impl Similarity {
+    /// Applies the similarity to a point.
+    pub fn apply(&self, p: DVec3) -> DVec3 {
+        self.rotation * p * self.scale + self.translation
+    }
+
+    /// The least-squares similarity taking `from[i]` to `to[i]` (Umeyama 1991), restricted
+    /// to proper rotations; `None` when either set has no spread.
+    pub fn fit(from: &[DVec3], to: &[DVec3]) -> Option<Similarity> {
+        let n = from.len().min(to.len());
+        if n == 0 {
+            return None;
+        }
+        let mean_from = from[..n].iter().copied().sum::<DVec3>() / n as f64;
+        let mean_to = to[..n].iter().copied().sum::<DVec3>() / n as f64;
+        let mut cov = DMat3::ZERO;
+        let mut var_from = 0.0;
+        for (a, b) in from[..n].iter().zip(&to[..n]) {
+            let (a, b) = (*a - mean_from, *b - mean_to);
+            cov += outer(b, a);
+            var_from += a.length_squared();
+        }
+        cov *= 1.0 / n as f64;
+        var_from /= n as f64;
+        if var_from.is_nan() || var_from <= 0.0 {
+            return None;
+        }
+        let (u, s, v) = svd3(cov);
+        let mut d = DVec3::ONE;
+        if (u.determinant() * v.determinant()) < 0.0 {
+            d.z = -1.0;
+        }
+        let rotation = u * DMat3::from_diagonal(d) * v.transpose();
+        let scale = s.dot(d) / var_from;
+        if !(scale > 0.0 && scale.is_finite()) {
+            return None;
+        }
+        let translation = mean_to - rotation * mean_from * scale;
+        Some(Similarity {
+            rotation,
+            scale,
+            translation,
+        })
+    }
+}
+
+fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
+}
+
+/// Singular value decomposition of a 3x3 matrix, `m = u diag(s) v^T`, by Jacobi iterations
+/// on `m^T m`. Singular values are sorted, largest first.
+fn svd3(m: DMat3) -> (DMat3, DVec3, DMat3) {
+    let (values, v) = symmetric_eigen(m.transpose() * m);
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| values[b].total_cmp(&values[a]));
+    let v = DMat3::from_cols(v.col(order[0]), v.col(order[1]), v.col(order[2]));
+    let s = DVec3::new(
+        values[order[0]].max(0.0).sqrt(),
+        values[order[1]].max(0.0).sqrt(),
+        values[order[2]].max(0.0).sqrt(),
+    );
+    // u's columns are m v_i / s_i; complete the basis where a singular value vanishes.
+    let mut cols = [DVec3::ZERO; 3];
+    for i in 0..3 {
+        let c = m * v.col(i);
+        cols[i] = if s[i] > 1e-12 * s[0].max(1e-300) {
+            c / s[i]
+        } else {
+            DVec3::ZERO
+        };
+    }
+    if cols[1] == DVec3::ZERO {
+        cols[1] = cols[0].any_orthonormal_vector();
+    }
+    if cols[2] == DVec3::ZERO || cols[2].length() < 0.5 {
+        cols[2] = cols[0].cross(cols[1]).normalize_or_zero();
+    }
+    (DMat3::from_cols(cols[0], cols[1], cols[2]), s, v)
+}
+
+/// Eigenvalues and eigenvectors (columns) of a symmetric 3x3 matrix (cyclic Jacobi).
+#[allow(clippy::needless_range_loop)]
+fn symmetric_eigen(m: DMat3) -> ([f64; 3], DMat3) {
+    let mut a = m.to_cols_array_2d();
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..64 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        if off < 1e-300 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q].abs() < 1e-300 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in &mut v {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    // `v` holds eigenvectors as columns in row-major storage.
+    let vecs = DMat3::from_cols(
+        DVec3::new(v[0][0], v[1][0], v[2][0]),
+        DVec3::new(v[0][1], v[1][1], v[2][1]),
+        DVec3::new(v[0][2], v[1][2], v[2][2]),
+    );
+    ([a[0][0], a[1][1], a[2][2]], vecs)
+}
+
+/// The template-to-target map: a similarity followed by a thin-plate spline correction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Warp {
+    /// The similarity that aligns the template landmarks with the target's.
+    pub similarity: Similarity,
+    /// The spline's centres: the template landmarks after the similarity.
+    centres: Vec<DVec3>,
+    /// One weight vector per centre.
+    weights: Vec<DVec3>,
+    /// Affine part of the correction: `affine * x + offset`.
+    affine: DMat3,
+    offset: DVec3,
+    /// A length typical of the landmark set (RMS distance from their centroid, target units).
+    pub spread: f64,
+}
+
+/// Regularisation of the spline relative to the landmark spread: small enough that the
+/// landmarks are matched to a tiny fraction of the face, large enough that two landmarks on
+/// one point do not make the system singular.
+const SMOOTHING: f64 = 1e-4;
+
+impl Warp {
+    /// The warp taking `template[i]` to `target[i]`; `None` when a set has no spread or the
+    /// spline's system cannot be solved.
+    pub fn fit(template: &[Vec3], target: &[Vec3]) -> Option<Warp> {
+        let from: Vec<DVec3> = template.iter().map(|p| p.as_dvec3()).collect();
+        let to: Vec<DVec3> = target.iter().map(|p| p.as_dvec3()).collect();
+        let similarity = Similarity::fit(&from, &to)?;
+        let centres: Vec<DVec3> = from.iter().map(|&p| similarity.apply(p)).collect();
+        let spread = rms_spread(&to);
+        let n = centres.len();
+        let size = n + 4;
+        // [K + lambda I, P; P^T, 0] [w; a] = [y; 0], one right-hand side per coordinate.
+        let mut a = vec![0.0; size * size];
+        let lambda = SMOOTHING * spread;
+        for i in 0..n {
+            for j in 0..n {
+                a[i * size + j] = centres[i].distance(centres[j]);
+            }
+            a[i * size + i] += lambda;
+            let row = [1.0, centres[i].x, centres[i].y, centres[i].z];
+            for (k, value) in row.iter().enumerate() {
+                a[i * size + n + k] = *value;
+                a[(n + k) * size + i] = *value;
+            }
+        }
+        let mut rhs = vec![[0.0; 3]; size];
+        for i in 0..n {
+            let d = to[i] - centres[i];
+            rhs[i] = [d.x, d.y, d.z];
+        }
+        let solution = solve_dense(a, rhs, size)?;
+        let weights = solution[..n].iter().map(|r| DVec3::from(*r)).collect();
+        let [c, x, y, z] = [
+            solution[n],
+            solution[n + 1],
+            solution[n + 2],
+            solution[n + 3],
+        ]
+        .map(DVec3::from);
+        Some(Warp {
+            similarity,
+            centres,
+            weights,
+            affine: DMat3::from_cols(x, y, z),
+            offset: c,
+            spread,
+        })
+    }
+
+    /// Maps a template point into the target's space.
+    pub fn apply(&self, p: DVec3) -> DVec3 {
+        let q = self.similarity.apply(p);
+        let mut d = self.affine * q + self.offset;
+        for (c, w) in self.centres.iter().zip(&self.weights) {
+            d += *w * q.distance(*c);
+        }
+        q + d
+    }
+
+    /// [`Warp::apply`] for `f32` points.
+    pub fn apply_f32(&self, p: Vec3) -> Vec3 {
+        self.apply(p.as_dvec3()).as_vec3()
+    }
+
+    /// The warp's Jacobian at template point `p` (central differences).
+    pub fn jacobian(&self, p: DVec3) -> DMat3 {
+        let h = 1e-4 * self.spread.max(1e-12) / self.similarity.scale;
+        let col = |e: DVec3| (self.apply(p + e * h) - self.apply(p - e * h)) / (2.0 * h);
+        DMat3::from_cols(col(DVec3::X), col(DVec3::Y), col(DVec3::Z))
+    }
+
+    /// The local scale at template point `p`: the cube root of the Jacobian's determinant.
+    pub fn local_scale(&self, p: DVec3) -> f64 {
+        self.jacobian(p).determinant().abs().cbrt()
+    }
+
+    /// How far the spline bends: the largest landmark correction after the similarity,
+    /// relative to the landmark spread.
+    pub fn bend(&self, target: &[Vec3]) -> f64 {
+        self.centres
+            .iter()
+            .zip(target)
+            .map(|(c, t)| c.distance(t.as_dvec3()))
+            .fold(0.0, f64::max)
+            / self.spread.max(1e-300)
+    }
+}
+
+/// The root-mean-square distance of points from their centroid.
+pub fn rms_spread(points: &[DVec3]) -> f64 {
+    if points.is_empty() {
+        return 0.0;
+    }
+    let mean = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    (points.iter().map(|p| p.distance_squared(mean)).sum::<f64>() / points.len() as f64).sqrt()
+}
+
+/// Solves `a x = rhs` (row-major `size` x `size`, three right-hand sides) by Gaussian
+/// elimination with partial pivoting; `None` when singular.
+#[allow(clippy::needless_range_loop)]
+fn solve_dense(mut a: Vec<f64>, mut rhs: Vec<[f64; 3]>, size: usize) -> Option<Vec<[f64; 3]>> {
+    let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for col in 0..size {
+        let pivot = (col..size)
+            .max_by(|&i, &j| a[i * size + col].abs().total_cmp(&a[j * size + col].abs()))?;
+        if a[pivot * size + col].abs().is_nan() || a[pivot * size + col].abs() <= 1e-13 * scale {
+            return None;
+        }
+        if pivot != col {
+            for k in 0..size {
+                a.swap(pivot * size + k, col * size + k);
+            }
+            rhs.swap(pivot, col);
+        }
+        let p = a[col * size + col];
+        for row in col + 1..size {
+            let f = a[row * size + col] / p;
+            if f == 0.0 {
+                continue;
+            }
+            for k in col..size {
+                a[row * size + k] -= f * a[col * size + k];
+            }
+            for c in 0..3 {
+                rhs[row][c] -= f * rhs[col][c];
+            }
+        }
+    }
+    let mut x = vec![[0.0; 3]; size];
+    for row in (0..size).rev() {
+        for c in 0..3 {
+            let mut s = rhs[row][c];
+            for k in row + 1..size {
+                s -= a[row * size + k] * x[k][c];
+            }
+            x[row][c] = s / a[row * size + row];
+        }
+    }
+    x.iter()
+        .all(|r| r.iter().all(|v| v.is_finite()))
+        .then_some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cloud() -> Vec<Vec3> {
+        (0..30)
+            .map(|i| {
+                let t = i as f32;
+                Vec3::new(
+                    (t * 1.7).sin() * 3.0,
+                    (t * 0.9).cos() * 2.0,
+                    (t * 0.37).sin(),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn similarity_is_recovered_exactly() {
+        let from = cloud();
+        let rotation = glam::Quat::from_euler(glam::EulerRot::XYZ, 0.7, -1.2, 2.1);
+        let to: Vec<Vec3> = from
+            .iter()
+            .map(|p| rotation * *p * 25.4 + Vec3::new(100.0, -3.0, 7.0))
+            .collect();
+        let warp = Warp::fit(&from, &to).unwrap();
+        assert!((warp.similarity.scale - 25.4).abs() < 1e-4);
+        for (a, b) in from.iter().zip(&to) {
+            assert!(warp.apply_f32(*a).distance(*b) < 1e-3);
+        }
+        let probe = Vec3::new(0.3, -0.2, 0.5);
+        let want = rotation * probe * 25.4 + Vec3::new(100.0, -3.0, 7.0);
+        assert!(warp.apply_f32(probe).distance(want) < 1e-3);
+        assert!((warp.local_scale(probe.as_dvec3()) - 25.4).abs() < 1e-3);
+    }
+
+    #[test]
+    fn spline_matches_landmarks_after_a_bend() {
+        let from = cloud();
+        let to: Vec<Vec3> = from
+            .iter()
+            .map(|p| *p + Vec3::new(0.1 * p.y * p.y, 0.05 * p.x, 0.0))
+            .collect();
+        let warp = Warp::fit(&from, &to).unwrap();
+        for (a, b) in from.iter().zip(&to) {
+            assert!(warp.apply_f32(*a).distance(*b) < 2e-3, "{a} -> {b}");
+        }
+    }
+
+    #[test]
+    fn no_spread_means_no_warp() {
+        let from = vec![Vec3::ONE; 10];
+        assert!(Warp::fit(&from, &cloud()[..10]).is_none());
+        assert!(Warp::fit(&cloud()[..10], &from).is_none());
+    }
+}
