@@ -100,8 +100,15 @@ fn every_openface_sample_plays_on_the_default_face() {
         assert!(out.status.success(), "{name}: {}", stderr(&out));
         let text = String::from_utf8(out.stdout.clone()).unwrap();
         assert_eq!(text.lines().last(), Some(summary), "{name}");
-        // The default table records all 17 AUs OpenFace reports: nothing to warn about.
-        assert!(stderr(&out).is_empty(), "{name}: {}", stderr(&out));
+        // The default table records all 17 AUs OpenFace reports: nothing to warn about, at
+        // most the count of rows where OpenFace found no face.
+        let err = stderr(&out);
+        assert!(
+            err.is_empty()
+                || (err.lines().count() == 1
+                    && err.ends_with(" untracked (no face found, success 0)\n")),
+            "{name}: {err}"
+        );
     }
 }
 

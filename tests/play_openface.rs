@@ -57,10 +57,15 @@ fn unityhdrp_skips_the_five_untracked_rows() {
     assert_eq!(last, "played 20 frames, skipped 5");
     assert_eq!(frames.len(), 20);
     assert!(frames[19].starts_with("0.760 "), "{}", frames[19]);
-    // Untracked rows are skipped silently: only the missing-AU notice is on stderr.
+    // Untracked rows are not named one by one, only counted at the end, after the
+    // missing-AU notice.
     let err = stderr(&out);
-    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(err.lines().count(), 2, "{err}");
     assert!(err.contains("the AU table has no AU2, AU4"), "{err}");
+    assert!(
+        err.ends_with("skipped 5 rows: 5 untracked (no face found, success 0)\n"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -123,7 +128,7 @@ fn malformed_rows_are_named_by_line_and_skipped() {
     );
     let err = stderr(&out);
     assert!(
-        err.contains("bad.csv:3: 4 fields, but the header has 5 (row skipped)"),
+        err.contains("bad.csv:3: 4 of 5 fields, the row is cut short (row skipped)"),
         "{err}"
     );
     assert!(
@@ -154,7 +159,7 @@ fn strict_stops_at_the_first_malformed_row() {
         "{frames:?} {last}"
     );
     assert!(
-        stderr(&out).contains("bad.csv:3: 4 fields"),
+        stderr(&out).contains("bad.csv:3: 4 of 5 fields, the row is cut short"),
         "{}",
         stderr(&out)
     );

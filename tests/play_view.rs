@@ -252,7 +252,7 @@ fn reaches_the_end_of_a_file_and_says_so() {
     let screen = session.screen();
     assert!(screen.contains("played 2 frames, skipped 2"), "{screen}");
     assert!(
-        screen.contains("short.csv:5: 1 fields"),
+        screen.contains("short.csv:5: 1 of 3 fields, the row is cut short"),
         "malformed row named: {screen}"
     );
 }

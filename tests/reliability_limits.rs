@@ -161,8 +161,8 @@ fn a_face_index_past_the_vertex_limit_is_refused_before_any_allocation() {
     );
 }
 
-/// A header of a million columns (about 7 MiB): the reader keeps at most MAX_LINE_BYTES of
-/// any line, so memory stays bounded; rows are read against the columns it kept.
+/// A header of a million columns (about 7 MiB): longer than MAX_LINE_BYTES, so refused with
+/// its length, read past in bounded memory.
 fn million_column_csv(rows: usize) -> String {
     let mut text = String::from("frame,success,AU12_r");
     for i in 0..1_000_000 {
@@ -178,26 +178,42 @@ fn million_column_csv(rows: usize) -> String {
 }
 
 #[test]
-fn a_csv_header_of_a_million_columns_is_read_in_bounded_memory() {
+fn a_csv_header_of_a_million_columns_is_refused_with_its_length() {
     let text = million_column_csv(2);
-    let mut reader = OpenFaceReader::new(text.as_bytes(), Path::new("wide.csv")).unwrap();
-    let columns = reader.columns().clone();
-    // The header was cut at MAX_LINE_BYTES: fewer columns than written, each one real.
-    assert!(columns.field_count < 1_000_003);
-    assert!(
-        columns.field_count > MAX_LINE_BYTES / 16,
-        "{}",
-        columns.field_count
+    let header = text.lines().next().unwrap().len();
+    let err = OpenFaceReader::new(text.as_bytes(), Path::new("wide.csv")).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        format!(
+            "wide.csv:1: the header: the line is {header} bytes long, more than the limit of {} MiB (skipped unread)",
+            MAX_LINE_BYTES >> 20
+        )
     );
-    assert_eq!(columns.aus.len(), 1);
-    let outcomes: Vec<RowOutcome> = reader.by_ref().map(Result::unwrap).collect();
-    assert_eq!(outcomes.len(), 2);
-    for outcome in outcomes {
-        match outcome {
-            RowOutcome::Row(row) => assert_eq!(row.intensities, vec![2.5]),
-            RowOutcome::Malformed(err) => assert!(!err.message.is_empty()),
+}
+
+/// Rows longer than the limit under a usable header are each skipped with their length.
+#[test]
+fn csv_rows_over_the_line_limit_are_skipped_with_their_length() {
+    let mut text = String::from("frame,success,AU12_r\n1,1,2.5\n");
+    let long = format!("2,1,2.5{}", ",0".repeat(MAX_LINE_BYTES));
+    text.push_str(&long);
+    text.push_str("\n3,1,1.5\n");
+    let reader = OpenFaceReader::new(text.as_bytes(), Path::new("long.csv")).unwrap();
+    let outcomes: Vec<RowOutcome> = reader.map(Result::unwrap).collect();
+    assert_eq!(outcomes.len(), 3);
+    match &outcomes[1] {
+        RowOutcome::Malformed(err) => {
+            assert_eq!(err.line, 3);
+            assert!(
+                err.message
+                    .starts_with(&format!("the line is {} bytes long", long.len())),
+                "{}",
+                err.message
+            );
         }
+        other => panic!("{other:?}"),
     }
+    assert!(matches!(&outcomes[2], RowOutcome::Row(r) if r.line == 4 && r.intensities == [1.5]));
 }
 
 #[test]
@@ -272,7 +288,7 @@ fn one_huge_obj_line_is_read_in_bounded_memory() {
 
 /// A rig of `count` centre sphincters spanning the whole built-in face.
 fn rig_of_sphincters(count: usize) -> String {
-    let mut text = String::from("(version: 1, mesh: \"builtin:face\", muscles: [\n");
+    let mut text = String::from("(version: 2, mesh: \"builtin:face\", muscles: [\n");
     for i in 0..count {
         let _ = writeln!(
             text,

@@ -43,9 +43,9 @@ pub struct EditArgs {
     /// The mesh to place the rig on (instead of the rig's own mesh).
     #[arg(long, value_name = "OBJ")]
     pub mesh: Option<PathBuf>,
-    /// Draw with ASCII characters instead of braille.
-    #[arg(long)]
-    pub ascii: bool,
+    /// Braille, half-block or ASCII cells.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
 }
 
 /// Runs the editor.
@@ -70,16 +70,16 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         (Some(_), None) => (new_table(args.rig.as_deref()), None, true),
         (None, None) => (builtin_table()?, None, false),
     };
-    let (rig, mesh) = load_face(args, &table, &table_path)?;
+    let (rig, mesh, notice) = load_face(args, &table, &table_path)?;
     if let Some(loaded) = &loaded {
         crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
     }
     let scene = Scene::new(rig, mesh)?;
     let mut app = App::new(scene, table, args.file.clone());
-    app.file_stamp = stamp;
-    app.view = View::new(args.ascii);
-    app.colors = Colors::from_env();
+    app.doc.file_stamp = stamp;
+    app.view = View::new(args.cells.mode());
+    app.view.colors = Colors::from_env();
     if new_file {
         if let Some(path) = &args.file {
             app.info(format!(
@@ -88,6 +88,9 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
             ));
         }
     }
+    if let Some(notice) = notice {
+        app.warn(notice);
+    }
     let mut session = Session {
         recovery: recovery::recovery_path(args.file.as_deref()),
         lock: None,
@@ -95,37 +98,55 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     if let Some(path) = &args.file {
         match lock::acquire(path) {
             LockOutcome::Acquired(lock) => session.lock = Some(lock),
-            LockOutcome::HeldBy { pid } => app.warn(format!(
-                "{} is already open in another grimace (process {pid}); saving here may undo its changes",
-                path.display()
-            )),
+            LockOutcome::HeldBy { pid } => {
+                // The other editor's recovery file is its own: neither offered, removed nor
+                // overwritten here.
+                session.recovery = None;
+                app.warn(format!(
+                    "{} is already open in another grimace (process {pid}); its recovery file is left alone, changes here are not kept for recovery, and saving here may undo its changes",
+                    path.display()
+                ));
+            }
             LockOutcome::Unavailable(why) => app.warn(format!("no lock file: {why}")),
         }
     }
-    if let Some(path) = &session.recovery {
-        offer_recovery(&mut app, path);
+    if let Some(path) = session.recovery.clone() {
+        if !offer_recovery(&mut app, &path) {
+            session.recovery = None;
+        }
     }
     Ok((app, session))
 }
 
-fn offer_recovery(app: &mut App, path: &Path) {
+/// Offers a recovery file back; `false` when it belongs to another grimace that still runs
+/// (then it is left alone, and this editor keeps no recovery file of its own).
+fn offer_recovery(app: &mut App, path: &Path) -> bool {
     match recovery::read(path) {
         Ok(Some(state)) => {
+            if let Some(owner) = state.live_owner() {
+                app.warn(format!(
+                    "{} belongs to another grimace (process {owner}) that is still running; it is left alone, and changes here are not kept for recovery",
+                    path.display()
+                ));
+                return false;
+            }
             let activations = state.activations(app.rig());
-            if activations == app.activations && state.table == app.table {
+            if activations == app.doc.activations && state.table == app.doc.table {
                 // Nothing that differs from what is on disk: nothing to offer.
                 let _ = recovery::remove(path);
-                return;
+                return true;
             }
             app.mode = Mode::Confirm(Question::Recover(Box::new(Recovered {
                 activations,
                 table: state.table,
                 when: describe_age(state.written_at),
+                base: state.base.map(|(len, hash)| FileStamp { len, hash }),
             })));
         }
         Ok(None) => {}
         Err(e) => app.warn(format!("the recovery file cannot be read: {e}")),
     }
+    true
 }
 
 fn describe_age(written_at: u64) -> String {
@@ -188,12 +209,17 @@ pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
 }
 
 /// The rig and mesh to edit with: `--rig` (a file or `builtin:NAME`) if given, else the
-/// table's rig; `--mesh` replaces the rig's mesh.
-fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<(Rig, Mesh), String> {
+/// table's rig; `--mesh` replaces the rig's mesh. Also what loading an older rig file did
+/// (see [`crate::io::LoadedRig::notice`]), for the status line.
+fn load_face(
+    args: &EditArgs,
+    table: &AuTable,
+    table_path: &Path,
+) -> Result<(Rig, Mesh, Option<String>), String> {
     let reference = match &args.rig {
         Some(rig) => rig.clone(),
         None => rig_ref(table_path, &table.rig).to_path(),
     };
     let loaded = load_rig_ref(&reference, args.mesh.as_deref()).map_err(|e| e.to_string())?;
-    Ok((loaded.rig, loaded.mesh))
+    Ok((loaded.rig, loaded.mesh, loaded.notice))
 }

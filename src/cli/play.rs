@@ -17,6 +17,7 @@ use crate::io::rig_file::LoadedRig;
 use crate::io::table_file::load_table_ref_for;
 use crate::io::timeline::load_timeline;
 use crate::model::Rig;
+use crate::play::skips::Skips;
 use crate::play::source::DEFAULT_FRAME_RATE;
 use crate::play::{
     AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, OpenFaceSource,
@@ -88,9 +89,9 @@ pub struct PlayArgs {
     /// Report frames shown, dropped and late at the end (on stderr).
     #[arg(long)]
     pub stats: bool,
-    /// Draw with ASCII characters instead of braille.
-    #[arg(long)]
-    pub ascii: bool,
+    /// Braille, half-block or ASCII cells.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
 }
 
 /// Runs `grimace play`, returning the first error (named with file, line and column).
@@ -223,6 +224,7 @@ fn play_headless(
     out: &mut impl Write,
 ) -> Result<Summary> {
     let mut summary = Summary::default();
+    let mut skips = Skips::default();
     let live = source.is_live();
     let wait = args.idle_timeout.map_or(LIVE_WAIT, Duration::from_secs_f64);
     let mut clock: Option<PlayClock> = None;
@@ -242,8 +244,9 @@ fn play_headless(
                         summary.stats.shown(lateness, Duration::ZERO);
                     }
                 }
+                // Live and real-time frames go out when they are due, not at the end.
                 let written = writeln!(out, "{}", frame_line(&frame, rig)).and_then(|()| {
-                    if live {
+                    if live || args.realtime {
                         out.flush()
                     } else {
                         Ok(())
@@ -254,12 +257,17 @@ fn play_headless(
                 }
                 summary.played += 1;
             }
-            Poll::Event(Event::Untracked { .. }) => summary.skipped += 1,
+            Poll::Event(Event::Untracked { .. }) => {
+                skips.untracked();
+                summary.skipped += 1;
+            }
             Poll::Event(Event::Malformed { message }) => {
                 if args.strict {
                     bail!("{message}");
                 }
-                eprintln!("{message} (row skipped)");
+                if let Some(line) = skips.malformed(&message) {
+                    eprintln!("{line}");
+                }
                 summary.skipped += 1;
             }
             Poll::Event(Event::Notice(notice)) => eprintln!("warning: {notice}"),
@@ -277,6 +285,9 @@ fn play_headless(
                 break;
             }
         }
+    }
+    if let Some(line) = skips.summary() {
+        eprintln!("{line}");
     }
     let written = writeln!(
         out,
@@ -343,6 +354,7 @@ mod view {
     use crate::facs::AuTable;
     use crate::model::deform::BoundRig;
     use crate::model::{Activations, Mesh, Rig};
+    use crate::play::skips::Skips;
     use crate::play::{AuMapper, Frame, FrameSource, Message, Player};
     use crate::render::{
         Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Rgb, Scene, Style,
@@ -411,7 +423,9 @@ mod view {
     struct Status {
         current: Option<Frame>,
         messages: Vec<String>,
-        malformed: Vec<String>,
+        /// Malformed rows, counted; the first few named, printed on stderr at the end.
+        skips: Skips,
+        named: Vec<String>,
         ended: bool,
     }
 
@@ -433,11 +447,7 @@ mod view {
             positions: rest,
             canvas: DotCanvas::new(0, 0),
             grid: CellGrid::default(),
-            mode: if args.ascii {
-                CellMode::Ascii
-            } else {
-                CellMode::Braille
-            },
+            mode: args.cells.mode(),
             colors: if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()) {
                 ColorMode::None
             } else {
@@ -465,7 +475,8 @@ mod view {
         let mut status = Status {
             current: None,
             messages: Vec::new(),
-            malformed: Vec::new(),
+            skips: Skips::default(),
+            named: Vec::new(),
             ended: false,
         };
         let result = run_loop(
@@ -478,8 +489,15 @@ mod view {
             args,
         );
         drop(guard);
-        for line in &status.malformed {
-            eprintln!("{line} (row skipped)");
+        for line in &status.named {
+            eprintln!("{line}");
+        }
+        // The player counts every skipped row; those not malformed were untracked.
+        for _ in status.skips.total()..player.skipped {
+            status.skips.untracked();
+        }
+        if let Some(line) = status.skips.summary() {
+            eprintln!("{line}");
         }
         result?;
         Ok(Summary {
@@ -583,7 +601,9 @@ mod view {
             let text = match message {
                 Message::Notice(text) => format!("warning: {text}"),
                 Message::Malformed(text) => {
-                    status.malformed.push(text.clone());
+                    if let Some(line) = status.skips.malformed(&text) {
+                        status.named.push(line);
+                    }
                     format!("{text} (row skipped)")
                 }
             };

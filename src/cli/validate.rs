@@ -57,7 +57,12 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
     let mut failed = 0;
     for path in &args.files {
         match check(path) {
-            Ok(summary) => super::print(&format!("{}: ok ({summary})\n", path.display())),
+            Ok(summary) => {
+                if let Err(err) = super::print(&format!("{}: ok ({summary})\n", path.display())) {
+                    super::report("validate", &err);
+                    return ExitCode::from(1);
+                }
+            }
             Err(err) => {
                 failed += 1;
                 super::report("validate", &err);
@@ -94,6 +99,9 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
 
 fn check_rig(path: &Path) -> Result<String, LoadError> {
     let loaded = rig_file::load_rig(path)?;
+    if let Some(notice) = &loaded.notice {
+        eprintln!("warning: {notice}");
+    }
     BoundRig::bind(&loaded.rig, &loaded.mesh).map_err(|e| LoadError::new(path, e.to_string()))?;
     Ok(format!(
         "rig: {} muscles{}, mesh {} vertices",

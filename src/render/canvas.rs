@@ -45,6 +45,53 @@ pub enum Layer {
     Selected,
 }
 
+/// How the renderer draws the dots of a line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Pen {
+    /// The dots' colour.
+    pub color: Rgb,
+    /// What the line belongs to.
+    pub layer: Layer,
+    /// With a bias, each dot is depth-tested: drawn only where no surface in the depth
+    /// buffer is more than `bias` nearer. Without, every dot is drawn.
+    pub bias: Option<f32>,
+    /// Whether the line recolours lit dots of its own or a lower layer; without, it only
+    /// lights dots that are still dark (the faint rest-pose ghost).
+    pub overwrite: bool,
+}
+
+impl Pen {
+    /// A mesh line, depth-tested with `bias`.
+    pub fn mesh(color: Rgb, bias: f32) -> Pen {
+        Pen {
+            color,
+            layer: Layer::Mesh,
+            bias: Some(bias),
+            overwrite: true,
+        }
+    }
+
+    /// A line drawn over everything on `layer` (overlays), not depth-tested.
+    pub fn on_top(color: Rgb, layer: Layer) -> Pen {
+        Pen {
+            color,
+            layer,
+            bias: None,
+            overwrite: true,
+        }
+    }
+
+    /// A faint line on `layer` (the ghost) that only lights dark dots, not depth-tested.
+    pub fn faint(color: Rgb, layer: Layer) -> Pen {
+        Pen {
+            color,
+            layer,
+            bias: None,
+            overwrite: false,
+        }
+    }
+}
+
 /// A grid of dots, each on or off with a colour and a layer, plus a depth buffer at dot
 /// resolution (larger depth is nearer the viewer).
 ///
@@ -140,23 +187,12 @@ impl DotCanvas {
         *d = (d.0.min(x0), d.1.min(y0), d.2.max(x1), d.3.max(y1));
     }
 
-    /// One dot of a line at depth `z`: with `bias`, drawn only if no surface in the depth
-    /// buffer is more than `bias` nearer; `if_dark` draws only on dark dots. Returns
-    /// whether the line is visible there. The caller keeps (x, y) inside the canvas.
-    #[allow(clippy::too_many_arguments)]
+    /// One dot of a line at depth `z`, drawn with `pen`. Returns whether the line is visible
+    /// there. The caller keeps (x, y) inside the canvas.
     #[inline(always)]
-    pub(crate) fn line_dot(
-        &mut self,
-        x: usize,
-        y: usize,
-        z: f32,
-        bias: Option<f32>,
-        color: Rgb,
-        layer: Layer,
-        if_dark: bool,
-    ) -> bool {
+    pub(crate) fn line_dot(&mut self, x: usize, y: usize, z: f32, pen: Pen) -> bool {
         let i = y * self.width + x;
-        if let Some(bias) = bias {
+        if let Some(bias) = pen.bias {
             if z + bias < self.depth[i] {
                 return false;
             }
@@ -164,9 +200,9 @@ impl DotCanvas {
         let on = self.on[i];
         let d = &mut self.dirty;
         *d = (d.0.min(x), d.1.min(y), d.2.max(x + 1), d.3.max(y + 1));
-        if !on || (!if_dark && self.layer[i] <= layer) {
-            self.color[i] = color;
-            self.layer[i] = layer;
+        if !on || (pen.overwrite && self.layer[i] <= pen.layer) {
+            self.color[i] = pen.color;
+            self.layer[i] = pen.layer;
         }
         self.on[i] = true;
         true

@@ -1,0 +1,262 @@
+//! Property tests of the rasterizer's fast paths against their plain references.
+
+use glam::Vec3;
+use proptest::prelude::*;
+
+use super::depth::*;
+use super::features::{crosses, iso_crossing};
+use super::fill::{normalize_or_zero_all, raster_triangle};
+use super::lines::*;
+use crate::render::canvas::{DotCanvas, Pen, Rgb};
+
+const W: usize = 40;
+const H: usize = 32;
+
+/// A corner a little beyond the canvas on every side, with depth.
+fn corner() -> impl Strategy<Value = Vec3> {
+    (-6.0f32..46.0, -6.0f32..38.0, -50.0f32..50.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// Corners snapped to quarter dots, so that edges through dot centres and shared
+/// corners (the cases rounding decides) come up often.
+fn snapped_corner() -> impl Strategy<Value = Vec3> {
+    (-24i32..184, -24i32..152, -50.0f32..50.0)
+        .prop_map(|(x, y, z)| Vec3::new(x as f32 * 0.25, y as f32 * 0.25, z))
+}
+
+/// A corner far off the canvas, up to overflowing every integer conversion.
+fn far_corner() -> impl Strategy<Value = Vec3> {
+    let far = prop_oneof![-1e12f32..1e12, Just(f32::INFINITY), Just(f32::NEG_INFINITY)];
+    (far, -6.0f32..38.0, -50.0f32..50.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+fn any_corner() -> impl Strategy<Value = Vec3> {
+    prop_oneof![4 => corner(), 4 => snapped_corner(), 1 => far_corner()]
+}
+
+/// A depth buffer with some dots already drawn.
+fn depth_buffer() -> impl Strategy<Value = Vec<f32>> {
+    proptest::collection::vec(prop_oneof![Just(f32::NEG_INFINITY), -60.0f32..60.0], W * H)
+}
+
+/// The general rasterizer keeping the nearer depth, as the depth pass did before it had
+/// its own loop.
+fn reference_depth(p: [Vec3; 3], depth: &mut [f32]) {
+    raster_triangle(p, [0.0; 3], W, H, |i, _, _, z, _| {
+        if z > depth[i] {
+            depth[i] = z;
+        }
+    });
+}
+
+/// The line stepping as it was before the inside-the-canvas shortcut: always clipped.
+fn reference_walk(a: Vec3, b: Vec3, w: usize, h: usize) -> Vec<(usize, usize, Vec3)> {
+    let mut out = Vec::new();
+    if !a.is_finite() || !b.is_finite() || w == 0 || h == 0 {
+        return out;
+    }
+    let Some((a, b)) = clip(a, b, w as f32, h as f32) else {
+        return out;
+    };
+    let d = b - a;
+    let steps = ceil_nonneg(d.x.abs().max(d.y.abs())).max(1);
+    let inc = d / steps as f32;
+    let mut p = a;
+    for _ in 0..=steps {
+        out.push(((p.x as usize).min(w - 1), (p.y as usize).min(h - 1), p));
+        p += inc;
+    }
+    out
+}
+
+fn bits(v: &[f32]) -> Vec<u32> {
+    v.iter().map(|z| z.to_bits()).collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// The depth pass's own loop lights the same dots with the same depths, bit for
+    /// bit, as the general rasterizer.
+    #[test]
+    fn depth_triangle_matches_the_general_rasterizer(
+        a in any_corner(), b in any_corner(), c in any_corner(), start in depth_buffer(),
+    ) {
+        let mut expected = start.clone();
+        reference_depth([a, b, c], &mut expected);
+        let mut got = start;
+        depth_triangle([a, b, c], W, H, &mut got);
+        prop_assert_eq!(bits(&got), bits(&expected));
+    }
+
+    /// The branch-free span ends agree with the rasterizer's rounding helpers on any
+    /// value, NaN and infinities included.
+    #[test]
+    fn span_ends_match_the_rounding_helpers(
+        v in prop_oneof![
+            4 => -50.0f32..500.0,
+            2 => (-200i32..2000).prop_map(|k| k as f32 * 0.25),
+            1 => proptest::num::f32::ANY,
+        ],
+        limit in 0usize..400,
+    ) {
+        let (start, end) = span(v, limit);
+        prop_assert_eq!(start as usize, ceil_nonneg(v).min(limit));
+        prop_assert_eq!(end as usize, floor_end(v, limit));
+    }
+
+    /// The box from the corners' spans is the box the rasterizer computes.
+    #[test]
+    fn the_box_from_vertex_spans_is_the_rasterizer_box(
+        a in any_corner(), b in any_corner(), c in any_corner(),
+    ) {
+        let got = triangle_box([a, b, c].map(|p| dot_span(p, W, H)));
+        let x0 = ceil_nonneg(a.x.min(b.x).min(c.x) - 0.5);
+        let x1 = floor_end(a.x.max(b.x).max(c.x) - 0.5, W);
+        let y0 = ceil_nonneg(a.y.min(b.y).min(c.y) - 0.5);
+        let y1 = floor_end(a.y.max(b.y).max(c.y) - 0.5, H);
+        // Starts are clamped to the canvas; a start past it is an empty range either way.
+        prop_assert_eq!(got, [x0.min(W), x1, y0.min(H), y1]);
+        let mut expected = vec![f32::NEG_INFINITY; W * H];
+        depth_triangle([a, b, c], W, H, &mut expected);
+        let mut via_spans = vec![f32::NEG_INFINITY; W * H];
+        depth_triangle_in([a, b, c], got, W, None, &mut via_spans);
+        prop_assert_eq!(bits(&via_spans), bits(&expected));
+    }
+
+    /// Hidden-line removal does not change: on every dot a line visits, the depth
+    /// buffer filled only under the lines equals the one filled everywhere.
+    #[test]
+    fn the_depth_under_every_line_dot_is_the_full_depth(
+        tris in proptest::collection::vec((any_corner(), any_corner(), any_corner()), 1..40),
+        lines in proptest::collection::vec((any_corner(), any_corner()), 1..6),
+    ) {
+        let mut mask = DotMask::default();
+        mask.reset(W, H);
+        for &(a, b) in &lines {
+            mask.mark_line(a, b, W, H);
+        }
+        let mut full = vec![f32::NEG_INFINITY; W * H];
+        let mut culled = vec![f32::NEG_INFINITY; W * H];
+        for &(a, b, c) in &tris {
+            depth_triangle([a, b, c], W, H, &mut full);
+            let [x0, x1, y0, y1] = triangle_box([a, b, c].map(|p| dot_span(p, W, H)));
+            if x0 < x1 && y0 < y1 && mask.any(x0, x1, y0, y1) {
+                depth_triangle_in([a, b, c], [x0, x1, y0, y1], W, Some(&mask), &mut culled);
+            }
+        }
+        for &(a, b) in &lines {
+            let mut visited = 0;
+            walk_line(a, b, W, H, |x, y, _| {
+                visited += 1;
+                assert_eq!(culled[y * W + x].to_bits(), full[y * W + x].to_bits());
+            });
+            prop_assert_eq!(visited, reference_walk(a, b, W, H).len());
+        }
+    }
+
+    /// The mask's box test agrees with looking at every dot of the box.
+    #[test]
+    fn the_mask_box_test_matches_a_dot_by_dot_scan(
+        dots in proptest::collection::vec((0usize..150, 0usize..9), 0..6),
+        x0 in 0usize..150, dx in 1usize..80, y0 in 0usize..9, dy in 1usize..4,
+    ) {
+        let (w, h) = (150, 9);
+        let mut mask = DotMask::default();
+        mask.reset(w, h);
+        for &(x, y) in &dots {
+            let p = Vec3::new(x as f32 + 0.5, y as f32 + 0.5, 0.0);
+            mask.mark_line(p, p, w, h);
+        }
+        let (x1, y1) = ((x0 + dx).min(w), (y0 + dy).min(h));
+        let brute = dots.iter().any(|&(x, y)| (x0..x1).contains(&x) && (y0..y1).contains(&y));
+        prop_assert_eq!(mask.any(x0, x1, y0, y1), brute);
+        for y in y0..y1 {
+            let last = dots
+                .iter()
+                .filter(|&&(x, dy)| dy == y && (x0..x1).contains(&x))
+                .map(|&(x, _)| x + 1)
+                .max();
+            prop_assert_eq!(mask.last_set(y, x0, x1), last);
+        }
+    }
+
+    /// Skipping the clip for lines inside the canvas visits the same dots at the same
+    /// points as clipping.
+    #[test]
+    fn walking_a_line_matches_the_clipped_walk(a in any_corner(), b in any_corner()) {
+        let mut got = Vec::new();
+        walk_line(a, b, W, H, |x, y, p| got.push((x, y, p)));
+        let expected = reference_walk(a, b, W, H);
+        prop_assert_eq!(got.len(), expected.len());
+        for (g, e) in got.iter().zip(&expected) {
+            prop_assert_eq!((g.0, g.1), (e.0, e.1));
+            prop_assert_eq!(g.2.to_array().map(f32::to_bits), e.2.to_array().map(f32::to_bits));
+        }
+    }
+
+    /// Normalizing four at a time gives the same bits as one at a time.
+    #[test]
+    fn normalizing_in_fours_matches_glam(
+        v in proptest::collection::vec(
+            proptest::array::uniform3(prop_oneof![
+                4 => -10.0f32..10.0,
+                1 => Just(0.0f32),
+                1 => proptest::num::f32::ANY,
+                1 => -1e-20f32..1e-20,
+            ]),
+            0..11,
+        ),
+    ) {
+        let v: Vec<Vec3> = v.into_iter().map(Vec3::from_array).collect();
+        let mut got = v.clone();
+        normalize_or_zero_all(&mut got);
+        for (g, n) in got.iter().zip(&v) {
+            let e = n.normalize_or_zero();
+            prop_assert_eq!(g.to_array().map(f32::to_bits), e.to_array().map(f32::to_bits));
+        }
+    }
+
+    /// Drawing steps walked ahead lights the same dots, in the same colours, and
+    /// reports the same visible pieces as drawing the line itself.
+    #[test]
+    fn drawing_walked_steps_matches_drawing_the_line(
+        tris in proptest::collection::vec((any_corner(), any_corner(), any_corner()), 0..12),
+        lines in proptest::collection::vec((any_corner(), any_corner(), 0.0f32..4.0), 1..6),
+    ) {
+        let mut direct = DotCanvas::new(W, H);
+        {
+            let (depth, _, _, _) = direct.buffers_mut();
+            for &(a, b, c) in &tris {
+                depth_triangle([a, b, c], W, H, depth);
+            }
+        }
+        let mut walked = direct.clone();
+        let color = Rgb(1, 2, 3);
+        let (mut direct_runs, mut walked_runs) = (Vec::new(), Vec::new());
+        for &(a, b, bias) in &lines {
+            let pen = Pen::mesh(color, bias);
+            draw_line(&mut direct, Some(&mut direct_runs), a, b, pen);
+            let mut dots = Vec::new();
+            walk_line(a, b, W, H, |x, y, p| dots.push(LineDot { x: x as u32, y: y as u32, p }));
+            draw_walked(&mut walked, Some(&mut walked_runs), &dots, pen);
+        }
+        prop_assert_eq!(direct_runs, walked_runs);
+        for y in 0..H {
+            for x in 0..W {
+                prop_assert_eq!(direct.color(x, y), walked.color(x, y));
+                prop_assert_eq!(direct.layer(x, y), walked.layer(x, y));
+            }
+        }
+    }
+
+    /// The cheap crossing test says yes exactly when the crossing finds a segment.
+    #[test]
+    fn crosses_agrees_with_iso_crossing(
+        f in proptest::array::uniform3(prop_oneof![Just(f32::NAN), Just(0.5f32), -1.0f32..2.0]),
+        level in prop_oneof![Just(0.5f32), -1.0f32..2.0],
+    ) {
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        prop_assert_eq!(crosses(f, level), iso_crossing(p, f, level).is_some());
+    }
+}
