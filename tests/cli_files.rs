@@ -8,6 +8,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use glam::Vec3;
+use grimace::io::waters::from_classic;
 use grimace::io::{obj, rig_file};
 use grimace::model::MuscleKind;
 
@@ -65,7 +66,11 @@ fn import_then_export_each_muscle_matches_the_classic_output() {
             moved
                 .entry((f[1].to_string(), f[2].to_string()))
                 .or_default()
-                .push((f[3].parse().unwrap(), Vec3::new(p(f[4]), p(f[5]), p(f[6]))));
+                // the reference is in the classic convention; the import converts to glTF's
+                .push((
+                    f[3].parse().unwrap(),
+                    from_classic(Vec3::new(p(f[4]), p(f[5]), p(f[6]))),
+                ));
         }
     }
     let out = dir.path().join("out.obj");
@@ -135,11 +140,11 @@ fn export_with_nothing_set_writes_the_rest_mesh() {
 }
 
 const RIG: &str = r#"(
-    version: 1,
+    version: 2,
     mesh: "m.obj",
     muscles: [
-        (name: "L_pull", side: Left, mirror: "R_pull", kind: Linear(attachment: (-2.0, 0.0, 1.0), insertion: (-0.5, 0.0, 1.2), zone: 40.0, falloff_start: 0.5, falloff_end: 3.0)),
-        (name: "R_pull", side: Right, mirror: "L_pull", kind: Linear(attachment: (2.0, 0.0, 1.0), insertion: (0.5, 0.0, 1.2), zone: 40.0, falloff_start: 0.5, falloff_end: 3.0)),
+        (name: "L_pull", side: Left, mirror: "R_pull", kind: Linear(attachment: (2.0, 0.0, 1.0), insertion: (0.5, 0.0, 1.2), zone: 40.0, falloff_start: 0.5, falloff_end: 3.0)),
+        (name: "R_pull", side: Right, mirror: "L_pull", kind: Linear(attachment: (-2.0, 0.0, 1.0), insertion: (-0.5, 0.0, 1.2), zone: 40.0, falloff_start: 0.5, falloff_end: 3.0)),
     ],
     jaw: (pivot: (0.0, 0.0, -1.0), degrees_per_unit: 10.0, weights: [(0, 1.0), (1, 1.0)]),
 )"#;

@@ -55,13 +55,14 @@ impl Face {
         self.pose(&[(muscle, activation)])[v] - self.mesh.positions[v]
     }
 
-    /// Mean displacement of a group's members on one side (x sign), for one muscle.
+    /// Mean displacement of a group's members on one side (the subject's right at x < 0),
+    /// for one muscle.
     fn group_moved(&self, muscle: &str, activation: f32, group: &str, right: bool) -> Vec3 {
         let pose = self.pose(&[(muscle, activation)]);
         let members: Vec<usize> = self.mesh.groups[group]
             .iter()
             .map(|&v| v as usize)
-            .filter(|&v| (self.mesh.positions[v].x > 0.0) == right)
+            .filter(|&v| (self.mesh.positions[v].x < 0.0) == right)
             .collect();
         let sum: Vec3 = members
             .iter()
@@ -183,14 +184,14 @@ fn corrugator_and_brow_depressors_pull_the_brows_together_and_down() {
         &f,
         "R_Lateral_Corrugator",
         "right_brow_inner",
-        |d| d.x < -0.02 && d.y < 0.0,
+        |d| d.x > 0.02 && d.y < 0.0,
         "draw in and down",
     );
     check(
         &f,
         "L_Lateral_Corrugator",
         "left_brow_inner",
-        |d| d.x > 0.02 && d.y < 0.0,
+        |d| d.x < -0.02 && d.y < 0.0,
         "draw in and down",
     );
     check(
@@ -263,14 +264,14 @@ fn mouth_sphincter_draws_the_corners_in_and_bulges_the_lips() {
         &f,
         "Orbicularis_Oris",
         "right_mouth_corner",
-        |d| d.x < -0.05,
+        |d| d.x > 0.05,
         "draw in",
     );
     check(
         &f,
         "Orbicularis_Oris",
         "left_mouth_corner",
-        |d| d.x > 0.05,
+        |d| d.x < -0.05,
         "draw in",
     );
     let lip = f.moved("Orbicularis_Oris", 1.0, "upper_lip_centre");
@@ -358,14 +359,14 @@ fn added_muscles_move_their_tissue() {
         &f,
         "R_Buccinator",
         "right_mouth_corner",
-        |d| d.z < -0.02 && d.x > 0.0,
+        |d| d.z < -0.02 && d.x < 0.0,
         "draw back",
     );
     check(
         &f,
         "R_Risorius",
         "right_mouth_corner",
-        |d| d.x > 0.03 && d.x > d.y.abs(),
+        |d| d.x < -0.03 && -d.x > d.y.abs(),
         "stretch",
     );
     check(&f, "R_Mentalis", "chin", |d| d.y > 0.02, "raise");

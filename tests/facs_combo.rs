@@ -36,7 +36,7 @@ fn combo() -> impl Strategy<Value = Combo> {
 fn rig(n: usize) -> Rig {
     Rig {
         masks: Vec::new(),
-        version: 1,
+        version: grimace::model::RIG_VERSION,
         mesh: PathBuf::from("m.obj"),
         combine: Default::default(),
         muscles: (0..n)

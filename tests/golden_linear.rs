@@ -1,5 +1,9 @@
 //! The classic Waters linear muscle, one call from rest, against the reference outputs in
 //! `../shared/golden` (whole positions, unlisted vertices at rest, 1e-5 per coordinate).
+//!
+//! Every reference point is converted to grimace's convention as it is read, exactly as the
+//! import converts the classic files (`waters::from_classic`, x negated), so the comparison
+//! is in grimace's frame.
 
 mod common;
 
@@ -7,6 +11,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
+use grimace::io::waters::from_classic;
 use grimace::model::field::linear_displacement;
 use grimace::model::{
     Activations, BoundRig, Combine, Linear, Mesh, Muscle, MuscleKind, Rig, Side, RIG_VERSION,
@@ -37,8 +42,13 @@ fn num(s: &str) -> f32 {
         .unwrap_or_else(|e| panic!("bad number `{s}`: {e}"))
 }
 
+/// A reference point, converted from the classic convention.
 fn vec3(row: &[String], at: usize) -> Vec3 {
-    Vec3::new(num(&row[at]), num(&row[at + 1]), num(&row[at + 2]))
+    from_classic(Vec3::new(
+        num(&row[at]),
+        num(&row[at + 1]),
+        num(&row[at + 2]),
+    ))
 }
 
 struct Golden {

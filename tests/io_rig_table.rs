@@ -197,10 +197,10 @@ fn rig_semantic_errors_name_the_muscle_and_place() {
         rig_error(&duplicate),
         "t.ron:43:13: muscle `L_Frontalis`: the name is used by an earlier muscle; names must be unique"
     );
-    let version = good.replace("version: 1", "version: 2");
+    let version = good.replace("version: 2", "version: 3");
     assert_eq!(
         rig_error(&version),
-        "t.ron:3:5: rig version 2 is not supported; this grimace reads version 1"
+        "t.ron:3:5: rig version 3 is not supported; this grimace reads versions 1 and 2"
     );
     let unknown = good.replace("combine: Average", "combine: Average,\n    colour: 3");
     assert!(

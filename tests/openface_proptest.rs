@@ -111,7 +111,13 @@ proptest! {
     fn json_objects_read_back(pairs in prop::collection::vec(("[A-Za-z0-9_ ]{1,8}", -1e6f64..1e6), 0..20)) {
         let body: Vec<String> = pairs.iter().map(|(k, v)| format!("\"{k}\": {v}")).collect();
         let text = format!("{{{}}}", body.join(", "));
-        let parsed = parse_flat_object(&text).unwrap();
-        prop_assert_eq!(parsed, pairs);
+        let unique = pairs.iter().map(|(k, _)| k).collect::<std::collections::BTreeSet<_>>();
+        if unique.len() == pairs.len() {
+            prop_assert_eq!(parse_flat_object(&text).unwrap(), pairs);
+        } else {
+            // A key given twice refuses the frame.
+            let e = parse_flat_object(&text).unwrap_err();
+            prop_assert!(e.message.contains("appears twice"), "{}", e);
+        }
     }
 }

@@ -226,3 +226,33 @@ fn the_view_needs_a_terminal() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+#[test]
+fn stdin_json_frames_naming_an_au_twice_are_refused_not_added() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = concat!(
+        "{\"timestamp\": 0.0, \"AU12\": 1, \"AU12\": 2}\n",
+        "{\"timestamp\": 0.04, \"AU12\": 1, \"AU12_r\": 2}\n",
+        "{\"timestamp\": 0.08, \"AU12\": 3}\n",
+    );
+    let out = play_headless(dir.path(), &["--stdin"], Some(input.as_bytes()));
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        lines(&out),
+        vec![
+            "0.080 AU12=3.00 | cheek=0.30 mouth=1.20",
+            "played 1 frames, skipped 2",
+        ]
+    );
+    let err = stderr(&out);
+    assert!(
+        err.contains(
+            "stdin:1:39: key `AU12` appears twice (first value at column 28) (row skipped)"
+        ),
+        "{err}"
+    );
+    assert!(
+        err.contains("stdin:2: AU12 is given twice, as `AU12` and `AU12_r` (row skipped)"),
+        "{err}"
+    );
+}

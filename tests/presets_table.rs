@@ -88,7 +88,8 @@ fn unilateral_aus_act_on_their_side_and_mirror_each_other() {
         let mut right_side = 0.0f32;
         for (v, rest) in mesh.positions.iter().enumerate() {
             let d = (l[v] - *rest).length();
-            if rest.x < 0.0 {
+            // glTF's convention: the subject's left at positive x
+            if rest.x > 0.0 {
                 left_side += d;
             } else {
                 right_side += d;

@@ -288,7 +288,7 @@ fn one_huge_obj_line_is_read_in_bounded_memory() {
 
 /// A rig of `count` centre sphincters spanning the whole built-in face.
 fn rig_of_sphincters(count: usize) -> String {
-    let mut text = String::from("(version: 1, mesh: \"builtin:face\", muscles: [\n");
+    let mut text = String::from("(version: 2, mesh: \"builtin:face\", muscles: [\n");
     for i in 0..count {
         let _ = writeln!(
             text,

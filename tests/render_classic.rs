@@ -1,11 +1,13 @@
-//! Renders the classic Waters face (read from the shared reference folder) in every style
-//! and checks that the features come out where they belong.
+//! Renders the classic Waters face (read from the shared reference folder and converted to
+//! glTF's convention as `grimace import-waters` converts it) in every style and checks that
+//! the features come out where they belong.
 
 mod common;
 
 use std::path::PathBuf;
 
 use glam::Vec3;
+use grimace::io::waters::from_classic;
 use grimace::model::Mesh;
 use grimace::render::{
     render_text, Camera, CellGrid, CellMode, ColorMode, DotCanvas, Orientation, Renderer, Scene,
@@ -29,7 +31,7 @@ fn classic_face() -> Option<Mesh> {
     let dir = common::shared_with(&["golden/waters-vertices.csv"])?.join("golden");
     let positions = rows(dir.join("waters-vertices.csv"))
         .iter()
-        .map(|r| Vec3::new(r[1] as f32, r[2] as f32, r[3] as f32))
+        .map(|r| from_classic(Vec3::new(r[1] as f32, r[2] as f32, r[3] as f32)))
         .collect();
     let triangles = rows(dir.join("waters-triangles.csv"))
         .iter()
@@ -45,11 +47,12 @@ fn dump(name: &str, text: &str) {
 }
 
 #[test]
-fn classic_face_winding_is_detected_as_inward() {
+fn classic_face_winding_is_detected_as_outward_once_converted() {
+    // the classic triangles face into the head; the reflection of the import turns them out
     let Some(mesh) = classic_face() else { return };
     assert_eq!(
         Renderer::new(&mesh).detected_orientation(),
-        Orientation::Inward
+        Orientation::Outward
     );
 }
 
@@ -57,6 +60,7 @@ fn classic_face_winding_is_detected_as_inward() {
 fn classic_face_renders_in_every_style_and_size() {
     let Some(mesh) = classic_face() else { return };
     let scene = Scene::new(&mesh, &mesh.positions);
+    let mut renderer = Renderer::new(&mesh);
     for (cols, rows) in [(80, 24), (200, 60), (50, 38)] {
         for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
             for (view, camera) in [
@@ -64,16 +68,36 @@ fn classic_face_renders_in_every_style_and_size() {
                 ("side", Camera::side()),
                 ("three", Camera::three_quarter()),
             ] {
+                let what = format!("{style} {view} {cols}x{rows}");
                 let text = render_text(&scene, &camera, style, CellMode::Braille, cols, rows);
                 dump(&format!("classic-{style}-{view}-{cols}x{rows}.txt"), &text);
-                let lit: usize = text
-                    .chars()
-                    .filter(|&c| c > '\u{2800}' && c <= '\u{28ff}')
-                    .count();
-                assert!(
-                    lit > cols * rows / 40,
-                    "{style} {view} {cols}x{rows}: only {lit} cells lit"
+                let mut canvas = CellMode::Braille.canvas(cols, rows);
+                renderer.render(&scene, &camera, style, &mut canvas);
+                let proj = camera.fit_points(
+                    &mesh.positions,
+                    canvas.width(),
+                    canvas.height(),
+                    canvas.dot_aspect,
                 );
+                common::assert_ink_fills_the_face(&canvas, &proj, &mesh.positions, 0.9, &what);
+                // The eye openings are mesh borders, drawn by the line styles: from the
+                // front both, turned, the subject's left (x < 0), toward the viewer.
+                if style != Style::Shaded {
+                    let sides: &[f32] = if view == "front" {
+                        &[-1.0, 1.0]
+                    } else {
+                        &[-1.0]
+                    };
+                    for &side in sides {
+                        for p in eye_border(&mesh, side) {
+                            let dot = proj.project(p).truncate();
+                            assert!(
+                                common::lit_near(&canvas, dot, 1.5),
+                                "{what}: the eye border at {p} (dot {dot}) is not drawn"
+                            );
+                        }
+                    }
+                }
             }
             let ascii = render_text(&scene, &Camera::front(), style, CellMode::Ascii, cols, rows);
             dump(&format!("classic-{style}-ascii-{cols}x{rows}.txt"), &ascii);
@@ -135,15 +159,21 @@ fn classic_face_eyes_are_open_holes_on_both_sides_of_the_midline() {
         let (x, y) = (p.x as usize, p.y as usize);
         let dark = (0..3).all(|d| !canvas.is_on(x, y + d - 1));
         assert!(dark, "eye at {eye} (dot {x},{y}) is dark");
-        // Subject's left (x < 0) on the viewer's right.
-        assert_eq!(x > canvas.width() / 2, side < 0.0);
+        // Subject's left (x > 0 once imported) on the viewer's right.
+        assert_eq!(x > canvas.width() / 2, side > 0.0);
     }
 }
 
-/// The centre of the mesh-border loop around one eye: border vertices with |x| between
-/// 15% and 45% of the half-width, 10% to 35% of the height above the middle (below the
-/// top rim, above the nostrils).
+/// The centre of the mesh-border loop around one eye.
 fn eye_centre(mesh: &Mesh, side: f32) -> Vec3 {
+    let pts = eye_border(mesh, side);
+    pts.iter().copied().sum::<Vec3>() / pts.len() as f32
+}
+
+/// The mesh-border loop around one eye: border vertices with |x| between 15% and 45% of the
+/// half-width, 10% to 35% of the height above the middle (below the top rim, above the
+/// nostrils).
+fn eye_border(mesh: &Mesh, side: f32) -> Vec<Vec3> {
     let (lo, hi) = mesh.bounds();
     let half = (hi.x - lo.x) / 2.0;
     let mid_y = (lo.y + hi.y) / 2.0;
@@ -170,5 +200,5 @@ fn eye_centre(mesh: &Mesh, side: f32) -> Vec3 {
         })
         .collect();
     assert!(pts.len() >= 4, "found an eye border on side {side}");
-    pts.iter().copied().sum::<Vec3>() / pts.len() as f32
+    pts
 }

@@ -1,6 +1,8 @@
 //! The built-in default face rendered in every style, view and size: the features come out
 //! where they belong, and deformation shows.
 
+mod common;
+
 use std::path::PathBuf;
 
 use grimace::io::builtin;
@@ -29,6 +31,7 @@ fn default_face_winding_is_outward() {
 fn default_face_renders_in_every_style_view_and_size() {
     let mesh = builtin::default_mesh();
     let scene = Scene::new(&mesh, &mesh.positions);
+    let mut renderer = Renderer::new(&mesh);
     for (cols, rows) in [(80, 24), (200, 60), (50, 38)] {
         for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
             for (view, camera) in [
@@ -36,21 +39,72 @@ fn default_face_renders_in_every_style_view_and_size() {
                 ("side", Camera::side()),
                 ("three", Camera::three_quarter()),
             ] {
+                let what = format!("{style} {view} {cols}x{rows}");
                 let text = render_text(&scene, &camera, style, CellMode::Braille, cols, rows);
                 dump(&format!("face-{style}-{view}-{cols}x{rows}.txt"), &text);
-                let lit = text
-                    .chars()
-                    .filter(|&c| c > '\u{2800}' && c <= '\u{28ff}')
-                    .count();
-                assert!(
-                    lit > cols * rows / 40,
-                    "{style} {view} {cols}x{rows}: only {lit} cells lit"
+                let mut canvas = CellMode::Braille.canvas(cols, rows);
+                renderer.render(&scene, &camera, style, &mut canvas);
+                let proj = camera.fit_points(
+                    &mesh.positions,
+                    canvas.width(),
+                    canvas.height(),
+                    canvas.dot_aspect,
                 );
+                common::assert_ink_fills_the_face(&canvas, &proj, &mesh.positions, 0.9, &what);
+                features_are_drawn(&mesh, &canvas, &proj, style, view, &what);
             }
             let ascii = render_text(&scene, &Camera::front(), style, CellMode::Ascii, cols, rows);
             dump(&format!("face-{style}-ascii-{cols}x{rows}.txt"), &ascii);
             assert!(ascii.is_ascii());
         }
+    }
+}
+
+/// The face's features show where their vertices land. The eye and mouth corners lie on the
+/// mesh's borders, which the line styles always draw where they face the viewer: both sides
+/// from the front, the subject's left (turned toward the viewer) in the side and
+/// three-quarter views. The shaded style lights the nose tip, which faces the light.
+fn features_are_drawn(
+    mesh: &grimace::model::Mesh,
+    canvas: &DotCanvas,
+    proj: &grimace::render::Projection,
+    style: Style,
+    view: &str,
+    what: &str,
+) {
+    let at = |name: &str| {
+        let v = mesh
+            .groups
+            .get(name)
+            .unwrap_or_else(|| panic!("no group {name}"))[0];
+        proj.project(mesh.positions[v as usize]).truncate()
+    };
+    let sides: &[&str] = if view == "front" {
+        &["left", "right"]
+    } else {
+        &["left"]
+    };
+    let mut features = vec![];
+    if style == Style::Shaded {
+        features.push("nose_tip".to_string());
+    } else {
+        for side in sides {
+            for part in ["outer_eye_corner", "inner_eye_corner", "mouth_corner"] {
+                features.push(format!("{side}_{part}"));
+            }
+        }
+    }
+    for name in &features {
+        let p = at(name);
+        assert!(
+            common::lit_near(canvas, p, 1.5),
+            "{what}: nothing drawn at {name} {p}"
+        );
+    }
+    // Photograph orientation: the subject's left eye on the viewer's right, above the mouth.
+    if view == "front" {
+        assert!(at("left_outer_eye_corner").x > at("right_outer_eye_corner").x);
+        assert!(at("left_outer_eye_corner").y < at("left_mouth_corner").y);
     }
 }
 

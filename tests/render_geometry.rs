@@ -107,16 +107,17 @@ fn zoom_and_pan_move_the_view() {
     let proj = camera.fit(CUBE, 100, 100, 1.0);
     assert!((proj.scale_y - 94.0).abs() < 1e-3);
     // Panning the view right by 0.5 units moves what was at screen-right 0.5 to the centre;
-    // screen right is mesh -x.
-    let p = proj.project(Vec3::new(-0.5, 0.0, 0.0));
+    // screen right is mesh +x.
+    let p = proj.project(Vec3::new(0.5, 0.0, 0.0));
     assert!((p.x - 50.0).abs() < 1e-3, "{p}");
 }
 
 #[test]
 fn front_view_puts_the_subjects_left_on_the_viewers_right() {
     let proj = Camera::front().fit(CUBE, 100, 100, 1.0);
-    let subjects_left = proj.project(Vec3::new(-0.8, 0.0, 0.0));
-    let subjects_right = proj.project(Vec3::new(0.8, 0.0, 0.0));
+    // glTF's convention: the subject's left at positive x
+    let subjects_left = proj.project(Vec3::new(0.8, 0.0, 0.0));
+    let subjects_right = proj.project(Vec3::new(-0.8, 0.0, 0.0));
     assert!(subjects_left.x > 50.0 && subjects_right.x < 50.0);
     assert!(proj.project(Vec3::new(0.0, 0.8, 0.0)).y < 50.0, "up is up");
 }
@@ -127,13 +128,13 @@ fn side_view_shows_the_left_profile_with_the_nose_to_the_left() {
     let proj = camera.fit(CUBE, 100, 100, 1.0);
     let nose = proj.project(Vec3::new(0.0, 0.0, 1.0));
     assert!(nose.x < 50.0 - 40.0, "nose at {nose}");
-    let left_cheek = proj.project(Vec3::new(-1.0, 0.0, 0.0));
-    let right_cheek = proj.project(Vec3::new(1.0, 0.0, 0.0));
+    let left_cheek = proj.project(Vec3::new(1.0, 0.0, 0.0));
+    let right_cheek = proj.project(Vec3::new(-1.0, 0.0, 0.0));
     assert!(
         left_cheek.z > right_cheek.z,
         "the subject's left cheek is nearer"
     );
-    assert!((camera.toward_viewer() - Vec3::NEG_X).length() < 1e-5);
+    assert!((camera.toward_viewer() - Vec3::X).length() < 1e-5);
     assert!((Camera::front().toward_viewer() - Vec3::Z).length() < 1e-6);
 }
 
@@ -145,23 +146,23 @@ fn positive_pitch_looks_down_from_above() {
     };
     assert!(camera.toward_viewer().y > 0.4);
     let three = Camera::three_quarter().toward_viewer();
-    assert!(three.x < 0.0 && three.y > 0.0 && three.z > 0.0, "{three}");
+    assert!(three.x > 0.0 && three.y > 0.0 && three.z > 0.0, "{three}");
 }
 
 #[test]
 fn a_drawn_triangle_lands_on_the_correct_side() {
-    // A small triangle on the subject's left (x < 0) facing the viewer, plus a far one to
+    // A small triangle on the subject's left (x > 0) facing the viewer, plus a far one to
     // widen the bounds.
     let mesh = Mesh::new(
         vec![
-            Vec3::new(-1.0, -0.1, 0.0),
-            Vec3::new(-0.8, -0.1, 0.0),
-            Vec3::new(-0.9, 0.1, 0.0),
-            Vec3::new(1.0, -1.0, -1.0),
-            Vec3::new(1.0, 1.0, -1.0),
-            Vec3::new(0.99, 0.0, -1.0),
+            Vec3::new(1.0, -0.1, 0.0),
+            Vec3::new(0.8, -0.1, 0.0),
+            Vec3::new(0.9, 0.1, 0.0),
+            Vec3::new(-1.0, -1.0, -1.0),
+            Vec3::new(-1.0, 1.0, -1.0),
+            Vec3::new(-0.99, 0.0, -1.0),
         ],
-        vec![[0, 2, 1], [3, 4, 5]],
+        vec![[0, 1, 2], [3, 5, 4]],
     )
     .unwrap();
     let canvas = draw(
@@ -429,7 +430,7 @@ fn muscle_overlays_cover_every_muscle_and_the_jaw() {
     };
     let rig = Rig {
         masks: Vec::new(),
-        version: 1,
+        version: grimace::model::RIG_VERSION,
         mesh: "builtin:default".into(),
         combine: Default::default(),
         muscles: vec![linear, sphincter, sheet],

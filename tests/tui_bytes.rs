@@ -37,7 +37,7 @@ impl Counter {
 fn app(cols: u16, rows: u16) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
     let mut app = App::new(Scene::new(rig, mesh).unwrap(), table, None);
-    app.colors = Colors::Ansi16;
+    app.view.colors = Colors::Ansi16;
     update(&mut app, Action::Resize(cols, rows));
     app
 }
@@ -63,7 +63,8 @@ fn bytes_per_fine_step_are_a_small_part_of_a_full_redraw() {
         let counter = Counter::default();
         let mut term = terminal(&counter, cols, rows);
         let mut app = app(cols, rows);
-        grimace::tui::draw(&mut term, &app).unwrap();
+        let mut cache = Default::default();
+        grimace::tui::draw(&mut term, &app, &mut cache).unwrap();
         let full = counter.take();
         // Select the left zygomatic major, then step it up and down.
         let index = app.rig().muscle_index("L_Zygomatic_Major").unwrap();
@@ -71,17 +72,17 @@ fn bytes_per_fine_step_are_a_small_part_of_a_full_redraw() {
             &mut app,
             Action::SelectRow(grimace::tui::app::Row::Muscle(index)),
         );
-        grimace::tui::draw(&mut term, &app).unwrap();
+        grimace::tui::draw(&mut term, &app, &mut cache).unwrap();
         counter.take();
         let mut steps = Vec::new();
         for i in 0..20 {
             let step = if i < 10 { 1 } else { -1 };
             update(&mut app, Action::StepFine(step));
-            grimace::tui::draw(&mut term, &app).unwrap();
+            grimace::tui::draw(&mut term, &app, &mut cache).unwrap();
             steps.push(counter.take());
         }
         // Nothing changed: nothing but the synchronized-update brackets is sent.
-        grimace::tui::draw(&mut term, &app).unwrap();
+        grimace::tui::draw(&mut term, &app, &mut cache).unwrap();
         let idle = counter.take();
         let median = median(steps.clone());
         println!(

@@ -13,14 +13,16 @@ fn app(cols: u16, rows: u16) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
     let scene = Scene::new(rig, mesh).expect("the default rig binds");
     let mut app = App::new(scene, table, Some("expressions.au.ron".into()));
-    app.colors = Colors::None;
+    app.view.colors = Colors::None;
     update(&mut app, Action::Resize(cols, rows));
     app
 }
 
 fn screen(app: &App) -> String {
-    let mut terminal = Terminal::new(TestBackend::new(app.size.0, app.size.1)).unwrap();
-    terminal.draw(|frame| view::draw(app, frame)).unwrap();
+    let mut terminal = Terminal::new(TestBackend::new(app.view.size.0, app.view.size.1)).unwrap();
+    terminal
+        .draw(|frame| view::draw(app, &mut Default::default(), frame))
+        .unwrap();
     terminal.backend().to_string()
 }
 

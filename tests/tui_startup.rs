@@ -1,8 +1,9 @@
-//! Starting the editor (without a terminal): loading, the recovery offer, the lock, --ascii.
+//! Starting the editor (without a terminal): loading, the recovery offer, the lock, --cells.
 
 use std::path::PathBuf;
 
 use grimace::cli::edit::{prepare, EditArgs};
+use grimace::cli::CellsArgs;
 use grimace::io::recovery::{self, RecoveryState};
 use grimace::tui::action::{Action, Effect};
 use grimace::tui::app::{CellMode, Mode, Question, Severity};
@@ -20,8 +21,8 @@ fn a_new_file_starts_an_empty_table_on_the_default_rig() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("new.au.ron");
     let (app, session) = prepare(&args(file.clone())).unwrap();
-    assert!(app.table.aus.is_empty());
-    assert_eq!(app.table.rig, PathBuf::from("builtin:default"));
+    assert!(app.doc.table.aus.is_empty());
+    assert_eq!(app.doc.table.rig, PathBuf::from("builtin:default"));
     assert!(app.new_file() && !app.dirty());
     assert!(app.message.as_ref().unwrap().text.contains(":w creates it"));
     assert_eq!(
@@ -43,16 +44,19 @@ fn unsaved_state_is_offered_back_and_restored() {
         Action::Command("set L_Zygomatic_Major 1.25".into()),
     );
     update(&mut app, Action::Command("record 12".into()));
-    let state = RecoveryState::new(Some(&file), app.rig(), &app.activations, &app.table);
+    let state = RecoveryState::new(Some(&file), app.rig(), &app.doc.activations, &app.doc.table);
     recovery::write(session.recovery.as_ref().unwrap(), &state).unwrap();
-    let expected = (app.activations.clone(), app.table.clone());
+    let expected = (app.doc.activations.clone(), app.doc.table.clone());
     drop(session);
 
     let (mut app, _session) = prepare(&args(file.clone())).unwrap();
     assert!(matches!(app.mode, Mode::Confirm(Question::Recover(_))));
-    assert!(app.activations.is_rest());
+    assert!(app.doc.activations.is_rest());
     update(&mut app, Action::Answer(true));
-    assert_eq!((app.activations.clone(), app.table.clone()), expected);
+    assert_eq!(
+        (app.doc.activations.clone(), app.doc.table.clone()),
+        expected
+    );
     assert!(app.dirty());
     assert!(!file.exists(), "the table file is untouched until saved");
 }
@@ -63,7 +67,7 @@ fn declining_the_offer_discards_the_recovery_file() {
     let file = dir.path().join("t.au.ron");
     let (mut app, session) = prepare(&args(file.clone())).unwrap();
     update(&mut app, Action::Command("jaw 2".into()));
-    let state = RecoveryState::new(Some(&file), app.rig(), &app.activations, &app.table);
+    let state = RecoveryState::new(Some(&file), app.rig(), &app.doc.activations, &app.doc.table);
     recovery::write(session.recovery.as_ref().unwrap(), &state).unwrap();
     drop(session);
     let (mut app, _session) = prepare(&args(file)).unwrap();
@@ -71,7 +75,7 @@ fn declining_the_offer_discards_the_recovery_file() {
         update(&mut app, Action::Answer(false)),
         vec![Effect::RemoveRecovery]
     );
-    assert!(app.activations.is_rest());
+    assert!(app.doc.activations.is_rest());
 }
 
 #[test]
@@ -106,15 +110,28 @@ fn a_table_that_fails_to_load_names_file_line_and_column() {
 }
 
 #[test]
-fn ascii_flag_starts_in_ascii_cells() {
+fn cells_flags_choose_the_starting_cells() {
     let dir = tempfile::tempdir().unwrap();
-    let (app, _session) = prepare(&EditArgs {
-        file: Some(dir.path().join("a.au.ron")),
+    let start = |cells: CellsArgs| {
+        let (app, _session) = prepare(&EditArgs {
+            file: Some(dir.path().join("a.au.ron")),
+            cells,
+            ..EditArgs::default()
+        })
+        .unwrap();
+        app.view.cells
+    };
+    let ascii = CellsArgs {
         ascii: true,
-        ..EditArgs::default()
-    })
-    .unwrap();
-    assert_eq!(app.view.cells, CellMode::Ascii);
+        ..CellsArgs::default()
+    };
+    assert_eq!(start(ascii), CellMode::Ascii);
+    let half_block = CellsArgs {
+        cells: Some(CellMode::HalfBlock),
+        ..CellsArgs::default()
+    };
+    assert_eq!(start(half_block), CellMode::HalfBlock);
+    assert_eq!(start(CellsArgs::default()), CellMode::Braille);
 }
 
 #[test]
@@ -143,5 +160,5 @@ fn a_saved_table_opens_clean_with_its_stamp() {
     drop(session);
     let (app2, _session) = prepare(&args(file)).unwrap();
     assert!(!app2.dirty() && !app2.new_file());
-    assert_eq!(app2.table, app.table);
+    assert_eq!(app2.doc.table, app.doc.table);
 }

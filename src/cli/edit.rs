@@ -43,9 +43,9 @@ pub struct EditArgs {
     /// The mesh to place the rig on (instead of the rig's own mesh).
     #[arg(long, value_name = "OBJ")]
     pub mesh: Option<PathBuf>,
-    /// Draw with ASCII characters instead of braille.
-    #[arg(long)]
-    pub ascii: bool,
+    /// Braille, half-block or ASCII cells.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
 }
 
 /// Runs the editor.
@@ -70,16 +70,16 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         (Some(_), None) => (new_table(args.rig.as_deref()), None, true),
         (None, None) => (builtin_table()?, None, false),
     };
-    let (rig, mesh) = load_face(args, &table, &table_path)?;
+    let (rig, mesh, notice) = load_face(args, &table, &table_path)?;
     if let Some(loaded) = &loaded {
         crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
     }
     let scene = Scene::new(rig, mesh)?;
     let mut app = App::new(scene, table, args.file.clone());
-    app.file_stamp = stamp;
-    app.view = View::new(args.ascii);
-    app.colors = Colors::from_env();
+    app.doc.file_stamp = stamp;
+    app.view = View::new(args.cells.mode());
+    app.view.colors = Colors::from_env();
     if new_file {
         if let Some(path) = &args.file {
             app.info(format!(
@@ -87,6 +87,9 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
                 path.display()
             ));
         }
+    }
+    if let Some(notice) = notice {
+        app.warn(notice);
     }
     let mut session = Session {
         recovery: recovery::recovery_path(args.file.as_deref()),
@@ -128,7 +131,7 @@ fn offer_recovery(app: &mut App, path: &Path) -> bool {
                 return false;
             }
             let activations = state.activations(app.rig());
-            if activations == app.activations && state.table == app.table {
+            if activations == app.doc.activations && state.table == app.doc.table {
                 // Nothing that differs from what is on disk: nothing to offer.
                 let _ = recovery::remove(path);
                 return true;
@@ -206,12 +209,17 @@ pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
 }
 
 /// The rig and mesh to edit with: `--rig` (a file or `builtin:NAME`) if given, else the
-/// table's rig; `--mesh` replaces the rig's mesh.
-fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<(Rig, Mesh), String> {
+/// table's rig; `--mesh` replaces the rig's mesh. Also what loading an older rig file did
+/// (see [`crate::io::LoadedRig::notice`]), for the status line.
+fn load_face(
+    args: &EditArgs,
+    table: &AuTable,
+    table_path: &Path,
+) -> Result<(Rig, Mesh, Option<String>), String> {
     let reference = match &args.rig {
         Some(rig) => rig.clone(),
         None => rig_ref(table_path, &table.rig).to_path(),
     };
     let loaded = load_rig_ref(&reference, args.mesh.as_deref()).map_err(|e| e.to_string())?;
-    Ok((loaded.rig, loaded.mesh))
+    Ok((loaded.rig, loaded.mesh, loaded.notice))
 }

@@ -117,6 +117,9 @@ pub fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
             (rig, Some(table), Some(default))
         }
     };
+    if let Some(notice) = &rig.notice {
+        eprintln!("warning: {notice}");
+    }
     Ok(Sources {
         rig,
         table,

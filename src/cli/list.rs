@@ -33,7 +33,11 @@ pub fn run(args: &ListArgs) -> anyhow::Result<()> {
             Some(_) => rig_file::load_rig_ref(path, None)?.rig,
             None => {
                 let text = crate::io::error::read_text(path, crate::io::MAX_FILE_BYTES)?;
-                rig_file::parse_rig(&text, path)?
+                let (rig, notice) = rig_file::parse_rig_with(&text, path, builtin::mesh)?;
+                if let Some(notice) = notice {
+                    eprintln!("warning: {notice}");
+                }
+                rig
             }
         };
         out.push_str(&muscles(&rig));

@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use crate::io::printable::printable;
+use crate::render::CellMode;
 
 pub mod completions;
 pub mod edit;
@@ -46,9 +47,9 @@ pub struct EditorOptions {
     /// The mesh to place the rig on (instead of the rig's own mesh).
     #[arg(long, value_name = "OBJ")]
     pub mesh: Option<std::path::PathBuf>,
-    /// Draw with ASCII characters instead of braille.
-    #[arg(long)]
-    pub ascii: bool,
+    /// Braille, half-block or ASCII cells.
+    #[command(flatten)]
+    pub cells: CellsArgs,
 }
 
 impl EditorOptions {
@@ -58,9 +59,42 @@ impl EditorOptions {
             file: None,
             rig: self.rig.clone(),
             mesh: self.mesh.clone(),
-            ascii: self.ascii,
+            cells: self.cells,
         }
     }
+}
+
+/// How the face's dots become characters: `--cells MODE`, with `--ascii` and `--half-block`
+/// kept as short forms. Shared by `edit`, `render` and `play`.
+#[derive(Debug, Clone, Copy, Default, clap::Args)]
+pub struct CellsArgs {
+    /// How dots become characters: braille (2x4 dots a cell), half-block (1x2, in colour) or
+    /// ascii (for fonts without braille).
+    #[arg(long, value_name = "MODE", value_parser = parse_cells)]
+    pub cells: Option<CellMode>,
+    /// The same as --cells ascii.
+    #[arg(long, conflicts_with_all = ["cells", "half_block"])]
+    pub ascii: bool,
+    /// The same as --cells half-block.
+    #[arg(long, conflicts_with = "cells")]
+    pub half_block: bool,
+}
+
+impl CellsArgs {
+    /// The cell mode asked for (braille when none is).
+    pub fn mode(&self) -> CellMode {
+        if self.ascii {
+            CellMode::Ascii
+        } else if self.half_block {
+            CellMode::HalfBlock
+        } else {
+            self.cells.unwrap_or_default()
+        }
+    }
+}
+
+fn parse_cells(text: &str) -> Result<CellMode, String> {
+    text.parse()
 }
 
 /// The subcommands.
@@ -176,7 +210,7 @@ mod tests {
         let cli = Cli::try_parse_from(["grimace", "--ascii", "--rig", "my.rig.ron"]).unwrap();
         assert!(cli.command.is_none());
         let args = cli.editor.to_edit_args();
-        assert!(args.ascii);
+        assert_eq!(args.cells.mode(), CellMode::Ascii);
         assert_eq!(
             args.rig.as_deref(),
             Some(std::path::Path::new("my.rig.ron"))
@@ -194,6 +228,40 @@ mod tests {
     fn editor_options_do_not_mix_with_other_subcommands() {
         assert!(Cli::try_parse_from(["grimace", "--ascii", "list"]).is_err());
         let cli = Cli::try_parse_from(["grimace", "edit", "--ascii"]).unwrap();
-        assert!(matches!(cli.command, Some(Command::Edit(ref a)) if a.ascii));
+        assert!(
+            matches!(cli.command, Some(Command::Edit(ref a)) if a.cells.mode() == CellMode::Ascii)
+        );
+    }
+
+    #[test]
+    fn cells_take_a_mode_or_the_short_forms() {
+        let mode = |args: &[&str]| match Cli::try_parse_from(args) {
+            Ok(Cli {
+                command: Some(Command::Render(r)),
+                ..
+            }) => Ok(r.cells.mode()),
+            Ok(other) => panic!("{other:?}"),
+            Err(e) => Err(e.kind()),
+        };
+        assert_eq!(mode(&["grimace", "render"]), Ok(CellMode::Braille));
+        for (args, expected) in [
+            (&["--cells", "ascii"][..], CellMode::Ascii),
+            (&["--cells", "half-block"][..], CellMode::HalfBlock),
+            (&["--cells", "braille"][..], CellMode::Braille),
+            (&["--ascii"][..], CellMode::Ascii),
+            (&["--half-block"][..], CellMode::HalfBlock),
+        ] {
+            let all: Vec<&str> = ["grimace", "render"].iter().chain(args).copied().collect();
+            assert_eq!(mode(&all), Ok(expected), "{args:?}");
+        }
+        assert!(mode(&["grimace", "render", "--cells", "dots"]).is_err());
+        assert!(mode(&["grimace", "render", "--ascii", "--half-block"]).is_err());
+        assert!(mode(&["grimace", "render", "--ascii", "--cells", "braille"]).is_err());
+        let cli = Cli::try_parse_from(["grimace", "play", "x.csv", "--cells", "half-block"]);
+        assert!(
+            matches!(cli, Ok(Cli { command: Some(Command::Play(ref p)), .. }) if p.cells.mode() == CellMode::HalfBlock)
+        );
+        let cli = Cli::try_parse_from(["grimace", "--half-block"]).unwrap();
+        assert_eq!(cli.editor.cells.mode(), CellMode::HalfBlock);
     }
 }

@@ -89,9 +89,9 @@ pub struct PlayArgs {
     /// Report frames shown, dropped and late at the end (on stderr).
     #[arg(long)]
     pub stats: bool,
-    /// Draw with ASCII characters instead of braille.
-    #[arg(long)]
-    pub ascii: bool,
+    /// Braille, half-block or ASCII cells.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
 }
 
 /// Runs `grimace play`, returning the first error (named with file, line and column).
@@ -447,11 +447,7 @@ mod view {
             positions: rest,
             canvas: DotCanvas::new(0, 0),
             grid: CellGrid::default(),
-            mode: if args.ascii {
-                CellMode::Ascii
-            } else {
-                CellMode::Braille
-            },
+            mode: args.cells.mode(),
             colors: if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()) {
                 ColorMode::None
             } else {

@@ -46,7 +46,7 @@ pub enum Format {
     Svg,
     /// PNG image.
     Png,
-    /// Braille (or, with --ascii, ASCII) text.
+    /// Text in the cells --cells asks for (braille by default).
     Txt,
 }
 
@@ -92,12 +92,9 @@ pub struct RenderArgs {
     /// Height: rows for text, pixels for images.
     #[arg(long, value_name = "N")]
     pub height: Option<usize>,
-    /// Plain ASCII characters instead of braille.
-    #[arg(long, conflicts_with = "half_block")]
-    pub ascii: bool,
-    /// Half-block characters with colours (1x2 dots per cell).
-    #[arg(long)]
-    pub half_block: bool,
+    /// Braille, half-block or ASCII cells for text.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
     /// Colour text output.
     #[arg(long, value_enum, default_value = "auto")]
     pub color: ColorChoice,
@@ -154,13 +151,7 @@ impl Look {
             bail!("--zoom {}: must be a positive number", args.zoom);
         }
         camera.zoom = args.zoom;
-        let mode = if args.ascii {
-            CellMode::Ascii
-        } else if args.half_block {
-            CellMode::HalfBlock
-        } else {
-            CellMode::Braille
-        };
+        let mode = args.cells.mode();
         let mut overlays = Vec::new();
         if args.muscles {
             muscle_overlays(&sources.rig.rig, None, &Palette::default(), &mut overlays);

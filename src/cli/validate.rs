@@ -99,6 +99,9 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
 
 fn check_rig(path: &Path) -> Result<String, LoadError> {
     let loaded = rig_file::load_rig(path)?;
+    if let Some(notice) = &loaded.notice {
+        eprintln!("warning: {notice}");
+    }
     BoundRig::bind(&loaded.rig, &loaded.mesh).map_err(|e| LoadError::new(path, e.to_string()))?;
     Ok(format!(
         "rig: {} muscles{}, mesh {} vertices",

@@ -15,7 +15,9 @@
 //! - the depth of the head, as the deepest vertex.
 //!
 //! The skin height under a front-view point comes from [`rigs::skin_under`]. Every muscle is
-//! placed on the subject's right (x > 0) and mirrored exactly, so the rig is mirror-symmetric.
+//! placed on the subject's left (x > 0: the import converts the classic data to glTF's
+//! convention, see [`crate::io::waters`]) and mirrored exactly, so the rig is
+//! mirror-symmetric.
 //! `docs/model.md` ("The paper's rig on the classic face") describes the placement.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -101,9 +103,9 @@ impl Opening {
 pub struct Landmarks {
     /// The mouth slit.
     pub mouth: Opening,
-    /// The subject's right eye opening (x > 0).
+    /// The subject's right eye opening (x < 0).
     pub right_eye: Opening,
-    /// The subject's left eye opening (x < 0).
+    /// The subject's left eye opening (x > 0).
     pub left_eye: Opening,
     /// The lowest vertex on the midline.
     pub chin: Vec3,
@@ -164,19 +166,19 @@ pub fn find_landmarks(mesh: &Mesh) -> Result<Landmarks, ClassicError> {
     let mouth = split_opening(&unique, mouth_loop)
         .ok_or(ClassicError::Missing("the mouth opening has no two lips"))?;
     let mouth_y = p[mouth.corners[0] as usize].y;
-    let eye = |right: bool| {
+    let eye = |positive_x: bool| {
         holes
             .iter()
             .filter(|l| {
                 let (lo, hi) = extent(l);
-                let side = if right { lo.x > 0.0 } else { hi.x < 0.0 };
+                let side = if positive_x { lo.x > 0.0 } else { hi.x < 0.0 };
                 side && lo.y > mouth_y
             })
             .max_by(|a, b| area(extent(a)).total_cmp(&area(extent(b))))
             .and_then(|l| split_opening(&unique, l))
     };
-    let right_eye = eye(true).ok_or(ClassicError::Missing("no right eye opening"))?;
-    let left_eye = eye(false).ok_or(ClassicError::Missing("no left eye opening"))?;
+    let left_eye = eye(true).ok_or(ClassicError::Missing("no left eye opening"))?;
+    let right_eye = eye(false).ok_or(ClassicError::Missing("no right eye opening"))?;
     let chin = p
         .iter()
         .filter(|v| v.x == 0.0)
@@ -318,8 +320,8 @@ fn frontalis_sheets(
     skin: &SkinSampler,
     p: &[Vec3],
 ) -> Result<[Muscle; 2], ClassicError> {
-    let name = "R_Frontalis_Sheet";
-    let eye = &marks.right_eye;
+    let name = "L_Frontalis_Sheet";
+    let eye = &marks.left_eye;
     let [inner, outer] = eye.corners.map(|v| p[v as usize]);
     let lid_top = eye
         .upper
@@ -405,15 +407,15 @@ fn orbicularis_oris(marks: &Landmarks, mesh: &Mesh) -> Result<Muscle, ClassicErr
 /// The eye sphincters on the lid line (see [`rigs::eye_sphincters`]), wider than the eye so
 /// the lids close along most of their length.
 fn orbicularis_oculi(marks: &Landmarks, p: &[Vec3]) -> Result<[Muscle; 2], ClassicError> {
-    let eye = &marks.right_eye;
+    let eye = &marks.left_eye;
     let lids = eye
         .centres(p)
-        .ok_or(ClassicError::Missing("the middle of the right eyelids"))?;
+        .ok_or(ClassicError::Missing("the middle of the left eyelids"))?;
     let corners = eye.corners.map(|v| p[v as usize]);
     rigs::eye_sphincters(corners, lids.into(), |half_width, semi_minor| {
         (1.6 * half_width).max(1.05 * semi_minor)
     })
-    .ok_or(ClassicError::Missing("an open right eye"))
+    .ok_or(ClassicError::Missing("an open left eye"))
 }
 
 /// The jaw: a pivot deep in the head at about the height of the nose's base, and weights 0
@@ -427,9 +429,9 @@ fn jaw(marks: &Landmarks, p: &[Vec3]) -> Result<Jaw, ClassicError> {
     let mouth_y = line.y_at(0.0);
     let eye_y = {
         let (u, l) = marks
-            .right_eye
+            .left_eye
             .centres(p)
-            .ok_or(ClassicError::Missing("the middle of the right eyelids"))?;
+            .ok_or(ClassicError::Missing("the middle of the left eyelids"))?;
         0.5 * (u.y + l.y)
     };
     // the lower lip reaches its corner at the outermost vertex of its own margin
@@ -629,7 +631,7 @@ mod tests {
         assert_eq!(extra_muscles(&mesh), (Vec::new(), None));
         assert_eq!(
             place_extras(&mesh).unwrap_err(),
-            ClassicError::Missing("no right eye opening")
+            ClassicError::Missing("no left eye opening")
         );
     }
 }

@@ -1,15 +1,16 @@
 //! The default face's mesh: a grid over the head's cylinder, split open along the lid lines
 //! and the mouth line.
 //!
-//! Columns run round the head (angle `theta`, subject's left at negative x), rows run up
+//! Columns run round the head (angle `theta`, the subject's right at negative x and left at
+//! positive x, glTF's convention: right-handed, y up, the face toward +z), rows run up
 //! the face. The rows below the mouth bend down to follow the jaw line; the row through the
 //! eye corners and the row through the mouth corners are split: between the corners each
 //! vertex has an upper copy (used by the triangles above) and a lower copy (used below), so
 //! the lids and lips are separate skin that muscles and the jaw can part. The corners
 //! themselves are shared, so nothing tears there.
 //!
-//! Only the subject's right half (x >= 0) is computed; the left half is its exact mirror and
-//! the midline column has x = 0 exactly.
+//! Only one half (x >= 0, the subject's left) is computed; the other half is its exact mirror
+//! and the midline column has x = 0 exactly.
 //!
 //! Winding: every triangle is counter-clockwise seen from outside the face, so its
 //! right-hand normal points out of the skin (toward the viewer on the front of the face).
@@ -60,16 +61,16 @@ enum Margin {
 
 /// The grid's layout: column angles, rows, and where the slits are.
 struct Layout {
-    /// Column angles for columns 0..=2*HALF_COLUMNS (subject's left first).
+    /// Column angles for columns 0..=2*HALF_COLUMNS (negative x, the subject's right, first).
     thetas: Vec<f64>,
     rows: Vec<Row>,
     mouth_row: usize,
     eye_row: usize,
-    /// Column offsets from the midline of the inner and outer eye corners (right eye).
+    /// Column offsets from the midline of the inner and outer eye corners (either eye).
     eye_corners: (usize, usize),
     /// Column offset of the mouth corner.
     mouth_corner: usize,
-    /// x (mm) of the inner and outer eye corners and of the mouth corner (right side).
+    /// x (mm) of the inner and outer eye corners and of the mouth corner (at positive x).
     en_x: f64,
     ex_x: f64,
     ch_x: f64,
@@ -136,9 +137,9 @@ impl Layout {
             return Some(Slit::Mouth);
         }
         Some(if i < HALF_COLUMNS {
-            Slit::LeftEye
-        } else {
             Slit::RightEye
+        } else {
+            Slit::LeftEye
         })
     }
 }
@@ -146,21 +147,21 @@ impl Layout {
 /// The three openings of the face.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Slit {
-    /// The subject's left eye (x < 0).
+    /// The subject's left eye (x > 0).
     LeftEye,
-    /// The subject's right eye (x > 0).
+    /// The subject's right eye (x < 0).
     RightEye,
     /// The mouth.
     Mouth,
 }
 
 /// The vertices along each slit, for naming groups: `(slit, upper copy, lower copy)`
-/// ordered from the subject's left to right, and the corners `(slit, left, right)`.
+/// in order of increasing x, and the corners `(slit, corner at lower x, corner at higher x)`.
 #[derive(Debug, Default, Clone)]
 pub struct Slits {
     /// Upper and lower copies of each split vertex.
     pub pairs: Vec<(Slit, u32, u32)>,
-    /// The two corner vertices of each slit (left, right).
+    /// The two corner vertices of each slit (lower x, higher x).
     pub corners: Vec<(Slit, u32, u32)>,
 }
 
@@ -301,8 +302,8 @@ impl<'a> Builder<'a> {
         let l = self.layout;
         let (en, ex) = l.eye_corners;
         let row = &self.above[l.eye_row];
-        let eye = |k: usize, left: bool| {
-            if left {
+        let eye = |k: usize, negative_x: bool| {
+            if negative_x {
                 row[HALF_COLUMNS - k]
             } else {
                 row[HALF_COLUMNS + k]
@@ -310,10 +311,10 @@ impl<'a> Builder<'a> {
         };
         self.slits
             .corners
-            .push((Slit::LeftEye, eye(ex, true), eye(en, true)));
+            .push((Slit::RightEye, eye(ex, true), eye(en, true)));
         self.slits
             .corners
-            .push((Slit::RightEye, eye(en, false), eye(ex, false)));
+            .push((Slit::LeftEye, eye(en, false), eye(ex, false)));
         let mouth = &self.above[l.mouth_row];
         self.slits.corners.push((
             Slit::Mouth,

@@ -1,7 +1,7 @@
 //! Named vertex groups of the default face: landmarks (single vertices) and regions.
 //!
 //! Rigs are placed from these, and tests check muscle actions on them. Names use the
-//! subject's sides (`left_` at x < 0). Single-vertex landmarks: `nasion`, `nose_tip`,
+//! subject's sides (`left_` at x > 0, glTF's convention). Single-vertex landmarks: `nasion`, `nose_tip`,
 //! `subnasale`, `upper_lip_centre`, `lower_lip_centre`, `chin`, `gnathion`,
 //! `forehead_centre`, and per side `*_inner_eye_corner`, `*_outer_eye_corner`,
 //! `*_upper_lid_centre`, `*_lower_lid_centre`, `*_mouth_corner`, `*_brow_inner`,
@@ -50,14 +50,14 @@ fn slit_groups(slits: &Slits, groups: &mut BTreeMap<String, Vec<u32>>) {
         groups.entry(up.to_string()).or_default().push(upper);
         groups.entry(low.to_string()).or_default().push(lower);
     }
-    for &(slit, left, right) in &slits.corners {
+    for &(slit, low, high) in &slits.corners {
         let names: [&str; 2] = match slit {
-            Slit::LeftEye => ["left_outer_eye_corner", "left_inner_eye_corner"],
-            Slit::RightEye => ["right_inner_eye_corner", "right_outer_eye_corner"],
-            Slit::Mouth => ["left_mouth_corner", "right_mouth_corner"],
+            Slit::LeftEye => ["left_inner_eye_corner", "left_outer_eye_corner"],
+            Slit::RightEye => ["right_outer_eye_corner", "right_inner_eye_corner"],
+            Slit::Mouth => ["right_mouth_corner", "left_mouth_corner"],
         };
-        groups.insert(names[0].to_string(), vec![left]);
-        groups.insert(names[1].to_string(), vec![right]);
+        groups.insert(names[0].to_string(), vec![low]);
+        groups.insert(names[1].to_string(), vec![high]);
     }
 }
 
@@ -114,7 +114,7 @@ fn landmark_groups(positions: &[Vec3], groups: &mut BTreeMap<String, Vec<u32>>) 
         "forehead_centre",
         best_on_midline(positions, at_height(40.0)),
     );
-    for (side, sign) in [("left", -1.0), ("right", 1.0)] {
+    for (side, sign) in [("left", 1.0), ("right", -1.0)] {
         let s = |x: f64| sign * x;
         let mut side_put = |name: &str, x: f64, y: f64| {
             put(&format!("{side}_{name}"), nearest(positions, mm(s(x), y)));
@@ -214,51 +214,51 @@ fn brows(positions: &[Vec3], groups: &mut BTreeMap<String, Vec<u32>>) {
         if p.y < lo || p.y > hi || p.x.abs() < inner || p.x.abs() > outer {
             continue;
         }
-        let name = if p.x < 0.0 { "left_brow" } else { "right_brow" };
+        let name = if p.x > 0.0 { "left_brow" } else { "right_brow" };
         groups.entry(name.into()).or_default().push(i as u32);
     }
 }
 
 /// Recovers the slits of a default-face mesh from its boundary: every boundary loop but the
 /// longest (the outer rim) is an eye or the mouth; the upper copies are the loop's vertices
-/// above the line through its two corners (its leftmost and rightmost vertices).
+/// above the line through its two corners (its vertices of lowest and highest x).
 fn recover_slits(mesh: &Mesh) -> Slits {
     let mut slits = Slits::default();
     let mut loops = crate::face::topology::boundary_loops(mesh);
     loops.sort_by_key(|l| std::cmp::Reverse(l.len()));
     for lp in loops.iter().skip(1) {
         let p = |v: u32| mesh.positions[v as usize];
-        let Some(left) = lp
+        let Some(low) = lp
             .iter()
             .copied()
             .min_by(|&a, &b| p(a).x.total_cmp(&p(b).x))
         else {
             continue;
         };
-        let Some(right) = lp
+        let Some(high) = lp
             .iter()
             .copied()
             .max_by(|&a, &b| p(a).x.total_cmp(&p(b).x))
         else {
             continue;
         };
-        let centre = 0.5 * (p(left) + p(right));
+        let centre = 0.5 * (p(low) + p(high));
         let slit = if centre.x.abs() < 1e-6 {
             Slit::Mouth
-        } else if centre.x < 0.0 {
+        } else if centre.x > 0.0 {
             Slit::LeftEye
         } else {
             Slit::RightEye
         };
-        slits.corners.push((slit, left, right));
+        slits.corners.push((slit, low, high));
         let mut uppers = Vec::new();
         let mut lowers = Vec::new();
         for &v in lp {
-            if v == left || v == right {
+            if v == low || v == high {
                 continue;
             }
-            let t = (p(v).x - p(left).x) / (p(right).x - p(left).x);
-            let line_y = p(left).y + t * (p(right).y - p(left).y);
+            let t = (p(v).x - p(low).x) / (p(high).x - p(low).x);
+            let line_y = p(low).y + t * (p(high).y - p(low).y);
             if p(v).y > line_y {
                 uppers.push(v);
             } else {

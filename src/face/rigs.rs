@@ -4,7 +4,8 @@
 //! projecting a front-view position (millimetres, from the face's proportions) onto the
 //! mesh, or named landmarks, pushed under the skin by an anatomical depth. Falloff distances
 //! are fractions of each muscle's own length, so the rig follows the mesh if its proportions
-//! change. Muscles are placed on the subject's right (x > 0) and mirrored exactly.
+//! change. Muscles are placed on the subject's left (x > 0, glTF's convention) and mirrored
+//! exactly to the right.
 
 use glam::Vec3;
 use thiserror::Error;
@@ -33,7 +34,7 @@ pub enum PlacementError {
     NoSkin {
         /// The muscle being placed.
         muscle: String,
-        /// Front-view x (mm, subject's right positive).
+        /// Front-view x (mm, the subject's left positive).
         x: f64,
         /// Front-view height above the nasion (mm).
         y: f64,
@@ -50,7 +51,7 @@ enum Anchor {
     Mark(&'static str, f64, f64, f64),
 }
 
-/// A linear muscle of the subject's right side, before placement.
+/// A linear muscle of the subject's left side (x > 0), before placement.
 struct LinearSpec {
     name: &'static str,
     attachment: Anchor,
@@ -66,7 +67,7 @@ const PAPER_LINEAR: [LinearSpec; 9] = [
     LinearSpec {
         name: "Zygomatic_Major",
         attachment: Anchor::Skin(52.0, -26.0, 4.0),
-        insertion: Anchor::Mark("right_mouth_corner", 1.5, 1.0, 1.0),
+        insertion: Anchor::Mark("left_mouth_corner", 1.5, 1.0, 1.0),
         zone: 40.0,
         falloff: (0.45, 1.3),
     },
@@ -74,7 +75,7 @@ const PAPER_LINEAR: [LinearSpec; 9] = [
     LinearSpec {
         name: "Angular_Depressor",
         attachment: Anchor::Skin(33.0, -100.0, 3.0),
-        insertion: Anchor::Mark("right_mouth_corner", 0.5, -1.0, 1.0),
+        insertion: Anchor::Mark("left_mouth_corner", 0.5, -1.0, 1.0),
         zone: 35.0,
         falloff: (0.4, 1.3),
     },
@@ -139,15 +140,15 @@ const EXTRA_LINEAR: [LinearSpec; 8] = [
     // levator palpebrae superioris: from the orbit roof, retracts the upper lid up and back
     LinearSpec {
         name: "Levator_Palpebrae",
-        attachment: Anchor::Mark("right_upper_lid_centre", 0.0, 20.0, 15.0),
-        insertion: Anchor::Mark("right_upper_lid_centre", 0.0, 0.0, 0.0),
+        attachment: Anchor::Mark("left_upper_lid_centre", 0.0, 20.0, 15.0),
+        insertion: Anchor::Mark("left_upper_lid_centre", 0.0, 0.0, 0.0),
         zone: 45.0,
         falloff: (0.3, 1.28),
     },
     // orbicularis oculi, pars orbitalis: lifts the cheek toward the orbit (AU6)
     LinearSpec {
         name: "Orbicularis_Oculi_Orbital",
-        attachment: Anchor::Mark("right_lower_lid_centre", 4.0, -3.0, 2.0),
+        attachment: Anchor::Mark("left_lower_lid_centre", 4.0, -3.0, 2.0),
         insertion: Anchor::Skin(40.0, -34.0, 1.0),
         zone: 45.0,
         falloff: (0.6, 1.4),
@@ -156,7 +157,7 @@ const EXTRA_LINEAR: [LinearSpec; 8] = [
     LinearSpec {
         name: "Buccinator",
         attachment: Anchor::Skin(44.0, -73.0, 18.0),
-        insertion: Anchor::Mark("right_mouth_corner", 0.0, 0.0, 1.0),
+        insertion: Anchor::Mark("left_mouth_corner", 0.0, 0.0, 1.0),
         zone: 35.0,
         falloff: (0.6, 1.2),
     },
@@ -164,7 +165,7 @@ const EXTRA_LINEAR: [LinearSpec; 8] = [
     LinearSpec {
         name: "Risorius",
         attachment: Anchor::Skin(54.0, -72.0, 2.0),
-        insertion: Anchor::Mark("right_mouth_corner", 0.0, 0.0, 1.0),
+        insertion: Anchor::Mark("left_mouth_corner", 0.0, 0.0, 1.0),
         zone: 40.0,
         falloff: (0.6, 1.2),
     },
@@ -269,22 +270,22 @@ impl Placer<'_> {
         Ok(rounded(point - Vec3::new(0.0, 0.0, units(depth) as f32)))
     }
 
-    /// A right-side linear muscle and its left mirror, left first.
+    /// A left-side linear muscle and its right mirror, left first.
     fn linear_pair(&self, spec: &LinearSpec) -> Result<[Muscle; 2], PlacementError> {
         let attachment = self.anchor(spec.name, spec.attachment)?;
         let insertion = self.anchor(spec.name, spec.insertion)?;
         let length = attachment.distance(insertion);
-        let right = Linear {
+        let left = Linear {
             attachment,
             insertion,
             zone: spec.zone,
             falloff_start: round3(spec.falloff.0 * length),
             falloff_end: round3(spec.falloff.1 * length),
         };
-        let left = Linear {
-            attachment: mirror(right.attachment),
-            insertion: mirror(right.insertion),
-            ..right.clone()
+        let right = Linear {
+            attachment: mirror(left.attachment),
+            insertion: mirror(left.insertion),
+            ..left.clone()
         };
         Ok(pair(
             spec.name,
@@ -316,7 +317,7 @@ impl Placer<'_> {
     fn orbicularis_oris(&self) -> Result<Muscle, PlacementError> {
         let upper = self.landmark("upper_lip_centre")?;
         let lower = self.landmark("lower_lip_centre")?;
-        let corner = self.landmark("right_mouth_corner")?;
+        let corner = self.landmark("left_mouth_corner")?;
         let centre = rounded(0.5 * (upper + lower));
         Ok(Muscle {
             name: "Orbicularis_Oris".into(),
@@ -334,14 +335,14 @@ impl Placer<'_> {
 
     /// The eye sphincters, reaching a little past the eye corners.
     fn orbicularis_oculi(&self) -> Result<[Muscle; 2], PlacementError> {
-        let inner = self.landmark("right_inner_eye_corner")?;
-        let outer = self.landmark("right_outer_eye_corner")?;
-        let upper = self.landmark("right_upper_lid_centre")?;
-        let lower = self.landmark("right_lower_lid_centre")?;
+        let inner = self.landmark("left_inner_eye_corner")?;
+        let outer = self.landmark("left_outer_eye_corner")?;
+        let upper = self.landmark("left_upper_lid_centre")?;
+        let lower = self.landmark("left_lower_lid_centre")?;
         eye_sphincters([inner, outer], [upper, lower], |half_width, _| {
             half_width + units(7.0) as f32
         })
-        .ok_or_else(|| PlacementError::MissingLandmark("right_upper_lid_centre (open)".into()))
+        .ok_or_else(|| PlacementError::MissingLandmark("left_upper_lid_centre (open)".into()))
     }
 
     /// The procerus: a midline muscle from the nasal bones up into the glabella skin; it
@@ -369,7 +370,7 @@ impl Placer<'_> {
 
     /// The jaw: a pivot at the temporomandibular joint and weights over the lower face.
     fn jaw(&self) -> Result<Jaw, PlacementError> {
-        let corner = self.landmark("right_mouth_corner")?;
+        let corner = self.landmark("left_mouth_corner")?;
         let upper = self.landmark("upper_lip_centre")?;
         let lower = self.landmark("lower_lip_centre")?;
         let mouth_y = 0.5 * (upper.y + lower.y);
@@ -441,8 +442,7 @@ pub fn skin_under(mesh: &Mesh, x: f32, y: f32) -> Option<Vec3> {
     best
 }
 
-/// The left (x < 0) and right muscles of a pair, named `L_name` and `R_name`.
-/// Both eye sphincters from the right eye's corners and lid-margin centres: centred on the
+/// Both eye sphincters from the left eye's corners and lid-margin centres: centred on the
 /// line where the lids meet when they close (halfway between the margins), so both lids
 /// converge on it. A lid margin at `t = |Py| / ly` on the centre line moves `K t (1 - t)`
 /// toward the major axis; `ly` is chosen so that the margins just reach it at K = 2:
@@ -465,16 +465,16 @@ pub(crate) fn eye_sphincters(
         0.5 * (upper.y + lower.y),
         0.5 * (upper.z + lower.z),
     ));
-    let right = Sphincter {
+    let left = Sphincter {
         centre,
         semi_major: round3(semi_major(0.5 * (outer.x - inner.x).abs(), semi_minor)),
         semi_minor: round3(semi_minor),
         convergence: Convergence::MajorAxis,
         bulge: 30.0,
     };
-    let left = Sphincter {
+    let right = Sphincter {
         centre: mirror(centre),
-        ..right.clone()
+        ..left.clone()
     };
     Some(pair(
         "Orbicularis_Oculi",
@@ -483,15 +483,15 @@ pub(crate) fn eye_sphincters(
     ))
 }
 
-/// Both frontalis sheets from the right one: the left mirrors its corners (listed in the
+/// Both frontalis sheets from the left one: the right mirrors its corners (listed in the
 /// same order around the sheet, so the mirror keeps the sheet's orientation).
-pub(crate) fn frontalis_pair(right: Sheet) -> [Muscle; 2] {
-    let [a1, a2] = right.attachment;
-    let [l1, l2] = right.insertion;
-    let left = Sheet {
+pub(crate) fn frontalis_pair(left: Sheet) -> [Muscle; 2] {
+    let [a1, a2] = left.attachment;
+    let [l1, l2] = left.insertion;
+    let right = Sheet {
         attachment: [mirror(a2), mirror(a1)],
         insertion: [mirror(l2), mirror(l1)],
-        ..right.clone()
+        ..left.clone()
     };
     pair(
         "Frontalis_Sheet",
@@ -500,6 +500,7 @@ pub(crate) fn frontalis_pair(right: Sheet) -> [Muscle; 2] {
     )
 }
 
+/// The subject's left (x > 0) and right muscles of a pair, named `L_name` and `R_name`.
 pub(crate) fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 2] {
     let (l, r) = (format!("L_{name}"), format!("R_{name}"));
     [

@@ -1,6 +1,6 @@
 //! The shape of the default face: outline, head cross-section and the relief of its features.
 //!
-//! Every function here works in millimetres on the subject's right half (x >= 0) and is
+//! Every function here works in millimetres on one half (x >= 0, the subject's left) and is
 //! mirrored by the generator, so the face is exactly symmetric. The skin is an elliptic
 //! cylinder (angle `theta` around the vertical axis, height `y`) whose depth is shaped by
 //! smooth, local anatomical features added along z.

@@ -8,6 +8,9 @@
 //! The `mesh` field is a path relative to the rig file, or `builtin:NAME` for a mesh embedded
 //! in grimace. Built-in names are resolved by a [`BuiltinMeshes`] function passed to
 //! [`load_rig_with`], so this module does not depend on where the embedded meshes live.
+//!
+//! Version 1 files (the classic convention, the subject's left at negative x) are converted
+//! as they are read ([`upgrade_v1`]) and the load says so once ([`LoadedRig::notice`]).
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -18,6 +21,7 @@ use serde::{Deserialize, Deserializer};
 use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
 use super::{atomic, builtin, obj, ron_text};
 use crate::model::field::validate_muscle;
+use crate::model::muscle::mirror_x;
 use crate::model::{
     BindError, Combine, Convergence, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side,
     Sphincter, RIG_VERSION,
@@ -40,7 +44,14 @@ pub struct LoadedRig {
     pub path: PathBuf,
     /// The mesh file read, or `None` for a built-in mesh.
     pub mesh_path: Option<PathBuf>,
+    /// What loading did to an older file (a version 1 rig converted), to show the user once;
+    /// `None` for a current file.
+    pub notice: Option<String>,
 }
+
+/// The oldest rig file version this build reads; older files than [`RIG_VERSION`] are
+/// converted on load.
+pub const OLDEST_RIG_VERSION: u32 = 1;
 
 /// Where a rig's mesh comes from.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -105,6 +116,7 @@ pub fn load_rig_ref(
         mesh,
         path: reference.to_path_buf(),
         mesh_path,
+        notice: None,
     })
 }
 
@@ -116,7 +128,7 @@ pub fn load_rig_with(
     builtin: BuiltinMeshes,
 ) -> Result<LoadedRig, LoadError> {
     let text = read_text(path, MAX_FILE_BYTES)?;
-    let rig = parse_rig(&text, path)?;
+    let (rig, notice) = parse_rig_with(&text, path, builtin)?;
     let (mesh, mesh_path) = match mesh_override {
         Some(file) => (obj::read_obj(file)?, Some(file.to_path_buf())),
         None => load_named_mesh(&rig, &text, path, builtin)?,
@@ -129,6 +141,7 @@ pub fn load_rig_with(
         mesh,
         path: path.to_path_buf(),
         mesh_path,
+        notice,
     })
 }
 
@@ -167,16 +180,96 @@ fn load_named_mesh(
     }
 }
 
-/// Parses and checks the text of a rig file (the mesh is not loaded). `path` is used in
-/// error messages only.
+/// Parses and checks the text of a rig file (the mesh is not loaded), converting a version 1
+/// file (see [`upgrade_v1`]). `path` is used in error messages only.
 pub fn parse_rig(text: &str, path: &Path) -> Result<Rig, LoadError> {
-    ron_text::check_version(path, text, RIG_VERSION, "rig")?;
+    parse_rig_with(text, path, builtin::mesh).map(|(rig, _)| rig)
+}
+
+/// [`parse_rig`] with the built-in meshes given, also returning the notice of a conversion
+/// (see [`LoadedRig::notice`]).
+pub fn parse_rig_with(
+    text: &str,
+    path: &Path,
+    builtin: BuiltinMeshes,
+) -> Result<(Rig, Option<String>), LoadError> {
+    ron_text::check_version_in(path, text, OLDEST_RIG_VERSION..=RIG_VERSION, "rig")?;
     let file: RigFile = ron_text::parse(path, text, "a rig")?;
-    let rig = file.into_rig();
+    let mut rig = file.into_rig();
+    let notice = (rig.version == 1).then(|| {
+        let what = upgrade_v1(&mut rig, builtin);
+        format!("{}: {what}", path.display())
+    });
     if let Err(issue) = check_rig(&rig) {
         return Err(locate(path, text, &issue));
     }
-    Ok(rig)
+    Ok((rig, notice))
+}
+
+/// Converts a version 1 rig to the current version and says what was done.
+///
+/// Version 1 put the subject's left at negative x (the classic Waters convention, which the
+/// built-in face followed then); version 2 uses glTF's, the subject's left at positive x.
+///
+/// - On a built-in mesh (`builtin:NAME`), whose convention is known: the built-in face is
+///   now its own mirror image, so every muscle point and the jaw pivot are reflected across
+///   x = 0 and each jaw weight moves to the mirror vertex (the vertex at the reflected
+///   position). `L_` muscles stay on the subject's left.
+/// - On a mesh file: the mesh is read as it is, in its own coordinates, so the muscles are
+///   kept exactly where they are on it (reflecting them alone would take them off the mesh).
+///   What moves stays the same; only the screen shows the mesh unmirrored now.
+pub fn upgrade_v1(rig: &mut Rig, builtin: BuiltinMeshes) -> String {
+    rig.version = RIG_VERSION;
+    let MeshRef::Builtin(name) = mesh_ref(Path::new(""), &rig.mesh) else {
+        return format!(
+            "rig version 1 read as version {RIG_VERSION}: its muscles stay where they are on \
+             `{}`, in that mesh's own coordinates; grimace now draws meshes unmirrored \
+             (glTF's convention, the subject's left at positive x), so a mesh with the \
+             subject's left at negative x (as older `grimace import-waters` wrote) shows as \
+             its mirror image: import it again, or mirror it, to fix that",
+            rig.mesh.display()
+        );
+    };
+    for muscle in &mut rig.muscles {
+        muscle.kind = muscle.kind.mirrored_x();
+    }
+    if let Some(jaw) = &mut rig.jaw {
+        jaw.pivot = mirror_x(jaw.pivot);
+        if let Some(mesh) = builtin(&name) {
+            jaw.weights = mirrored_weights(&jaw.weights, &mesh);
+        }
+    }
+    format!(
+        "rig version 1 converted to version {RIG_VERSION}: builtin:{name} now has the \
+         subject's left at positive x (glTF's convention), so the rig's muscles and jaw were \
+         mirrored across x = 0 to stay on the same side of the face (the file is unchanged)"
+    )
+}
+
+/// Jaw weights moved to the mirror vertex of each vertex (the one at exactly the reflected
+/// position), sorted by vertex. A vertex without a mirror image keeps its weight.
+fn mirrored_weights(weights: &[(u32, f32)], mesh: &Mesh) -> Vec<(u32, f32)> {
+    let key = |p: Vec3| (p + Vec3::ZERO).to_array().map(f32::to_bits);
+    let by_position: std::collections::HashMap<[u32; 3], u32> = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| (key(p), i as u32))
+        .collect();
+    let mut out: Vec<(u32, f32)> = weights
+        .iter()
+        .map(|&(v, w)| {
+            let image = mesh
+                .positions
+                .get(v as usize)
+                .and_then(|&p| by_position.get(&key(mirror_x(p))))
+                .copied();
+            (image.unwrap_or(v), w)
+        })
+        .collect();
+    out.sort_by_key(|&(v, _)| v);
+    out.dedup_by_key(|&mut (v, _)| v);
+    out
 }
 
 /// Writes a rig file atomically (see [`atomic::write_atomic`]), after checking the rig.

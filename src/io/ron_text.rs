@@ -114,14 +114,34 @@ pub(crate) fn check_version(
     expected: u32,
     what: &str,
 ) -> Result<(), LoadError> {
+    check_version_in(path, text, expected..=expected, what).map(|_| ())
+}
+
+/// Like [`check_version`] for a format that still reads older versions: accepts any version
+/// in `versions` and returns it (`None` when the text has no readable version field, which
+/// the full parse then reports).
+pub(crate) fn check_version_in(
+    path: &Path,
+    text: &str,
+    versions: std::ops::RangeInclusive<u32>,
+    what: &str,
+) -> Result<Option<u32>, LoadError> {
     let Ok(found) = ron::Options::default().from_str::<VersionOnly>(text) else {
-        return Ok(());
+        return Ok(None);
     };
-    if found.version == expected {
-        return Ok(());
+    if versions.contains(&found.version) {
+        return Ok(Some(found.version));
     }
+    let (oldest, newest) = (*versions.start(), *versions.end());
+    let reads = if oldest == newest {
+        format!("version {oldest}")
+    } else if oldest + 1 == newest {
+        format!("versions {oldest} and {newest}")
+    } else {
+        format!("versions {oldest} to {newest}")
+    };
     let message = format!(
-        "{what} version {} is not supported; this grimace reads version {expected}",
+        "{what} version {} is not supported; this grimace reads {reads}",
         found.version
     );
     Err(match find_field(text, 0, "version") {

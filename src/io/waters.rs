@@ -11,6 +11,14 @@
 //! mouth opening are 0.004 apart). Vertices are numbered in order of first appearance while
 //! walking the triangles, so the result matches the classic reference outputs index for
 //! index.
+//!
+//! The classic data puts the subject's left at negative x. grimace uses glTF's convention
+//! (right-handed, y up, the face toward +z, the subject's left at positive x), so every point
+//! is converted as it is read, by [`from_classic`] (x negated): the half face lies at x >= 0,
+//! the `L_` muscles at positive x. Triangles keep the file's corner order, so indices still
+//! match the reference outputs; the reflection turns their right-hand normals from pointing
+//! into the head (as in the original) to pointing out of it. A classic reference position
+//! `p` corresponds to `from_classic(p)` here.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -43,7 +51,7 @@ pub struct WatersMuscle {
 /// The three classic files, parsed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WatersData {
-    /// Half-face vertices (x <= 0), in file order.
+    /// Half-face vertices (x >= 0 once converted, see [`from_classic`]), in file order.
     pub vertices: Vec<Vec3>,
     /// Polygons of the half face, zero-based: a quad `[a, b, c, d]` or a triangle `[b, c, d]`.
     pub polygons: Vec<Polygon>,
@@ -85,6 +93,12 @@ pub struct Imported {
     pub mesh: Mesh,
     /// The rig: the linear muscles of `muscle.dat` (plus any extras).
     pub rig: Rig,
+}
+
+/// Converts a point of the classic data (the subject's left at negative x) to grimace's
+/// convention (glTF's: the subject's left at positive x) by negating x. Its own inverse.
+pub fn from_classic(p: Vec3) -> Vec3 {
+    Vec3::new(-p.x, p.y, p.z)
 }
 
 /// The file names of the classic data.
@@ -404,13 +418,14 @@ impl<'a> Tokens<'a> {
     }
 }
 
-/// Parses `faceline.dat`: a vertex count, then that many `x y z` triples.
+/// Parses `faceline.dat`: a vertex count, then that many `x y z` triples, converted with
+/// [`from_classic`].
 pub fn parse_faceline(text: &str, path: &Path) -> Result<Vec<Vec3>, LoadError> {
     let mut tokens = Tokens::new(text, path);
     let count = tokens.count("vertices", 3)?;
     let mut vertices = Vec::with_capacity(count);
     for i in 1..=count {
-        vertices.push(tokens.point(&format!("vertex {i}"))?);
+        vertices.push(from_classic(tokens.point(&format!("vertex {i}"))?));
     }
     tokens.finish("vertex")?;
     Ok(vertices)
@@ -464,7 +479,8 @@ pub fn parse_index(
 }
 
 /// Parses `muscle.dat`: a muscle count, then per muscle a name, the first point (insertion),
-/// the second point (attachment), `fs fe zone clampv`.
+/// the second point (attachment), `fs fe zone clampv`. Points are converted with
+/// [`from_classic`].
 pub fn parse_muscles(text: &str, path: &Path) -> Result<Vec<WatersMuscle>, LoadError> {
     let mut tokens = Tokens::new(text, path);
     let count = tokens.count("muscles", 11)?;
@@ -481,8 +497,8 @@ pub fn parse_muscles(text: &str, path: &Path) -> Result<Vec<WatersMuscle>, LoadE
                 format!("expected the name of muscle {record}, found the number `{name}`"),
             ));
         }
-        let insertion = tokens.point(&format!("{name}'s first point"))?;
-        let attachment = tokens.point(&format!("{name}'s second point"))?;
+        let insertion = from_classic(tokens.point(&format!("{name}'s first point"))?);
+        let attachment = from_classic(tokens.point(&format!("{name}'s second point"))?);
         let falloff_start = tokens.float(&format!("{name}'s falloff start"))?;
         let falloff_end = tokens.float(&format!("{name}'s falloff end"))?;
         let zone = tokens.float(&format!("{name}'s zone"))?;
@@ -511,10 +527,13 @@ mod tests {
 
     #[test]
     fn tokens_ignore_line_structure_and_cr() {
+        // x is negated as read: the classic subject's left (x < 0) becomes positive x
         let v = parse_faceline("2\r\n\r\n 0.0 1.5\r\n2 -1 0 0.25\r\n", p()).unwrap();
+        assert_eq!(v, vec![Vec3::new(0.0, 1.5, 2.0), Vec3::new(1.0, 0.0, 0.25)]);
+        let m = parse_muscles("1\nL_m -1 2 3 -4 5 6 0.1 2 40 1\n", p()).unwrap();
         assert_eq!(
-            v,
-            vec![Vec3::new(0.0, 1.5, 2.0), Vec3::new(-1.0, 0.0, 0.25)]
+            (m[0].insertion, m[0].attachment),
+            (Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0))
         );
     }
 

@@ -62,8 +62,8 @@ pub const MAX_TRIANGLES: usize = 8_000_000;
 
 /// A triangle mesh at rest.
 ///
-/// Positions use the face convention of the whole project: x across the face (the subject's
-/// left at negative x, as in the classic data), y up, z out of the face toward the viewer.
+/// Positions use the face convention of the whole project, glTF's: right-handed, x across the
+/// face (the subject's left at positive x), y up, z out of the face toward the viewer.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Mesh {
     /// Rest positions, one per vertex.

@@ -8,15 +8,15 @@ use serde::{Deserialize, Serialize};
 
 /// Which side of the face a muscle (or an AU) belongs to.
 ///
-/// Left and right are the subject's: the subject's left lies at negative x, as in the classic
-/// Waters data (whose `L_` muscles sit at x < 0).
+/// Left and right are the subject's: the subject's left lies at positive x, as in glTF's
+/// convention (right-handed, y up, the face toward +z).
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, Default,
 )]
 pub enum Side {
-    /// The subject's left (x < 0).
+    /// The subject's left (x > 0).
     Left,
-    /// The subject's right (x > 0).
+    /// The subject's right (x < 0).
     Right,
     /// On the midline, or acting on both sides at once.
     #[default]
@@ -70,7 +70,33 @@ pub enum MuscleKind {
     Sheet(Sheet),
 }
 
+/// The point reflected across the plane x = 0.
+pub fn mirror_x(p: Vec3) -> Vec3 {
+    Vec3::new(-p.x, p.y, p.z)
+}
+
 impl MuscleKind {
+    /// The same muscle reflected across the plane x = 0: every point (and direction) has its
+    /// x negated, the order of points kept.
+    pub fn mirrored_x(&self) -> MuscleKind {
+        match self {
+            MuscleKind::Linear(m) => MuscleKind::Linear(Linear {
+                attachment: mirror_x(m.attachment),
+                insertion: mirror_x(m.insertion),
+                ..m.clone()
+            }),
+            MuscleKind::Sphincter(m) => MuscleKind::Sphincter(Sphincter {
+                centre: mirror_x(m.centre),
+                ..m.clone()
+            }),
+            MuscleKind::Sheet(m) => MuscleKind::Sheet(Sheet {
+                attachment: m.attachment.map(mirror_x),
+                insertion: m.insertion.map(mirror_x),
+                ..m.clone()
+            }),
+        }
+    }
+
     /// A short lower-case label: `linear`, `sphincter` or `sheet`.
     pub fn label(&self) -> &'static str {
         match self {

@@ -7,8 +7,10 @@ use serde::{Deserialize, Serialize};
 use super::jaw::Jaw;
 use super::muscle::Muscle;
 
-/// The rig file format version this build reads and writes.
-pub const RIG_VERSION: u32 = 1;
+/// The rig file format version this build writes (and reads; older versions are converted
+/// on load, see `docs/formats.md`). Version 2 uses glTF's convention, the subject's left at
+/// positive x; version 1 had it at negative x.
+pub const RIG_VERSION: u32 = 2;
 
 /// How the displacements of several muscles acting on one vertex combine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]

@@ -683,6 +683,7 @@ impl LiveSource {
         };
         let mut time = None;
         let mut raw = Vec::new();
+        let mut au_names: Vec<String> = Vec::new();
         for (name, value) in pairs {
             if name.eq_ignore_ascii_case("timestamp") {
                 if value.is_nan() || value.abs() > MAX_TIMESTAMP {
@@ -695,7 +696,18 @@ impl LiveSource {
                 }
                 time = Some(value);
             } else if let Some(key) = json_au_key(&name) {
+                // Two spellings of one AU (`AU12`, `AU12_r`) would add up: refuse the frame,
+                // as for a key given twice.
+                if let Some(k) = raw.iter().position(|(seen, _)| *seen == key) {
+                    return Event::Malformed {
+                        message: format!(
+                            "{}:{number}: AU{key} is given twice, as `{}` and `{name}`",
+                            self.name, au_names[k]
+                        ),
+                    };
+                }
                 raw.push((key, value as f32));
+                au_names.push(name);
             } else if self.ignored.insert(name.clone()) && !name.eq_ignore_ascii_case("frame") {
                 self.builder.pending.push(format!(
                     "{}: field `{name}` is not an AU (ignored)",

@@ -1,7 +1,7 @@
 //! The camera: view angles, zoom and pan, and the fitted projection onto a dot canvas.
 //!
 //! See the [module documentation](super) for the screen orientation (the subject's left, at
-//! negative x, appears on the viewer's right in the front view).
+//! positive x, appears on the viewer's right in the front view).
 
 use glam::{Mat3, Vec2, Vec3};
 
@@ -17,7 +17,7 @@ const MARGIN: f32 = 0.03;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     /// Rotation about the vertical axis, in radians. Positive yaw brings the subject's left
-    /// cheek (negative x) toward the viewer; `FRAC_PI_2` shows the left profile.
+    /// cheek (positive x) toward the viewer; `FRAC_PI_2` shows the left profile.
     pub yaw: f32,
     /// Rotation about the horizontal screen axis, in radians. Positive pitch looks down on
     /// the subject from above.
@@ -66,11 +66,11 @@ impl Camera {
 
     /// The world-to-view matrix: view x to the screen's right, y up, z toward the viewer.
     ///
-    /// It includes the mirror that puts the subject's left (negative x) on the viewer's
-    /// right, so its determinant is -1.
+    /// A pure rotation (determinant +1): mesh x is screen right in the front view, so the
+    /// subject's left (positive x) is on the viewer's right. Positive yaw turns the subject
+    /// about +y by `-yaw`, which brings positive x toward the viewer.
     pub fn view_matrix(&self) -> Mat3 {
-        let mirror = Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
-        mirror * Mat3::from_rotation_x(self.pitch) * Mat3::from_rotation_y(self.yaw)
+        Mat3::from_rotation_x(self.pitch) * Mat3::from_rotation_y(-self.yaw)
     }
 
     /// The unit vector, in mesh coordinates, pointing from the subject toward the viewer.

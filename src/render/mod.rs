@@ -3,23 +3,24 @@
 //!
 //! # Orientation: what appears where on screen
 //!
-//! Mesh coordinates follow the project's face convention: y up, z out of the face toward the
-//! viewer, and the subject's **left** at **negative x** (as in the classic Waters data). A
-//! person facing the subject sees the subject's left on *their* right. grimace draws the face
-//! that way, like a photograph of the subject, not like a mirror:
+//! Mesh coordinates follow glTF's convention: right-handed, y up, z out of the face toward
+//! the viewer, and the subject's **left** at **positive x** (as in meshes from scanners,
+//! MakeHuman, MediaPipe and glTF assets). A person facing the subject sees the subject's left
+//! on *their* right. grimace draws the face that way, like a photograph of the subject, not
+//! like a mirror:
 //!
-//! * Front view ([`Camera::front`]): screen right is mesh **-x**, screen up is +y, and the
-//!   viewer looks along -z. So the subject's left eye (x < 0) is on the right half of the
+//! * Front view ([`Camera::front`]): screen right is mesh **+x**, screen up is +y, and the
+//!   viewer looks along -z. So the subject's left eye (x > 0) is on the right half of the
 //!   screen, and a muscle named `L_...` acts on the viewer's right. FACS coders read faces
 //!   this way.
 //! * [`Camera::side`] (yaw +90 degrees) shows the subject's left profile, nose pointing to the
 //!   screen's left. Positive yaw turns the subject's left cheek toward the viewer; positive
 //!   pitch looks down from above.
 //!
-//! The view matrix therefore contains a reflection (determinant -1); back-face culling uses
-//! the signed screen area with that sign folded in, and each mesh's winding is detected (see
-//! [`Orientation`]): the built-in face's right-hand normals point out of the head, the
-//! classic Waters mesh's point in, and both render the same.
+//! The view matrix is a rotation (no mirror); back-face culling uses the signed screen area
+//! (screen y runs down), and each mesh's winding is detected (see [`Orientation`]): the
+//! built-in face's and the imported classic face's right-hand normals point out of the head,
+//! a mesh wound the other way renders the same.
 //!
 //! # Pipeline
 //!

@@ -422,46 +422,6 @@ pub const MOUSE: &[(&str, &str)] = &[
     ("drag on the face", "turn and tilt the view"),
 ];
 
-/// The commands of the `:` line, for the help overlay and completion.
-pub const COMMANDS: &[(&str, &str)] = &[
-    ("w [FILE]", "save (to FILE: save as)"),
-    ("wq", "save and quit"),
-    ("q", "quit (asks when there are unsaved changes)"),
-    ("q!", "quit, discarding unsaved changes"),
-    (
-        "record N [NAME]",
-        "record the current state as AU N (e.g. 12, R12)",
-    ),
-    ("load N", "load AU N"),
-    ("delete N", "delete AU N"),
-    ("rename N NAME", "rename AU N"),
-    (
-        "add N [INTENSITY]",
-        "add AU N at an intensity (default 1) to the current state",
-    ),
-    (
-        "combo STR",
-        "set the state from an AU combination, e.g. 1+2+5B+26",
-    ),
-    (
-        "expr NAME [COMBO]",
-        "store an expression, or load it when no combination is given",
-    ),
-    ("set MUSCLE VALUE", "set a muscle's activation (0-2)"),
-    ("jaw VALUE", "set the jaw (0-4)"),
-    ("zero", "reset every muscle and the jaw"),
-    ("undo / redo", "undo or redo"),
-    ("view front|side|three-quarter", "preset views"),
-    ("style lines|shaded|wireframe", "drawing style"),
-    ("help", "this help"),
-];
-
-/// The command names, for completion.
-pub const COMMAND_NAMES: &[&str] = &[
-    "w", "wq", "x", "q", "q!", "record", "load", "delete", "rename", "add", "combo", "expr", "set",
-    "jaw", "zero", "undo", "redo", "view", "style", "help",
-];
-
 /// The action for a key press in the given mode, if any.
 pub fn dispatch(mode: &Mode, key: KeyEvent) -> Option<Action> {
     match mode {

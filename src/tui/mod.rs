@@ -5,6 +5,7 @@
 
 pub mod action;
 pub mod app;
+pub mod command;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;
@@ -53,7 +54,7 @@ pub fn run(mut app: App, mut session: Session) -> anyhow::Result<()> {
     let _guard = term::enter()?;
     let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
     let size = terminal.size()?;
-    app.size = (size.width, size.height);
+    app.view.size = (size.width, size.height);
     let mut loop_state = LoopState::default();
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         event_loop(
@@ -68,7 +69,7 @@ pub fn run(mut app: App, mut session: Session) -> anyhow::Result<()> {
         Ok(result) => result,
         Err(panic) => {
             // Keep the unsaved state before the panic goes on (the hook restored the terminal).
-            if app.edits > 0 {
+            if app.history.edits > 0 {
                 write_recovery(&mut app, &session);
             }
             std::panic::resume_unwind(panic);
@@ -85,6 +86,8 @@ pub fn run(mut app: App, mut session: Session) -> anyhow::Result<()> {
 
 #[derive(Debug, Default)]
 struct LoopState {
+    /// The face's render buffers, kept between frames.
+    cache: view::viewport::RenderCache,
     redraw: bool,
     recovery_due: Option<Instant>,
     quit: bool,
@@ -101,7 +104,7 @@ fn event_loop<W: Write>(
     state.redraw = true;
     loop {
         if state.redraw {
-            draw(terminal, app)?;
+            draw(terminal, app, &mut state.cache)?;
             state.redraw = false;
         }
         if let Some(stop) = signals.pending() {
@@ -149,9 +152,13 @@ fn event_loop<W: Write>(
 }
 
 /// Draws one frame inside a synchronized update.
-pub fn draw<W: Write>(terminal: &mut Terminal<CrosstermBackend<W>>, app: &App) -> io::Result<()> {
+pub fn draw<W: Write>(
+    terminal: &mut Terminal<CrosstermBackend<W>>,
+    app: &App,
+    cache: &mut view::viewport::RenderCache,
+) -> io::Result<()> {
     term::begin_frame(terminal.backend_mut())?;
-    terminal.draw(|frame| view::draw(app, frame))?;
+    terminal.draw(|frame| view::draw(app, cache, frame))?;
     term::end_frame(terminal.backend_mut())
 }
 
@@ -183,7 +190,7 @@ fn apply(app: &mut App, session: &mut Session, state: &mut LoopState, action: Ac
                     }
                     // After "save as" the unsaved state belongs to the new file.
                     if session.recovery.is_some() {
-                        session.recovery = recovery::recovery_path(app.file.as_deref());
+                        session.recovery = recovery::recovery_path(app.doc.file.as_deref());
                     }
                 }
                 Effect::Quit => state.quit = true,
@@ -196,9 +203,13 @@ fn write_recovery(app: &mut App, session: &Session) {
     let Some(path) = &session.recovery else {
         return;
     };
-    let mut state =
-        RecoveryState::new(app.file.as_deref(), app.rig(), &app.activations, &app.table);
-    state.base = app.file_stamp.map(|s| (s.len, s.hash));
+    let mut state = RecoveryState::new(
+        app.doc.file.as_deref(),
+        app.rig(),
+        &app.doc.activations,
+        &app.doc.table,
+    );
+    state.base = app.doc.file_stamp.map(|s| (s.len, s.hash));
     if let Err(e) = recovery::write(path, &state) {
         app.warn(format!(
             "could not write the recovery file {}: {e}",
@@ -280,7 +291,7 @@ fn mouse_actions(app: &App, mouse: MouseEvent, drag: &mut Option<(u16, u16)>) ->
     if app.mode != app::Mode::Normal {
         return Vec::new();
     }
-    let area = Rect::new(0, 0, app.size.0, app.size.1);
+    let area = Rect::new(0, 0, app.view.size.0, app.view.size.1);
     let Some(panels) = view::layout(area, app) else {
         return Vec::new();
     };
@@ -364,7 +375,7 @@ mod tests {
 
     fn app() -> App {
         let mut app = fixture::app();
-        app.size = (120, 40);
+        app.view.size = (120, 40);
         app
     }
 
@@ -409,8 +420,8 @@ mod tests {
         for action in actions {
             update::update(&mut app, action);
         }
-        assert!((app.activations.jaw - 0.05).abs() < 1e-6);
-        assert_eq!(app.focus, Focus::Muscles);
+        assert!((app.doc.activations.jaw - 0.05).abs() < 1e-6);
+        assert_eq!(app.selection.focus, Focus::Muscles);
     }
 
     #[test]

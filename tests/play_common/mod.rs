@@ -44,7 +44,7 @@ fn muscle(name: &str) -> Muscle {
 pub fn fixture_rig_and_table() -> (Rig, AuTable) {
     let rig = Rig {
         masks: Vec::new(),
-        version: 1,
+        version: grimace::model::RIG_VERSION,
         mesh: PathBuf::from("builtin:default"),
         combine: Default::default(),
         muscles: vec![muscle("brow"), muscle("cheek"), muscle("mouth")],

@@ -97,7 +97,8 @@ pub(super) fn classify(
         };
         let (ab, ac) = (b - a, c - a);
         let area = ab.x * ac.y - ab.y * ac.x;
-        // NaN anywhere makes the comparison false.
-        sign * area > 0.0 && (a.z + b.z + c.z).is_finite()
+        // Screen y runs down, so a triangle counter-clockwise as the viewer sees it has a
+        // negative area here. NaN anywhere makes the comparison false.
+        sign * area < 0.0 && (a.z + b.z + c.z).is_finite()
     }));
 }

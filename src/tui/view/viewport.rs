@@ -1,8 +1,6 @@
 //! The viewport: the deformed face, drawn by the core renderer ([`crate::render`]) and copied
 //! cell by cell into the ratatui buffer.
 
-use std::cell::RefCell;
-
 use glam::Vec2;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
@@ -34,15 +32,11 @@ struct CacheKey {
     view: crate::tui::app::View,
     area: Rect,
     selected: Option<usize>,
-    colors: Colors,
 }
-
-/// The cache as the state holds it: drawing reads the state and only reuses these buffers.
-pub type SharedCache = RefCell<RenderCache>;
 
 /// The camera for the view settings: angles in degrees, pan as a fraction of the face's size.
 pub fn camera(app: &App) -> Camera {
-    let (lo, hi) = app.scene.mesh().bounds();
+    let (lo, hi) = app.doc.scene.mesh().bounds();
     let extent = (hi - lo).truncate().max_element().max(f32::EPSILON);
     Camera {
         yaw: app.view.yaw.to_radians(),
@@ -87,8 +81,8 @@ fn to_color(rgb: Rgb, colors: Colors) -> Option<Color> {
     }
 }
 
-/// Draws the viewport panel.
-pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
+/// Draws the viewport panel, reusing the buffers in `cache`.
+pub fn draw(app: &App, cache: &mut RenderCache, theme: &Theme, area: Rect, buf: &mut Buffer) {
     let title = format!(
         " Face  {}  yaw {:.0} pitch {:.0} zoom {:.2} ",
         app.view.style.name(),
@@ -105,21 +99,19 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     if inner.is_empty() {
         return;
     }
-    let mut cache = app.render_cache.borrow_mut();
     let selected = match app.selected_row() {
         Row::Muscle(i) => Some(i),
         Row::Jaw => None,
     };
     let key = CacheKey {
-        generation: app.scene.generation(),
+        generation: app.doc.scene.generation(),
         view: app.view.clone(),
         area: inner,
         selected: selected.filter(|_| app.view.show_muscles),
-        colors: app.colors,
     };
     let fresh = cache.key.as_ref() == Some(&key);
     if !fresh {
-        render_face(app, &mut cache, inner, selected);
+        render_face(app, cache, inner, selected);
         cache.key = Some(key);
     }
     copy_cells(app, theme, &cache.grid, inner, buf);
@@ -134,7 +126,7 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
         grid,
         overlays,
     } = &mut *cache;
-    let mesh = app.scene.mesh();
+    let mesh = app.doc.scene.mesh();
     let renderer = renderer.get_or_insert_with(|| Renderer::new(mesh));
     let canvas = canvas.get_or_insert_with(|| DotCanvas::new(0, 0));
     let mode = app.view.cells;
@@ -144,11 +136,11 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
     if app.view.show_muscles {
         muscle_overlays(app.rig(), selected, &palette, overlays);
     }
-    let mut scene = Scene::new(mesh, app.scene.positions()).with_overlays(overlays);
+    let mut scene = Scene::new(mesh, app.doc.scene.positions()).with_overlays(overlays);
     scene.ghost = app.view.show_ghost;
     scene.displacement = app.view.show_displacement;
     renderer.render(&scene, &camera(app), app.view.style, canvas);
-    grid.fill(canvas, mode, color_mode(app.colors));
+    grid.fill(canvas, mode, color_mode(app.view.colors));
 }
 
 /// Copies the cell grid into the ratatui buffer.
@@ -167,7 +159,7 @@ fn copy_cells(app: &App, theme: &Theme, grid: &CellGrid, inner: Rect, buf: &mut 
                 continue;
             };
             target.set_char(cell.ch);
-            match cell.fg.and_then(|c| to_color(c, app.colors)) {
+            match cell.fg.and_then(|c| to_color(c, app.view.colors)) {
                 Some(fg) => {
                     target.set_fg(fg);
                 }
@@ -175,7 +167,7 @@ fn copy_cells(app: &App, theme: &Theme, grid: &CellGrid, inner: Rect, buf: &mut 
                     target.set_style(theme.face());
                 }
             }
-            if let Some(bg) = cell.bg.and_then(|c| to_color(c, app.colors)) {
+            if let Some(bg) = cell.bg.and_then(|c| to_color(c, app.view.colors)) {
                 target.set_bg(bg);
             }
         }
