@@ -81,12 +81,12 @@ fn classic_face_renders_in_every_style_and_size() {
                 );
                 common::assert_ink_fills_the_face(&canvas, &proj, &mesh.positions, 0.9, &what);
                 // The eye openings are mesh borders, drawn by the line styles: from the
-                // front both, turned, the subject's left (x < 0), toward the viewer.
+                // front both, turned, the subject's left (x > 0), toward the viewer.
                 if style != Style::Shaded {
                     let sides: &[f32] = if view == "front" {
                         &[-1.0, 1.0]
                     } else {
-                        &[-1.0]
+                        &[1.0]
                     };
                     for &side in sides {
                         for p in eye_border(&mesh, side) {
