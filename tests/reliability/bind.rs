@@ -5,6 +5,7 @@
 use std::fmt::Write;
 
 use grimace::model::deform::MAX_INFLUENCES;
+use grimace::model::rig::RIG_VERSION;
 
 use crate::common;
 use common::grimace_in as grimace;
@@ -35,7 +36,7 @@ fn grid_obj(side: usize) -> String {
 
 /// `count` sphincters, each reaching the whole grid.
 fn wide_rig(count: usize) -> String {
-    let mut text = String::from("(version: 2, mesh: \"grid.obj\", muscles: [\n");
+    let mut text = format!("(version: {RIG_VERSION}, mesh: \"grid.obj\", muscles: [\n");
     for i in 0..count {
         let _ = writeln!(
             text,

@@ -262,9 +262,11 @@ fn a_file_size_limit_is_a_write_error_not_a_crash() {
     ed.wait_for("no lock file");
     ed.send("L:record 12\r");
     ed.wait_for("recorded AU 12");
-    ed.wait_for("too large");
+    ed.wait_for("could not write the recovery file");
+    ed.wait_for("file too large");
     ed.send(":w\r");
     ed.wait_for("could not save");
+    ed.wait_for(": file too large; your edits are kept");
     ed.send(":q!\r");
     assert!(ed.wait_exit().success());
     ed.wait_restored();
@@ -320,4 +322,43 @@ fn recovered_edits_ask_before_replacing_a_table_changed_on_disk() {
         assert!(second.wait_exit().success());
         let _ = std::fs::remove_file(&recovery);
     }
+}
+
+/// A table opened through a symbolic link is locked and saved as the file it points to: a
+/// second editor on the file itself sees the lock, and the link stays a link.
+#[test]
+fn a_table_opened_through_a_link_is_locked_and_saved_as_its_target() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("real")).unwrap();
+    let target = dir.path().join("real/t.au.ron");
+    let table = "(version: 1, rig: \"builtin:default\", aus: {}, expressions: {})\n";
+    std::fs::write(&target, table).unwrap();
+    let link = dir.path().join("link.au.ron");
+    std::os::unix::fs::symlink("real/t.au.ron", &link).unwrap();
+    let mut ed = Editor::start(dir.path(), &["edit", link.to_str().unwrap()], 200, 30);
+    ed.wait_for("Zygomatic");
+    assert!(dir.path().join("real/.t.au.ron.lock").exists());
+    let mut other = Editor::start(dir.path(), &["edit", target.to_str().unwrap()], 200, 30);
+    other.wait_for("already open in another grimace");
+    other.send(":q!\r");
+    assert!(other.wait_exit().success());
+    ed.send("L:record 12\r:w\r");
+    ed.wait_for(&format!("saved {}", link.display()));
+    ed.send(":q\r");
+    assert!(ed.wait_exit().success());
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(grimace::io::load_table(&target).unwrap().aus.len(), 1);
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("real/t.au.ron~")).unwrap(),
+        table
+    );
+    let mut names: Vec<String> = std::fs::read_dir(dir.path().join("real"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["t.au.ron", "t.au.ron~"]);
 }
