@@ -13,10 +13,13 @@ use clap::Args;
 
 use super::export::{self, SourceArgs};
 use crate::facs::AuTable;
+use crate::io::arkit::ArkitMap;
+use crate::io::livelink;
 use crate::io::rig_file::LoadedRig;
 use crate::io::table_file::load_table_ref_for;
 use crate::io::timeline::load_timeline;
 use crate::model::{Mesh, Rig};
+use crate::play::livelink::{LiveLinkSource, LIVELINK_FRAME_RATE};
 use crate::play::player::Reopen;
 use crate::play::skips::Skips;
 use crate::play::source::DEFAULT_FRAME_RATE;
@@ -29,10 +32,13 @@ use crate::tui::keymap;
 /// The notes at the end of `grimace play --help`, before the keys.
 const NOTES: &str = "\
 INPUT:
-  FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped)
+  FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped),
+                      or a Live Link Face recording (Timecode,BlendShapeCount, then ARKit
+                      weights 0-1, played through presets/arkit.map.ron; timecodes at --fps,
+                      default 60)
   FILE.timeline.ron   keyframes of AU combinations or activations (see docs/formats.md)
   --stdin             one frame per line: a CSV header line then rows, or JSON objects
-                      {\"AU1\": 0.0, ..., \"AU45\": 0.0}
+                      {\"AU1\": 0.0, ..., \"AU45\": 0.0}; ARKit names (\"jawOpen\": 0-1) too
   --udp 127.0.0.1:PORT  JSON objects, one per datagram, on a loopback port (0 picks one)
 
 HEADLESS OUTPUT:
@@ -194,6 +200,12 @@ fn open_source(
         if is_timeline(path) {
             let timeline = load_timeline(path)?;
             return Ok(Box::new(TimelineSource::new(timeline, path, table, rig)?));
+        }
+        if livelink::is_livelink_file(path) {
+            let fps = args.fps.unwrap_or(LIVELINK_FRAME_RATE);
+            let arkit = ArkitMap::builtin();
+            let source = LiveLinkSource::open(path, mapper.clone(), &arkit, fps)?;
+            return Ok(Box::new(source));
         }
         return Ok(Box::new(OpenFaceSource::open(
             path,

@@ -10,4 +10,6 @@ mod bad_inputs;
 mod completions;
 mod face_cli;
 mod files;
+mod gltf_blending;
+mod gltf_export;
 mod render_cli;

@@ -9,4 +9,5 @@ mod common;
 mod au;
 mod cli;
 mod parts;
+mod real;
 mod rig;

@@ -9,6 +9,7 @@ mod play_common;
 
 mod default_face;
 mod live;
+mod livelink;
 mod openface;
 mod timeline;
 mod view;

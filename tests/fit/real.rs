@@ -3,7 +3,7 @@
 //! decimetres). Both fit, validate, and show AU 12, 26 and 45 moving the right regions in the
 //! right directions; MakeHuman's eyes and helpers stay still under the skin muscles.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 
