@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use grimace::tui::action::Action;
-use grimace::tui::app::{App, Colors};
+use grimace::tui::app::{App, ColorMode};
 use grimace::tui::scene::Scene;
 use grimace::tui::update::update;
 use ratatui::backend::CrosstermBackend;
@@ -35,7 +35,7 @@ impl Write for Counter {
 fn app(cols: u16, rows: u16) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
     let mut app = App::new(Scene::new(rig, mesh).expect("the rig binds"), table, None);
-    app.colors = Colors::Ansi16;
+    app.view.colors = ColorMode::Ansi16;
     update(&mut app, Action::Resize(cols, rows));
     app
 }
@@ -54,13 +54,14 @@ fn frames(c: &mut Criterion) {
     for (cols, rows) in [(200u16, 60u16), (80, 24)] {
         let mut term = terminal(cols, rows);
         let mut app = app(cols, rows);
-        grimace::tui::draw(&mut term, &app).unwrap();
+        let mut cache = Default::default();
+        grimace::tui::draw(&mut term, &app, &mut cache).unwrap();
         let mut flip = 1;
         c.bench_function(&format!("fine_step_frame_{cols}x{rows}"), |b| {
             b.iter(|| {
                 flip = -flip;
                 update(&mut app, Action::StepFine(flip));
-                grimace::tui::draw(&mut term, &app).unwrap();
+                grimace::tui::draw(&mut term, &app, &mut cache).unwrap();
             })
         });
         let mut down = true;
@@ -73,7 +74,7 @@ fn frames(c: &mut Criterion) {
                     Action::SelectPrev
                 };
                 update(&mut app, action);
-                grimace::tui::draw(&mut term, &app).unwrap();
+                grimace::tui::draw(&mut term, &app, &mut cache).unwrap();
             })
         });
     }
@@ -81,7 +82,7 @@ fn frames(c: &mut Criterion) {
         b.iter(|| {
             let mut term = terminal(200, 60);
             let app = app(200, 60);
-            grimace::tui::draw(&mut term, &app).unwrap();
+            grimace::tui::draw(&mut term, &app, &mut Default::default()).unwrap();
         })
     });
 }

@@ -4,7 +4,8 @@
 //! Sharma (VISIGRAPP 2019): linear, sheet and sphincter muscles and a weighted jaw. This crate
 //! is the core library (no terminal dependency) and, behind the default feature `tui`, the
 //! front ends `cli` and `tui`. Built with `--no-default-features` it is the core alone:
-//! model, FACS, formats, playback sources and renderer, without ratatui, crossterm or clap.
+//! model, FACS, formats, fitting, playback sources and renderer, without ratatui,
+//! crossterm or clap.
 //!
 //! Layers, arrows pointing down only:
 //!
@@ -13,6 +14,7 @@
 //!              \                  /
 //!   play   (frame sources, AU mapping, playback clock)
 //!   render (camera, raster to a dot canvas, text, svg, png)
+//!   fit    (rigs carried to other faces by landmarks, AU entries fitted to shapes)
 //!   face   (the generator of the built-in default face and its rigs)
 //!   io     (RON rig and table files, OBJ, classic Waters import, OpenFace CSV, atomic save)
 //!   facs   (AU keys and catalogue, AU tables, combination strings)

@@ -1,6 +1,5 @@
 //! `grimace completions SHELL`: shell completion scripts generated from the argument parser.
 
-use std::io::Write;
 use std::process::ExitCode;
 
 use clap::{Args, CommandFactory};
@@ -24,7 +23,7 @@ pub struct CompletionsArgs {
 pub fn run(args: &CompletionsArgs) -> ExitCode {
     let mut script = Vec::new();
     clap_complete::generate(args.shell, &mut Cli::command(), "grimace", &mut script);
-    // A closed pipe (`grimace completions bash | head`) is not an error worth a message.
-    let _ = std::io::stdout().write_all(&script);
-    ExitCode::SUCCESS
+    // A closed pipe (`grimace completions bash | head`) is not an error worth a message; a
+    // full disk is.
+    super::finish("completions", super::print_raw(&script))
 }

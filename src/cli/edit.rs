@@ -13,7 +13,7 @@ use crate::io::recovery;
 use crate::io::rig_file::load_rig_ref;
 use crate::io::table_file::rig_ref;
 use crate::model::{Mesh, Rig};
-use crate::tui::app::{App, Colors, FileStamp, Mode, Question, Recovered, View};
+use crate::tui::app::{App, ColorMode, FileStamp, Mode, Question, Recovered, View};
 use crate::tui::scene::Scene;
 use crate::tui::{self, Session};
 
@@ -43,9 +43,9 @@ pub struct EditArgs {
     /// The mesh to place the rig on (instead of the rig's own mesh).
     #[arg(long, value_name = "OBJ")]
     pub mesh: Option<PathBuf>,
-    /// Draw with ASCII characters instead of braille.
-    #[arg(long)]
-    pub ascii: bool,
+    /// Braille, half-block or ASCII cells.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
 }
 
 /// Runs the editor.
@@ -77,9 +77,9 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     }
     let scene = Scene::new(rig, mesh)?;
     let mut app = App::new(scene, table, args.file.clone());
-    app.file_stamp = stamp;
-    app.view = View::new(args.ascii);
-    app.colors = Colors::from_env();
+    app.doc.file_stamp = stamp;
+    app.view = View::new(args.cells.mode());
+    app.view.colors = ColorMode::from_env();
     if new_file {
         if let Some(path) = &args.file {
             app.info(format!(
@@ -98,37 +98,55 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     if let Some(path) = &args.file {
         match lock::acquire(path) {
             LockOutcome::Acquired(lock) => session.lock = Some(lock),
-            LockOutcome::HeldBy { pid } => app.warn(format!(
-                "{} is already open in another grimace (process {pid}); saving here may undo its changes",
-                path.display()
-            )),
+            LockOutcome::HeldBy { pid } => {
+                // The other editor's recovery file is its own: neither offered, removed nor
+                // overwritten here.
+                session.recovery = None;
+                app.warn(format!(
+                    "{} is already open in another grimace (process {pid}); its recovery file is left alone, changes here are not kept for recovery, and saving here may undo its changes",
+                    path.display()
+                ));
+            }
             LockOutcome::Unavailable(why) => app.warn(format!("no lock file: {why}")),
         }
     }
-    if let Some(path) = &session.recovery {
-        offer_recovery(&mut app, path);
+    if let Some(path) = session.recovery.clone() {
+        if !offer_recovery(&mut app, &path) {
+            session.recovery = None;
+        }
     }
     Ok((app, session))
 }
 
-fn offer_recovery(app: &mut App, path: &Path) {
+/// Offers a recovery file back; `false` when it belongs to another grimace that still runs
+/// (then it is left alone, and this editor keeps no recovery file of its own).
+fn offer_recovery(app: &mut App, path: &Path) -> bool {
     match recovery::read(path) {
         Ok(Some(state)) => {
+            if let Some(owner) = state.live_owner() {
+                app.warn(format!(
+                    "{} belongs to another grimace (process {owner}) that is still running; it is left alone, and changes here are not kept for recovery",
+                    path.display()
+                ));
+                return false;
+            }
             let activations = state.activations(app.rig());
-            if activations == app.activations && state.table == app.table {
+            if activations == app.doc.activations && state.table == app.doc.table {
                 // Nothing that differs from what is on disk: nothing to offer.
                 let _ = recovery::remove(path);
-                return;
+                return true;
             }
             app.mode = Mode::Confirm(Question::Recover(Box::new(Recovered {
                 activations,
                 table: state.table,
                 when: describe_age(state.written_at),
+                base: state.base.map(|(len, hash)| FileStamp { len, hash }),
             })));
         }
         Ok(None) => {}
         Err(e) => app.warn(format!("the recovery file cannot be read: {e}")),
     }
+    true
 }
 
 fn describe_age(written_at: u64) -> String {

@@ -102,8 +102,7 @@ pub fn run(args: &FitAuArgs) -> anyhow::Result<()> {
         }
         None => report.push_str("(no --table given: nothing written)\n"),
     }
-    super::print(&report);
-    Ok(())
+    super::print(&report)
 }
 
 /// The (target file, AU key) pairs to fit.

@@ -89,8 +89,7 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     BoundRig::bind(&fitted.rig, &mesh)
         .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
     rig_file::save_rig(&args.out, &fitted.rig)?;
-    super::print(&summary(args, &mesh, &fitted));
-    Ok(())
+    super::print(&summary(args, &mesh, &fitted))
 }
 
 /// The mesh's landmarks and the file to name in messages about them.

@@ -25,7 +25,7 @@ pub fn run(args: &GenFaceArgs) -> ExitCode {
     match generate(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("grimace gen-face: {err:#}");
+            super::report("gen-face", &err);
             ExitCode::from(1)
         }
     }
@@ -47,5 +47,7 @@ fn write(path: &Path, text: &str) -> anyhow::Result<()> {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("cannot create folder {}", parent.display()))?;
     }
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+    // Atomic: a full disk or a killed run leaves the previous file, never a truncated one.
+    crate::io::atomic::write_atomic_no_backup(path, text.as_bytes())
+        .map_err(|e| crate::io::SaveError::io(path, &e).into())
 }

@@ -71,6 +71,5 @@ pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
         } else {
             ""
         }
-    ));
-    Ok(())
+    ))
 }

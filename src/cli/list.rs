@@ -58,8 +58,7 @@ pub fn run(args: &ListArgs) -> anyhow::Result<()> {
         }
         out.push_str(&catalogue());
     }
-    super::print(&out);
-    Ok(())
+    super::print(&out)
 }
 
 fn side(side: Side) -> &'static str {

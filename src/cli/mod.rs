@@ -10,6 +10,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use crate::io::printable::printable;
+use crate::render::CellMode;
+
 pub mod completions;
 pub mod edit;
 pub mod export;
@@ -44,9 +47,9 @@ pub struct EditorOptions {
     /// The mesh to place the rig on (instead of the rig's own mesh).
     #[arg(long, value_name = "OBJ")]
     pub mesh: Option<std::path::PathBuf>,
-    /// Draw with ASCII characters instead of braille.
-    #[arg(long)]
-    pub ascii: bool,
+    /// Braille, half-block or ASCII cells.
+    #[command(flatten)]
+    pub cells: CellsArgs,
 }
 
 impl EditorOptions {
@@ -56,9 +59,42 @@ impl EditorOptions {
             file: None,
             rig: self.rig.clone(),
             mesh: self.mesh.clone(),
-            ascii: self.ascii,
+            cells: self.cells,
         }
     }
+}
+
+/// How the face's dots become characters: `--cells MODE`, with `--ascii` and `--half-block`
+/// kept as short forms. Shared by `edit`, `render` and `play`.
+#[derive(Debug, Clone, Copy, Default, clap::Args)]
+pub struct CellsArgs {
+    /// How dots become characters: braille (2x4 dots a cell), half-block (1x2, in colour) or
+    /// ascii (for fonts without braille).
+    #[arg(long, value_name = "MODE", value_parser = parse_cells)]
+    pub cells: Option<CellMode>,
+    /// The same as --cells ascii.
+    #[arg(long, conflicts_with_all = ["cells", "half_block"])]
+    pub ascii: bool,
+    /// The same as --cells half-block.
+    #[arg(long, conflicts_with = "cells")]
+    pub half_block: bool,
+}
+
+impl CellsArgs {
+    /// The cell mode asked for (braille when none is).
+    pub fn mode(&self) -> CellMode {
+        if self.ascii {
+            CellMode::Ascii
+        } else if self.half_block {
+            CellMode::HalfBlock
+        } else {
+            self.cells.unwrap_or_default()
+        }
+    }
+}
+
+fn parse_cells(text: &str) -> Result<CellMode, String> {
+    text.parse()
 }
 
 /// The subcommands.
@@ -94,6 +130,7 @@ pub enum Command {
 /// Parses the command line, runs it, and maps errors to exit codes (1 for errors; clap exits
 /// with 2 on usage errors).
 pub fn main() -> ExitCode {
+    ignore_file_size_signal();
     let cli = Cli::parse();
     match cli.command {
         None => finish("edit", edit::run(&cli.editor.to_edit_args())),
@@ -113,6 +150,18 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// Makes a file-size limit (`ulimit -f`) an error a write returns ("file too large"), reported
+/// and handled like a full disk, instead of the signal SIGXFSZ, which would kill grimace
+/// mid-save: edits lost, a temporary file and a lock left behind, the terminal not restored.
+fn ignore_file_size_signal() {
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to SIG_IGN installs no handler and touches no
+    // memory; it happens before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+}
+
 /// Maps a command's result to the exit status, printing the error as
 /// `grimace COMMAND: message` (the message names file, line and column where known).
 pub fn finish<E: Display>(command: &str, result: Result<(), E>) -> ExitCode {
@@ -125,16 +174,31 @@ pub fn finish<E: Display>(command: &str, result: Result<(), E>) -> ExitCode {
     }
 }
 
-/// Prints an error of a command to stderr.
+/// Prints an error of a command to stderr, control characters escaped (a message may quote
+/// text from a file).
 pub fn report(command: &str, err: &dyn Display) {
-    let _ = writeln!(std::io::stderr(), "grimace {command}: {err:#}");
+    let text = format!("grimace {command}: {err:#}");
+    let _ = writeln!(std::io::stderr(), "{}", printable(&text));
 }
 
-/// Writes text to stdout, ignoring a closed pipe (`grimace list | head` must not fail).
-pub fn print(text: &str) {
+/// Writes text to stdout with control characters escaped (names and paths come from files;
+/// see [`printable`]). A closed pipe is not an error (`grimace list | head` must not fail);
+/// any other failure (a full disk) is, so the command exits 1.
+pub fn print(text: &str) -> anyhow::Result<()> {
+    print_raw(printable(text).as_bytes())
+}
+
+/// Writes bytes to stdout as they are: for output grimace makes itself (a picture's colour
+/// escapes), never for text from files. Errors as for [`print`].
+pub fn print_raw(bytes: &[u8]) -> anyhow::Result<()> {
     let mut out = std::io::stdout().lock();
-    let _ = out.write_all(text.as_bytes());
-    let _ = out.flush();
+    match out.write_all(bytes).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(anyhow::anyhow!(
+            "cannot write to stdout: {}",
+            crate::io::error::io_reason(&e)
+        )),
+        _ => Ok(()),
+    }
 }
 
 #[cfg(test)]
@@ -146,7 +210,7 @@ mod tests {
         let cli = Cli::try_parse_from(["grimace", "--ascii", "--rig", "my.rig.ron"]).unwrap();
         assert!(cli.command.is_none());
         let args = cli.editor.to_edit_args();
-        assert!(args.ascii);
+        assert_eq!(args.cells.mode(), CellMode::Ascii);
         assert_eq!(
             args.rig.as_deref(),
             Some(std::path::Path::new("my.rig.ron"))
@@ -164,6 +228,40 @@ mod tests {
     fn editor_options_do_not_mix_with_other_subcommands() {
         assert!(Cli::try_parse_from(["grimace", "--ascii", "list"]).is_err());
         let cli = Cli::try_parse_from(["grimace", "edit", "--ascii"]).unwrap();
-        assert!(matches!(cli.command, Some(Command::Edit(ref a)) if a.ascii));
+        assert!(
+            matches!(cli.command, Some(Command::Edit(ref a)) if a.cells.mode() == CellMode::Ascii)
+        );
+    }
+
+    #[test]
+    fn cells_take_a_mode_or_the_short_forms() {
+        let mode = |args: &[&str]| match Cli::try_parse_from(args) {
+            Ok(Cli {
+                command: Some(Command::Render(r)),
+                ..
+            }) => Ok(r.cells.mode()),
+            Ok(other) => panic!("{other:?}"),
+            Err(e) => Err(e.kind()),
+        };
+        assert_eq!(mode(&["grimace", "render"]), Ok(CellMode::Braille));
+        for (args, expected) in [
+            (&["--cells", "ascii"][..], CellMode::Ascii),
+            (&["--cells", "half-block"][..], CellMode::HalfBlock),
+            (&["--cells", "braille"][..], CellMode::Braille),
+            (&["--ascii"][..], CellMode::Ascii),
+            (&["--half-block"][..], CellMode::HalfBlock),
+        ] {
+            let all: Vec<&str> = ["grimace", "render"].iter().chain(args).copied().collect();
+            assert_eq!(mode(&all), Ok(expected), "{args:?}");
+        }
+        assert!(mode(&["grimace", "render", "--cells", "dots"]).is_err());
+        assert!(mode(&["grimace", "render", "--ascii", "--half-block"]).is_err());
+        assert!(mode(&["grimace", "render", "--ascii", "--cells", "braille"]).is_err());
+        let cli = Cli::try_parse_from(["grimace", "play", "x.csv", "--cells", "half-block"]);
+        assert!(
+            matches!(cli, Ok(Cli { command: Some(Command::Play(ref p)), .. }) if p.cells.mode() == CellMode::HalfBlock)
+        );
+        let cli = Cli::try_parse_from(["grimace", "--half-block"]).unwrap();
+        assert_eq!(cli.editor.cells.mode(), CellMode::HalfBlock);
     }
 }

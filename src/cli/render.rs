@@ -10,7 +10,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::export::{self, SourceArgs, Sources, StateArgs};
-use crate::io::atomic::write_atomic_no_backup;
+use crate::io::atomic::{replace_unsynced, write_atomic_no_backup};
 use crate::model::{Activations, BoundRig, Mesh};
 use crate::render::{
     muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, Overlay, Palette,
@@ -46,7 +46,7 @@ pub enum Format {
     Svg,
     /// PNG image.
     Png,
-    /// Braille (or, with --ascii, ASCII) text.
+    /// Text in the cells --cells asks for (braille by default).
     Txt,
 }
 
@@ -92,12 +92,9 @@ pub struct RenderArgs {
     /// Height: rows for text, pixels for images.
     #[arg(long, value_name = "N")]
     pub height: Option<usize>,
-    /// Plain ASCII characters instead of braille.
-    #[arg(long, conflicts_with = "half_block")]
-    pub ascii: bool,
-    /// Half-block characters with colours (1x2 dots per cell).
-    #[arg(long)]
-    pub half_block: bool,
+    /// Braille, half-block or ASCII cells for text.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
     /// Colour text output.
     #[arg(long, value_enum, default_value = "auto")]
     pub color: ColorChoice,
@@ -154,13 +151,7 @@ impl Look {
             bail!("--zoom {}: must be a positive number", args.zoom);
         }
         camera.zoom = args.zoom;
-        let mode = if args.ascii {
-            CellMode::Ascii
-        } else if args.half_block {
-            CellMode::HalfBlock
-        } else {
-            CellMode::Braille
-        };
+        let mode = args.cells.mode();
         let mut overlays = Vec::new();
         if args.muscles {
             muscle_overlays(&sources.rig.rig, None, &Palette::default(), &mut overlays);
@@ -288,7 +279,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 size,
                 look.colors,
             )?;
-            super::print(&String::from_utf8_lossy(&text));
+            super::print_raw(&text)?;
         }
         Some(path) => {
             let format = format_of(path)?;
@@ -303,8 +294,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 size,
                 ColorMode::None,
             )?;
-            write_atomic_no_backup(path, &bytes)
-                .with_context(|| format!("{}: cannot write", path.display()))?;
+            write_atomic_no_backup(path, &bytes).map_err(|e| crate::io::SaveError::io(path, &e))?;
         }
     }
     Ok(())
@@ -337,23 +327,33 @@ fn render_all(
         Format::Txt => "txt",
     };
     let mut jobs = Vec::new();
+    let mut names = FileNames::default();
     for key in table.aus.keys() {
         let act = table
             .entry_activations(key, rig)
             .map_err(|e| anyhow!("AU {key}: {e}"))?;
         jobs.push(Job {
-            file: format!("au-{key}.{ext}"),
+            file: names.take(&format!("au-{key}"), ext),
             act,
         });
     }
-    for name in table.expressions.keys() {
+    // Names that are file names already keep them; the others are changed around them.
+    let (plain, changed): (Vec<&String>, Vec<&String>) = table
+        .expressions
+        .keys()
+        .partition(|name| file_safe(name) == **name);
+    for name in plain.into_iter().chain(changed) {
         let act = table
             .expression_activations(name, rig)
             .map_err(|e| anyhow!("expression `{name}`: {e}"))?;
-        jobs.push(Job {
-            file: format!("expr-{}.{ext}", file_safe(name)),
-            act,
-        });
+        let file = names.take(&format!("expr-{}", file_safe(name)), ext);
+        if file != format!("expr-{name}.{ext}") {
+            eprintln!(
+                "expression `{}` is written as {file}",
+                crate::io::printable::printable(name)
+            );
+        }
+        jobs.push(Job { file, act });
     }
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
@@ -373,10 +373,9 @@ fn render_all(
                 ColorMode::None,
             )?;
             let path = dir.join(&job.file);
-            // A folder of regenerated pictures: plain writes, without the two fsyncs per
-            // file an atomic save costs (they dominated the run time).
-            std::fs::write(&path, &bytes)
-                .with_context(|| format!("{}: cannot write", path.display()))
+            // A folder of regenerated pictures: each replaced whole, without the two fsyncs
+            // per file a synced save costs (they dominated the run time).
+            replace_unsynced(&path, &bytes).map_err(|e| crate::io::SaveError::io(&path, &e).into())
         },
     )?;
     eprintln!("rendered {} pictures into {}", jobs.len(), dir.display());
@@ -384,6 +383,27 @@ fn render_all(
 }
 
 /// A name made safe for a file name: letters, digits, `-` and `_` kept, the rest `_`.
+/// The file names of one `--all` run, kept distinct: two names that become the same file
+/// name (`a/b` and `a_b`, or `Smile` and `smile` on a file system that ignores case) get
+/// `-2`, `-3`, ... on the later ones.
+#[derive(Debug, Default)]
+struct FileNames {
+    taken: std::collections::HashSet<String>,
+}
+
+impl FileNames {
+    /// A file name `STEM.EXT` not yet taken, taking it.
+    fn take(&mut self, stem: &str, ext: &str) -> String {
+        let mut file = format!("{stem}.{ext}");
+        let mut n = 1;
+        while !self.taken.insert(file.to_lowercase()) {
+            n += 1;
+            file = format!("{stem}-{n}.{ext}");
+        }
+        file
+    }
+}
+
 fn file_safe(name: &str) -> String {
     name.chars()
         .map(|c| {
@@ -414,5 +434,14 @@ mod tests {
     fn file_names_are_made_safe() {
         assert_eq!(file_safe("happy face/2"), "happy_face_2");
         assert_eq!(file_safe("anger"), "anger");
+    }
+
+    #[test]
+    fn file_names_stay_distinct() {
+        let mut names = FileNames::default();
+        assert_eq!(names.take("expr-a_b", "svg"), "expr-a_b.svg");
+        assert_eq!(names.take("expr-a_b", "svg"), "expr-a_b-2.svg");
+        assert_eq!(names.take("expr-A_b", "svg"), "expr-A_b-3.svg");
+        assert_eq!(names.take("expr-a_b-2", "svg"), "expr-a_b-2-2.svg");
     }
 }

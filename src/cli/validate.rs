@@ -57,7 +57,12 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
     let mut failed = 0;
     for path in &args.files {
         match check(path) {
-            Ok(summary) => super::print(&format!("{}: ok ({summary})\n", path.display())),
+            Ok(summary) => {
+                if let Err(err) = super::print(&format!("{}: ok ({summary})\n", path.display())) {
+                    super::report("validate", &err);
+                    return ExitCode::from(1);
+                }
+            }
             Err(err) => {
                 failed += 1;
                 super::report("validate", &err);

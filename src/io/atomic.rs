@@ -8,6 +8,10 @@
 //!
 //! The backup `FILE~` is a copy of the version being replaced, written the same careful way;
 //! it is replaced on every save, so it always holds the version before the latest save.
+//!
+//! A save writes through symbolic links: the file the link points to is replaced (and backed
+//! up beside itself), the link stays a link. Anything that is not a regular file (a folder, a
+//! named pipe, a device, a socket) is refused, never replaced.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Write};
@@ -25,13 +29,70 @@ pub fn backup_path(path: &Path) -> PathBuf {
 ///
 /// On error the file at `path` is left exactly as it was and no temporary file remains.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    write_atomic_steps(path, bytes, true, &mut |_| Ok(()))
+    write_atomic_steps(path, bytes, Care::Backup, &mut |_| Ok(()))
 }
 
 /// Writes `bytes` to `path` atomically without keeping a backup: for outputs that are
 /// regenerated (exported meshes), where `FILE~` copies would only be clutter.
 pub fn write_atomic_no_backup(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    write_atomic_steps(path, bytes, false, &mut |_| Ok(()))
+    write_atomic_steps(path, bytes, Care::NoBackup, &mut |_| Ok(()))
+}
+
+/// Replaces `path` by a whole new file without waiting for the disk: a temporary file
+/// renamed over it, so a full disk or a killed process leaves the old file, but no fsync (a
+/// power cut may lose the new version). For many regenerated files at once (`render --all`),
+/// where two fsyncs per file would dominate the run time.
+pub fn replace_unsynced(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    write_atomic_steps(path, bytes, Care::Unsynced, &mut |_| Ok(()))
+}
+
+/// The file a save to `path` replaces: `path` itself, or, when it is a symbolic link, the
+/// file the link points to (followed through chains of links; a relative link is read from
+/// the link's folder). The file need not exist yet.
+pub fn save_target(path: &Path) -> io::Result<PathBuf> {
+    let mut target = path.to_path_buf();
+    // As many links as the kernel follows before it gives up (ELOOP).
+    for _ in 0..40 {
+        match fs::symlink_metadata(&target) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = fs::read_link(&target)?;
+                target = match target.parent() {
+                    Some(folder) => folder.join(link),
+                    None => link,
+                };
+            }
+            Ok(_) => return Ok(target),
+            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(target),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(io::Error::other("too many levels of symbolic links"))
+}
+
+/// Refuses to replace anything but a regular file (or nothing).
+fn check_replaceable(target: &Path) -> io::Result<()> {
+    match fs::metadata(target) {
+        Ok(meta) => match super::error::special_kind(&meta.file_type()) {
+            None => Ok(()),
+            Some(kind) => Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("it is {kind}; grimace only replaces regular files"),
+            )),
+        },
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(e),
+    }
+}
+
+/// How careful a save is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Care {
+    /// Synced, with the previous version kept as `FILE~`.
+    Backup,
+    /// Synced, no backup.
+    NoBackup,
+    /// Renamed into place without fsync, no backup.
+    Unsynced,
 }
 
 /// The steps of a save, named so tests can make each one fail.
@@ -63,17 +124,13 @@ fn temp_path(path: &Path) -> io::Result<PathBuf> {
 fn write_atomic_steps(
     path: &Path,
     bytes: &[u8],
-    keep_backup: bool,
+    care: Care,
     fail: &mut dyn FnMut(Step) -> io::Result<()>,
 ) -> io::Result<()> {
-    if path.is_dir() {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "the path is a folder",
-        ));
-    }
+    let path = &save_target(path)?;
+    check_replaceable(path)?;
     let temp = temp_path(path)?;
-    let result = write_and_rename(path, &temp, bytes, keep_backup, fail);
+    let result = write_and_rename(path, &temp, bytes, care, fail);
     if result.is_err() {
         // Best effort: the temporary file may not exist if creating it failed.
         let _ = fs::remove_file(&temp);
@@ -85,7 +142,7 @@ fn write_and_rename(
     path: &Path,
     temp: &Path,
     bytes: &[u8],
-    keep_backup: bool,
+    care: Care,
     fail: &mut dyn FnMut(Step) -> io::Result<()>,
 ) -> io::Result<()> {
     fail(Step::Create)?;
@@ -98,15 +155,19 @@ fn write_and_rename(
     file.write_all(bytes)?;
     file.flush()?;
     fail(Step::Sync)?;
-    file.sync_all()?;
+    if care != Care::Unsynced {
+        file.sync_all()?;
+    }
     drop(file);
-    if keep_backup && path.is_file() {
+    if care == Care::Backup && path.is_file() {
         fail(Step::Backup)?;
         backup(path)?;
     }
     fail(Step::Rename)?;
     fs::rename(temp, path)?;
-    sync_folder(path);
+    if care != Care::Unsynced {
+        sync_folder(path);
+    }
     Ok(())
 }
 
@@ -179,7 +240,7 @@ mod tests {
             let dir = tempfile::tempdir().unwrap();
             let path = dir.path().join("rig.rig.ron");
             fs::write(&path, b"old").unwrap();
-            let err = write_atomic_steps(&path, b"new", true, &mut |s| {
+            let err = write_atomic_steps(&path, b"new", Care::Backup, &mut |s| {
                 if s == step {
                     Err(io::Error::other("no space left on device"))
                 } else {
@@ -213,5 +274,43 @@ mod tests {
     fn refuses_a_folder() {
         let dir = tempfile::tempdir().unwrap();
         assert!(write_atomic(dir.path(), b"x").is_err());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn writes_through_a_chain_of_links_and_backs_up_the_target() {
+        let dir = tempfile::tempdir().unwrap();
+        let sub = dir.path().join("sub");
+        fs::create_dir(&sub).unwrap();
+        let target = sub.join("real.au.ron");
+        fs::write(&target, b"old").unwrap();
+        std::os::unix::fs::symlink("sub/real.au.ron", dir.path().join("a")).unwrap();
+        std::os::unix::fs::symlink("a", dir.path().join("b")).unwrap();
+        let link = dir.path().join("b");
+        assert_eq!(
+            save_target(&link).unwrap(),
+            dir.path().join("sub/real.au.ron")
+        );
+        write_atomic(&link, b"new").unwrap();
+        assert!(fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(fs::read(&target).unwrap(), b"new");
+        assert_eq!(fs::read(backup_path(&target)).unwrap(), b"old");
+        assert_eq!(files_in(&sub), ["real.au.ron", "real.au.ron~"]);
+        // A loop of links is an error, not a hang.
+        std::os::unix::fs::symlink("loop2", dir.path().join("loop1")).unwrap();
+        std::os::unix::fs::symlink("loop1", dir.path().join("loop2")).unwrap();
+        assert!(write_atomic(&dir.path().join("loop1"), b"x").is_err());
+    }
+
+    #[test]
+    fn refuses_to_replace_a_device() {
+        let err = replace_unsynced(Path::new("/dev/null"), b"x").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "it is a character device; grimace only replaces regular files"
+        );
     }
 }

@@ -137,13 +137,13 @@ pub const MAX_FILE_BYTES: u64 = 256 * 1024 * 1024;
 
 /// Reads a whole file as UTF-8 text, refusing files over `limit` bytes and naming the line
 /// and column of the first byte that is not UTF-8.
+///
+/// Anything but a regular file (a folder, a named pipe, a device) is refused before it is
+/// opened: opening a pipe would wait for a writer, and a device has no end.
 pub fn read_text(path: &Path, limit: u64) -> Result<String, LoadError> {
     use std::io::Read;
-    let file = std::fs::File::open(path).map_err(|e| LoadError::io(path, &e))?;
+    let file = open_regular(path)?;
     let meta = file.metadata().map_err(|e| LoadError::io(path, &e))?;
-    if meta.is_dir() {
-        return Err(LoadError::new(path, "is a folder, expected a file"));
-    }
     if meta.len() > limit {
         return Err(too_large(path, meta.len(), limit));
     }
@@ -158,6 +158,60 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, LoadError> {
     text_from_bytes(path, bytes)
 }
 
+/// What a file system entry is when it is not a regular file (`"a folder"`, `"a named pipe
+/// (FIFO)"`, ...); `None` for a regular file.
+pub fn special_kind(kind: &std::fs::FileType) -> Option<&'static str> {
+    if kind.is_file() {
+        return None;
+    }
+    if kind.is_dir() {
+        return Some("a folder");
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return Some("a named pipe (FIFO)");
+        }
+        if kind.is_char_device() {
+            return Some("a character device");
+        }
+        if kind.is_block_device() {
+            return Some("a block device");
+        }
+        if kind.is_socket() {
+            return Some("a socket");
+        }
+    }
+    Some("not a regular file")
+}
+
+/// Why `path` cannot be read as a file: `None` for a regular file (through symbolic links),
+/// else `does not exist`, `is a folder, expected a file`, `is a named pipe (FIFO), expected a
+/// regular file`, or the reason it cannot be looked at.
+pub fn not_a_file(path: &Path) -> Option<String> {
+    match std::fs::metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Some("does not exist".into()),
+        Err(e) => Some(format!("cannot be read: {}", io_reason(&e))),
+        Ok(meta) => special_kind(&meta.file_type()).map(|kind| match kind {
+            "a folder" => "is a folder, expected a file".to_string(),
+            "not a regular file" => "is not a regular file".to_string(),
+            kind => format!("is {kind}, expected a regular file"),
+        }),
+    }
+}
+
+/// Opens a file for reading after checking it is a regular file (see [`not_a_file`]).
+pub fn open_regular(path: &Path) -> Result<std::fs::File, LoadError> {
+    if let Some(reason) = not_a_file(path) {
+        return Err(match std::fs::metadata(path) {
+            Err(e) => LoadError::io(path, &e),
+            Ok(_) => LoadError::new(path, reason),
+        });
+    }
+    std::fs::File::open(path).map_err(|e| LoadError::io(path, &e))
+}
+
 fn too_large(path: &Path, size: u64, limit: u64) -> LoadError {
     LoadError::new(
         path,
@@ -169,13 +223,21 @@ fn too_large(path: &Path, size: u64, limit: u64) -> LoadError {
 }
 
 /// Converts bytes to text, naming the line and column of the first invalid UTF-8 byte.
-pub fn text_from_bytes(path: &Path, bytes: Vec<u8>) -> Result<String, LoadError> {
-    String::from_utf8(bytes).map_err(|e| {
+///
+/// A leading UTF-8 byte order mark is dropped, and line ends are made `\n` (CRLF and a lone
+/// CR, the old Mac line end, both count as one line end), so every format reads the same
+/// whatever editor wrote it and lines and columns count as the user sees them.
+pub fn text_from_bytes(path: &Path, mut bytes: Vec<u8>) -> Result<String, LoadError> {
+    if bytes.starts_with(BOM) {
+        bytes.drain(..BOM.len());
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
         let valid_up_to = e.utf8_error().valid_up_to();
         let bytes = e.into_bytes();
         // The valid prefix is text; the bad byte sits right after it.
         let prefix = std::str::from_utf8(&bytes[..valid_up_to]).unwrap_or_default();
-        let (line, column) = line_column(prefix, prefix.len());
+        let prefix = unix_line_ends(prefix.to_string());
+        let (line, column) = line_column(&prefix, prefix.len());
         LoadError::at(
             path,
             line,
@@ -185,7 +247,20 @@ pub fn text_from_bytes(path: &Path, bytes: Vec<u8>) -> Result<String, LoadError>
                 bytes[valid_up_to]
             ),
         )
-    })
+    })?;
+    Ok(unix_line_ends(text))
+}
+
+/// The UTF-8 byte order mark some editors put at the start of a text file.
+pub const BOM: &[u8] = "\u{feff}".as_bytes();
+
+/// `text` with CRLF and lone CR line ends made LF.
+pub fn unix_line_ends(text: String) -> String {
+    if text.contains('\r') {
+        text.replace("\r\n", "\n").replace('\r', "\n")
+    } else {
+        text
+    }
 }
 
 #[cfg(test)]
@@ -221,6 +296,35 @@ mod tests {
         // Inside a character: that character.
         assert_eq!(line_column(text, 4), (2, 1));
         assert_eq!(line_column(text, 999), (3, 2));
+    }
+
+    #[test]
+    fn a_bom_and_any_line_end_read_as_plain_lines() {
+        let text = text_from_bytes(Path::new("f"), b"\xef\xbb\xbfa\rb\r\nc\n".to_vec()).unwrap();
+        assert_eq!(text, "a\nb\nc\n");
+        // A bad byte after a BOM and CR line ends is placed as the user sees it.
+        let err = text_from_bytes(Path::new("f"), b"\xef\xbb\xbfok\rab\xffc".to_vec()).unwrap_err();
+        assert_eq!((err.line, err.column), (Some(2), Some(3)));
+    }
+
+    #[test]
+    fn special_files_are_named_for_what_they_are() {
+        let dir = tempfile::tempdir().unwrap();
+        assert_eq!(
+            not_a_file(dir.path()).as_deref(),
+            Some("is a folder, expected a file")
+        );
+        assert_eq!(
+            not_a_file(&dir.path().join("none")).as_deref(),
+            Some("does not exist")
+        );
+        assert_eq!(
+            not_a_file(Path::new("/dev/null")).as_deref(),
+            Some("is a character device, expected a regular file")
+        );
+        let file = dir.path().join("f");
+        std::fs::write(&file, "x").unwrap();
+        assert_eq!(not_a_file(&file), None);
     }
 
     #[test]

@@ -45,8 +45,10 @@ pub enum LockOutcome {
     Unavailable(String),
 }
 
-/// The lock file of a table file.
+/// The lock file of a table file; for a symbolic link, that of the file it points to, so
+/// editors on the link and on the file see each other.
 pub fn lock_path(table: &Path) -> Option<PathBuf> {
+    let table = &super::atomic::save_target(table).unwrap_or_else(|_| table.to_path_buf());
     let name = table.file_name()?.to_string_lossy();
     let dir = table.parent().unwrap_or_else(|| Path::new(""));
     Some(dir.join(format!(".{name}.lock")))
@@ -66,7 +68,16 @@ pub fn acquire(table: &Path) -> LockOutcome {
             Ok(mut file) => {
                 return match writeln!(file, "{}", std::process::id()) {
                     Ok(()) => LockOutcome::Acquired(Lock { path }),
-                    Err(e) => LockOutcome::Unavailable(format!("{}: {e}", path.display())),
+                    Err(e) => {
+                        // An empty lock would outlive this editor; leave none.
+                        drop(file);
+                        let _ = fs::remove_file(&path);
+                        LockOutcome::Unavailable(format!(
+                            "{}: {}",
+                            path.display(),
+                            super::error::io_reason(&e)
+                        ))
+                    }
                 };
             }
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => match read_pid(&path) {
@@ -90,7 +101,7 @@ fn read_pid(path: &Path) -> Option<u32> {
 
 /// Whether a process runs. Where this cannot be told (no /proc), assume it does: a false
 /// warning is better than a missing one.
-fn is_running(pid: u32) -> bool {
+pub fn is_running(pid: u32) -> bool {
     let proc = Path::new("/proc");
     if proc.join("self").exists() {
         proc.join(pid.to_string()).exists()

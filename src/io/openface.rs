@@ -2,7 +2,7 @@
 //!
 //! The reader takes what real files contain as normal:
 //! - header names separated by `", "` (names are trimmed), data fields padded with spaces;
-//! - CRLF or LF line ends, a missing final newline, blank lines (ignored), a UTF-8 BOM;
+//! - LF, CRLF or CR line ends, a missing final newline, blank lines (ignored), a UTF-8 BOM;
 //! - older column layouts: only `AUxx_r` intensity columns are required; `frame`,
 //!   `timestamp` and `success` are used when present (without `success`, every row counts);
 //!   everything else (`AUxx_c` presence, gaze, pose, landmarks, `face_id`) is ignored.
@@ -17,12 +17,20 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use super::error::LoadError;
+use super::lines::LineReader;
 
 /// The highest AU intensity OpenFace writes (`AUxx_r` runs from 0 to 5).
 pub const OPENFACE_MAX_INTENSITY: f32 = 5.0;
 
 /// The longest line the reader accepts, in bytes (a real row is under 16 KiB).
 pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// The largest timestamp accepted, in seconds (about 11.6 days): a recording is far shorter,
+/// and a frame due later than this would never be shown.
+pub const MAX_TIMESTAMP: f64 = 1e6;
+
+/// The largest frame number accepted (about a year of frames at 30 per second).
+pub const MAX_FRAME: f64 = 1e9;
 
 /// An error that stops reading: the header is unusable, or the input cannot be read. It
 /// names the file (`-` for stdin), line and column like every other load error.
@@ -108,14 +116,23 @@ impl OpenFaceColumns {
         let text = text.trim_end_matches(['\r', '\n']);
         let fields = split_fields(text);
         if fields.len() != self.field_count {
-            return Err(RowError {
-                line,
-                column: None,
-                message: format!(
+            let message = if fields.len() < self.field_count {
+                format!(
+                    "{} of {} fields, the row is cut short",
+                    fields.len(),
+                    self.field_count
+                )
+            } else {
+                format!(
                     "{} fields, but the header has {}",
                     fields.len(),
                     self.field_count
-                ),
+                )
+            };
+            return Err(RowError {
+                line,
+                column: None,
+                message,
             });
         }
         let number = |index: usize, what: &str| -> Result<f64, RowError> {
@@ -126,8 +143,30 @@ impl OpenFaceColumns {
                 message: format!("{what} `{}` is not a number", shorten(field)),
             })
         };
-        let frame = self.frame.map(|i| number(i, "frame")).transpose()?;
-        let timestamp = self.timestamp.map(|i| number(i, "timestamp")).transpose()?;
+        // Times past the limit are refused: played in real time, the wait for such a frame
+        // would never end.
+        let in_range = |index: usize, what: &str, limit: f64| -> Result<f64, RowError> {
+            let value = number(index, what)?;
+            if value.abs() <= limit {
+                return Ok(value);
+            }
+            Err(RowError {
+                line,
+                column: Some(fields[index].0),
+                message: format!(
+                    "{what} {} is out of range (at most {limit} in size)",
+                    shorten(fields[index].1)
+                ),
+            })
+        };
+        let frame = self
+            .frame
+            .map(|i| in_range(i, "frame", MAX_FRAME))
+            .transpose()?;
+        let timestamp = self
+            .timestamp
+            .map(|i| in_range(i, "timestamp", MAX_TIMESTAMP))
+            .transpose()?;
         let success = match self.success {
             Some(i) => number(i, "success")? != 0.0,
             None => true,
@@ -245,51 +284,42 @@ pub enum RowOutcome {
 /// Reads an OpenFace CSV row by row from any buffered input (a file or stdin).
 #[derive(Debug)]
 pub struct OpenFaceReader<R> {
-    input: R,
+    lines: LineReader<R>,
     path: PathBuf,
-    line: usize,
     columns: OpenFaceColumns,
-    buffer: Vec<u8>,
 }
 
 impl<R: BufRead> OpenFaceReader<R> {
     /// Reads the header line (blank lines before it are skipped); `path` names the input in
     /// messages (`-` for stdin).
-    pub fn new(mut input: R, path: &Path) -> Result<OpenFaceReader<R>, OpenFaceError> {
-        let mut buffer = Vec::new();
-        let mut line = 0;
-        let header = loop {
-            let read = read_line(&mut input, &mut buffer).map_err(|e| OpenFaceError {
-                path: path.to_path_buf(),
-                line: Some(line + 1),
-                column: None,
-                message: format!("cannot read: {e}"),
-            })?;
-            line += 1;
-            let Some(text) = read else {
-                return Err(OpenFaceError {
-                    path: path.to_path_buf(),
-                    line: None,
-                    column: None,
-                    message: "empty input: no header line".into(),
-                });
-            };
-            if !text.trim().is_empty() {
-                break text;
-            }
-        };
-        let columns = OpenFaceColumns::from_header(&header).map_err(|e| OpenFaceError {
-            path: path.to_path_buf(),
-            line: Some(line),
-            column: None,
-            message: e.to_string(),
-        })?;
-        Ok(OpenFaceReader {
-            input,
+    pub fn new(input: R, path: &Path) -> Result<OpenFaceReader<R>, OpenFaceError> {
+        let mut lines = LineReader::new(input, MAX_LINE_BYTES);
+        let error = |line: Option<usize>, message: String| OpenFaceError {
             path: path.to_path_buf(),
             line,
+            column: None,
+            message,
+        };
+        let header = loop {
+            let read = lines
+                .next_line()
+                .map_err(|e| error(Some(lines.number() + 1), format!("cannot read: {e}")))?;
+            let Some(line) = read else {
+                return Err(error(None, "empty input: no header line".into()));
+            };
+            if let Some(why) = line.too_long(MAX_LINE_BYTES) {
+                return Err(error(Some(line.number), format!("the header: {why}")));
+            }
+            if !line.text.trim().is_empty() {
+                break line;
+            }
+        };
+        let columns = OpenFaceColumns::from_header(&header.text)
+            .map_err(|e| error(Some(header.number), e.to_string()))?;
+        Ok(OpenFaceReader {
+            lines,
+            path: path.to_path_buf(),
             columns,
-            buffer,
         })
     }
 
@@ -303,23 +333,30 @@ impl<R: BufRead> OpenFaceReader<R> {
         &self.path
     }
 
-    /// The next row, `Ok(None)` at the end of the input; blank lines are passed over.
+    /// The next row, `Ok(None)` at the end of the input; blank lines are passed over. A line
+    /// longer than [`MAX_LINE_BYTES`] is a malformed row, read past in bounded memory.
     pub fn next_row(&mut self) -> Result<Option<RowOutcome>, OpenFaceError> {
         loop {
-            let read = read_line(&mut self.input, &mut self.buffer).map_err(|e| OpenFaceError {
+            let read = self.lines.next_line().map_err(|e| OpenFaceError {
                 path: self.path.clone(),
-                line: Some(self.line + 1),
+                line: Some(self.lines.number() + 1),
                 column: None,
                 message: format!("cannot read: {e}"),
             })?;
-            self.line += 1;
-            let Some(text) = read else {
+            let Some(line) = read else {
                 return Ok(None);
             };
-            if text.trim().is_empty() {
+            if let Some(message) = line.too_long(MAX_LINE_BYTES) {
+                return Ok(Some(RowOutcome::Malformed(RowError {
+                    line: line.number,
+                    column: None,
+                    message,
+                })));
+            }
+            if line.text.trim().is_empty() {
                 continue;
             }
-            let outcome = match self.columns.parse_row(&text, self.line) {
+            let outcome = match self.columns.parse_row(&line.text, line.number) {
                 Ok(row) => RowOutcome::Row(row),
                 Err(e) => RowOutcome::Malformed(e),
             };
@@ -334,41 +371,6 @@ impl<R: BufRead> Iterator for OpenFaceReader<R> {
     fn next(&mut self) -> Option<Self::Item> {
         self.next_row().transpose()
     }
-}
-
-/// Reads one line into `buffer`; `None` at the end of input. Bytes that are not UTF-8 are
-/// replaced (the row then fails to parse as numbers and is reported, not lost silently).
-/// Lines longer than [`MAX_LINE_BYTES`] are cut there; the rest is read and dropped so the
-/// next line starts where it should.
-fn read_line<R: BufRead>(input: &mut R, buffer: &mut Vec<u8>) -> std::io::Result<Option<String>> {
-    buffer.clear();
-    let mut total = 0usize;
-    loop {
-        let available = match input.fill_buf() {
-            Ok(bytes) => bytes,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
-        if available.is_empty() {
-            break;
-        }
-        let (chunk, done) = match available.iter().position(|&b| b == b'\n') {
-            Some(end) => (&available[..=end], true),
-            None => (available, false),
-        };
-        let room = MAX_LINE_BYTES.saturating_sub(buffer.len());
-        buffer.extend_from_slice(&chunk[..chunk.len().min(room)]);
-        let used = chunk.len();
-        total += used;
-        input.consume(used);
-        if done {
-            break;
-        }
-    }
-    if total == 0 {
-        return Ok(None);
-    }
-    Ok(Some(String::from_utf8_lossy(buffer).into_owned()))
 }
 
 #[cfg(test)]
@@ -465,6 +467,30 @@ mod tests {
     }
 
     #[test]
+    fn absurd_times_are_refused_at_their_field() {
+        let (_, rows) = read_all("frame, timestamp, AU01_r\n1, 1e8, 1\n2e12, 0.1, 1\n3, 1e6, 1\n");
+        let RowOutcome::Malformed(e) = &rows[0] else {
+            panic!("{rows:?}")
+        };
+        assert_eq!((e.line, e.column), (2, Some(4)));
+        assert_eq!(
+            e.message,
+            "timestamp 1e8 is out of range (at most 1000000 in size)"
+        );
+        assert!(
+            matches!(&rows[1], RowOutcome::Malformed(e) if e.message.starts_with("frame 2e12"))
+        );
+        assert!(matches!(&rows[2], RowOutcome::Row(r) if r.timestamp == Some(1e6)));
+    }
+
+    #[test]
+    fn cr_line_ends_read_every_row() {
+        let (_, rows) = read_all("frame, AU01_r\r1, 0.5\r2, 1.5\r");
+        assert_eq!(rows.len(), 2);
+        assert!(matches!(&rows[1], RowOutcome::Row(r) if r.line == 3 && r.intensities == [1.5]));
+    }
+
+    #[test]
     fn malformed_rows_name_line_and_column() {
         let (_, rows) = read_all("frame, AU01_r, AU02_r\n1, 0.5\n2, 0.5, abc\n3, 0.5, nan\n");
         assert_eq!(
@@ -472,7 +498,7 @@ mod tests {
             RowOutcome::Malformed(RowError {
                 line: 2,
                 column: None,
-                message: "2 fields, but the header has 3".into()
+                message: "2 of 3 fields, the row is cut short".into()
             })
         );
         let RowOutcome::Malformed(e) = &rows[1] else {

@@ -9,7 +9,7 @@
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::io::{self, Write};
+use std::io;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -39,6 +39,15 @@ pub struct RecoveryState {
     pub jaw: f32,
     /// The AU table as edited.
     pub table: AuTable,
+    /// The process that wrote the state. While it runs the file is its own: another editor
+    /// neither offers nor removes it. Absent in files from older versions.
+    #[serde(default)]
+    pub pid: Option<u32>,
+    /// The table file the edits started from: its length and content hash, `None` when it did
+    /// not exist (or the recovery file predates this field). After recovering, a save asks
+    /// before replacing a file that no longer matches.
+    #[serde(default)]
+    pub base: Option<(u64, u64)>,
 }
 
 impl RecoveryState {
@@ -63,7 +72,16 @@ impl RecoveryState {
                 .collect(),
             jaw: activations.jaw,
             table: table.clone(),
+            pid: Some(std::process::id()),
+            base: None,
         }
+    }
+
+    /// The process id of the grimace that wrote the state, if that process still runs and is
+    /// not this one: the state is then in use and must be left alone.
+    pub fn live_owner(&self) -> Option<u32> {
+        self.pid
+            .filter(|&pid| pid != std::process::id() && super::lock::is_running(pid))
     }
 
     /// The activations for `rig`: muscles the rig lacks are dropped, values outside their
@@ -85,10 +103,13 @@ impl RecoveryState {
 }
 
 /// The recovery file for a table file, or for the built-in table when `table` is `None`
-/// (`None` back when no state folder can be found).
+/// (`None` back when no state folder can be found). For a symbolic link, the recovery file
+/// sits beside the file it points to.
 pub fn recovery_path(table: Option<&Path>) -> Option<PathBuf> {
     match table {
         Some(path) => {
+            // Beside the file a symbolic link points to, like the lock and the backup.
+            let path = &super::atomic::save_target(path).unwrap_or_else(|_| path.to_path_buf());
             let name = path.file_name()?.to_string_lossy();
             let dir = path.parent().unwrap_or_else(|| Path::new(""));
             Some(dir.join(format!(".{name}.recover")))
@@ -117,7 +138,7 @@ pub fn write(path: &Path, state: &RecoveryState) -> io::Result<()> {
     }
     let text = ron::ser::to_string_pretty(state, ron::ser::PrettyConfig::new())
         .map_err(|e| io::Error::other(e.to_string()))?;
-    write_atomic(path, text.as_bytes())
+    super::atomic::write_atomic_no_backup(path, text.as_bytes())
 }
 
 /// Reads a recovery file: `Ok(None)` when there is none, an error message naming the file
@@ -162,39 +183,6 @@ pub fn remove(path: &Path) -> io::Result<()> {
     }
 }
 
-/// Writes a file atomically: a temporary file in the same folder, fsync, rename over the
-/// target, fsync of the folder.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::other(format!("{} is not a file name", path.display())))?;
-    let temp = dir.join(format!(
-        ".{}.tmp{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let mut file = fs::File::create(&temp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        fs::rename(&temp, path)?;
-        if let Ok(d) = fs::File::open(&dir) {
-            // Not every platform can fsync a folder; the rename is done either way.
-            let _ = d.sync_all();
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&temp);
-    }
-    result
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -225,12 +213,32 @@ mod tests {
             muscles: BTreeMap::from([("A".to_string(), 0.75)]),
             jaw: 1.5,
             table: table(),
+            pid: Some(7),
+            base: Some((12, 34)),
         };
         write(&path, &state).unwrap();
         assert_eq!(read(&path).unwrap(), Some(state));
         remove(&path).unwrap();
         assert_eq!(read(&path).unwrap(), None);
         remove(&path).unwrap();
+    }
+
+    #[test]
+    fn an_older_recovery_file_reads_without_owner_or_base() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(".t.recover");
+        let text = "(version: 1, table_file: None, written_at: 1, muscles: {}, jaw: 0.0, \
+                    table: (version: 1, rig: \"builtin:default\", aus: {}, expressions: {}))";
+        fs::write(&path, text).unwrap();
+        let state = read(&path).unwrap().unwrap();
+        assert_eq!((state.pid, state.base), (None, None));
+        assert_eq!(state.live_owner(), None);
+        // pid 1 always runs; this process is never its own other owner.
+        let mut state = state;
+        state.pid = Some(1);
+        assert_eq!(state.live_owner(), Some(1));
+        state.pid = Some(std::process::id());
+        assert_eq!(state.live_owner(), None);
     }
 
     #[test]

@@ -167,9 +167,9 @@ fn load_named_mesh(
             ))),
         },
         MeshRef::File(file) => {
-            if !file.is_file() {
+            if let Some(reason) = super::error::not_a_file(&file) {
                 return Err(at_mesh(format!(
-                    "the mesh file `{}` does not exist (paths are relative to the rig file)",
+                    "the mesh file `{}` {reason} (paths are relative to the rig file)",
                     file.display()
                 )));
             }

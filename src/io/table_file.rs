@@ -86,9 +86,9 @@ pub fn load_table_and_rig(
     };
     let rig_path = match rig_ref(path, &table.rig) {
         RigRef::File(file) => {
-            if !file.is_file() {
+            if let Some(reason) = super::error::not_a_file(&file) {
                 return Err(at_rig(format!(
-                    "the rig file `{}` does not exist (paths are relative to the table file)",
+                    "the rig file `{}` {reason} (paths are relative to the table file)",
                     file.display()
                 )));
             }

@@ -94,6 +94,19 @@ pub enum BindError {
     /// The rig and mesh together have more `(vertex, muscle)` pairs than can be indexed.
     #[error("the muscles influence more than {} (vertex, muscle) pairs", u32::MAX)]
     TooManyPairs,
+    /// The fields would take more memory than grimace allows ([`MAX_INFLUENCES`]).
+    #[error(
+        "the muscles move more than {} (vertex, muscle) pairs of this {vertices}-vertex mesh \
+         (passed at muscle `{muscle}`), about 1.2 GB bound; use fewer or smaller muscles, or a \
+         smaller mesh",
+        MAX_INFLUENCES
+    )]
+    TooManyInfluences {
+        /// The muscle at which the count passed the limit.
+        muscle: String,
+        /// The mesh's vertex count.
+        vertices: usize,
+    },
     /// A muscle would move vertices to astronomically large coordinates.
     #[error("muscle `{muscle}` moves vertex {vertex} beyond any usable coordinate")]
     OutOfReach {
@@ -184,6 +197,7 @@ impl BoundRig {
             validate_muscle(muscle)?;
         }
         let rest = mesh.positions.clone();
+        check_budget(rig, &rest)?;
         let jaw = bind_jaw(rig, rest.len())?;
         let scales = mask_scales(rig, rest.len())?;
         let fields: Vec<Field> = rig
@@ -484,6 +498,29 @@ pub fn deform(
 }
 
 /// Unique muscle names, and every mirror partner present.
+/// The most `(vertex, muscle)` pairs a rig may influence: each costs about 36 bytes bound
+/// (its field entry, its CSR entry and its row), so the limit is about 1.2 GB.
+pub const MAX_INFLUENCES: usize = 1 << 25;
+
+/// Refuses a rig whose fields would pass [`MAX_INFLUENCES`], before any is kept. Only rigs
+/// that could pass it (muscles times vertices above the limit) pay for the counting pass.
+fn check_budget(rig: &Rig, rest: &[Vec3]) -> Result<(), BindError> {
+    if rig.muscles.len().saturating_mul(rest.len()) <= MAX_INFLUENCES {
+        return Ok(());
+    }
+    let mut total = 0usize;
+    for muscle in &rig.muscles {
+        total += Field::count(&muscle.kind, rest);
+        if total > MAX_INFLUENCES {
+            return Err(BindError::TooManyInfluences {
+                muscle: muscle.name.clone(),
+                vertices: rest.len(),
+            });
+        }
+    }
+    Ok(())
+}
+
 fn validate_names(rig: &Rig) -> Result<(), BindError> {
     let mut seen = BTreeSet::new();
     for m in &rig.muscles {

@@ -40,6 +40,15 @@ impl Field {
         self.vertices.is_empty()
     }
 
+    /// How many of `rest` a muscle moves: [`Field::of`]'s length, without keeping the field
+    /// (an upper bound of a masked field's).
+    pub fn count(kind: &MuscleKind, rest: &[Vec3]) -> usize {
+        let shape = Shape::new(kind);
+        rest.iter()
+            .filter(|p| shape.unit_displacement(**p) != Vec3::ZERO)
+            .count()
+    }
+
     /// The field with each vertex's displacement multiplied by `scale[vertex]` (a mask);
     /// vertices scaled to zero are left out.
     pub fn scaled(self, scale: &[f32]) -> Field {

@@ -1,13 +1,20 @@
-//! A reader for the one JSON shape live AU streams use: a flat object of names to numbers,
+//! Reading the one JSON shape live AU streams use: a flat object of names to numbers,
 //! `{"AU1": 0.0, "AU2": 1.5, ..., "AU45": 0.0}` (OpenFACS's message shape).
 //!
-//! Nested values, strings, booleans and arrays are refused with the column where they start;
-//! `null` values are passed over (some senders write `null` for an AU they did not measure).
+//! The JSON itself is read by `serde_json`; this module adds what the shape asks for. Nested
+//! values, strings and booleans are refused with the column where the value starts; `null`
+//! values are passed over (some senders write `null` for an AU they did not measure); a key
+//! given twice refuses the frame (adding the two, or picking one, would guess what the
+//! sender meant).
+
+use serde::de::{Deserialize, Deserializer, MapAccess, Visitor};
+use serde_json::value::RawValue;
 
 /// A flat object that cannot be read; `column` is 1-based, in characters.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct JsonError {
-    /// Where the problem starts (1-based, characters).
+    /// Where the problem starts (1-based, characters, on the frame's first line; a frame of
+    /// several lines names the line in `message`).
     pub column: usize,
     /// What is wrong.
     pub message: String,
@@ -21,153 +28,136 @@ impl std::fmt::Display for JsonError {
 
 /// Parses `{"name": number, ...}` into its pairs, in order.
 pub fn parse_flat_object(text: &str) -> Result<Vec<(String, f64)>, JsonError> {
-    let mut p = Parser {
-        chars: text.chars().collect(),
-        at: 0,
-    };
-    p.skip_space();
-    p.expect('{')?;
-    let mut pairs = Vec::new();
-    p.skip_space();
-    if p.eat('}') {
-        return p.finish(pairs);
-    }
-    loop {
-        p.skip_space();
-        let name = p.string()?;
-        p.skip_space();
-        p.expect(':')?;
-        p.skip_space();
-        if let Some(value) = p.value()? {
-            pairs.push((name, value));
+    // Anything but an object is refused at its first character.
+    let start = text.len() - text.trim_start().len();
+    match text[start..].chars().next() {
+        Some('{') => {}
+        Some(found) => {
+            return Err(error_at(
+                text,
+                start,
+                format!("expected `{{`, found `{found}`"),
+            ))
         }
-        p.skip_space();
-        if p.eat(',') {
-            continue;
+        None => {
+            return Err(error_at(
+                text,
+                start,
+                "expected `{`, found the end of the line",
+            ))
         }
-        p.expect('}')?;
-        return p.finish(pairs);
     }
+    let entries = serde_json::from_str::<Entries>(text).map_err(|e| syntax_error(text, &e))?;
+    let mut pairs: Vec<(String, f64)> = Vec::with_capacity(entries.0.len());
+    let mut seen: Vec<(&str, usize)> = Vec::with_capacity(entries.0.len());
+    for (name, raw) in &entries.0 {
+        let at = offset_in(text, raw.get());
+        if let Some(&(_, first)) = seen.iter().find(|(seen, _)| seen == name) {
+            let first = char_column(text, first);
+            return Err(error_at(
+                text,
+                at,
+                format!("key `{name}` appears twice (first value at column {first})"),
+            ));
+        }
+        seen.push((name, at));
+        if let Some(value) = number(raw.get()).map_err(|message| error_at(text, at, message))? {
+            pairs.push((name.clone(), value));
+        }
+    }
+    Ok(pairs)
 }
 
-struct Parser {
-    chars: Vec<char>,
-    at: usize,
-}
-
-impl Parser {
-    fn error(&self, message: impl Into<String>) -> JsonError {
-        JsonError {
-            column: self.at + 1,
-            message: message.into(),
-        }
-    }
-
-    fn peek(&self) -> Option<char> {
-        self.chars.get(self.at).copied()
-    }
-
-    fn skip_space(&mut self) {
-        while matches!(self.peek(), Some(' ' | '\t' | '\r' | '\n')) {
-            self.at += 1;
-        }
-    }
-
-    fn eat(&mut self, c: char) -> bool {
-        if self.peek() == Some(c) {
-            self.at += 1;
-            true
-        } else {
-            false
-        }
-    }
-
-    fn expect(&mut self, c: char) -> Result<(), JsonError> {
-        if self.eat(c) {
-            Ok(())
-        } else {
-            Err(match self.peek() {
-                Some(found) => self.error(format!("expected `{c}`, found `{found}`")),
-                None => self.error(format!("expected `{c}`, found the end of the line")),
-            })
-        }
-    }
-
-    fn finish(mut self, pairs: Vec<(String, f64)>) -> Result<Vec<(String, f64)>, JsonError> {
-        self.skip_space();
-        match self.peek() {
-            None => Ok(pairs),
-            Some(_) => Err(self.error("unexpected text after the object")),
-        }
-    }
-
-    fn string(&mut self) -> Result<String, JsonError> {
-        self.expect('"')?;
-        let mut out = String::new();
-        loop {
-            let Some(c) = self.peek() else {
-                return Err(self.error("unterminated string"));
-            };
-            self.at += 1;
-            match c {
-                '"' => return Ok(out),
-                '\\' => {
-                    let escaped = match self.peek() {
-                        Some('"') => '"',
-                        Some('\\') => '\\',
-                        Some('/') => '/',
-                        Some('n') => '\n',
-                        Some('t') => '\t',
-                        Some('r') => '\r',
-                        Some('b') => '\u{8}',
-                        Some('f') => '\u{c}',
-                        Some('u') => {
-                            self.at += 1;
-                            let hex: String = self.chars.iter().skip(self.at).take(4).collect();
-                            let code = u32::from_str_radix(&hex, 16)
-                                .ok()
-                                .filter(|_| hex.len() == 4)
-                                .ok_or_else(|| self.error("bad \\u escape"))?;
-                            self.at += 3;
-                            char::from_u32(code).unwrap_or('\u{fffd}')
-                        }
-                        _ => return Err(self.error("bad escape in string")),
-                    };
-                    self.at += 1;
-                    out.push(escaped);
-                }
-                c => out.push(c),
-            }
-        }
-    }
-
-    /// A number, or `None` for `null`.
-    fn value(&mut self) -> Result<Option<f64>, JsonError> {
-        let start = self.at;
-        match self.peek() {
-            Some('n') => {
-                let word: String = self.chars.iter().skip(self.at).take(4).collect();
-                if word == "null" {
-                    self.at += 4;
-                    return Ok(None);
-                }
-            }
-            Some('{' | '[') => return Err(self.error("nested values are not supported")),
-            Some('"' | 't' | 'f') => return Err(self.error("expected a number")),
-            _ => {}
-        }
-        while matches!(self.peek(), Some('0'..='9' | '-' | '+' | '.' | 'e' | 'E')) {
-            self.at += 1;
-        }
-        let text: String = self.chars[start..self.at].iter().collect();
-        match text.parse::<f64>() {
+/// A value of the flat object: a finite number, or `None` for `null`.
+fn number(raw: &str) -> Result<Option<f64>, &'static str> {
+    match raw.as_bytes().first() {
+        Some(b'n') => Ok(None),
+        Some(b'{' | b'[') => Err("nested values are not supported"),
+        _ => match raw.parse::<f64>() {
             Ok(value) if value.is_finite() => Ok(Some(value)),
-            _ => {
-                self.at = start;
-                Err(self.error("expected a number"))
+            // Strings, booleans, and numbers beyond f64 (1e999).
+            _ => Err("expected a number"),
+        },
+    }
+}
+
+/// The object's entries in order, each value kept as its JSON text (borrowed from the input,
+/// so its place in the line is known).
+struct Entries<'a>(Vec<(String, &'a RawValue)>);
+
+impl<'de> Deserialize<'de> for Entries<'de> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct EntriesVisitor;
+        impl<'de> Visitor<'de> for EntriesVisitor {
+            type Value = Entries<'de>;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an object of names to numbers")
+            }
+
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Entries<'de>, A::Error> {
+                // Kept as a list, not a map: a key given twice must be seen.
+                let mut entries = Vec::new();
+                while let Some(entry) = map.next_entry::<String, &'de RawValue>()? {
+                    entries.push(entry);
+                }
+                Ok(Entries(entries))
             }
         }
+        deserializer.deserialize_map(EntriesVisitor)
     }
+}
+
+/// The byte offset of `part`, a slice of `text`, in `text`.
+fn offset_in(text: &str, part: &str) -> usize {
+    (part.as_ptr() as usize)
+        .saturating_sub(text.as_ptr() as usize)
+        .min(text.len())
+}
+
+/// A serde_json error as a [`JsonError`]: its message without the position, at its place.
+fn syntax_error(text: &str, e: &serde_json::Error) -> JsonError {
+    let full = e.to_string();
+    let position = format!(" at line {} column {}", e.line(), e.column());
+    let message = full.strip_suffix(&position).unwrap_or(&full).to_string();
+    // serde_json counts the line from 1 and the column in bytes, 1 at the line's first
+    // byte (0 when nothing of the line was read).
+    let line_start: usize = text
+        .split_inclusive('\n')
+        .take(e.line().saturating_sub(1))
+        .map(str::len)
+        .sum();
+    error_at(text, line_start + e.column().saturating_sub(1), message)
+}
+
+/// A [`JsonError`] at byte offset `at` of `text`.
+fn error_at(text: &str, at: usize, message: impl Into<String>) -> JsonError {
+    let mut message = message.into();
+    let at = floor_char_boundary(text, at);
+    let line = text[..at].matches('\n').count() + 1;
+    if line > 1 {
+        message.push_str(&format!(" (line {line} of the frame)"));
+    }
+    JsonError {
+        column: char_column(text, at),
+        message,
+    }
+}
+
+/// The 1-based column, in characters on its line, of byte offset `at` of `text`.
+fn char_column(text: &str, at: usize) -> usize {
+    let at = floor_char_boundary(text, at);
+    let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+    text[line_start..at].chars().count() + 1
+}
+
+/// `at` moved back to the start of the character it falls in (and into `text`).
+fn floor_char_boundary(text: &str, at: usize) -> usize {
+    let mut at = at.min(text.len());
+    while !text.is_char_boundary(at) {
+        at -= 1;
+    }
+    at
 }
 
 #[cfg(test)]
@@ -193,18 +183,69 @@ mod tests {
         );
     }
 
+    fn error(text: &str) -> (usize, String) {
+        let e = parse_flat_object(text).unwrap_err();
+        (e.column, e.message)
+    }
+
     #[test]
     fn refuses_other_shapes_with_a_column() {
-        let e = parse_flat_object(r#"{"AU1": "high"}"#).unwrap_err();
-        assert_eq!((e.column, e.message.as_str()), (9, "expected a number"));
-        assert_eq!(parse_flat_object(r#"{"AU1": [1]}"#).unwrap_err().column, 9);
-        assert!(parse_flat_object(r#"{"AU1": 1"#).is_err());
-        assert!(parse_flat_object(r#"{"AU1": 1} x"#).is_err());
-        assert!(parse_flat_object(r#"{"AU1": 1,}"#).is_err());
-        assert!(parse_flat_object(r#"{"AU1": 1e999}"#).is_err());
-        assert!(parse_flat_object(r#"{"AU1": -}"#).is_err());
-        assert!(parse_flat_object(r#"{"AU1": nul}"#).is_err());
-        assert!(parse_flat_object(r#"{"\u12": 1}"#).is_err());
-        assert!(parse_flat_object("").is_err());
+        assert_eq!(error(r#"{"AU1": "high"}"#), (9, "expected a number".into()));
+        assert_eq!(error(r#"{"AU1": true}"#), (9, "expected a number".into()));
+        assert_eq!(
+            error(r#"{"AU1": [1]}"#),
+            (9, "nested values are not supported".into())
+        );
+        assert_eq!(
+            error(r#"{"AU1": {"x": 1}}"#),
+            (9, "nested values are not supported".into())
+        );
+        assert_eq!(error(r#"{"AU1": 1e999}"#), (9, "expected a number".into()));
+        assert_eq!(error("x"), (1, "expected `{`, found `x`".into()));
+        assert_eq!(error("  [1]"), (3, "expected `{`, found `[`".into()));
+        assert_eq!(
+            error(""),
+            (1, "expected `{`, found the end of the line".into())
+        );
+        // serde_json's own messages, at its place.
+        assert_eq!(error(r#"{"AU1": 1,}"#), (11, "trailing comma".into()));
+        assert_eq!(error(r#"{"AU1": 1} x"#), (12, "trailing characters".into()));
+        assert_eq!(error(r#"{"AU1": 1"#).0, 9);
+        for bad in [
+            r#"{"AU1": -}"#,
+            r#"{"AU1": nul}"#,
+            r#"{"\u12": 1}"#,
+            "{AU1: 1}",
+        ] {
+            assert!(parse_flat_object(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn columns_count_characters_not_bytes() {
+        // "é" is two bytes; the value starts at character 10.
+        assert_eq!(error(r#"{"éAU1": "x"}"#), (10, "expected a number".into()));
+        assert_eq!(error(r#"{"é": 1,}"#).0, 9);
+    }
+
+    #[test]
+    fn a_frame_of_several_lines_names_the_line() {
+        assert_eq!(
+            error("{\"AU1\": 1,\n  \"AU2\": \"x\"}"),
+            (10, "expected a number (line 2 of the frame)".into())
+        );
+    }
+
+    #[test]
+    fn a_key_given_twice_refuses_the_frame() {
+        assert_eq!(
+            error(r#"{"AU12": 1, "AU12": 2}"#),
+            (
+                21,
+                "key `AU12` appears twice (first value at column 10)".into()
+            )
+        );
+        // Even when one of them is null.
+        assert!(parse_flat_object(r#"{"AU12": null, "AU12": 2}"#).is_err());
     }
 }

@@ -7,7 +7,7 @@
 
 use std::collections::BTreeSet;
 use std::fs::File;
-use std::io::{BufRead, BufReader};
+use std::io::BufReader;
 use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
 use std::path::Path;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
@@ -18,7 +18,11 @@ use thiserror::Error;
 
 use crate::facs::combo::parse_combo;
 use crate::facs::{AuKey, AuTable};
-use crate::io::openface::{OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome};
+use crate::io::lines::LineReader;
+use crate::io::openface::{
+    OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome, MAX_LINE_BYTES, MAX_TIMESTAMP,
+};
+use crate::io::printable::printable;
 use crate::io::timeline::{Timeline, TimelineError};
 use crate::model::{Activations, Rig};
 
@@ -73,6 +77,21 @@ pub enum Poll {
     Pending,
     /// The source is finished.
     End,
+}
+
+impl Poll {
+    /// The poll with the text of its messages made safe to print: they quote rows, fields
+    /// and keys of the input, which may hold terminal escapes (see [`printable`]).
+    fn printable(self) -> Poll {
+        let safe = |text: String| printable(&text).into_owned();
+        match self {
+            Poll::Event(Event::Malformed { message }) => Poll::Event(Event::Malformed {
+                message: safe(message),
+            }),
+            Poll::Event(Event::Notice(text)) => Poll::Event(Event::Notice(safe(text))),
+            other => other,
+        }
+    }
 }
 
 /// A source that cannot be opened or read on.
@@ -290,6 +309,7 @@ impl OpenFaceSource {
         scale: IntensityScale,
         frame_rate: f64,
     ) -> Result<OpenFaceSource, SourceError> {
+        refuse_special(path)?;
         let file = File::open(path).map_err(|source| SourceError::Io {
             what: format!("cannot open {}", path.display()),
             source,
@@ -310,6 +330,16 @@ impl OpenFaceSource {
 
 impl FrameSource for OpenFaceSource {
     fn poll(&mut self, _wait: Duration) -> Result<Poll, SourceError> {
+        self.next_event().map(Poll::printable)
+    }
+
+    fn is_live(&self) -> bool {
+        false
+    }
+}
+
+impl OpenFaceSource {
+    fn next_event(&mut self) -> Result<Poll, SourceError> {
         if let Some(notice) = self.builder.take_notice() {
             return Ok(Poll::Event(Event::Notice(notice)));
         }
@@ -336,9 +366,24 @@ impl FrameSource for OpenFaceSource {
             None => Ok(Poll::Event(event)),
         }
     }
+}
 
-    fn is_live(&self) -> bool {
-        false
+/// Refuses a folder, a device or a socket as an OpenFace CSV, saying what it is. A named pipe
+/// is fine: the file is read once, as a stream (`grimace play <(tracker ...)`).
+fn refuse_special(path: &Path) -> Result<(), SourceError> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo()) {
+            return Ok(());
+        }
+    }
+    match crate::io::error::not_a_file(path) {
+        // A missing or unreadable file is reported by the open itself.
+        Some(reason) if std::fs::metadata(path).is_ok() => {
+            Err(SourceError::OpenFace(OpenFaceError::new(path, reason)))
+        }
+        _ => Ok(()),
     }
 }
 
@@ -441,11 +486,16 @@ fn keyframe_aus(text: &str, table: &AuTable, rig: &Rig) -> Result<Activations, S
     table.evaluate(&combo, rig).map_err(|e| e.to_string())
 }
 
-/// What a reader thread sends: one line (or datagram) with its number, or a read failure.
+/// What a reader thread sends: one line (or datagram) with its number, a line too long to
+/// read (its number and why), or a read failure.
 enum Message {
     Line(usize, String),
+    TooLong(usize, String),
     Failed(String),
 }
+
+/// The most lines (or datagrams) of a live stream waiting to be shown.
+pub const QUEUE_LINES: usize = 1024;
 
 /// How a live stream is written, decided by its first line.
 enum LiveFormat {
@@ -470,28 +520,27 @@ pub struct LiveSource {
 
 impl LiveSource {
     /// Reads stdin on a thread; the first non-blank line says CSV (a header) or JSON (`{`).
+    ///
+    /// Memory stays bounded whatever the producer does: a line longer than
+    /// [`MAX_LINE_BYTES`] is read past and reported, and at most [`QUEUE_LINES`] lines wait
+    /// to be shown; past that the reader stops reading, so a faster producer waits on its
+    /// pipe (back-pressure) rather than growing a backlog.
     pub fn stdin(mapper: AuMapper, scale: IntensityScale, frame_rate: f64) -> LiveSource {
-        let (sender, receiver) = mpsc::channel();
+        let (sender, receiver) = mpsc::sync_channel(QUEUE_LINES);
         thread::spawn(move || {
-            let stdin = std::io::stdin();
-            let mut lock = stdin.lock();
-            let mut buffer = Vec::new();
-            let mut number = 0;
+            let mut lines = LineReader::new(std::io::stdin().lock(), MAX_LINE_BYTES);
             loop {
-                buffer.clear();
-                number += 1;
-                match lock.read_until(b'\n', &mut buffer) {
-                    Ok(0) => break,
-                    Ok(_) => {
-                        let text = String::from_utf8_lossy(&buffer).into_owned();
-                        if sender.send(Message::Line(number, text)).is_err() {
-                            break;
-                        }
-                    }
-                    Err(e) => {
-                        let _ = sender.send(Message::Failed(format!("cannot read stdin: {e}")));
-                        break;
-                    }
+                let message = match lines.next_line() {
+                    Ok(None) => break,
+                    Ok(Some(line)) => match line.too_long(MAX_LINE_BYTES) {
+                        Some(why) => Message::TooLong(line.number, why),
+                        None => Message::Line(line.number, line.text),
+                    },
+                    Err(e) => Message::Failed(format!("cannot read stdin: {e}")),
+                };
+                let failed = matches!(message, Message::Failed(_));
+                if sender.send(message).is_err() || failed {
+                    break;
                 }
             }
         });
@@ -514,7 +563,9 @@ impl LiveSource {
             what: "cannot read the bound address".into(),
             source,
         })?;
-        let (sender, receiver) = mpsc::channel();
+        // Bounded like stdin: when the queue is full the reader waits and the system drops
+        // datagrams that overflow the socket's buffer, as UDP does.
+        let (sender, receiver) = mpsc::sync_channel(QUEUE_LINES);
         thread::spawn(move || {
             let mut buffer = vec![0u8; MAX_DATAGRAM];
             let mut number = 0;
@@ -563,7 +614,7 @@ impl LiveSource {
 
     /// Handles one line; `None` when it produced nothing (blank, or a CSV header).
     fn line(&mut self, number: usize, text: &str) -> Option<Event> {
-        let trimmed = text.trim();
+        let trimmed = text.trim().trim_start_matches('\u{feff}');
         if trimmed.is_empty() {
             return None;
         }
@@ -632,11 +683,31 @@ impl LiveSource {
         };
         let mut time = None;
         let mut raw = Vec::new();
+        let mut au_names: Vec<String> = Vec::new();
         for (name, value) in pairs {
             if name.eq_ignore_ascii_case("timestamp") {
+                if value.is_nan() || value.abs() > MAX_TIMESTAMP {
+                    return Event::Malformed {
+                        message: format!(
+                            "{}:{number}: timestamp {value:e} is out of range (at most {MAX_TIMESTAMP} in size)",
+                            self.name
+                        ),
+                    };
+                }
                 time = Some(value);
             } else if let Some(key) = json_au_key(&name) {
+                // Two spellings of one AU (`AU12`, `AU12_r`) would add up: refuse the frame,
+                // as for a key given twice.
+                if let Some(k) = raw.iter().position(|(seen, _)| *seen == key) {
+                    return Event::Malformed {
+                        message: format!(
+                            "{}:{number}: AU{key} is given twice, as `{}` and `{name}`",
+                            self.name, au_names[k]
+                        ),
+                    };
+                }
                 raw.push((key, value as f32));
+                au_names.push(name);
             } else if self.ignored.insert(name.clone()) && !name.eq_ignore_ascii_case("frame") {
                 self.builder.pending.push(format!(
                     "{}: field `{name}` is not an AU (ignored)",
@@ -680,6 +751,16 @@ fn loopback_address(text: &str) -> Result<SocketAddr, SourceError> {
 
 impl FrameSource for LiveSource {
     fn poll(&mut self, wait: Duration) -> Result<Poll, SourceError> {
+        self.next_event(wait).map(Poll::printable)
+    }
+
+    fn is_live(&self) -> bool {
+        true
+    }
+}
+
+impl LiveSource {
+    fn next_event(&mut self, wait: Duration) -> Result<Poll, SourceError> {
         let deadline = Instant::now() + wait;
         loop {
             // Notices a line raised go out before the line's own event.
@@ -697,6 +778,11 @@ impl FrameSource for LiveSource {
             };
             match message {
                 Message::Line(number, text) => self.stashed = self.line(number, &text),
+                Message::TooLong(number, why) => {
+                    self.stashed = Some(Event::Malformed {
+                        message: format!("{}:{number}: {why}", self.name),
+                    })
+                }
                 Message::Failed(message) => {
                     return Err(SourceError::Io {
                         what: self.name.clone(),
@@ -705,9 +791,5 @@ impl FrameSource for LiveSource {
                 }
             }
         }
-    }
-
-    fn is_live(&self) -> bool {
-        true
     }
 }

@@ -81,8 +81,8 @@ impl Pen {
         }
     }
 
-    /// A line on `layer` that only lights dark dots, not depth-tested.
-    pub fn if_dark(color: Rgb, layer: Layer) -> Pen {
+    /// A faint line on `layer` (the ghost) that only lights dark dots, not depth-tested.
+    pub fn faint(color: Rgb, layer: Layer) -> Pen {
         Pen {
             color,
             layer,

@@ -76,7 +76,7 @@ pub enum TableItem {
     Expression(String),
 }
 
-pub use crate::render::{CellMode, Style};
+pub use crate::render::{CellMode, ColorMode, Style};
 
 /// The next cell mode in the cycle: braille, half-block colour, ASCII.
 pub fn next_cells(mode: CellMode) -> CellMode {
@@ -111,7 +111,7 @@ pub enum ViewPreset {
     ThreeQuarter,
 }
 
-/// The camera and drawing options of the viewport.
+/// The camera and drawing options of the viewport, and what the terminal offers.
 #[derive(Debug, Clone, PartialEq)]
 pub struct View {
     /// Turn about the vertical axis, degrees.
@@ -132,25 +132,27 @@ pub struct View {
     pub show_ghost: bool,
     /// Colour edges by how far they moved.
     pub show_displacement: bool,
+    /// Terminal size (columns, rows).
+    pub size: (u16, u16),
+    /// Colour support.
+    pub colors: ColorMode,
 }
 
 impl View {
-    /// The initial view: front, feature lines, braille.
-    pub fn new(ascii: bool) -> View {
+    /// The initial view: front, feature lines, in `cells`.
+    pub fn new(cells: CellMode) -> View {
         View {
             yaw: 0.0,
             pitch: 0.0,
             zoom: DEFAULT_ZOOM,
             pan: (0.0, 0.0),
             style: Style::Lines,
-            cells: if ascii {
-                CellMode::Ascii
-            } else {
-                CellMode::Braille
-            },
+            cells,
             show_muscles: false,
             show_ghost: false,
             show_displacement: false,
+            size: (80, 24),
+            colors: ColorMode::Ansi16,
         }
     }
 
@@ -167,32 +169,6 @@ impl View {
         };
         self.zoom = DEFAULT_ZOOM;
         self.pan = (0.0, 0.0);
-    }
-}
-
-/// What the terminal can show.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Colors {
-    /// No colour at all (NO_COLOR, or a dumb terminal): emphasis by reverse video and bold.
-    None,
-    /// The 16 ANSI colours.
-    Ansi16,
-    /// 24-bit colour.
-    TrueColor,
-}
-
-impl Colors {
-    /// Reads NO_COLOR, TERM=dumb and COLORTERM the way most terminal programs do.
-    pub fn from_env() -> Colors {
-        if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty())
-            || std::env::var("TERM").is_ok_and(|t| t == "dumb")
-        {
-            return Colors::None;
-        }
-        match std::env::var("COLORTERM").as_deref() {
-            Ok("truecolor") | Ok("24bit") => Colors::TrueColor,
-            _ => Colors::Ansi16,
-        }
     }
 }
 
@@ -310,6 +286,10 @@ pub struct Recovered {
     pub table: AuTable,
     /// When it was written, for the question.
     pub when: String,
+    /// The table file the recovered edits started from (`None`: it did not exist, or the
+    /// recovery file does not say). Recovering makes it the file's stamp, so a save asks
+    /// before replacing a file that has changed since.
+    pub base: Option<FileStamp>,
 }
 
 /// The editor's mode.
@@ -371,9 +351,9 @@ impl FileStamp {
     }
 }
 
-/// Everything the editor knows.
+/// What is being edited: the face and its activations, the AU table and its file.
 #[derive(Debug, Clone)]
-pub struct App {
+pub struct Document {
     /// Rig, mesh and deformed positions.
     pub scene: Scene,
     /// The activations being edited.
@@ -386,6 +366,13 @@ pub struct App {
     pub file: Option<PathBuf>,
     /// The file as loaded or last saved; `None` when it does not exist yet.
     pub file_stamp: Option<FileStamp>,
+    /// The AU last loaded (marked in the table panel).
+    pub loaded: Option<AuKey>,
+}
+
+/// What the selection keys act on.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Selection {
     /// The muscle panel's rows in display order.
     pub rows: Vec<Row>,
     /// Index into `rows`.
@@ -394,30 +381,39 @@ pub struct App {
     pub focus: Focus,
     /// Index into [`App::table_items`].
     pub table_selected: usize,
-    /// The AU last loaded (marked in the table panel).
-    pub loaded: Option<AuKey>,
-    /// Mode.
-    pub mode: Mode,
-    /// Camera and drawing options.
-    pub view: View,
     /// Move mirror partners together.
     pub mirror: bool,
+}
+
+/// The way back: undo and redo stacks, and the count of edits.
+#[derive(Debug, Clone, Default)]
+pub struct History {
     /// States to go back to.
     pub undo: Vec<Snapshot>,
     /// States undone.
     pub redo: Vec<Snapshot>,
     /// The row last adjusted by a step: consecutive steps on one row undo together.
     pub last_step: Option<Row>,
-    /// The status message.
-    pub message: Option<Message>,
-    /// Terminal size (columns, rows).
-    pub size: (u16, u16),
-    /// Colour support.
-    pub colors: Colors,
     /// Counts edits; the event loop writes the recovery file when it moves.
     pub edits: u64,
-    /// The renderer's buffers, reused between frames (not part of the editing state).
-    pub render_cache: super::view::viewport::SharedCache,
+}
+
+/// Everything the editor knows. The renderer's buffers are not part of it: the event loop
+/// keeps them beside it ([`super::view::viewport::RenderCache`]).
+#[derive(Debug, Clone)]
+pub struct App {
+    /// The face, the table and its file.
+    pub doc: Document,
+    /// The selected rows and AUs.
+    pub selection: Selection,
+    /// Camera, drawing options, terminal size and colours.
+    pub view: View,
+    /// Undo and redo.
+    pub history: History,
+    /// Mode.
+    pub mode: Mode,
+    /// The status message.
+    pub message: Option<Message>,
 }
 
 impl App {
@@ -426,56 +422,58 @@ impl App {
         let rows = rows_of(scene.rig());
         let activations = Activations::zero(scene.rig());
         App {
-            scene,
-            activations,
-            saved_table: table.clone(),
-            table,
-            file,
-            file_stamp: None,
-            rows,
-            selected: 0,
-            focus: Focus::Muscles,
-            table_selected: 0,
-            loaded: None,
+            doc: Document {
+                scene,
+                activations,
+                saved_table: table.clone(),
+                table,
+                file,
+                file_stamp: None,
+                loaded: None,
+            },
+            selection: Selection {
+                rows,
+                selected: 0,
+                focus: Focus::Muscles,
+                table_selected: 0,
+                mirror: false,
+            },
+            view: View::new(CellMode::Braille),
+            history: History::default(),
             mode: Mode::Normal,
-            view: View::new(false),
-            mirror: false,
-            undo: Vec::new(),
-            redo: Vec::new(),
-            last_step: None,
             message: None,
-            size: (80, 24),
-            colors: Colors::Ansi16,
-            edits: 0,
-            render_cache: Default::default(),
         }
     }
 
     /// The rig.
     pub fn rig(&self) -> &Rig {
-        self.scene.rig()
+        self.doc.scene.rig()
     }
 
     /// True when the table differs from the file (or from the built-in table).
     pub fn dirty(&self) -> bool {
-        self.table != self.saved_table
+        self.doc.table != self.doc.saved_table
     }
 
     /// True when the table file does not exist yet (`:w` creates it).
     pub fn new_file(&self) -> bool {
-        self.file.is_some() && self.file_stamp.is_none()
+        self.doc.file.is_some() && self.doc.file_stamp.is_none()
     }
 
     /// The selected row.
     pub fn selected_row(&self) -> Row {
-        self.rows.get(self.selected).copied().unwrap_or(Row::Jaw)
+        self.selection
+            .rows
+            .get(self.selection.selected)
+            .copied()
+            .unwrap_or(Row::Jaw)
     }
 
     /// The value of a row.
     pub fn value(&self, row: Row) -> f32 {
         match row {
-            Row::Muscle(i) => self.activations.muscles.get(i).copied().unwrap_or(0.0),
-            Row::Jaw => self.activations.jaw,
+            Row::Muscle(i) => self.doc.activations.muscles.get(i).copied().unwrap_or(0.0),
+            Row::Jaw => self.doc.activations.jaw,
         }
     }
 
@@ -506,12 +504,14 @@ impl App {
 
     /// The AU table panel's lines: AUs in order, then expressions.
     pub fn table_items(&self) -> Vec<TableItem> {
-        self.table
+        self.doc
+            .table
             .aus
             .keys()
             .map(|k| TableItem::Au(*k))
             .chain(
-                self.table
+                self.doc
+                    .table
                     .expressions
                     .keys()
                     .map(|n| TableItem::Expression(n.clone())),
@@ -522,15 +522,15 @@ impl App {
     /// The current undoable state.
     pub fn snapshot(&self) -> Snapshot {
         Snapshot {
-            activations: self.activations.clone(),
-            table: self.table.clone(),
-            loaded: self.loaded,
+            activations: self.doc.activations.clone(),
+            table: self.doc.table.clone(),
+            loaded: self.doc.loaded,
         }
     }
 
     /// The file name shown in the status line.
     pub fn file_label(&self) -> String {
-        match &self.file {
+        match &self.doc.file {
             Some(path) => path.display().to_string(),
             None => "[built-in table]".into(),
         }

@@ -101,6 +101,6 @@ pub(crate) fn app() -> App {
     };
     let scene = Scene::new(rig, mesh).unwrap();
     let mut app = App::new(scene, table, Some(PathBuf::from("t.au.ron")));
-    app.file_stamp = Some(FileStamp { len: 1, hash: 1 });
+    app.doc.file_stamp = Some(FileStamp { len: 1, hash: 1 });
     app
 }

@@ -5,9 +5,11 @@
 
 pub mod action;
 pub mod app;
+pub mod command;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;
+pub mod play;
 pub mod scene;
 pub mod table_ops;
 pub mod term;
@@ -53,7 +55,7 @@ pub fn run(mut app: App, mut session: Session) -> anyhow::Result<()> {
     let _guard = term::enter()?;
     let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
     let size = terminal.size()?;
-    app.size = (size.width, size.height);
+    app.view.size = (size.width, size.height);
     let mut loop_state = LoopState::default();
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         event_loop(
@@ -68,7 +70,7 @@ pub fn run(mut app: App, mut session: Session) -> anyhow::Result<()> {
         Ok(result) => result,
         Err(panic) => {
             // Keep the unsaved state before the panic goes on (the hook restored the terminal).
-            if app.edits > 0 {
+            if app.history.edits > 0 {
                 write_recovery(&mut app, &session);
             }
             std::panic::resume_unwind(panic);
@@ -85,6 +87,8 @@ pub fn run(mut app: App, mut session: Session) -> anyhow::Result<()> {
 
 #[derive(Debug, Default)]
 struct LoopState {
+    /// The face's render buffers, kept between frames.
+    cache: view::viewport::RenderCache,
     redraw: bool,
     recovery_due: Option<Instant>,
     quit: bool,
@@ -101,7 +105,7 @@ fn event_loop<W: Write>(
     state.redraw = true;
     loop {
         if state.redraw {
-            draw(terminal, app)?;
+            draw(terminal, app, &mut state.cache)?;
             state.redraw = false;
         }
         if let Some(stop) = signals.pending() {
@@ -149,9 +153,13 @@ fn event_loop<W: Write>(
 }
 
 /// Draws one frame inside a synchronized update.
-pub fn draw<W: Write>(terminal: &mut Terminal<CrosstermBackend<W>>, app: &App) -> io::Result<()> {
+pub fn draw<W: Write>(
+    terminal: &mut Terminal<CrosstermBackend<W>>,
+    app: &App,
+    cache: &mut view::viewport::RenderCache,
+) -> io::Result<()> {
     term::begin_frame(terminal.backend_mut())?;
-    terminal.draw(|frame| view::draw(app, frame))?;
+    terminal.draw(|frame| view::draw(app, cache, frame))?;
     term::end_frame(terminal.backend_mut())
 }
 
@@ -183,7 +191,7 @@ fn apply(app: &mut App, session: &mut Session, state: &mut LoopState, action: Ac
                     }
                     // After "save as" the unsaved state belongs to the new file.
                     if session.recovery.is_some() {
-                        session.recovery = recovery::recovery_path(app.file.as_deref());
+                        session.recovery = recovery::recovery_path(app.doc.file.as_deref());
                     }
                 }
                 Effect::Quit => state.quit = true,
@@ -196,11 +204,18 @@ fn write_recovery(app: &mut App, session: &Session) {
     let Some(path) = &session.recovery else {
         return;
     };
-    let state = RecoveryState::new(app.file.as_deref(), app.rig(), &app.activations, &app.table);
+    let mut state = RecoveryState::new(
+        app.doc.file.as_deref(),
+        app.rig(),
+        &app.doc.activations,
+        &app.doc.table,
+    );
+    state.base = app.doc.file_stamp.map(|s| (s.len, s.hash));
     if let Err(e) = recovery::write(path, &state) {
         app.warn(format!(
-            "could not write the recovery file {}: {e}",
-            path.display()
+            "could not write the recovery file {}: {}",
+            path.display(),
+            crate::io::error::io_reason(&e)
         ));
     }
 }
@@ -213,13 +228,23 @@ pub fn save(
     force: bool,
     quit_after: bool,
 ) -> Action {
+    // Reading a named pipe would wait for a writer: refuse what a save would refuse anyway.
+    if let Some(kind) = fs::metadata(path)
+        .ok()
+        .and_then(|m| crate::io::error::special_kind(&m.file_type()))
+    {
+        return Action::SaveFailed {
+            path: path.to_path_buf(),
+            error: format!("it is {kind}; grimace only replaces regular files"),
+        };
+    }
     let current = match fs::read(path) {
         Ok(bytes) => Some(FileStamp::of(&bytes)),
         Err(e) if e.kind() == io::ErrorKind::NotFound => None,
         Err(e) => {
             return Action::SaveFailed {
                 path: path.to_path_buf(),
-                error: e.to_string(),
+                error: crate::io::error::io_reason(&e),
             }
         }
     };
@@ -242,7 +267,7 @@ pub fn save(
         },
         Err(e) => Action::SaveFailed {
             path: path.to_path_buf(),
-            error: e.to_string(),
+            error: crate::io::error::io_reason(&e),
         },
     }
 }
@@ -268,7 +293,7 @@ fn mouse_actions(app: &App, mouse: MouseEvent, drag: &mut Option<(u16, u16)>) ->
     if app.mode != app::Mode::Normal {
         return Vec::new();
     }
-    let area = Rect::new(0, 0, app.size.0, app.size.1);
+    let area = Rect::new(0, 0, app.view.size.0, app.view.size.1);
     let Some(panels) = view::layout(area, app) else {
         return Vec::new();
     };
@@ -352,7 +377,7 @@ mod tests {
 
     fn app() -> App {
         let mut app = fixture::app();
-        app.size = (120, 40);
+        app.view.size = (120, 40);
         app
     }
 
@@ -397,8 +422,8 @@ mod tests {
         for action in actions {
             update::update(&mut app, action);
         }
-        assert!((app.activations.jaw - 0.05).abs() < 1e-6);
-        assert_eq!(app.focus, Focus::Muscles);
+        assert!((app.doc.activations.jaw - 0.05).abs() < 1e-6);
+        assert_eq!(app.selection.focus, Focus::Muscles);
     }
 
     #[test]
@@ -451,6 +476,25 @@ mod tests {
         let action = save(&path, "mine", None, true, false);
         assert!(matches!(action, Action::Saved { .. }));
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "mine");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_save_over_a_named_pipe_is_refused_without_waiting() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("pipe.au.ron");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&path)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        match save(&path, "mine", None, true, false) {
+            Action::SaveFailed { error, .. } => assert_eq!(
+                error,
+                "it is a named pipe (FIFO); grimace only replaces regular files"
+            ),
+            other => panic!("{other:?}"),
+        }
     }
 
     #[cfg(unix)]

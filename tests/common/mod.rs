@@ -46,3 +46,65 @@ pub fn shared_with(needed: &[&str]) -> Option<PathBuf> {
 pub fn shared() -> Option<PathBuf> {
     shared_with(&["golden", "waters-geoface"])
 }
+
+/// Checks where a render's ink is against where the face lands: every lit dot of `canvas`
+/// lies within the box of `points` as `proj` places them (one dot of slack for rounding),
+/// and the lit dots reach across at least `span` (0 to 1) of that box both ways, so the
+/// face is drawn whole and in its place, not cut off or shifted.
+pub fn assert_ink_fills_the_face(
+    canvas: &grimace::render::DotCanvas,
+    proj: &grimace::render::Projection,
+    points: &[glam::Vec3],
+    span: f32,
+    what: &str,
+) {
+    let (mut lo, mut hi) = (
+        glam::Vec2::splat(f32::INFINITY),
+        glam::Vec2::splat(f32::NEG_INFINITY),
+    );
+    for p in points {
+        let p = proj.project(*p).truncate();
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let (mut ink_lo, mut ink_hi) = (
+        glam::Vec2::splat(f32::INFINITY),
+        glam::Vec2::splat(f32::NEG_INFINITY),
+    );
+    for y in 0..canvas.height() {
+        for x in 0..canvas.width() {
+            if canvas.is_on(x, y) {
+                let dot = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                assert!(
+                    dot.cmpge(lo - 1.0).all() && dot.cmple(hi + 1.0).all(),
+                    "{what}: dot ({x}, {y}) is lit outside the face's box {lo}..{hi}"
+                );
+                ink_lo = ink_lo.min(dot);
+                ink_hi = ink_hi.max(dot);
+            }
+        }
+    }
+    let (face, ink) = (hi - lo, ink_hi - ink_lo);
+    assert!(
+        ink.x >= span * face.x && ink.y >= span * face.y,
+        "{what}: ink spans {ink} of the face's {face}"
+    );
+}
+
+/// Whether some dot within `r` dots of `p` (dot coordinates) is lit.
+pub fn lit_near(canvas: &grimace::render::DotCanvas, p: glam::Vec2, r: f32) -> bool {
+    let (x0, x1) = (
+        (p.x - r).floor().max(0.0) as usize,
+        (p.x + r).ceil().max(0.0) as usize,
+    );
+    let (y0, y1) = (
+        (p.y - r).floor().max(0.0) as usize,
+        (p.y + r).ceil().max(0.0) as usize,
+    );
+    (y0..=y1).any(|y| {
+        (x0..=x1).any(|x| {
+            let d = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5) - p;
+            d.length() <= r + 0.71 && canvas.is_on(x, y)
+        })
+    })
+}

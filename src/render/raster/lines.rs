@@ -44,7 +44,7 @@ impl Renderer {
             sign,
             &mut self.rest_facing,
         );
-        let pen = Pen::if_dark(scene.palette.ghost, Layer::Ghost);
+        let pen = Pen::faint(scene.palette.ghost, Layer::Ghost);
         let mut runs = self.runs.take();
         for e in &self.edges {
             let f0 = self.rest_facing[e.t0 as usize];

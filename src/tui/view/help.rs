@@ -6,7 +6,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Widget};
 
 use super::theme::Theme;
-use crate::tui::keymap;
+use crate::tui::{command, keymap};
 
 /// The width of the key column, in characters.
 const KEY_COLUMN: usize = 18;
@@ -31,8 +31,8 @@ pub fn lines() -> Vec<(String, String, bool)> {
         out.push((what.to_string(), description.to_string(), false));
     }
     out.push(("commands (type : first)".into(), String::new(), true));
-    for (command, description) in keymap::COMMANDS {
-        out.push((format!(":{command}"), description.to_string(), false));
+    for (command, description) in command::help_lines() {
+        out.push((command, description, false));
     }
     out
 }

@@ -1,5 +1,6 @@
 //! Drawing: one file per panel. `draw` only reads the state.
 
+pub mod cells;
 pub mod help;
 pub mod muscles;
 pub mod prompt;
@@ -38,7 +39,7 @@ pub fn layout(area: Rect, app: &App) -> Option<Panels> {
     if area.width < MIN_SIZE.0 || area.height < MIN_SIZE.1 {
         return None;
     }
-    let focus = app.focus;
+    let focus = app.selection.focus;
     let [body, status, line] = Layout::vertical([
         Constraint::Min(1),
         Constraint::Length(1),
@@ -81,10 +82,10 @@ pub fn layout(area: Rect, app: &App) -> Option<Panels> {
     }
 }
 
-/// Draws the whole screen.
-pub fn draw(app: &App, frame: &mut Frame) {
+/// Draws the whole screen; `cache` keeps the face's buffers between frames.
+pub fn draw(app: &App, cache: &mut viewport::RenderCache, frame: &mut Frame) {
     let area = frame.area();
-    let theme = Theme::new(app.colors);
+    let theme = Theme::new(app.view.colors);
     let Some(panels) = layout(area, app) else {
         let text = format!(
             "Terminal too small: {}x{}. grimace needs at least {}x{}. Enlarge the window (q quits).",
@@ -97,7 +98,7 @@ pub fn draw(app: &App, frame: &mut Frame) {
         return;
     };
     let buf = frame.buffer_mut();
-    viewport::draw(app, &theme, panels.viewport, buf);
+    viewport::draw(app, cache, &theme, panels.viewport, buf);
     muscles::draw(app, &theme, panels.muscles, buf);
     table::draw(app, &theme, panels.table, buf);
     status::draw(app, &theme, panels.status, buf);

@@ -19,9 +19,9 @@ pub enum PanelLine {
 
 /// The panel's lines: a heading before each group.
 pub fn lines(app: &App) -> Vec<PanelLine> {
-    let mut out = Vec::with_capacity(app.rows.len() + 4);
+    let mut out = Vec::with_capacity(app.selection.rows.len() + 4);
     let mut last = None;
-    for &row in &app.rows {
+    for &row in &app.selection.rows {
         let group = group_of(app.rig(), row);
         if last != Some(group) {
             out.push(PanelLine::Heading(group));
@@ -76,12 +76,16 @@ pub fn display_name(name: &str) -> String {
 
 /// Draws the panel.
 pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
-    let focused = app.focus == Focus::Muscles;
+    let focused = app.selection.focus == Focus::Muscles;
     let title = format!(
         " Muscles {}/{}{} ",
-        app.selected + 1,
-        app.rows.len(),
-        if app.mirror { " [mirror]" } else { "" }
+        app.selection.selected + 1,
+        app.selection.rows.len(),
+        if app.selection.mirror {
+            " [mirror]"
+        } else {
+            ""
+        }
     );
     let block = Block::default()
         .borders(Borders::ALL)
@@ -92,7 +96,9 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     let lines = lines(app);
     let offset = scroll(app, &lines, inner.height as usize);
     let ascii = app.view.cells == CellMode::Ascii;
-    let partner = app.partner(app.selected_row()).filter(|_| app.mirror);
+    let partner = app
+        .partner(app.selected_row())
+        .filter(|_| app.selection.mirror);
     for (k, line) in lines
         .iter()
         .skip(offset)
@@ -130,7 +136,7 @@ fn row_line(
     };
     let value = app.value(row);
     let (_, max) = app.range(row);
-    let linked = app.mirror && app.partner(row).is_some();
+    let linked = app.selection.mirror && app.partner(row).is_some();
     let mark = match (partner == Some(row), linked, ascii) {
         (true, _, false) => "\u{25c6}",
         (true, _, true) => "*",
@@ -145,7 +151,7 @@ fn row_line(
     let name_width = rest.saturating_sub(gauge_width);
     let name: String = name.chars().take(name_width).collect();
     let base = if selected {
-        theme.selected(app.focus == Focus::Muscles)
+        theme.selected(app.selection.focus == Focus::Muscles)
     } else {
         theme.text()
     };

@@ -27,7 +27,7 @@ fn lines(app: &App, items: &[TableItem]) -> Vec<PanelLine> {
         out.push(PanelLine::Empty("no AUs yet: r records one"));
     }
     out.extend((0..aus).map(PanelLine::Item));
-    if aus < items.len() || !app.table.expressions.is_empty() {
+    if aus < items.len() || !app.doc.table.expressions.is_empty() {
         out.push(PanelLine::Heading("expressions"));
         out.extend((aus..items.len()).map(PanelLine::Item));
     }
@@ -37,7 +37,7 @@ fn lines(app: &App, items: &[TableItem]) -> Vec<PanelLine> {
 fn scroll(app: &App, lines: &[PanelLine], height: usize) -> usize {
     let at = lines
         .iter()
-        .position(|l| *l == PanelLine::Item(app.table_selected))
+        .position(|l| *l == PanelLine::Item(app.selection.table_selected))
         .unwrap_or(0);
     if lines.len() <= height {
         return 0;
@@ -62,18 +62,18 @@ pub fn item_at(app: &App, area: Rect, x: u16, y: u16) -> Option<usize> {
 
 /// "AU table 48 AUs, 7 expr", and "(full)" when no more AUs fit.
 fn title(app: &App) -> String {
-    let aus = app.table.aus.len();
+    let aus = app.doc.table.aus.len();
     let full = if aus >= MAX_AUS { " (full)" } else { "" };
     let plural = if aus == 1 { "" } else { "s" };
     format!(
         " AU table {aus} AU{plural}{full}, {} expr ",
-        app.table.expressions.len()
+        app.doc.table.expressions.len()
     )
 }
 
 /// Draws the panel.
 pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
-    let focused = app.focus == Focus::Table;
+    let focused = app.selection.focus == Focus::Table;
     let block = Block::default()
         .borders(Borders::ALL)
         .border_style(theme.border(focused))
@@ -96,24 +96,29 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
             PanelLine::Heading(text) => Line::from(Span::styled(*text, theme.heading())),
             PanelLine::Empty(text) => Line::from(Span::styled(*text, theme.dim())),
             PanelLine::Item(i) => {
-                let style = if *i == app.table_selected {
+                let style = if *i == app.selection.table_selected {
                     theme.selected(focused)
                 } else {
                     theme.text()
                 };
                 let text = match &items[*i] {
                     TableItem::Au(key) => {
-                        let loaded = app.loaded == Some(*key);
+                        let loaded = app.doc.loaded == Some(*key);
                         let mark = match (loaded, ascii) {
                             (true, false) => '\u{25cf}',
                             (true, true) => '*',
                             _ => ' ',
                         };
-                        let name = app.table.aus.get(key).map_or("", |e| e.name.as_str());
+                        let name = app.doc.table.aus.get(key).map_or("", |e| e.name.as_str());
                         format!("{mark}{:>4} {name}", key.to_string())
                     }
                     TableItem::Expression(name) => {
-                        let combo = app.table.expressions.get(name).map_or("", |c| c.as_str());
+                        let combo = app
+                            .doc
+                            .table
+                            .expressions
+                            .get(name)
+                            .map_or("", |c| c.as_str());
                         format!(" {name} = {combo}")
                     }
                 };
@@ -134,15 +139,15 @@ mod tests {
     #[test]
     fn the_title_counts_aus_and_expressions_and_says_when_full() {
         let mut app = fixture::app();
-        app.table.expressions.clear();
-        let entry = app.table.aus.values().next().unwrap().clone();
-        app.table.aus.clear();
+        app.doc.table.expressions.clear();
+        let entry = app.doc.table.aus.values().next().unwrap().clone();
+        app.doc.table.aus.clear();
         assert_eq!(title(&app), " AU table 0 AUs, 0 expr ");
-        app.table.aus.insert(AuKey::new(1), entry.clone());
-        app.table.expressions.insert("brows".into(), "1".into());
+        app.doc.table.aus.insert(AuKey::new(1), entry.clone());
+        app.doc.table.expressions.insert("brows".into(), "1".into());
         assert_eq!(title(&app), " AU table 1 AU, 1 expr ");
         for n in 1..=MAX_AUS as u8 {
-            app.table.aus.insert(AuKey::new(n), entry.clone());
+            app.doc.table.aus.insert(AuKey::new(n), entry.clone());
         }
         assert_eq!(
             title(&app),

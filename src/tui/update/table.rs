@@ -1,0 +1,257 @@
+//! The AU table: recording, loading, deleting, renaming, adding AUs, expressions; saving,
+//! quitting and the answers to questions.
+
+use super::*;
+
+pub(crate) fn selected_item(app: &App) -> Option<TableItem> {
+    let items = app.table_items();
+    items
+        .get(
+            app.selection
+                .table_selected
+                .min(items.len().saturating_sub(1)),
+        )
+        .cloned()
+}
+
+pub(crate) fn save(app: &mut App, to: Option<PathBuf>, quit_after: bool, fx: &mut Vec<Effect>) {
+    let path = match to.or_else(|| app.doc.file.clone()) {
+        Some(path) => path,
+        None => {
+            app.error("the built-in table has no file: save it with :w FILE");
+            return;
+        }
+    };
+    let expected = if Some(&path) == app.doc.file.as_ref() {
+        app.doc.file_stamp
+    } else {
+        None
+    };
+    fx.push(Effect::Save {
+        path,
+        contents: table_ops::to_ron(&app.doc.table),
+        expected,
+        force: false,
+        quit_after,
+    });
+}
+
+pub(crate) fn quit(app: &mut App, fx: &mut Vec<Effect>) {
+    if app.dirty() {
+        app.mode = Mode::Confirm(Question::QuitUnsaved);
+    } else {
+        fx.push(Effect::RemoveRecovery);
+        fx.push(Effect::Quit);
+    }
+}
+
+pub(crate) fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<Effect>) {
+    match (question, yes) {
+        (Question::QuitUnsaved, true) => {
+            fx.push(Effect::RemoveRecovery);
+            fx.push(Effect::Quit);
+        }
+        (Question::OverwriteAu { key, name }, true) => record(app, key, &name, fx),
+        (Question::DeleteAu(key), true) => delete_au(app, key, fx),
+        (Question::OverwriteFile { path, quit_after }, true) => fx.push(Effect::Save {
+            path,
+            contents: table_ops::to_ron(&app.doc.table),
+            expected: None,
+            force: true,
+            quit_after,
+        }),
+        (Question::Recover(found), true) => {
+            begin_edit(app);
+            app.doc.activations = found.activations;
+            app.doc.table = found.table;
+            app.doc.file_stamp = found.base;
+            app.doc.scene.deform(&app.doc.activations);
+            app.info("recovered the unsaved changes; :w saves them");
+            edited(app, fx);
+        }
+        (Question::Recover(_), false) => {
+            fx.push(Effect::RemoveRecovery);
+            app.info("discarded the recovered changes");
+        }
+        (_, false) => app.info("cancelled"),
+    }
+}
+
+pub(crate) fn activate(app: &mut App, fx: &mut Vec<Effect>) {
+    if app.selection.focus == Focus::Muscles {
+        update_into(app, Action::StartSetValue, fx);
+        return;
+    }
+    match selected_item(app) {
+        Some(TableItem::Au(key)) => load_au(app, key, fx),
+        Some(TableItem::Expression(name)) => load_expression(app, &name, fx),
+        None => app.error("the table is empty: record an AU with r"),
+    }
+}
+
+pub(crate) fn load_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
+    match table_ops::activations_of(&app.doc.table, key, app.rig()) {
+        Ok(activations) => {
+            replace_activations(app, activations, Some(key), fx);
+            let name = app
+                .doc
+                .table
+                .aus
+                .get(&key)
+                .map(|e| e.name.clone())
+                .unwrap_or_default();
+            app.info(format!("loaded AU {key} {name}"));
+        }
+        Err(e) => app.error(e),
+    }
+}
+
+pub(crate) fn load_expression(app: &mut App, name: &str, fx: &mut Vec<Effect>) {
+    let Some(combo) = app.doc.table.expressions.get(name).cloned() else {
+        app.error(format!("the table has no expression named `{name}`"));
+        return;
+    };
+    match table_ops::evaluate(&app.doc.table, &combo, app.rig()) {
+        Ok(activations) => {
+            replace_activations(app, activations, None, fx);
+            app.info(format!("loaded expression {name} = {combo}"));
+        }
+        Err(e) => app.error(e),
+    }
+}
+
+pub(crate) fn record(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
+    let mut table = app.doc.table.clone();
+    match table_ops::record(&mut table, key, name, app.rig(), &app.doc.activations) {
+        Ok(()) => {
+            begin_edit(app);
+            app.doc.table = table;
+            app.doc.loaded = Some(key);
+            if let Some(i) = app
+                .table_items()
+                .iter()
+                .position(|it| *it == TableItem::Au(key))
+            {
+                app.selection.table_selected = i;
+            }
+            app.info(format!("recorded AU {key} {name}"));
+            edited(app, fx);
+        }
+        Err(e) => app.error(e),
+    }
+}
+
+pub(crate) fn delete_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
+    let mut table = app.doc.table.clone();
+    if let Err(e) = table_ops::remove(&mut table, key) {
+        app.error(e);
+        return;
+    }
+    begin_edit(app);
+    app.doc.table = table;
+    if app.doc.loaded == Some(key) {
+        app.doc.loaded = None;
+    }
+    let items = app.table_items().len();
+    app.selection.table_selected = app.selection.table_selected.min(items.saturating_sub(1));
+    app.info(format!("deleted AU {key} (u undoes)"));
+    edited(app, fx);
+}
+
+pub(crate) fn delete_expression(app: &mut App, name: &str, fx: &mut Vec<Effect>) {
+    if !app.doc.table.expressions.contains_key(name) {
+        app.error(format!("the table has no expression named `{name}`"));
+        return;
+    }
+    begin_edit(app);
+    app.doc.table.expressions.remove(name);
+    let items = app.table_items().len();
+    app.selection.table_selected = app.selection.table_selected.min(items.saturating_sub(1));
+    app.info(format!("deleted expression {name} (u undoes)"));
+    edited(app, fx);
+}
+
+pub(crate) fn rename(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
+    let name = name.trim();
+    if name.is_empty() {
+        app.error("an AU's name cannot be empty");
+        return;
+    }
+    if !app.doc.table.aus.contains_key(&key) {
+        app.error(format!("the table has no AU {key}"));
+        return;
+    }
+    begin_edit(app);
+    if let Some(entry) = app.doc.table.aus.get_mut(&key) {
+        entry.name = name.to_string();
+    }
+    app.info(format!("AU {key} renamed to {name}"));
+    edited(app, fx);
+}
+
+/// Adds an AU (`12`) or a combination with FACS intensities (`12C`, `6+12B`) at `intensity`
+/// to the current state.
+pub(crate) fn add_au(app: &mut App, what: &str, intensity: f32, fx: &mut Vec<Effect>) {
+    if !intensity.is_finite() || !(0.0..=2.0).contains(&intensity) {
+        app.error(format!(
+            "intensity must be between 0 and 2; {intensity} rejected"
+        ));
+        return;
+    }
+    let add = match what.parse::<AuKey>() {
+        Ok(key) => table_ops::activations_of(&app.doc.table, key, app.rig()),
+        Err(_) => table_ops::evaluate(&app.doc.table, what, app.rig()),
+    };
+    match add {
+        Ok(add) => {
+            let sum = table_ops::add_scaled(&app.doc.activations, &add, intensity);
+            replace_activations(app, sum, None, fx);
+            app.info(format!("added {what} at {}", format_value(intensity)));
+        }
+        Err(e) => app.error(e),
+    }
+}
+
+pub(crate) fn store_expression(app: &mut App, name: &str, combo: &str, fx: &mut Vec<Effect>) {
+    let mut table = app.doc.table.clone();
+    if let Err(e) = table_ops::set_expression(&mut table, name, combo) {
+        app.error(e);
+        return;
+    }
+    begin_edit(app);
+    app.doc.table = table;
+    app.info(format!("expression {name} = {combo} stored"));
+    edited(app, fx);
+}
+
+pub(crate) fn set_combo(app: &mut App, combo: &str, fx: &mut Vec<Effect>) {
+    match table_ops::evaluate(&app.doc.table, combo, app.rig()) {
+        Ok(activations) => {
+            replace_activations(app, activations, None, fx);
+            app.info(format!("state set from {combo}"));
+        }
+        Err(e) => app.error(e),
+    }
+}
+
+/// The name an AU is recorded under when none is typed: its current name, else the FACS name.
+pub(crate) fn suggested_name(app: &App, key: AuKey) -> String {
+    app.doc
+        .table
+        .aus
+        .get(&key)
+        .map(|e| e.name.clone())
+        .or_else(|| table_ops::facs_name(key.number).map(str::to_string))
+        .unwrap_or_else(|| format!("AU {key}"))
+}
+
+pub(crate) fn record_or_ask(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<Effect>) {
+    if app.doc.table.aus.contains_key(&key) {
+        app.mode = Mode::Confirm(Question::OverwriteAu {
+            key,
+            name: name.to_string(),
+        });
+    } else {
+        record(app, key, name, fx);
+    }
+}

@@ -1,0 +1,769 @@
+//! Tests of `update`, through actions and commands as the user gives them.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use super::*;
+use crate::facs::AuTable;
+use crate::model::Side;
+use crate::tui::app::{FileStamp, Message, Severity, Style};
+
+fn app() -> App {
+    crate::tui::fixture::app()
+}
+
+fn run(app: &mut App, actions: &[Action]) -> Vec<Effect> {
+    actions
+        .iter()
+        .flat_map(|a| update(app, a.clone()))
+        .collect()
+}
+
+fn command(app: &mut App, line: &str) -> Vec<Effect> {
+    update(app, Action::Command(line.into()))
+}
+
+fn typed(app: &mut App, text: &str) {
+    for c in text.chars() {
+        update(app, Action::InputChar(c));
+    }
+}
+
+fn error(app: &App) -> String {
+    match &app.message {
+        Some(Message {
+            text,
+            severity: Severity::Error,
+        }) => text.clone(),
+        other => panic!("expected an error message, got {other:?}"),
+    }
+}
+
+fn muscle(app: &App, name: &str) -> f32 {
+    app.doc.activations.muscles[app.rig().muscle_index(name).unwrap()]
+}
+
+#[test]
+fn rows_are_grouped_linear_sheet_sphincter_jaw() {
+    let app = app();
+    assert_eq!(
+        app.selection.rows,
+        vec![
+            Row::Muscle(1),
+            Row::Muscle(2),
+            Row::Muscle(3),
+            Row::Muscle(0),
+            Row::Jaw
+        ]
+    );
+}
+
+#[test]
+fn selection_moves_and_stops_at_the_ends() {
+    let mut app = app();
+    run(&mut app, &[Action::SelectPrev]);
+    assert_eq!(app.selection.selected, 0);
+    run(&mut app, &[Action::SelectNext, Action::SelectNext]);
+    assert_eq!(app.selection.selected, 2);
+    run(&mut app, &[Action::SelectLast]);
+    assert_eq!(app.selected_row(), Row::Jaw);
+    run(&mut app, &[Action::SelectNext]);
+    assert_eq!(app.selected_row(), Row::Jaw);
+    run(&mut app, &[Action::SelectFirst]);
+    assert_eq!(app.selection.selected, 0);
+    run(&mut app, &[Action::SelectRow(Row::Muscle(0))]);
+    assert_eq!(app.selection.selected, 3);
+}
+
+#[test]
+fn fine_and_coarse_steps_stay_in_range() {
+    let mut app = app();
+    let fx = run(&mut app, &[Action::StepFine(1)]);
+    assert!(fx.contains(&Effect::RecoveryDue));
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.05).abs() < 1e-6);
+    run(&mut app, &[Action::StepCoarse(1)]);
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.30).abs() < 1e-6);
+    for _ in 0..20 {
+        update(&mut app, Action::StepCoarse(1));
+    }
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 2.0);
+    for _ in 0..20 {
+        update(&mut app, Action::StepCoarse(-1));
+    }
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 0.0);
+    let fx = update(&mut app, Action::StepFine(-1));
+    assert!(fx.is_empty(), "no edit at the minimum");
+    // The jaw goes to 4.
+    run(&mut app, &[Action::SelectLast]);
+    for _ in 0..20 {
+        update(&mut app, Action::StepCoarse(1));
+    }
+    assert_eq!(app.doc.activations.jaw, 4.0);
+}
+
+#[test]
+fn consecutive_steps_on_one_muscle_undo_together() {
+    let mut app = app();
+    run(
+        &mut app,
+        &[
+            Action::StepFine(1),
+            Action::StepFine(1),
+            Action::StepFine(1),
+        ],
+    );
+    assert_eq!(app.history.undo.len(), 1);
+    run(&mut app, &[Action::SelectNext, Action::StepFine(1)]);
+    assert_eq!(app.history.undo.len(), 2);
+    run(&mut app, &[Action::Undo]);
+    assert_eq!(muscle(&app, "R_Zygomatic_Major"), 0.0);
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.15).abs() < 1e-6);
+    run(&mut app, &[Action::Undo]);
+    assert!(app.doc.activations.is_rest());
+    run(&mut app, &[Action::Undo]);
+    assert_eq!(error(&app), "nothing to undo");
+    run(&mut app, &[Action::Redo, Action::Redo]);
+    assert!((muscle(&app, "R_Zygomatic_Major") - 0.05).abs() < 1e-6);
+    run(&mut app, &[Action::Redo]);
+    assert_eq!(error(&app), "nothing to redo");
+}
+
+#[test]
+fn a_new_edit_clears_redo() {
+    let mut app = app();
+    run(&mut app, &[Action::StepFine(1), Action::Undo]);
+    assert_eq!(app.history.redo.len(), 1);
+    run(&mut app, &[Action::ZeroSelected, Action::StepCoarse(1)]);
+    assert!(app.history.redo.is_empty());
+}
+
+#[test]
+fn edits_deform_the_face_and_undo_restores_it() {
+    let mut app = app();
+    let rest = app.doc.scene.mesh().positions.clone();
+    run(
+        &mut app,
+        &[
+            Action::ToggleMirror,
+            Action::StepCoarse(1),
+            Action::StepCoarse(1),
+        ],
+    );
+    assert_ne!(
+        app.doc.scene.positions(),
+        &rest[..],
+        "the zygomatics move the grid"
+    );
+    // The incremental update matches a full deformation.
+    let mut full = app.doc.scene.clone();
+    full.deform(&app.doc.activations);
+    assert_eq!(app.doc.scene.positions(), full.positions());
+    command(&mut app, "jaw 2");
+    let mut full = app.doc.scene.clone();
+    full.deform(&app.doc.activations);
+    assert_eq!(app.doc.scene.positions(), full.positions());
+    run(&mut app, &[Action::Undo, Action::Undo]);
+    assert_eq!(app.doc.scene.positions(), &rest[..]);
+}
+
+#[test]
+fn mirror_mode_moves_the_partner() {
+    let mut app = app();
+    run(&mut app, &[Action::ToggleMirror, Action::StepCoarse(1)]);
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 0.25);
+    assert_eq!(muscle(&app, "R_Zygomatic_Major"), 0.25);
+    run(&mut app, &[Action::ToggleMirror, Action::StepCoarse(1)]);
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 0.5);
+    assert_eq!(muscle(&app, "R_Zygomatic_Major"), 0.25);
+    // Muscles without a partner move alone.
+    run(
+        &mut app,
+        &[
+            Action::ToggleMirror,
+            Action::SelectRow(Row::Muscle(3)),
+            Action::StepCoarse(1),
+        ],
+    );
+    assert_eq!(muscle(&app, "Frontalis"), 0.25);
+}
+
+#[test]
+fn exact_value_prompt_accepts_in_range_and_rejects_the_rest() {
+    let mut app = app();
+    update(&mut app, Action::StartSetValue);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "0.00"));
+    update(&mut app, Action::InputHome);
+    run(
+        &mut app,
+        &[
+            Action::InputDelete,
+            Action::InputDelete,
+            Action::InputDelete,
+            Action::InputDelete,
+        ],
+    );
+    typed(&mut app, "1.5");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 1.5);
+    command(&mut app, "set L_Zygomatic_Major 9");
+    update(&mut app, Action::InputSubmit);
+    assert!(
+        error(&app).contains("must be between 0.00 and 2.00"),
+        "{}",
+        error(&app)
+    );
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 1.5);
+    command(&mut app, "set L_Zygomatic_Major abc");
+    assert_eq!(error(&app), "`abc` is not a number");
+    command(&mut app, "set L_Zygomatic_Major NaN");
+    assert_eq!(error(&app), "`NaN` is not a number");
+}
+
+#[test]
+fn zero_and_reset_all() {
+    let mut app = app();
+    command(&mut app, "set Frontalis 1");
+    command(&mut app, "jaw 3");
+    command(&mut app, "set L_Zygomatic_Major 0.7");
+    update(&mut app, Action::ZeroSelected);
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 0.0);
+    assert_eq!(muscle(&app, "Frontalis"), 1.0);
+    update(&mut app, Action::ResetAll);
+    assert!(app.doc.activations.is_rest());
+    update(&mut app, Action::Undo);
+    assert_eq!(app.doc.activations.jaw, 3.0);
+}
+
+#[test]
+fn set_and_jaw_commands_check_names_and_ranges() {
+    let mut app = app();
+    command(&mut app, "set frontalis 1.25");
+    assert_eq!(muscle(&app, "Frontalis"), 1.25);
+    command(&mut app, "set Nope 1");
+    assert!(error(&app).contains("no muscle named `Nope`"));
+    command(&mut app, "jaw 4.5");
+    assert!(error(&app).contains("jaw must be between 0.00 and 4.00"));
+    command(&mut app, "jaw 2");
+    assert_eq!(app.doc.activations.jaw, 2.0);
+    assert_eq!(app.message.as_ref().unwrap().text, "jaw = 2.00");
+    update(&mut app, Action::ToggleMirror);
+    command(&mut app, "set l_zygomatic_major 0.5");
+    assert_eq!(muscle(&app, "R_Zygomatic_Major"), 0.5);
+    let said = &app.message.as_ref().unwrap().text;
+    assert_eq!(said, "L_Zygomatic_Major = 0.50 (and R_Zygomatic_Major)");
+    command(&mut app, "view side");
+    assert_eq!(app.message.as_ref().unwrap().text, "view: side");
+    command(&mut app, "style wireframe");
+    assert_eq!(app.message.as_ref().unwrap().text, "style: wireframe");
+    command(&mut app, "set");
+    assert!(error(&app).starts_with("usage: :set"));
+    command(&mut app, "frobnicate");
+    assert!(error(&app).contains("unknown command `frobnicate`"));
+}
+
+#[test]
+fn find_selects_the_next_matching_muscle() {
+    let mut app = app();
+    update(&mut app, Action::StartFind);
+    typed(&mut app, "oris");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(app.selected_row(), Row::Muscle(0));
+    update(&mut app, Action::StartFind);
+    typed(&mut app, "zygomatic");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(app.selected_row(), Row::Muscle(1));
+    update(&mut app, Action::StartFind);
+    typed(&mut app, "zygomatic");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(app.selected_row(), Row::Muscle(2));
+    update(&mut app, Action::StartFind);
+    typed(&mut app, "buccinator");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(error(&app), "no muscle matches `buccinator`");
+}
+
+#[test]
+fn record_prompts_for_key_then_name_and_asks_before_overwriting() {
+    let mut app = app();
+    command(&mut app, "set Frontalis 0.8");
+    update(&mut app, Action::StartRecord);
+    typed(&mut app, "1");
+    update(&mut app, Action::InputSubmit);
+    match &app.mode {
+        Mode::Input(i) => assert_eq!(i.kind, InputKind::RecordName(AuKey::new(1))),
+        other => panic!("{other:?}"),
+    }
+    run(&mut app, &[Action::InputHome]);
+    while matches!(&app.mode, Mode::Input(i) if !i.text.is_empty()) {
+        update(&mut app, Action::InputDelete);
+    }
+    typed(&mut app, "Brow raiser");
+    update(&mut app, Action::InputSubmit);
+    let entry = &app.doc.table.aus[&AuKey::new(1)];
+    assert_eq!(entry.name, "Brow raiser");
+    assert_eq!(
+        entry.muscles,
+        BTreeMap::from([("Frontalis".to_string(), 0.8)])
+    );
+    assert!(app.dirty());
+    assert_eq!(app.doc.loaded, Some(AuKey::new(1)));
+    // Recording over AU 12 asks first; "no" keeps the old entry.
+    command(&mut app, "record 12 Smile");
+    assert!(matches!(
+        app.mode,
+        Mode::Confirm(Question::OverwriteAu { .. })
+    ));
+    update(&mut app, Action::Answer(false));
+    assert_eq!(app.doc.table.aus[&AuKey::new(12)].name, "Lip Corner Puller");
+    command(&mut app, "record 12 Smile");
+    update(&mut app, Action::Answer(true));
+    assert_eq!(app.doc.table.aus[&AuKey::new(12)].name, "Smile");
+    assert_eq!(
+        app.doc.table.aus[&AuKey::new(12)].muscles,
+        BTreeMap::from([("Frontalis".to_string(), 0.8)])
+    );
+    command(&mut app, "record R99x");
+    assert!(error(&app).contains("`R99x` is not an AU"));
+}
+
+#[test]
+fn record_refuses_a_65th_au() {
+    let mut app = app();
+    let codes: Vec<u8> = (1..=99u8)
+        .filter(|&n| crate::facs::catalogue::is_code(n) && n != 12)
+        .collect();
+    assert!(
+        codes.len() >= 22,
+        "the catalogue has enough codes for this test"
+    );
+    let sides = [None, Some(Side::Left), Some(Side::Right)];
+    let keys = codes
+        .iter()
+        .flat_map(|&n| sides.iter().map(move |&side| AuKey { number: n, side }));
+    for key in keys.take(63) {
+        command(&mut app, &format!("record {key} x"));
+    }
+    assert_eq!(app.doc.table.aus.len(), 64);
+    command(&mut app, &format!("record {} x", codes[40]));
+    assert!(error(&app).contains("full"), "{}", error(&app));
+    assert_eq!(app.doc.table.aus.len(), 64);
+}
+
+#[test]
+fn load_delete_rename_and_add() {
+    let mut app = app();
+    command(&mut app, "load 12");
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 1.0);
+    assert_eq!(app.doc.loaded, Some(AuKey::new(12)));
+    command(&mut app, "zero");
+    command(&mut app, "add 12 0.5");
+    assert_eq!(muscle(&app, "R_Zygomatic_Major"), 0.5);
+    command(&mut app, "add 12 2");
+    assert_eq!(
+        muscle(&app, "R_Zygomatic_Major"),
+        2.0,
+        "clamped at the maximum"
+    );
+    command(&mut app, "add 12 3");
+    assert!(error(&app).contains("intensity must be between 0 and 2"));
+    command(&mut app, "zero");
+    command(&mut app, "add 12C");
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+    command(&mut app, "add 12A 0.5");
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.7).abs() < 1e-6);
+    command(&mut app, "add 12Z");
+    assert!(error(&app).starts_with("`12Z`"), "{}", error(&app));
+    command(&mut app, "rename 12 Smile wide");
+    assert_eq!(app.doc.table.aus[&AuKey::new(12)].name, "Smile wide");
+    command(&mut app, "load 4");
+    assert_eq!(error(&app), "the table has no AU 4");
+    command(&mut app, "delete 12");
+    assert!(app.doc.table.aus.is_empty());
+    assert_eq!(app.doc.loaded, None);
+    update(&mut app, Action::Undo);
+    assert_eq!(app.doc.table.aus[&AuKey::new(12)].name, "Smile wide");
+}
+
+#[test]
+fn table_panel_keys_act_on_the_selected_au() {
+    let mut app = app();
+    command(&mut app, "record 1 Brow");
+    run(
+        &mut app,
+        &[Action::SwitchFocus, Action::SelectLast, Action::Activate],
+    );
+    assert_eq!(app.doc.loaded, Some(AuKey::new(12)));
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 1.0);
+    update(&mut app, Action::DeleteSelected);
+    assert_eq!(app.mode, Mode::Confirm(Question::DeleteAu(AuKey::new(12))));
+    update(&mut app, Action::Answer(true));
+    assert!(!app.doc.table.aus.contains_key(&AuKey::new(12)));
+    update(&mut app, Action::RenameSelected);
+    assert!(
+        matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Rename(AuKey::new(1)) && i.text == "Brow")
+    );
+    typed(&mut app, " raiser");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(app.doc.table.aus[&AuKey::new(1)].name, "Brow raiser");
+    update(&mut app, Action::OverwriteSelected);
+    assert!(
+        matches!(app.mode, Mode::Confirm(Question::OverwriteAu { key, .. }) if key == AuKey::new(1))
+    );
+    update(&mut app, Action::Cancel);
+    assert_eq!(app.mode, Mode::Normal);
+    update(&mut app, Action::StartAddAu);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "1 "));
+    typed(&mut app, "0.5");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(app.message.as_ref().unwrap().text, "added 1 at 0.50");
+}
+
+#[test]
+fn save_writes_the_table_and_clears_dirty() {
+    let mut app = app();
+    command(&mut app, "record 1 Brow");
+    assert!(app.dirty());
+    let fx = update(&mut app, Action::Save);
+    let Some(Effect::Save {
+        path,
+        contents,
+        expected,
+        force,
+        quit_after,
+    }) = fx.first().cloned()
+    else {
+        panic!("{fx:?}")
+    };
+    assert_eq!(path, PathBuf::from("t.au.ron"));
+    assert_eq!(expected, Some(FileStamp { len: 1, hash: 1 }));
+    assert!(!force && !quit_after);
+    let back: AuTable = ron::from_str(&contents).unwrap();
+    assert_eq!(back, app.doc.table);
+    let stamp = FileStamp::of(contents.as_bytes());
+    let fx = update(
+        &mut app,
+        Action::Saved {
+            path,
+            stamp,
+            quit_after: false,
+        },
+    );
+    assert_eq!(fx, vec![Effect::RemoveRecovery]);
+    assert!(!app.dirty());
+}
+
+#[test]
+fn save_as_expects_a_new_file_and_wq_quits_after() {
+    let mut app = app();
+    let fx = command(&mut app, "w other.au.ron");
+    assert!(
+        matches!(&fx[0], Effect::Save { path, expected: None, .. } if path == &PathBuf::from("other.au.ron"))
+    );
+    let fx = command(&mut app, "wq");
+    assert!(matches!(
+        &fx[0],
+        Effect::Save {
+            quit_after: true,
+            ..
+        }
+    ));
+    let fx = update(
+        &mut app,
+        Action::Saved {
+            path: "t.au.ron".into(),
+            stamp: FileStamp { len: 0, hash: 0 },
+            quit_after: true,
+        },
+    );
+    assert_eq!(fx, vec![Effect::RemoveRecovery, Effect::Quit]);
+}
+
+#[test]
+fn the_built_in_table_needs_a_file_name() {
+    let mut app = app();
+    app.doc.file = None;
+    let fx = update(&mut app, Action::Save);
+    assert!(fx.is_empty());
+    assert!(error(&app).contains(":w FILE"));
+}
+
+#[test]
+fn a_file_changed_on_disk_is_overwritten_only_when_confirmed() {
+    let mut app = app();
+    let fx = update(
+        &mut app,
+        Action::SaveConflict {
+            path: "t.au.ron".into(),
+            quit_after: false,
+        },
+    );
+    assert!(fx.is_empty());
+    assert!(matches!(
+        app.mode,
+        Mode::Confirm(Question::OverwriteFile { .. })
+    ));
+    let fx = update(&mut app, Action::Answer(false));
+    assert!(fx.is_empty());
+    update(
+        &mut app,
+        Action::SaveConflict {
+            path: "t.au.ron".into(),
+            quit_after: true,
+        },
+    );
+    let fx = update(&mut app, Action::Answer(true));
+    assert!(matches!(
+        &fx[0],
+        Effect::Save {
+            force: true,
+            quit_after: true,
+            ..
+        }
+    ));
+}
+
+#[test]
+fn a_failed_save_keeps_the_edits_and_says_so() {
+    let mut app = app();
+    command(&mut app, "record 1 Brow");
+    update(
+        &mut app,
+        Action::SaveFailed {
+            path: "t.au.ron".into(),
+            error: "Permission denied".into(),
+        },
+    );
+    assert!(app.dirty());
+    assert!(error(&app).contains("could not save t.au.ron: Permission denied; your edits are kept"));
+}
+
+#[test]
+fn quit_asks_only_when_there_are_unsaved_changes() {
+    let mut app = app();
+    assert_eq!(
+        update(&mut app, Action::Quit),
+        vec![Effect::RemoveRecovery, Effect::Quit]
+    );
+    command(&mut app, "record 1 Brow");
+    assert!(update(&mut app, Action::Quit).is_empty());
+    assert_eq!(app.mode, Mode::Confirm(Question::QuitUnsaved));
+    assert!(update(&mut app, Action::Answer(false)).is_empty());
+    assert_eq!(app.mode, Mode::Normal);
+    assert!(command(&mut app, "q").is_empty());
+    assert_eq!(
+        update(&mut app, Action::Answer(true)),
+        vec![Effect::RemoveRecovery, Effect::Quit]
+    );
+    assert_eq!(
+        command(&mut app, "q!"),
+        vec![Effect::RemoveRecovery, Effect::Quit]
+    );
+}
+
+#[test]
+fn recovery_offer_restores_or_discards() {
+    let mut app = app();
+    let mut activations = app.doc.activations.clone();
+    activations.muscles[3] = 1.5;
+    let mut table = app.doc.table.clone();
+    table.aus.clear();
+    let question = Question::Recover(Box::new(crate::tui::app::Recovered {
+        activations: activations.clone(),
+        table: table.clone(),
+        when: "5 s ago".into(),
+        base: None,
+    }));
+    app.mode = Mode::Confirm(question.clone());
+    assert!(question_text(&question).contains("recover"));
+    let fx = update(&mut app, Action::Answer(true));
+    assert_eq!(fx, vec![Effect::RecoveryDue]);
+    assert_eq!(app.doc.activations, activations);
+    assert_eq!(app.doc.table, table);
+    assert!(app.dirty());
+    let mut app2 = self::app();
+    app2.mode = Mode::Confirm(question);
+    assert_eq!(
+        update(&mut app2, Action::Answer(false)),
+        vec![Effect::RemoveRecovery]
+    );
+    assert!(app2.doc.activations.is_rest());
+}
+
+#[test]
+fn view_actions_move_the_camera_within_limits() {
+    let mut app = app();
+    run(&mut app, &[Action::Rotate(200.0, 100.0)]);
+    assert_eq!(app.view.yaw, -160.0);
+    assert_eq!(app.view.pitch, 89.0);
+    run(&mut app, &[Action::Zoom(100.0), Action::Pan(5.0, -5.0)]);
+    assert_eq!(app.view.zoom, 8.0);
+    assert_eq!(app.view.pan, (1.0, -1.0));
+    run(&mut app, &[Action::Preset(ViewPreset::Side)]);
+    assert_eq!(
+        (app.view.yaw, app.view.zoom, app.view.pan),
+        (90.0, crate::tui::app::DEFAULT_ZOOM, (0.0, 0.0))
+    );
+    run(&mut app, &[Action::ResetView]);
+    assert_eq!(app.view.yaw, 0.0);
+    run(&mut app, &[Action::CycleStyle]);
+    assert_eq!(app.view.style, Style::Shaded);
+    run(&mut app, &[Action::ToggleAscii]);
+    assert_eq!(app.view.cells, CellMode::Ascii);
+    run(&mut app, &[Action::CycleCells]);
+    assert_eq!(app.view.cells, CellMode::Braille);
+    run(
+        &mut app,
+        &[
+            Action::ToggleMuscles,
+            Action::ToggleGhost,
+            Action::ToggleDisplacement,
+        ],
+    );
+    assert!(app.view.show_muscles && app.view.show_ghost && app.view.show_displacement);
+    // View changes are not edits.
+    assert!(app.history.undo.is_empty());
+    assert!(!app.dirty());
+}
+
+#[test]
+fn help_opens_scrolls_and_closes() {
+    let mut app = app();
+    update(&mut app, Action::ToggleHelp);
+    assert_eq!(app.mode, Mode::Help(0));
+    run(&mut app, &[Action::HelpScroll(3), Action::HelpScroll(-1)]);
+    assert_eq!(app.mode, Mode::Help(2));
+    update(&mut app, Action::Cancel);
+    assert_eq!(app.mode, Mode::Normal);
+}
+
+#[test]
+fn tab_completes_commands_muscles_and_aus() {
+    let mut app = app();
+    update(&mut app, Action::StartCommand);
+    typed(&mut app, "se");
+    update(&mut app, Action::InputComplete);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "set "));
+    typed(&mut app, "l_zy");
+    update(&mut app, Action::InputComplete);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "set L_Zygomatic_Major "));
+    update(&mut app, Action::Cancel);
+    update(&mut app, Action::StartCommand);
+    typed(&mut app, "set z");
+    update(&mut app, Action::InputComplete);
+    assert_eq!(error(&app), "nothing completes `z`");
+    update(&mut app, Action::Cancel);
+    update(&mut app, Action::StartCommand);
+    typed(&mut app, "load 1");
+    update(&mut app, Action::InputComplete);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "load 12 "));
+    update(&mut app, Action::Cancel);
+    update(&mut app, Action::StartCommand);
+    typed(&mut app, "r");
+    update(&mut app, Action::InputComplete);
+    assert!(app.message.as_ref().unwrap().text.contains("record"));
+    assert!(app.message.as_ref().unwrap().text.contains("rename"));
+}
+
+#[test]
+fn input_editing_moves_the_cursor_and_backspace_on_empty_closes() {
+    let mut app = app();
+    update(&mut app, Action::StartCommand);
+    typed(&mut app, "ac");
+    run(
+        &mut app,
+        &[
+            Action::InputLeft,
+            Action::InputChar('b'),
+            Action::InputEnd,
+            Action::InputChar('d'),
+        ],
+    );
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "abcd" && i.cursor == 4));
+    run(
+        &mut app,
+        &[
+            Action::InputHome,
+            Action::InputDelete,
+            Action::InputRight,
+            Action::InputBackspace,
+        ],
+    );
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "cd" && i.cursor == 0));
+    run(&mut app, &[Action::InputDelete, Action::InputDelete]);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text.is_empty()));
+    update(&mut app, Action::InputBackspace);
+    assert_eq!(app.mode, Mode::Normal);
+}
+
+#[test]
+fn expressions_need_a_valid_combination() {
+    let mut app = app();
+    command(&mut app, "expr smile");
+    assert_eq!(error(&app), "the table has no expression named `smile`");
+    command(&mut app, "expr");
+    assert!(error(&app).starts_with("usage: :expr"));
+    command(&mut app, "expr smile 12+4");
+    assert!(error(&app).contains('4'), "{}", error(&app));
+    assert!(app.doc.table.expressions.is_empty());
+    command(&mut app, "expr smile 12C");
+    assert_eq!(app.doc.table.expressions["smile"], "12C");
+    assert!(app.dirty());
+    command(&mut app, "expr smile");
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+    command(&mut app, "zero");
+    command(&mut app, "combo 12B");
+    assert!((muscle(&app, "R_Zygomatic_Major") - 0.4).abs() < 1e-6);
+    command(&mut app, "combo 12+");
+    assert!(error(&app).starts_with("`12+`"), "{}", error(&app));
+    // An AU an expression uses cannot be deleted.
+    command(&mut app, "delete 12");
+    assert!(error(&app).contains("smile"), "{}", error(&app));
+    // Expressions are listed after the AUs; Enter loads, d deletes.
+    run(&mut app, &[Action::SwitchFocus, Action::SelectLast]);
+    update(&mut app, Action::Activate);
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+    update(&mut app, Action::DeleteSelected);
+    assert!(app.doc.table.expressions.is_empty());
+    update(&mut app, Action::StartExpression);
+    typed(&mut app, "grin = 12E");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(app.doc.table.expressions["grin"], "12E");
+}
+
+#[test]
+fn table_selection_record_suggestion_and_enter_on_a_muscle() {
+    let mut app = app();
+    command(&mut app, "record 1 Brow");
+    update(&mut app, Action::SelectTableItem(1));
+    assert_eq!(
+        (app.selection.focus, app.selection.table_selected),
+        (Focus::Table, 1)
+    );
+    update(&mut app, Action::SelectTableItem(9));
+    assert_eq!(
+        app.selection.table_selected, 1,
+        "no such line: the selection stays"
+    );
+    update(&mut app, Action::StartRecord);
+    assert!(
+        matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::RecordKey && i.text == "12")
+    );
+    update(&mut app, Action::InputSubmit);
+    assert!(
+        matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::RecordName(AuKey::new(12)) && i.text == "Lip Corner Puller")
+    );
+    update(&mut app, Action::Cancel);
+    update(&mut app, Action::SwitchFocus);
+    update(&mut app, Action::Activate);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Value));
+    update(&mut app, Action::Cancel);
+    update(&mut app, Action::StartFind);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Find));
+}
+
+#[test]
+fn resize_records_the_size() {
+    let mut app = app();
+    update(&mut app, Action::Resize(200, 60));
+    assert_eq!(app.view.size, (200, 60));
+}
