@@ -703,9 +703,9 @@ impl LiveSource {
                     };
                 }
                 time = Some(value);
-            } else if let Some((key, value)) = self.au_value(&name, value) {
-                // Two spellings of one AU (`AU12`, `AU12_r`, or an AU and the ARKit name
-                // that shows it) would add up: refuse the frame, as for a key given twice.
+            } else if let Some(key) = json_au_key(&name) {
+                // Two spellings of one AU (`AU12`, `AU12_r`) would add up: refuse the frame,
+                // as for a key given twice.
                 if let Some(k) = raw.iter().position(|(seen, _)| *seen == key) {
                     return Event::Malformed {
                         message: format!(
@@ -714,14 +714,26 @@ impl LiveSource {
                         ),
                     };
                 }
-                raw.push((key, value));
+                raw.push((key, value as f32));
                 au_names.push(name);
-            } else if arkit::canonical(&name).is_some() {
-                if self.ignored.insert(name.clone()) {
-                    self.builder.pending.push(format!(
-                        "{}: ARKit shape `{name}` has no AU (ignored)",
-                        self.name
-                    ));
+            } else if let Some(shape) = arkit::canonical(&name) {
+                // ARKit weights are 0-1 whatever the stream's AU scale. Several shapes may
+                // name one AU (both give it): the stronger one counts.
+                match self.arkit.au(shape) {
+                    Some(key) => {
+                        let value = value as f32 * self.builder.scale.max();
+                        match raw.iter_mut().find(|(seen, _)| *seen == key) {
+                            Some((_, v)) => *v = v.max(value),
+                            None => {
+                                raw.push((key, value));
+                                au_names.push(name);
+                            }
+                        }
+                    }
+                    None if self.ignored.insert(name.clone()) => self.builder.pending.push(
+                        format!("{}: ARKit shape `{name}` has no AU (ignored)", self.name),
+                    ),
+                    None => {}
                 }
             } else if self.ignored.insert(name.clone()) && !name.eq_ignore_ascii_case("frame") {
                 self.builder.pending.push(format!(
@@ -733,18 +745,6 @@ impl LiveSource {
         self.builder.report_missing(raw.iter().map(|(k, _)| *k));
         let time = time.unwrap_or_else(|| self.opened.elapsed().as_secs_f64());
         Event::Frame(self.builder.frame(time, Some(number), raw))
-    }
-}
-
-impl LiveSource {
-    /// The AU and intensity a JSON key gives: an AU name as is, or an ARKit name through
-    /// the ARKit map, its 0-1 weight put on the stream's scale.
-    fn au_value(&self, name: &str, value: f64) -> Option<(AuKey, f32)> {
-        if let Some(key) = json_au_key(name) {
-            return Some((key, value as f32));
-        }
-        let key = self.arkit.au(name)?;
-        Some((key, value as f32 * self.builder.scale.max()))
     }
 }
 
