@@ -99,6 +99,8 @@ pub enum Action {
     InputHome,
     /// Cursor to the end.
     InputEnd,
+    /// Delete everything before the cursor (Ctrl-u).
+    InputClear,
     /// Complete the word before the cursor (muscle names, AU numbers, commands).
     InputComplete,
     /// Accept the input line.

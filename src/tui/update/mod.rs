@@ -14,7 +14,7 @@ use crate::model::Activations;
 use crate::tui::action::{Action, Effect};
 use crate::tui::app::{
     App, CellMode, Focus, Input, InputKind, Mode, Question, Row, TableItem, ViewPreset,
-    COARSE_STEP, FINE_STEP,
+    FINE_STEP, STEP_RESOLUTION,
 };
 use crate::tui::command;
 use crate::tui::table_ops;
@@ -61,10 +61,21 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         }
         Action::StartFind => open(app, InputKind::Find, ""),
         Action::StepFine(n) => step(app, f32::from(n) * FINE_STEP, &mut fx),
-        Action::StepCoarse(n) => step(app, f32::from(n) * COARSE_STEP, &mut fx),
+        Action::StepCoarse(n) => {
+            let size = app.coarse_step(app.selected_row());
+            step(app, f32::from(n) * size, &mut fx)
+        }
         Action::StartSetValue => {
-            let value = format_value(app.value(app.selected_row()));
-            open(app, InputKind::Value, value);
+            let row = app.selected_row();
+            let (lo, hi) = app.range(row);
+            let now = format!(
+                "{} {}, {}-{}",
+                app.row_name(row),
+                format_value(app.value(row)),
+                lo,
+                hi
+            );
+            open(app, InputKind::Value(now), "");
         }
         Action::ZeroSelected => {
             let row = app.selected_row();
@@ -168,6 +179,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         | Action::InputRight
         | Action::InputHome
         | Action::InputEnd
+        | Action::InputClear
         | Action::InputComplete) => prompt::edit(app, action),
         Action::InputSubmit => {
             if let Mode::Input(input) = std::mem::replace(&mut app.mode, Mode::Normal) {

@@ -191,17 +191,9 @@ fn mirror_mode_moves_the_partner() {
 fn exact_value_prompt_accepts_in_range_and_rejects_the_rest() {
     let mut app = app();
     update(&mut app, Action::StartSetValue);
-    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "0.00"));
-    update(&mut app, Action::InputHome);
-    run(
-        &mut app,
-        &[
-            Action::InputDelete,
-            Action::InputDelete,
-            Action::InputDelete,
-            Action::InputDelete,
-        ],
-    );
+    // The field starts empty: what is typed is the value (the prompt names the current one).
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text.is_empty()
+        && i.kind == InputKind::Value("L_Zygomatic_Major 0.00, 0-2".into())));
     typed(&mut app, "1.5");
     update(&mut app, Action::InputSubmit);
     assert_eq!(muscle(&app, "L_Zygomatic_Major"), 1.5);
@@ -755,7 +747,7 @@ fn table_selection_record_suggestion_and_enter_on_a_muscle() {
     update(&mut app, Action::Cancel);
     update(&mut app, Action::SwitchFocus);
     update(&mut app, Action::Activate);
-    assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Value));
+    assert!(matches!(&app.mode, Mode::Input(i) if matches!(i.kind, InputKind::Value(_))));
     update(&mut app, Action::Cancel);
     update(&mut app, Action::StartFind);
     assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Find));
@@ -766,4 +758,64 @@ fn resize_records_the_size() {
     let mut app = app();
     update(&mut app, Action::Resize(200, 60));
     assert_eq!(app.view.size, (200, 60));
+}
+
+#[test]
+fn typing_a_value_gives_that_value_and_enter_on_nothing_keeps_it() {
+    let mut app = app();
+    update(&mut app, Action::StartSetValue);
+    typed(&mut app, "2");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 2.0);
+    update(&mut app, Action::StartSetValue);
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 2.0);
+    assert_eq!(app.mode, Mode::Normal);
+}
+
+#[test]
+fn ctrl_u_clears_the_line_before_the_cursor() {
+    let mut app = app();
+    update(&mut app, Action::StartCommand);
+    typed(&mut app, "set jaw 3");
+    update(&mut app, Action::InputLeft);
+    update(&mut app, Action::InputClear);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "3" && i.cursor == 0));
+    update(&mut app, Action::InputEnd);
+    update(&mut app, Action::InputClear);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text.is_empty()));
+    typed(&mut app, "jaw 1");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(app.doc.activations.jaw, 1.0);
+}
+
+#[test]
+fn the_jaws_coarse_step_is_an_eighth_of_its_range() {
+    let mut app = app();
+    update(&mut app, Action::StepCoarse(1));
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 0.25);
+    update(&mut app, Action::SelectLast);
+    assert_eq!(app.selected_row(), Row::Jaw);
+    update(&mut app, Action::StepCoarse(1));
+    assert_eq!(app.doc.activations.jaw, 0.5);
+    run(&mut app, &vec![Action::StepCoarse(1); 7]);
+    assert_eq!(app.doc.activations.jaw, 4.0);
+}
+
+#[test]
+fn steps_store_the_decimal_exactly() {
+    let mut app = app();
+    update(&mut app, Action::SelectLast);
+    for n in 1..=80 {
+        update(&mut app, Action::StepFine(1));
+        let decimal: f32 = format!("{}.{:02}", n * 5 / 100, n * 5 % 100).parse().unwrap();
+        assert_eq!(app.doc.activations.jaw, decimal, "after {n} fine steps");
+    }
+    for n in (0..80).rev() {
+        update(&mut app, Action::StepFine(-1));
+        let decimal: f32 = format!("{}.{:02}", n * 5 / 100, n * 5 % 100).parse().unwrap();
+        assert_eq!(app.doc.activations.jaw, decimal, "back at {n} fine steps");
+    }
+    run(&mut app, &vec![Action::StepFine(1); 4]);
+    assert_eq!(app.doc.activations.jaw.to_string(), "0.2");
 }
