@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use super::app::{FileStamp, Row, ViewPreset};
+use crate::facs::AuTable;
 
 /// Something the user (or the outcome of an effect) asks of the editor.
 #[derive(Debug, Clone, PartialEq)]
@@ -129,6 +130,13 @@ pub enum Action {
         /// Why.
         error: String,
     },
+    /// A table to import was read (`:import`).
+    TableRead {
+        /// What was named: a file or `builtin:NAME`.
+        source: String,
+        /// The table, or why it could not be read.
+        table: Result<AuTable, String>,
+    },
     /// A save found the file changed on disk (or present where a new file was expected).
     SaveConflict {
         /// The file.
@@ -159,6 +167,8 @@ pub enum Effect {
     RecoveryDue,
     /// Remove the recovery file (after a save or an explicit discard).
     RemoveRecovery,
+    /// Read a table to import its AUs (answered with [`Action::TableRead`]).
+    ReadTable(PathBuf),
     /// Leave the editor.
     Quit,
 }

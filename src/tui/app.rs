@@ -297,6 +297,15 @@ pub enum Question {
     },
     /// Delete a recorded AU?
     DeleteAu(AuKey),
+    /// Store an expression after adding the AUs it needs from the built-in table?
+    AddMissingAus {
+        /// The expression's name.
+        name: String,
+        /// Its combination.
+        combo: String,
+        /// The AUs the table lacks, in the order written.
+        missing: Vec<AuKey>,
+    },
     /// Overwrite a file that changed on disk (or that is not ours)?
     OverwriteFile {
         /// The file.
