@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use grimace::tui::action::Action;
-use grimace::tui::app::{App, Colors};
+use grimace::tui::app::{App, ColorMode};
 use grimace::tui::scene::Scene;
 use grimace::tui::update::update;
 use ratatui::backend::CrosstermBackend;
@@ -35,7 +35,7 @@ impl Write for Counter {
 fn app(cols: u16, rows: u16) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
     let mut app = App::new(Scene::new(rig, mesh).expect("the rig binds"), table, None);
-    app.view.colors = Colors::Ansi16;
+    app.view.colors = ColorMode::Ansi16;
     update(&mut app, Action::Resize(cols, rows));
     app
 }

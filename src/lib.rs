@@ -25,6 +25,7 @@
 
 #[cfg(feature = "tui")]
 pub mod cli;
+pub mod export;
 pub mod face;
 pub mod facs;
 pub mod fit;

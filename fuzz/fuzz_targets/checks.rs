@@ -1,5 +1,5 @@
 //! The properties every fuzz target checks, one function per target, shared with
-//! `tests/fuzz_regressions.rs` (which replays saved inputs under plain `cargo test`).
+//! `tests/model/fuzz_regressions.rs` (which replays saved inputs under plain `cargo test`).
 //!
 //! For every input: no panic; an error is a value whose message is not empty and names the
 //! file it is about; what loads is valid and survives being written and read back.

@@ -13,7 +13,7 @@ use crate::io::recovery;
 use crate::io::rig_file::load_rig_ref;
 use crate::io::table_file::rig_ref;
 use crate::model::{Mesh, Rig};
-use crate::tui::app::{App, Colors, FileStamp, Mode, Question, Recovered, View};
+use crate::tui::app::{App, ColorMode, FileStamp, Mode, Question, Recovered, View};
 use crate::tui::scene::Scene;
 use crate::tui::{self, Session};
 
@@ -79,7 +79,7 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     let mut app = App::new(scene, table, args.file.clone());
     app.doc.file_stamp = stamp;
     app.view = View::new(args.cells.mode());
-    app.view.colors = Colors::from_env();
+    app.view.colors = ColorMode::from_env();
     if new_file {
         if let Some(path) = &args.file {
             app.info(format!(

@@ -1,5 +1,6 @@
 //! `grimace export`: the mesh deformed by an AU, an expression, a combination or muscle
-//! values, written as OBJ.
+//! values, written as OBJ; or, with `--gltf`, the rest mesh with one morph target per AU,
+//! expression, muscle or ARKit blendshape, written as binary glTF.
 //!
 //! The source and state arguments ([`SourceArgs`], [`StateArgs`]) and their loading
 //! ([`load_sources`], [`activations`]) are shared with other commands that show one state.
@@ -9,11 +10,13 @@ use std::path::PathBuf;
 use anyhow::{anyhow, bail};
 use clap::Args;
 
+use crate::export::{morph_targets, target_states, TargetSet, TargetStates};
 use crate::facs::combo::Combo;
 use crate::facs::{AuKey, AuTable};
-use crate::io::obj;
+use crate::io::arkit::ArkitMap;
 use crate::io::rig_file::{self, LoadedRig};
 use crate::io::table_file;
+use crate::io::{gltf, obj};
 use crate::model::{Activations, BoundRig};
 
 /// Where the rig, mesh and AU table come from.
@@ -63,9 +66,51 @@ pub struct ExportArgs {
     #[command(flatten)]
     pub state: StateArgs,
     /// The OBJ file to write.
-    #[arg(long, value_name = "FILE.obj")]
-    pub out: PathBuf,
+    #[arg(long, value_name = "FILE.obj", required_unless_present = "gltf")]
+    pub out: Option<PathBuf>,
+    /// Write the rest mesh with morph targets as binary glTF 2.0 instead (see docs/gltf.md).
+    #[arg(
+        long,
+        value_name = "FILE.glb",
+        conflicts_with_all = ["out", "au", "expr", "combo", "set", "jaw"]
+    )]
+    pub gltf: Option<PathBuf>,
+    /// The morph targets of --gltf: one per AU of the table, per expression, per muscle at
+    /// activation 1, or ARKit's 52 blendshapes through the ARKit map.
+    #[arg(long, value_enum, default_value = "aus", requires = "gltf")]
+    pub targets: Targets,
+    /// Millimetres per mesh unit for --gltf (glTF is in metres; the node's scale converts).
+    /// Default: 11.5 for the built-in face (docs/face.md), else 1 (a mesh in millimetres).
+    #[arg(long, value_name = "MM", requires = "gltf")]
+    pub unit_mm: Option<f32>,
 }
+
+/// The `--targets` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Targets {
+    /// One per recorded AU (`AU12`, `AU_L12`).
+    Aus,
+    /// One per named expression.
+    Expressions,
+    /// One per muscle at activation 1, and `jaw` at 1.
+    Muscles,
+    /// ARKit's 52 blendshape names, through presets/arkit.map.ron.
+    Arkit,
+}
+
+impl From<Targets> for TargetSet {
+    fn from(targets: Targets) -> TargetSet {
+        match targets {
+            Targets::Aus => TargetSet::Aus,
+            Targets::Expressions => TargetSet::Expressions,
+            Targets::Muscles => TargetSet::Muscles,
+            Targets::Arkit => TargetSet::Arkit,
+        }
+    }
+}
+
+/// Millimetres per unit of the built-in face (docs/face.md).
+pub const BUILTIN_FACE_MM_PER_UNIT: f32 = 11.5;
 
 /// Parses `MUSCLE=VALUE` (split at the last `=`).
 pub fn parse_set(text: &str) -> Result<(String, f32), String> {
@@ -191,12 +236,61 @@ pub fn activations(state: &StateArgs, sources: &Sources) -> anyhow::Result<Activ
 /// Runs `grimace export`.
 pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
     let sources = load_sources(&args.source)?;
+    if let Some(path) = &args.gltf {
+        return export_gltf(args, &sources, path);
+    }
     let act = activations(&args.state, &sources)?;
     let bound = bind(&sources.rig)?;
     let mut positions = Vec::new();
     bound.deform(&act, &mut positions)?;
-    obj::save_obj(&args.out, &sources.rig.mesh, &positions)?;
+    let out = args
+        .out
+        .as_ref()
+        .ok_or_else(|| anyhow!("give --out FILE.obj or --gltf FILE.glb"))?;
+    obj::save_obj(out, &sources.rig.mesh, &positions)?;
     Ok(())
+}
+
+/// Writes the rest mesh and the chosen morph targets as `.glb`.
+fn export_gltf(args: &ExportArgs, sources: &Sources, path: &std::path::Path) -> anyhow::Result<()> {
+    let table = sources
+        .table
+        .as_ref()
+        .ok_or_else(|| anyhow!("--gltf needs an AU table: pass --table TABLE"))?;
+    let rig = &sources.rig.rig;
+    let mm = match args.unit_mm {
+        Some(mm) if mm.is_finite() && mm > 0.0 => mm,
+        Some(mm) => bail!("--unit-mm must be a positive number of millimetres (got {mm})"),
+        None if is_builtin_face(&sources.rig) => BUILTIN_FACE_MM_PER_UNIT,
+        None => 1.0,
+    };
+    let TargetStates { states, silent } =
+        target_states(args.targets.into(), rig, table, &ArkitMap::builtin())
+            .map_err(|e| anyhow!("{}: {e}", table_label(sources)))?;
+    if !silent.is_empty() {
+        eprintln!(
+            "grimace export: {} ARKit shapes move nothing on this table: {}",
+            silent.len(),
+            silent.join(", ")
+        );
+    }
+    let bound = bind(&sources.rig)?;
+    let targets = morph_targets(&bound, &states)?;
+    gltf::save_glb(path, &sources.rig.mesh, &targets, mm / 1000.0)?;
+    Ok(())
+}
+
+fn table_label(sources: &Sources) -> String {
+    sources
+        .table_path
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_default()
+}
+
+/// Whether the rig's mesh is the embedded default face (no `--mesh` given).
+fn is_builtin_face(rig: &LoadedRig) -> bool {
+    rig.mesh_path.is_none() && rig.rig.mesh == std::path::Path::new("builtin:face")
 }
 
 #[cfg(test)]

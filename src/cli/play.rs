@@ -13,34 +13,51 @@ use clap::Args;
 
 use super::export::{self, SourceArgs};
 use crate::facs::AuTable;
+use crate::io::arkit::ArkitMap;
+use crate::io::livelink;
 use crate::io::rig_file::LoadedRig;
 use crate::io::table_file::load_table_ref_for;
 use crate::io::timeline::load_timeline;
-use crate::model::Rig;
+use crate::model::{Mesh, Rig};
+use crate::play::livelink::{LiveLinkSource, LIVELINK_FRAME_RATE};
+use crate::play::player::Reopen;
 use crate::play::skips::Skips;
 use crate::play::source::DEFAULT_FRAME_RATE;
 use crate::play::{
     AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, OpenFaceSource,
-    PlayClock, Poll, TimelineSource,
+    PlayClock, Player, Poll, SourceError, TimelineSource,
 };
+use crate::tui::keymap;
 
-/// Arguments of `grimace play`.
-#[derive(Debug, Clone, Args)]
-#[command(after_help = "\
+/// The notes at the end of `grimace play --help`, before the keys.
+const NOTES: &str = "\
 INPUT:
-  FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped)
+  FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped),
+                      or a Live Link Face recording (Timecode,BlendShapeCount, then ARKit
+                      weights 0-1, played through presets/arkit.map.ron; timecodes at --fps,
+                      default 60)
   FILE.timeline.ron   keyframes of AU combinations or activations (see docs/formats.md)
   --stdin             one frame per line: a CSV header line then rows, or JSON objects
-                      {\"AU1\": 0.0, ..., \"AU45\": 0.0}
+                      {\"AU1\": 0.0, ..., \"AU45\": 0.0}; ARKit names (\"jawOpen\": 0-1) too
   --udp 127.0.0.1:PORT  JSON objects, one per datagram, on a loopback port (0 picks one)
 
 HEADLESS OUTPUT:
   one line per frame: `TIME AU1=2.10 AU12=0.80 | muscle=0.42 jaw=0.10` (AUs and activations
   that are not zero; `rest` when none), then `played N frames, skipped M`. Skipped rows
-  (success 0, malformed) count in M; each malformed row is named by line on stderr.
+  (success 0, malformed) count in M; each malformed row is named by line on stderr.";
 
-KEYS (terminal view):
-  space pause/resume   . or n  step one frame (pauses)   + / -  speed x2 / /2   q  quit")]
+/// The notes and the terminal view's keys, from the key table.
+fn after_help() -> String {
+    let mut text = format!("{NOTES}\n\nKEYS (terminal view):");
+    for (keys, what) in keymap::play_help_lines() {
+        text.push_str(&format!("\n  {keys:<20}{what}"));
+    }
+    text
+}
+
+/// Arguments of `grimace play`.
+#[derive(Debug, Clone, Args)]
+#[command(after_help = after_help())]
 pub struct PlayArgs {
     /// An OpenFace CSV file or a `*.timeline.ron` file.
     #[arg(value_name = "FILE", required_unless_present_any = ["stdin", "udp"], conflicts_with_all = ["stdin", "udp"])]
@@ -112,7 +129,7 @@ pub fn run(args: &PlayArgs) -> Result<()> {
         if !io::stdout().is_terminal() {
             bail!("stdout is not a terminal: use --headless to print frames instead of drawing");
         }
-        let summary = view::play(args, source, mesh, &rig, &table, &mapper)?;
+        let summary = view(args, source, mesh, &rig, &table, &mapper)?;
         println!(
             "played {} frames, skipped {}",
             summary.played, summary.skipped
@@ -184,6 +201,12 @@ fn open_source(
             let timeline = load_timeline(path)?;
             return Ok(Box::new(TimelineSource::new(timeline, path, table, rig)?));
         }
+        if livelink::is_livelink_file(path) {
+            let fps = args.fps.unwrap_or(LIVELINK_FRAME_RATE);
+            let arkit = ArkitMap::builtin();
+            let source = LiveLinkSource::open(path, mapper.clone(), &arkit, fps)?;
+            return Ok(Box::new(source));
+        }
         return Ok(Box::new(OpenFaceSource::open(
             path,
             mapper.clone(),
@@ -198,6 +221,34 @@ fn open_source(
         return Ok(Box::new(source));
     }
     Ok(Box::new(LiveSource::stdin(mapper.clone(), scale, fps)))
+}
+
+/// Plays in the terminal view (see [`crate::tui::play`]); `--loop` reopens the input.
+fn view(
+    args: &PlayArgs,
+    source: Box<dyn FrameSource>,
+    mesh: Mesh,
+    rig: &Rig,
+    table: &AuTable,
+    mapper: &AuMapper,
+) -> Result<Summary> {
+    let reopen = {
+        let (args, rig, table, mapper) = (args.clone(), rig.clone(), table.clone(), mapper.clone());
+        Box::new(move || {
+            open_source(&args, &rig, &table, &mapper).map_err(|e| SourceError::Io {
+                what: "cannot reopen the input".into(),
+                source: io::Error::other(format!("{e:#}")),
+            })
+        }) as Reopen
+    };
+    let reopen = args.repeat.then_some(reopen);
+    let mut player = Player::new(source, reopen, args.speed, args.strict, args.frames);
+    crate::tui::play::run(&mut player, mesh, rig, args.cells.mode(), args.frames)?;
+    Ok(Summary {
+        played: player.played,
+        skipped: player.skipped,
+        stats: player.stats,
+    })
 }
 
 /// What a run did.
@@ -333,370 +384,4 @@ pub fn frame_line(frame: &Frame, rig: &Rig) -> String {
         line.push_str(" rest");
     }
     line
-}
-
-/// The full-screen terminal view.
-mod view {
-    use crate::tui::term::Signals;
-    use std::io;
-    use std::time::{Duration, Instant};
-
-    use anyhow::{Context, Result};
-    use crossterm::event::{self, Event as TermEvent, KeyCode, KeyEventKind, KeyModifiers};
-    use ratatui::buffer::Buffer;
-    use ratatui::layout::{Constraint, Layout, Rect};
-    use ratatui::style::{Color, Modifier, Style as TextStyle};
-    use ratatui::text::{Line, Span};
-    use ratatui::widgets::{Block, Borders, Paragraph};
-    use ratatui::Frame as TermFrame;
-
-    use super::{PlayArgs, Summary};
-    use crate::facs::AuTable;
-    use crate::model::deform::BoundRig;
-    use crate::model::{Activations, Mesh, Rig};
-    use crate::play::skips::Skips;
-    use crate::play::{AuMapper, Frame, FrameSource, Message, Player};
-    use crate::render::{
-        Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Rgb, Scene, Style,
-    };
-
-    /// The shortest time between two drawn frames: the view shows at most about 64 frames a
-    /// second (a little above 60, so a 60 fps source is not thinned by timer jitter).
-    const MIN_FRAME_INTERVAL: Duration = Duration::from_micros(15_625);
-
-    /// Restores the terminal however the view ends (return, error or panic unwinding).
-    struct TerminalGuard;
-
-    impl Drop for TerminalGuard {
-        fn drop(&mut self) {
-            ratatui::restore();
-            let _ = crossterm::execute!(io::stdout(), crossterm::cursor::Show);
-        }
-    }
-
-    /// What the view draws from.
-    struct Face {
-        mesh: Mesh,
-        bound: BoundRig,
-        renderer: Renderer,
-        positions: Vec<glam::Vec3>,
-        canvas: DotCanvas,
-        grid: CellGrid,
-        mode: CellMode,
-        colors: ColorMode,
-    }
-
-    impl Face {
-        /// Deforms the mesh to `act` and renders it into `area` of `buffer`.
-        fn draw(&mut self, act: &Activations, area: Rect, buffer: &mut Buffer) {
-            if self.bound.deform(act, &mut self.positions).is_err() {
-                // Mapped activations are clamped to range; a failure leaves the last pose.
-                return;
-            }
-            let (cols, rows) = (usize::from(area.width), usize::from(area.height));
-            self.mode.prepare(&mut self.canvas, cols, rows);
-            let mut scene = Scene::new(&self.mesh, &self.positions).with_rest(self.bound.rest());
-            // Lines coloured by how far they moved make the motion readable at a glance.
-            scene.displacement = self.colors != ColorMode::None;
-            self.renderer
-                .render(&scene, &Camera::front(), Style::Lines, &mut self.canvas);
-            self.grid.fill(&self.canvas, self.mode, self.colors);
-            for row in 0..self.grid.height.min(rows) {
-                for (col, cell) in self.grid.row(row).iter().enumerate().take(cols) {
-                    let x = area.x + col as u16;
-                    let y = area.y + row as u16;
-                    if let Some(target) = buffer.cell_mut((x, y)) {
-                        target.set_char(cell.ch);
-                        if let Some(Rgb(r, g, b)) = cell.fg {
-                            target.set_fg(Color::Rgb(r, g, b));
-                        }
-                        if let Some(Rgb(r, g, b)) = cell.bg {
-                            target.set_bg(Color::Rgb(r, g, b));
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    /// What the status lines show.
-    struct Status {
-        current: Option<Frame>,
-        messages: Vec<String>,
-        /// Malformed rows, counted; the first few named, printed on stderr at the end.
-        skips: Skips,
-        named: Vec<String>,
-        ended: bool,
-    }
-
-    /// Plays in the terminal until `q` (or the frame limit); returns the counts.
-    pub fn play(
-        args: &PlayArgs,
-        source: Box<dyn FrameSource>,
-        mesh: Mesh,
-        rig: &Rig,
-        table: &AuTable,
-        mapper: &AuMapper,
-    ) -> Result<Summary> {
-        let bound = BoundRig::bind(rig, &mesh).context("cannot place the rig on its mesh")?;
-        let rest = bound.rest().to_vec();
-        let mut face = Face {
-            renderer: Renderer::new(&mesh),
-            mesh,
-            bound,
-            positions: rest,
-            canvas: DotCanvas::new(0, 0),
-            grid: CellGrid::default(),
-            mode: args.cells.mode(),
-            colors: if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()) {
-                ColorMode::None
-            } else {
-                ColorMode::Ansi16
-            },
-        };
-        let reopen = {
-            let (args, rig, table, mapper) =
-                (args.clone(), rig.clone(), table.clone(), mapper.clone());
-            Box::new(move || {
-                super::open_source(&args, &rig, &table, &mapper).map_err(|e| {
-                    crate::play::SourceError::Io {
-                        what: "cannot reopen the input".into(),
-                        source: io::Error::other(format!("{e:#}")),
-                    }
-                })
-            }) as crate::play::player::Reopen
-        };
-        let reopen = args.repeat.then_some(reopen);
-        let mut player = Player::new(source, reopen, args.speed, args.strict, args.frames);
-
-        let signals = Signals::register().context("cannot watch for termination signals")?;
-        let guard = TerminalGuard;
-        let mut terminal = ratatui::try_init().context("cannot open the terminal")?;
-        let mut status = Status {
-            current: None,
-            messages: Vec::new(),
-            skips: Skips::default(),
-            named: Vec::new(),
-            ended: false,
-        };
-        let result = run_loop(
-            &mut terminal,
-            &mut player,
-            &mut face,
-            &mut status,
-            rig,
-            &signals,
-            args,
-        );
-        drop(guard);
-        for line in &status.named {
-            eprintln!("{line}");
-        }
-        // The player counts every skipped row; those not malformed were untracked.
-        for _ in status.skips.total()..player.skipped {
-            status.skips.untracked();
-        }
-        if let Some(line) = status.skips.summary() {
-            eprintln!("{line}");
-        }
-        result?;
-        Ok(Summary {
-            played: player.played,
-            skipped: player.skipped,
-            stats: player.stats,
-        })
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn run_loop(
-        terminal: &mut ratatui::DefaultTerminal,
-        player: &mut Player,
-        face: &mut Face,
-        status: &mut Status,
-        rig: &Rig,
-        signals: &Signals,
-        args: &PlayArgs,
-    ) -> Result<()> {
-        let mut redraw = true;
-        let mut due: Option<Instant> = None;
-        let mut last_shown_due: Option<Instant> = None;
-        loop {
-            // SIGHUP, SIGTERM, or a terminal that vanished without a signal.
-            if signals.pending().is_some() {
-                return Ok(());
-            }
-            // Faster sources than the display rate: frames due in between are dropped.
-            let now = Instant::now();
-            let display_ready = last_shown_due.is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
-            if display_ready {
-                if let Some((frame, when)) = player.tick(now)? {
-                    status.current = Some(frame);
-                    due = Some(when);
-                    redraw = true;
-                }
-            }
-            collect(player, status);
-            if player.is_finished() && !status.ended {
-                status.ended = true;
-                redraw = true;
-                if args.frames.is_some_and(|n| player.played >= n) {
-                    return Ok(());
-                }
-            }
-            if redraw {
-                let started = Instant::now();
-                terminal
-                    .draw(|f| draw(f, face, status, player, rig))
-                    .context("cannot draw")?;
-                let done = Instant::now();
-                redraw = false;
-                if let Some(when) = due.take() {
-                    player.shown(when, done, done - started);
-                    // Spaced by due times, so a frame drawn late does not delay the next.
-                    last_shown_due = Some(when);
-                    // The status line was drawn before this frame counted as shown; after
-                    // the last frame nothing else redraws, so show the final counts.
-                    redraw = status.ended;
-                }
-            }
-            let now = Instant::now();
-            let display_free = last_shown_due.map_or(now, |t| t + MIN_FRAME_INTERVAL);
-            let wait = match player.next_due() {
-                Some(when) => when.max(display_free).saturating_duration_since(now),
-                None if player.is_live() && !player.is_paused() => Duration::from_millis(4),
-                None => Duration::from_millis(250),
-            };
-            if !event::poll(wait).context("cannot read the keyboard")? {
-                continue;
-            }
-            match event::read().context("cannot read the keyboard")? {
-                TermEvent::Key(key) if key.kind != KeyEventKind::Release => {
-                    let now = Instant::now();
-                    match key.code {
-                        KeyCode::Char('q') | KeyCode::Esc => return Ok(()),
-                        KeyCode::Char('c') if key.modifiers.contains(KeyModifiers::CONTROL) => {
-                            return Ok(())
-                        }
-                        KeyCode::Char(' ') => player.toggle_pause(now),
-                        KeyCode::Char('.' | 'n') | KeyCode::Right => {
-                            if let Some(frame) = player.step(now)? {
-                                status.current = Some(frame);
-                            }
-                        }
-                        KeyCode::Char('+' | '=') | KeyCode::Up => player.change_speed(2.0, now),
-                        KeyCode::Char('-' | '_') | KeyCode::Down => player.change_speed(0.5, now),
-                        _ => continue,
-                    }
-                    redraw = true;
-                }
-                TermEvent::Resize(..) => redraw = true,
-                _ => {}
-            }
-        }
-    }
-
-    /// Moves the player's messages into the status (malformed rows are kept for stderr).
-    fn collect(player: &mut Player, status: &mut Status) {
-        for message in player.take_messages() {
-            let text = match message {
-                Message::Notice(text) => format!("warning: {text}"),
-                Message::Malformed(text) => {
-                    if let Some(line) = status.skips.malformed(&text) {
-                        status.named.push(line);
-                    }
-                    format!("{text} (row skipped)")
-                }
-            };
-            status.messages.push(text);
-        }
-        let excess = status.messages.len().saturating_sub(2);
-        status.messages.drain(..excess);
-    }
-
-    fn draw(f: &mut TermFrame, face: &mut Face, status: &Status, player: &Player, rig: &Rig) {
-        let [main, bottom] =
-            Layout::vertical([Constraint::Min(3), Constraint::Length(3)]).areas(f.area());
-        let side_width = if main.width >= 70 { 30 } else { 0 };
-        let [viewport, side] =
-            Layout::horizontal([Constraint::Min(10), Constraint::Length(side_width)]).areas(main);
-        let rest = Activations::zero(rig);
-        let act = status.current.as_ref().map_or(&rest, |c| &c.activations);
-        face.draw(act, viewport, f.buffer_mut());
-        if side_width > 0 {
-            f.render_widget(side_panel(status, rig), side);
-        }
-        f.render_widget(status_lines(status, player), bottom);
-    }
-
-    fn side_panel<'a>(status: &'a Status, rig: &'a Rig) -> Paragraph<'a> {
-        let mut lines = Vec::new();
-        let bar = |value: f32, full: f32| {
-            let n = ((value / full).clamp(0.0, 1.0) * 10.0).round() as usize;
-            format!("{}{}", "#".repeat(n), ".".repeat(10 - n))
-        };
-        if let Some(frame) = &status.current {
-            for au in frame.aus.iter().filter(|a| a.value >= 0.005) {
-                lines.push(Line::from(format!(
-                    "AU{:<4}{:5.2} {}",
-                    au.key.to_string(),
-                    au.value,
-                    bar(au.factor, 1.0)
-                )));
-            }
-            if !frame.aus.is_empty() {
-                lines.push(Line::from(""));
-            }
-            for (muscle, value) in rig.muscles.iter().zip(&frame.activations.muscles) {
-                if *value >= 0.005 {
-                    let name: String = muscle.name.chars().take(13).collect();
-                    lines.push(Line::from(format!(
-                        "{name:<13} {value:4.2} {}",
-                        bar(*value, 2.0)
-                    )));
-                }
-            }
-            if frame.activations.jaw >= 0.005 {
-                let jaw = frame.activations.jaw;
-                lines.push(Line::from(format!(
-                    "{:<13} {jaw:4.2} {}",
-                    "jaw",
-                    bar(jaw, 4.0)
-                )));
-            }
-        }
-        Paragraph::new(lines).block(Block::default().borders(Borders::LEFT).title(" AUs "))
-    }
-
-    fn status_lines<'a>(status: &'a Status, player: &'a Player) -> Paragraph<'a> {
-        let state = if status.ended {
-            "end"
-        } else if player.is_paused() {
-            "paused"
-        } else {
-            "playing"
-        };
-        let time = status
-            .current
-            .as_ref()
-            .map_or("-".to_string(), |c| format!("{:.3} s", c.time));
-        let stats = &player.stats;
-        let first = Line::from(vec![
-            Span::styled(
-                format!(" {state} "),
-                TextStyle::default().add_modifier(Modifier::REVERSED),
-            ),
-            Span::raw(format!(
-                " {time}  x{:.2}  frames {}  shown {}  dropped {}  late {}  skipped {}",
-                player.speed(),
-                player.played,
-                stats.shown,
-                stats.dropped,
-                stats.late,
-                player.skipped
-            )),
-        ]);
-        let keys = Line::from(" space pause   . or n step   + - speed   q quit");
-        let message = Line::from(status.messages.last().cloned().unwrap_or_default());
-        Paragraph::new(vec![first, message, keys])
-    }
 }

@@ -12,6 +12,9 @@ pub struct Nearest {
     ids: Vec<u32>,
     cell: f32,
     cells: HashMap<[i32; 3], Vec<u32>>,
+    /// The smallest and largest cell keys holding points.
+    lo: [i32; 3],
+    hi: [i32; 3],
 }
 
 impl Nearest {
@@ -22,33 +25,63 @@ impl Nearest {
         let per_axis = ((points.len() as f32 / 2.0).cbrt()).max(1.0);
         let cell = extent / per_axis;
         let mut cells: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
+        let (mut lo, mut hi) = ([i32::MAX; 3], [i32::MIN; 3]);
         for (i, p) in points.iter().enumerate() {
-            cells.entry(key(*p, cell)).or_default().push(i as u32);
+            let k = key(*p, cell);
+            for a in 0..3 {
+                lo[a] = lo[a].min(k[a]);
+                hi[a] = hi[a].max(k[a]);
+            }
+            cells.entry(k).or_default().push(i as u32);
         }
         Nearest {
             points,
             ids,
             cell,
             cells,
+            lo,
+            hi,
         }
     }
 
     /// The id of the point nearest `p` and its distance; `None` for an empty set.
     pub fn nearest(&self, p: Vec3) -> Option<(u32, f32)> {
+        self.nearest_within(p, f32::INFINITY)
+    }
+
+    /// The id of the point nearest `p` and its distance, if one lies within `limit`.
+    pub fn nearest_within(&self, p: Vec3, limit: f32) -> Option<(u32, f32)> {
         if self.points.is_empty() {
             return None;
         }
         let centre = key(p, self.cell);
+        // Beyond this ring every cell of the grid has been visited.
+        let last = (0..3)
+            .map(|a| {
+                (centre[a] - self.lo[a])
+                    .abs()
+                    .max((self.hi[a] - centre[a]).abs())
+            })
+            .max()
+            .unwrap_or(0);
+        let max_ring = if limit.is_finite() {
+            ((limit / self.cell).ceil() as i64 + 1).min(i64::from(last)) as i32
+        } else {
+            last
+        };
         let mut best: Option<(u32, f32)> = None;
-        let mut ring = 0i32;
-        loop {
-            for dx in -ring..=ring {
-                for dy in -ring..=ring {
-                    for dz in -ring..=ring {
-                        if dx.abs().max(dy.abs()).max(dz.abs()) != ring {
+        for ring in 0..=max_ring {
+            // Only the cells of this ring's shell that lie inside the grid's box.
+            let range =
+                |a: usize| (centre[a] - ring).max(self.lo[a])..=(centre[a] + ring).min(self.hi[a]);
+            for x in range(0) {
+                for y in range(1) {
+                    for z in range(2) {
+                        let k = [x, y, z];
+                        let shell = (0..3).map(|a| (k[a] - centre[a]).abs()).max();
+                        if shell != Some(ring) {
                             continue;
                         }
-                        let k = [centre[0] + dx, centre[1] + dy, centre[2] + dz];
                         for &i in self.cells.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
                             let d = self.points[i as usize].distance(p);
                             if best.is_none_or(|(_, b)| d < b) {
@@ -59,16 +92,12 @@ impl Nearest {
                 }
             }
             // Every point not yet seen lies at least `ring * cell` away.
-            if let Some((i, d)) = best {
-                if d <= ring as f32 * self.cell {
-                    return Some((self.ids[i as usize], d));
-                }
-            }
-            ring += 1;
-            if ring > 4096 {
-                return best.map(|(i, d)| (self.ids[i as usize], d));
+            if best.is_some_and(|(_, d)| d <= ring as f32 * self.cell) {
+                break;
             }
         }
+        best.filter(|&(_, d)| d <= limit)
+            .map(|(i, d)| (self.ids[i as usize], d))
     }
 }
 
@@ -104,6 +133,9 @@ mod tests {
                 .fold(f32::INFINITY, f32::min);
             assert_eq!(d, brute);
             assert_eq!(points[i as usize].distance(p), brute);
+            let within = index.nearest_within(p, 0.5 * brute);
+            assert!(within.is_none(), "{within:?}");
+            assert_eq!(index.nearest_within(p, brute * 1.01).unwrap().1, brute);
         }
     }
 }

@@ -4,11 +4,14 @@
 //! ([`LoadError`]). No input makes a loader panic; every file is size-checked before it is
 //! read. Saves go through [`atomic::write_atomic`], which never leaves a partial file.
 
+pub mod arkit;
 pub mod atomic;
 pub mod builtin;
 pub mod error;
+pub mod gltf;
 pub mod landmarks;
 pub mod lines;
+pub mod livelink;
 pub mod lock;
 pub mod obj;
 pub mod openface;

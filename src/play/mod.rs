@@ -4,11 +4,13 @@
 //! - [`source`]: OpenFace CSV files, timelines, stdin (CSV or JSON lines), loopback UDP JSON;
 //! - [`map`]: AU intensities to activations through an [`crate::facs::AuTable`];
 //! - [`clock`]: source time against wall time (speed, pause, steps) and dropped-frame counts;
+//! - [`livelink`]: Live Link Face CSV recordings (ARKit blendshapes) through the ARKit map;
 //! - [`json`]: the flat `{"AU1": 0.0, ...}` objects live streams send;
 //! - [`skips`]: the rows skipped, named while few and counted by kind at the end.
 
 pub mod clock;
 pub mod json;
+pub mod livelink;
 pub mod map;
 pub mod player;
 pub mod skips;

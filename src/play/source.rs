@@ -18,6 +18,7 @@ use thiserror::Error;
 
 use crate::facs::combo::parse_combo;
 use crate::facs::{AuKey, AuTable};
+use crate::io::arkit::{self, ArkitMap};
 use crate::io::lines::LineReader;
 use crate::io::openface::{
     OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome, MAX_LINE_BYTES, MAX_TIMESTAMP,
@@ -179,6 +180,11 @@ impl AuFrames {
                 list.join(", ")
             ));
         }
+    }
+
+    /// Queues a notice to hand out before the next frame.
+    pub fn push_notice(&mut self, notice: String) {
+        self.pending.push(notice);
     }
 
     /// A notice waiting to be handed out.
@@ -516,6 +522,7 @@ pub struct LiveSource {
     ignored: BTreeSet<String>,
     csv_allowed: bool,
     stashed: Option<Event>,
+    arkit: ArkitMap,
 }
 
 impl LiveSource {
@@ -609,6 +616,7 @@ impl LiveSource {
             ignored: BTreeSet::new(),
             csv_allowed,
             stashed: None,
+            arkit: ArkitMap::builtin(),
         }
     }
 
@@ -708,6 +716,25 @@ impl LiveSource {
                 }
                 raw.push((key, value as f32));
                 au_names.push(name);
+            } else if let Some(shape) = arkit::canonical(&name) {
+                // ARKit weights are 0-1 whatever the stream's AU scale. Several shapes may
+                // name one AU (both give it): the stronger one counts.
+                match self.arkit.au(shape) {
+                    Some(key) => {
+                        let value = value as f32 * self.builder.scale.max();
+                        match raw.iter_mut().find(|(seen, _)| *seen == key) {
+                            Some((_, v)) => *v = v.max(value),
+                            None => {
+                                raw.push((key, value));
+                                au_names.push(name);
+                            }
+                        }
+                    }
+                    None if self.ignored.insert(name.clone()) => self.builder.pending.push(
+                        format!("{}: ARKit shape `{name}` has no AU (ignored)", self.name),
+                    ),
+                    None => {}
+                }
             } else if self.ignored.insert(name.clone()) && !name.eq_ignore_ascii_case("frame") {
                 self.builder.pending.push(format!(
                     "{}: field `{name}` is not an AU (ignored)",

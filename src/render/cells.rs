@@ -81,6 +81,23 @@ pub enum ColorMode {
     TrueColor,
 }
 
+impl ColorMode {
+    /// What a terminal can show, from the environment as most terminal programs read it:
+    /// none under `NO_COLOR` or `TERM=dumb`, 24-bit under `COLORTERM=truecolor` (or `24bit`),
+    /// else the 16 ANSI colours.
+    pub fn from_env() -> ColorMode {
+        if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty())
+            || std::env::var("TERM").is_ok_and(|t| t == "dumb")
+        {
+            return ColorMode::None;
+        }
+        match std::env::var("COLORTERM").as_deref() {
+            Ok("truecolor") | Ok("24bit") => ColorMode::TrueColor,
+            _ => ColorMode::Ansi16,
+        }
+    }
+}
+
 /// One terminal cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Cell {

@@ -80,7 +80,7 @@ pub enum TableItem {
     Expression(String),
 }
 
-pub use crate::render::{CellMode, Style};
+pub use crate::render::{CellMode, ColorMode, Style};
 
 /// The next cell mode in the cycle: braille, half-block colour, ASCII.
 pub fn next_cells(mode: CellMode) -> CellMode {
@@ -139,7 +139,7 @@ pub struct View {
     /// Terminal size (columns, rows).
     pub size: (u16, u16),
     /// Colour support.
-    pub colors: Colors,
+    pub colors: ColorMode,
 }
 
 impl View {
@@ -156,7 +156,7 @@ impl View {
             show_ghost: false,
             show_displacement: false,
             size: (80, 24),
-            colors: Colors::Ansi16,
+            colors: ColorMode::Ansi16,
         }
     }
 
@@ -173,32 +173,6 @@ impl View {
         };
         self.zoom = DEFAULT_ZOOM;
         self.pan = (0.0, 0.0);
-    }
-}
-
-/// What the terminal can show.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Colors {
-    /// No colour at all (NO_COLOR, or a dumb terminal): emphasis by reverse video and bold.
-    None,
-    /// The 16 ANSI colours.
-    Ansi16,
-    /// 24-bit colour.
-    TrueColor,
-}
-
-impl Colors {
-    /// Reads NO_COLOR, TERM=dumb and COLORTERM the way most terminal programs do.
-    pub fn from_env() -> Colors {
-        if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty())
-            || std::env::var("TERM").is_ok_and(|t| t == "dumb")
-        {
-            return Colors::None;
-        }
-        match std::env::var("COLORTERM").as_deref() {
-            Ok("truecolor") | Ok("24bit") => Colors::TrueColor,
-            _ => Colors::Ansi16,
-        }
     }
 }
 

@@ -423,6 +423,127 @@ pub const MOUSE: &[(&str, &str)] = &[
     ("drag on the face", "turn and tilt the view"),
 ];
 
+/// What a key does in `grimace play`'s viewer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlayKey {
+    /// Leave the viewer.
+    Quit,
+    /// Pause or resume.
+    Pause,
+    /// Show the next frame and pause there.
+    Step,
+    /// Double the speed.
+    Faster,
+    /// Halve the speed.
+    Slower,
+}
+
+/// One key binding of the play viewer.
+#[derive(Debug, Clone, Copy)]
+pub struct PlayBinding {
+    /// The key.
+    pub code: KeyCode,
+    /// Modifiers that must be held.
+    pub mods: KeyModifiers,
+    /// What it does.
+    pub action: PlayKey,
+    /// Said in `grimace play --help`.
+    pub description: &'static str,
+    /// Said in the status line, for the first key of each action that has one.
+    pub hint: Option<&'static str>,
+}
+
+const fn play(
+    code: KeyCode,
+    mods: KeyModifiers,
+    action: PlayKey,
+    description: &'static str,
+    hint: Option<&'static str>,
+) -> PlayBinding {
+    PlayBinding {
+        code,
+        mods,
+        action,
+        description,
+        hint,
+    }
+}
+
+/// Every key of the play viewer, in help order.
+pub const PLAY_BINDINGS: &[PlayBinding] = &[
+    play(
+        ch(' '),
+        NONE,
+        PlayKey::Pause,
+        "pause / resume",
+        Some("pause"),
+    ),
+    play(
+        ch('.'),
+        NONE,
+        PlayKey::Step,
+        "step one frame (pauses)",
+        Some("step"),
+    ),
+    play(
+        ch('n'),
+        NONE,
+        PlayKey::Step,
+        "step one frame (pauses)",
+        None,
+    ),
+    play(
+        KeyCode::Right,
+        NONE,
+        PlayKey::Step,
+        "step one frame (pauses)",
+        None,
+    ),
+    play(ch('+'), NONE, PlayKey::Faster, "speed x2", Some("faster")),
+    play(ch('='), NONE, PlayKey::Faster, "speed x2", None),
+    play(KeyCode::Up, NONE, PlayKey::Faster, "speed x2", None),
+    play(ch('-'), NONE, PlayKey::Slower, "speed /2", Some("slower")),
+    play(ch('_'), NONE, PlayKey::Slower, "speed /2", None),
+    play(KeyCode::Down, NONE, PlayKey::Slower, "speed /2", None),
+    play(ch('q'), NONE, PlayKey::Quit, "quit", Some("quit")),
+    play(KeyCode::Esc, NONE, PlayKey::Quit, "quit", None),
+    play(ch('c'), CTRL, PlayKey::Quit, "quit", None),
+];
+
+/// The play viewer's action for a key press, if any.
+pub fn play_dispatch(key: KeyEvent) -> Option<PlayKey> {
+    let mods = significant(key);
+    PLAY_BINDINGS
+        .iter()
+        .find(|b| b.code == key.code && b.mods == mods)
+        .map(|b| b.action)
+}
+
+/// The play viewer's keys for `--help`: keys doing the same thing share a line.
+pub fn play_help_lines() -> Vec<(String, &'static str)> {
+    let mut lines: Vec<(String, &'static str)> = Vec::new();
+    for b in PLAY_BINDINGS {
+        let label = key_label(b.code, b.mods);
+        match lines.iter_mut().find(|(_, d)| *d == b.description) {
+            Some(line) => {
+                line.0.push_str(" / ");
+                line.0.push_str(&label);
+            }
+            None => lines.push((label, b.description)),
+        }
+    }
+    lines
+}
+
+/// The play viewer's status line hints: `key hint` for the bindings that have one.
+pub fn play_hints() -> String {
+    PLAY_BINDINGS
+        .iter()
+        .filter_map(|b| b.hint.map(|h| format!("{} {h}", key_label(b.code, b.mods))))
+        .collect::<Vec<_>>()
+        .join("   ")
+}
+
 /// The action for a key press in the given mode, if any.
 pub fn dispatch(mode: &Mode, key: KeyEvent) -> Option<Action> {
     match mode {
@@ -582,6 +703,43 @@ mod tests {
                 "{label} missing from help"
             );
         }
+    }
+
+    #[test]
+    fn play_keys_dispatch_show_in_help_and_are_bound_once() {
+        assert_eq!(
+            play_dispatch(key(KeyCode::Char(' '), NONE)),
+            Some(PlayKey::Pause)
+        );
+        assert_eq!(
+            play_dispatch(key(KeyCode::Char('+'), KeyModifiers::SHIFT)),
+            Some(PlayKey::Faster)
+        );
+        assert_eq!(
+            play_dispatch(key(KeyCode::Char('c'), CTRL)),
+            Some(PlayKey::Quit)
+        );
+        assert_eq!(play_dispatch(key(KeyCode::Char('c'), NONE)), None);
+        let help = play_help_lines();
+        for (i, a) in PLAY_BINDINGS.iter().enumerate() {
+            assert!(
+                !PLAY_BINDINGS[i + 1..]
+                    .iter()
+                    .any(|b| a.code == b.code && a.mods == b.mods),
+                "{:?} bound twice",
+                a.code
+            );
+            let label = key_label(a.code, a.mods);
+            assert!(
+                help.iter()
+                    .any(|(keys, _)| keys.split(" / ").any(|k| k == label)),
+                "{label} missing from help"
+            );
+        }
+        assert_eq!(
+            play_hints(),
+            "Space pause   . step   + faster   - slower   q quit"
+        );
     }
 
     #[test]

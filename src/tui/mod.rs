@@ -9,6 +9,7 @@ pub mod command;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;
+pub mod play;
 pub mod scene;
 pub mod table_ops;
 pub mod term;
@@ -216,8 +217,9 @@ fn write_recovery(app: &mut App, session: &Session) {
     state.base = app.doc.file_stamp.map(|s| (s.len, s.hash));
     if let Err(e) = recovery::write(path, &state) {
         app.warn(format!(
-            "could not write the recovery file {}: {e}",
-            path.display()
+            "could not write the recovery file {}: {}",
+            path.display(),
+            crate::io::error::io_reason(&e)
         ));
     }
 }
@@ -246,7 +248,7 @@ pub fn save(
         Err(e) => {
             return Action::SaveFailed {
                 path: path.to_path_buf(),
-                error: e.to_string(),
+                error: crate::io::error::io_reason(&e),
             }
         }
     };
@@ -269,7 +271,7 @@ pub fn save(
         },
         Err(e) => Action::SaveFailed {
             path: path.to_path_buf(),
-            error: e.to_string(),
+            error: crate::io::error::io_reason(&e),
         },
     }
 }

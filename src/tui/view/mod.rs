@@ -1,5 +1,6 @@
 //! Drawing: one file per panel. `draw` only reads the state.
 
+pub mod cells;
 pub mod help;
 pub mod muscles;
 pub mod prompt;

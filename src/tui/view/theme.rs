@@ -2,24 +2,24 @@
 
 use ratatui::style::{Color, Modifier, Style};
 
-use crate::tui::app::{Colors, Severity};
+use crate::tui::app::{ColorMode, Severity};
 
 /// The styles of the screen for one colour capability.
 #[derive(Debug, Clone, Copy)]
 pub struct Theme {
     /// What the terminal can show.
-    pub colors: Colors,
+    pub colors: ColorMode,
 }
 
 impl Theme {
     /// The theme for a colour capability.
-    pub fn new(colors: Colors) -> Theme {
+    pub fn new(colors: ColorMode) -> Theme {
         Theme { colors }
     }
 
     fn fg(&self, color: Color) -> Style {
         match self.colors {
-            Colors::None => Style::default(),
+            ColorMode::None => Style::default(),
             _ => Style::default().fg(color),
         }
     }
@@ -32,7 +32,7 @@ impl Theme {
     /// Less important text.
     pub fn dim(&self) -> Style {
         match self.colors {
-            Colors::None => Style::default(),
+            ColorMode::None => Style::default(),
             _ => Style::default().fg(Color::DarkGray),
         }
     }
@@ -45,8 +45,8 @@ impl Theme {
     /// The selected row.
     pub fn selected(&self, focused: bool) -> Style {
         match (self.colors, focused) {
-            (Colors::None, true) => Style::default().add_modifier(Modifier::REVERSED),
-            (Colors::None, false) => Style::default().add_modifier(Modifier::UNDERLINED),
+            (ColorMode::None, true) => Style::default().add_modifier(Modifier::REVERSED),
+            (ColorMode::None, false) => Style::default().add_modifier(Modifier::UNDERLINED),
             (_, true) => Style::default().fg(Color::Black).bg(Color::Cyan),
             (_, false) => Style::default().fg(Color::Black).bg(Color::Gray),
         }
@@ -88,7 +88,7 @@ impl Theme {
     /// The status line background.
     pub fn status(&self) -> Style {
         match self.colors {
-            Colors::None => Style::default().add_modifier(Modifier::REVERSED),
+            ColorMode::None => Style::default().add_modifier(Modifier::REVERSED),
             _ => Style::default().fg(Color::Black).bg(Color::Gray),
         }
     }
@@ -96,7 +96,7 @@ impl Theme {
     /// The unsaved mark and mode name.
     pub fn mode(&self) -> Style {
         match self.colors {
-            Colors::None => Style::default().add_modifier(Modifier::BOLD | Modifier::REVERSED),
+            ColorMode::None => Style::default().add_modifier(Modifier::BOLD | Modifier::REVERSED),
             _ => Style::default()
                 .fg(Color::Black)
                 .bg(Color::Cyan)
@@ -107,9 +107,9 @@ impl Theme {
     /// A colour for the viewport, degraded to what the terminal shows.
     pub fn rgb(&self, r: u8, g: u8, b: u8) -> Option<Color> {
         match self.colors {
-            Colors::None => None,
-            Colors::TrueColor => Some(Color::Rgb(r, g, b)),
-            Colors::Ansi16 => Some(nearest_ansi(r, g, b)),
+            ColorMode::None => None,
+            ColorMode::TrueColor => Some(Color::Rgb(r, g, b)),
+            ColorMode::Ansi16 => Some(nearest_ansi(r, g, b)),
         }
     }
 }

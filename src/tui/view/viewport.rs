@@ -4,15 +4,14 @@
 use glam::Vec2;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
-use ratatui::style::Color;
 use ratatui::widgets::{Block, Borders, Widget};
 
+use super::cells::CellGridView;
 use super::theme::Theme;
 use crate::render::{
-    muscle_overlays, nearest_ansi16, Camera, CellGrid, ColorMode, DotCanvas, Overlay, Palette,
-    Renderer, Rgb, Scene,
+    muscle_overlays, Camera, CellGrid, DotCanvas, Overlay, Palette, Renderer, Scene,
 };
-use crate::tui::app::{App, Colors, Row};
+use crate::tui::app::{App, Row};
 
 /// The renderer and its buffers, kept between frames so drawing allocates nothing.
 #[derive(Debug, Clone, Default)]
@@ -43,41 +42,6 @@ pub fn camera(app: &App) -> Camera {
         pitch: app.view.pitch.to_radians(),
         zoom: app.view.zoom,
         pan: Vec2::new(app.view.pan.0, app.view.pan.1) * extent,
-    }
-}
-
-fn color_mode(colors: Colors) -> ColorMode {
-    match colors {
-        Colors::None => ColorMode::None,
-        Colors::Ansi16 => ColorMode::Ansi16,
-        Colors::TrueColor => ColorMode::TrueColor,
-    }
-}
-
-/// A renderer colour as a terminal colour: named ANSI colours on 16-colour terminals.
-fn to_color(rgb: Rgb, colors: Colors) -> Option<Color> {
-    const NAMED: [Color; 16] = [
-        Color::Black,
-        Color::Red,
-        Color::Green,
-        Color::Yellow,
-        Color::Blue,
-        Color::Magenta,
-        Color::Cyan,
-        Color::Gray,
-        Color::DarkGray,
-        Color::LightRed,
-        Color::LightGreen,
-        Color::LightYellow,
-        Color::LightBlue,
-        Color::LightMagenta,
-        Color::LightCyan,
-        Color::White,
-    ];
-    match colors {
-        Colors::None => None,
-        Colors::Ansi16 => Some(NAMED[usize::from(nearest_ansi16(rgb)) & 15]),
-        Colors::TrueColor => Some(Color::Rgb(rgb.0, rgb.1, rgb.2)),
     }
 }
 
@@ -114,7 +78,12 @@ pub fn draw(app: &App, cache: &mut RenderCache, theme: &Theme, area: Rect, buf: 
         render_face(app, cache, inner, selected);
         cache.key = Some(key);
     }
-    copy_cells(app, theme, &cache.grid, inner, buf);
+    CellGridView {
+        grid: &cache.grid,
+        colors: app.view.colors,
+        plain: theme.face(),
+    }
+    .render(inner, buf);
 }
 
 /// Renders the face into the cache's cell grid.
@@ -140,36 +109,5 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
     scene.ghost = app.view.show_ghost;
     scene.displacement = app.view.show_displacement;
     renderer.render(&scene, &camera(app), app.view.style, canvas);
-    grid.fill(canvas, mode, color_mode(app.view.colors));
-}
-
-/// Copies the cell grid into the ratatui buffer.
-fn copy_cells(app: &App, theme: &Theme, grid: &CellGrid, inner: Rect, buf: &mut Buffer) {
-    for row in 0..grid.height.min(usize::from(inner.height)) {
-        for (col, cell) in grid
-            .row(row)
-            .iter()
-            .enumerate()
-            .take(usize::from(inner.width))
-        {
-            if cell.ch == ' ' && cell.bg.is_none() {
-                continue;
-            }
-            let Some(target) = buf.cell_mut((inner.x + col as u16, inner.y + row as u16)) else {
-                continue;
-            };
-            target.set_char(cell.ch);
-            match cell.fg.and_then(|c| to_color(c, app.view.colors)) {
-                Some(fg) => {
-                    target.set_fg(fg);
-                }
-                None => {
-                    target.set_style(theme.face());
-                }
-            }
-            if let Some(bg) = cell.bg.and_then(|c| to_color(c, app.view.colors)) {
-                target.set_bg(bg);
-            }
-        }
-    }
+    grid.fill(canvas, mode, app.view.colors);
 }

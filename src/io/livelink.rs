@@ -1,0 +1,304 @@
+//! Live Link Face CSV recordings: ARKit blendshape weights per frame, as Epic's Live Link
+//! Face app (iPhone, iPad) writes them with each take.
+//!
+//! The layout (docs/formats.md cites where it is documented): a header line
+//! `Timecode,BlendShapeCount,EyeBlinkLeft,...,TongueOut` and, in most versions, nine head
+//! and eye rotation columns after the 52 shapes (`HeadYaw`, ..., `RightEyeRoll`), then one
+//! row per frame: an SMPTE-style timecode `HH:MM:SS:FF.fff` (hours, minutes, seconds,
+//! frame, fraction of a frame), the shape count, and one weight 0-1 per shape.
+//!
+//! Shapes are found by name (either ARKit spelling, see [`crate::io::arkit::canonical`]),
+//! so column order does not matter; other columns are ignored. A row that cannot be read
+//! is a [`RowError`] with its line and column, never a panic.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, Read};
+use std::path::Path;
+
+use super::arkit;
+use super::error::LoadError;
+use super::openface::RowError;
+
+/// The columns of a Live Link Face header.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LiveLinkColumns {
+    /// The `Timecode` column.
+    pub timecode: usize,
+    /// The ARKit shape columns: field index and ARKit name, in header order.
+    pub shapes: Vec<(usize, &'static str)>,
+    /// Header columns that are neither the timecode, the count nor a shape (head and eye
+    /// rotations), ignored.
+    pub ignored: Vec<String>,
+    /// The number of fields every row must have.
+    pub field_count: usize,
+}
+
+/// One frame of a recording.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LiveLinkRow {
+    /// The 1-based line.
+    pub line: usize,
+    /// The timecode in seconds: `(HH*60 + MM)*60 + SS + FF.fff/fps`, at the frame rate
+    /// given to [`LiveLinkColumns::parse_row`].
+    pub seconds: f64,
+    /// One weight per shape column, in [`LiveLinkColumns::shapes`] order.
+    pub weights: Vec<f32>,
+}
+
+/// Whether a header line is Live Link Face's: its first two columns are `Timecode` and
+/// `BlendShapeCount`.
+pub fn is_header(line: &str) -> bool {
+    let mut names = line
+        .trim_start_matches('\u{feff}')
+        .split(',')
+        .map(str::trim);
+    matches!(
+        (names.next(), names.next()),
+        (Some(a), Some(b)) if a.eq_ignore_ascii_case("timecode") && b.eq_ignore_ascii_case("blendshapecount")
+    )
+}
+
+/// Whether a file starts with a Live Link Face header (reads at most its first 64 KiB).
+pub fn is_livelink_file(path: &Path) -> bool {
+    let Ok(file) = File::open(path) else {
+        return false;
+    };
+    let mut first = String::new();
+    let mut reader = BufReader::new(file.take(64 * 1024));
+    reader.read_line(&mut first).is_ok() && is_header(&first)
+}
+
+impl LiveLinkColumns {
+    /// Reads a header line; the error says what is wrong with it.
+    pub fn from_header(line: &str) -> Result<LiveLinkColumns, String> {
+        if !is_header(line) {
+            return Err("not a Live Link Face header (Timecode,BlendShapeCount,...)".into());
+        }
+        let line = line
+            .trim_end_matches(['\r', '\n'])
+            .trim_start_matches('\u{feff}');
+        let names: Vec<&str> = line.split(',').map(str::trim).collect();
+        let mut shapes: Vec<(usize, &'static str)> = Vec::new();
+        let mut ignored = Vec::new();
+        for (index, name) in names.iter().enumerate().skip(2) {
+            match arkit::canonical(name) {
+                Some(shape) if shapes.iter().any(|(_, s)| *s == shape) => {
+                    return Err(format!("column `{name}` appears twice in the header"));
+                }
+                Some(shape) => shapes.push((index, shape)),
+                None if name.is_empty() => {}
+                None => ignored.push(name.to_string()),
+            }
+        }
+        if shapes.is_empty() {
+            return Err(
+                "the header names no ARKit blendshape (EyeBlinkLeft, ..., TongueOut)".into(),
+            );
+        }
+        Ok(LiveLinkColumns {
+            timecode: 0,
+            shapes,
+            ignored,
+            field_count: names.len(),
+        })
+    }
+
+    /// Reads one data line; `line` is its 1-based number, `fps` the recording's frame rate
+    /// (the timecode's frame field counts frames of it).
+    pub fn parse_row(&self, text: &str, line: usize, fps: f64) -> Result<LiveLinkRow, RowError> {
+        let text = text.trim_end_matches(['\r', '\n']);
+        let fields: Vec<&str> = text.split(',').collect();
+        let error = |column: Option<usize>, message: String| RowError {
+            line,
+            column,
+            message,
+        };
+        if fields.len() != self.field_count {
+            return Err(error(
+                None,
+                format!(
+                    "{} fields, but the header has {}",
+                    fields.len(),
+                    self.field_count
+                ),
+            ));
+        }
+        let column_of = |index: usize| {
+            Some(
+                fields[..index]
+                    .iter()
+                    .map(|f| f.chars().count() + 1)
+                    .sum::<usize>()
+                    + 1,
+            )
+        };
+        let timecode = fields[self.timecode].trim();
+        let seconds = parse_timecode(timecode, fps).ok_or_else(|| {
+            error(
+                column_of(self.timecode),
+                format!("`{timecode}` is not a timecode HH:MM:SS:FF.fff"),
+            )
+        })?;
+        let mut weights = Vec::with_capacity(self.shapes.len());
+        for &(index, shape) in &self.shapes {
+            let field = fields[index].trim();
+            match field.parse::<f32>() {
+                Ok(value) if value.is_finite() => weights.push(value),
+                _ => {
+                    return Err(error(
+                        column_of(index),
+                        format!("{shape}: `{field}` is not a number"),
+                    ))
+                }
+            }
+        }
+        Ok(LiveLinkRow {
+            line,
+            seconds,
+            weights,
+        })
+    }
+}
+
+/// `HH:MM:SS:FF` or `HH:MM:SS:FF.fff` (a fraction of a frame) in seconds at `fps`; `;` is
+/// taken for `:` (drop-frame timecode is written with it).
+pub fn parse_timecode(text: &str, fps: f64) -> Option<f64> {
+    let parts: Vec<&str> = text.split([':', ';']).collect();
+    let [h, m, s, f] = parts.as_slice() else {
+        return None;
+    };
+    let whole = |t: &str| -> Option<f64> {
+        (!t.is_empty() && t.bytes().all(|b| b.is_ascii_digit()))
+            .then(|| t.parse::<f64>().ok())
+            .flatten()
+    };
+    let (h, m, s) = (whole(h)?, whole(m)?, whole(s)?);
+    let frame = match f.split_once('.') {
+        Some((frames, fraction)) => {
+            whole(frames)? + whole(fraction)? / 10f64.powi(fraction.len() as i32)
+        }
+        None => whole(f)?,
+    };
+    if m >= 60.0 || s >= 60.0 {
+        return None;
+    }
+    Some((h * 60.0 + m) * 60.0 + s + frame / fps)
+}
+
+/// A Live Link Face recording read row by row.
+pub struct LiveLinkReader<R> {
+    input: R,
+    columns: LiveLinkColumns,
+    line: usize,
+    fps: f64,
+    buffer: String,
+}
+
+impl<R: BufRead> LiveLinkReader<R> {
+    /// Reads the header; `fps` is the recording's frame rate.
+    pub fn new(mut input: R, path: &Path, fps: f64) -> Result<LiveLinkReader<R>, LoadError> {
+        let mut header = String::new();
+        input
+            .read_line(&mut header)
+            .map_err(|e| LoadError::new(path, format!("cannot read: {e}")))?;
+        let columns = LiveLinkColumns::from_header(&header).map_err(|message| LoadError {
+            path: path.to_path_buf(),
+            line: Some(1),
+            column: None,
+            message,
+        })?;
+        Ok(LiveLinkReader {
+            input,
+            columns,
+            line: 1,
+            fps,
+            buffer: String::new(),
+        })
+    }
+
+    /// The header's columns.
+    pub fn columns(&self) -> &LiveLinkColumns {
+        &self.columns
+    }
+
+    /// The next row (blank lines are passed over); `None` at the end of the input.
+    pub fn next_row(
+        &mut self,
+        path: &Path,
+    ) -> Result<Option<Result<LiveLinkRow, RowError>>, LoadError> {
+        loop {
+            self.buffer.clear();
+            let read = self
+                .input
+                .read_line(&mut self.buffer)
+                .map_err(|e| LoadError {
+                    path: path.to_path_buf(),
+                    line: Some(self.line + 1),
+                    column: None,
+                    message: format!("cannot read: {e}"),
+                })?;
+            if read == 0 {
+                return Ok(None);
+            }
+            self.line += 1;
+            if self.buffer.trim().is_empty() {
+                continue;
+            }
+            return Ok(Some(self.columns.parse_row(
+                &self.buffer,
+                self.line,
+                self.fps,
+            )));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timecodes_read_with_frames_and_their_fraction() {
+        assert_eq!(parse_timecode("00:00:01:30.000", 60.0), Some(1.5));
+        assert_eq!(parse_timecode("01:02:03:06", 30.0), Some(3723.2));
+        let t = parse_timecode("00:00:00:01.5", 60.0).unwrap();
+        assert!((t - 1.5 / 60.0).abs() < 1e-12);
+        assert_eq!(parse_timecode("00:00:00;10", 30.0), Some(10.0 / 30.0));
+        for bad in [
+            "",
+            "1:2:3",
+            "00:00:00:xx",
+            "00:61:00:00",
+            "00:00:00:01.",
+            "-1:00:00:00",
+        ] {
+            assert_eq!(parse_timecode(bad, 60.0), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn header_finds_shapes_by_name_and_ignores_rotations() {
+        let header = "Timecode,BlendShapeCount,EyeBlinkLeft,JawOpen,MouthSmileLeft,HeadYaw\r\n";
+        assert!(is_header(header));
+        assert!(!is_header("frame, timestamp, AU01_r"));
+        let columns = LiveLinkColumns::from_header(header).unwrap();
+        assert_eq!(
+            columns.shapes,
+            vec![(2, "eyeBlink_L"), (3, "jawOpen"), (4, "mouthSmile_L")]
+        );
+        assert_eq!(columns.ignored, vec!["HeadYaw"]);
+        let row = columns
+            .parse_row("00:00:00:02.000,3,0.5,0.25,1,0.1\r\n", 2, 60.0)
+            .unwrap();
+        assert_eq!(row.weights, vec![0.5, 0.25, 1.0]);
+        assert!((row.seconds - 2.0 / 60.0).abs() < 1e-12);
+        let e = columns
+            .parse_row("00:00:00:02.000,3,0.5,high,1,0.1", 7, 60.0)
+            .unwrap_err();
+        assert_eq!((e.line, e.column), (7, Some(23)));
+        assert!(e.message.contains("jawOpen"), "{}", e.message);
+        assert!(columns.parse_row("00:00:00:02.000,3,0.5", 8, 60.0).is_err());
+        assert!(LiveLinkColumns::from_header("Timecode,BlendShapeCount,Foo").is_err());
+        assert!(LiveLinkColumns::from_header("Timecode,BlendShapeCount,JawOpen,jawOpen").is_err());
+    }
+}

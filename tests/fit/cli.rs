@@ -1,0 +1,325 @@
+//! `grimace fit-rig` and `grimace fit-au` end to end: a face from an OBJ to a rig that the
+//! other commands accept, a blendshape set into a table, and bad inputs that write nothing.
+
+use crate::common;
+
+use std::path::Path;
+
+use glam::{Quat, Vec3};
+use grimace::fit::landmarks::mirror;
+use grimace::io::{builtin, obj};
+
+use common::grimace_in;
+
+fn text(out: &std::process::Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The default face as `face.obj` in `dir`, moved by `f`, with its landmark file beside it.
+fn write_face(dir: &Path, name: &str, f: impl Fn(Vec3) -> Vec3) {
+    let mesh = builtin::default_mesh();
+    let moved: Vec<Vec3> = mesh.positions.iter().map(|p| f(*p)).collect();
+    std::fs::write(
+        dir.join(format!("{name}.obj")),
+        obj::write_obj(&mesh, &moved),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join(format!("{name}.landmarks.ron")),
+        builtin::DEFAULT_LANDMARKS,
+    )
+    .unwrap();
+}
+
+fn temp() -> tempfile::TempDir {
+    tempfile::tempdir().unwrap()
+}
+
+#[test]
+fn from_an_obj_to_a_rig_the_other_commands_accept() {
+    let dir = temp();
+    // z up, millimetres, moved away from the origin
+    let turn = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    write_face(dir.path(), "head", |p| {
+        turn * p * 11.5 + Vec3::new(5.0, -20.0, 1600.0)
+    });
+    let out = grimace_in(
+        dir.path(),
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "head.landmarks.ron",
+            "--out",
+            "head.rig.ron",
+        ],
+    );
+    let (stdout, stderr) = text(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stdout.contains("scale 11.5"), "{stdout}");
+    assert!(stdout.contains("skin"), "{stdout}");
+    let rig_text = std::fs::read_to_string(dir.path().join("head.rig.ron")).unwrap();
+    assert!(rig_text.contains("mesh: \"head.obj\""), "{rig_text:.300}");
+    let out = grimace_in(
+        dir.path(),
+        &["validate", "head.rig.ron", "head.landmarks.ron", "head.obj"],
+    );
+    assert!(out.status.success(), "{:?}", text(&out));
+    let out = grimace_in(
+        dir.path(),
+        &[
+            "export",
+            "--rig",
+            "head.rig.ron",
+            "--table",
+            "builtin:default",
+            "--au",
+            "26",
+            "--out",
+            "open.obj",
+        ],
+    );
+    assert!(out.status.success(), "{:?}", text(&out));
+    // The jaw opened the mouth downward in the mesh's own frame: z is up here.
+    let rest = obj::read_obj(&dir.path().join("head.obj")).unwrap();
+    let open = obj::read_obj(&dir.path().join("open.obj")).unwrap();
+    let chin = builtin::landmarks("face")
+        .unwrap()
+        .vertices(&builtin::default_mesh())[8] as usize;
+    let drop = open.positions[chin] - rest.positions[chin];
+    assert!(
+        drop.z < -5.0 && drop.x.abs() < 1e-3,
+        "chin moved {drop} (mm)"
+    );
+    let out = grimace_in(
+        dir.path(),
+        &[
+            "render",
+            "--rig",
+            "head.rig.ron",
+            "--table",
+            "builtin:default",
+            "--au",
+            "12",
+            "--out",
+            "smile.svg",
+        ],
+    );
+    assert!(out.status.success(), "{:?}", text(&out));
+}
+
+fn fails_naming(dir: &Path, args: &[&str], file: &str, words: &str) {
+    let out = grimace_in(dir, args);
+    let (_, stderr) = text(&out);
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+    assert!(stderr.contains(file), "{args:?}: {stderr}");
+    assert!(stderr.contains(words), "{args:?}: {stderr}");
+    assert!(!dir.join("out.rig.ron").exists(), "{args:?} wrote a rig");
+    assert!(!dir.join("out.au.ron").exists(), "{args:?} wrote a table");
+}
+
+#[test]
+fn bad_landmarks_fail_naming_the_file_and_write_nothing() {
+    let dir = temp();
+    let d = dir.path();
+    write_face(d, "face", |p| p);
+    let vertices = builtin::landmarks("face")
+        .unwrap()
+        .vertices(&builtin::default_mesh());
+    let write = |name: &str, v: &[u32]| {
+        let items: Vec<String> = v.iter().map(u32::to_string).collect();
+        std::fs::write(
+            d.join(name),
+            format!(
+                "(\n    version: 1,\n    vertices: [\n        {},\n    ],\n)\n",
+                items.join(", ")
+            ),
+        )
+        .unwrap();
+    };
+    write("short.landmarks.ron", &vertices[..60]);
+    let mut far = vertices.clone();
+    far[30] = 9_999_999;
+    write("far.landmarks.ron", &far);
+    write("one.landmarks.ron", &[vertices[30]; 68]);
+    let mirrored: Vec<u32> = (0..68).map(|i| vertices[mirror(i)]).collect();
+    write("mirrored.landmarks.ron", &mirrored);
+    let fit = |file: &'static str| {
+        [
+            "fit-rig",
+            "face.obj",
+            "--landmarks",
+            file,
+            "--out",
+            "out.rig.ron",
+        ]
+    };
+    fails_naming(
+        d,
+        &fit("short.landmarks.ron"),
+        "short.landmarks.ron:3:",
+        "60 landmarks given",
+    );
+    fails_naming(
+        d,
+        &fit("far.landmarks.ron"),
+        "far.landmarks.ron:4:",
+        "landmark 30 is vertex 9999999",
+    );
+    fails_naming(
+        d,
+        &fit("one.landmarks.ron"),
+        "one.landmarks.ron",
+        "do not span a face",
+    );
+    fails_naming(
+        d,
+        &fit("mirrored.landmarks.ron"),
+        "mirrored.landmarks.ron",
+        "mirrored",
+    );
+    fails_naming(
+        d,
+        &fit("missing.landmarks.ron"),
+        "missing.landmarks.ron",
+        "",
+    );
+    fails_naming(
+        d,
+        &[
+            "fit-rig",
+            "face.obj",
+            "--landmarks",
+            "mediapipe",
+            "--out",
+            "out.rig.ron",
+        ],
+        "face.obj",
+        "MediaPipe face mesh has 468",
+    );
+    fails_naming(
+        d,
+        &[
+            "fit-rig",
+            "face.obj",
+            "--landmarks",
+            "face.landmarks.ron",
+            "--out",
+            "out.rig.ron",
+            "--rigid",
+            "nope",
+        ],
+        "face.obj",
+        "no group `nope`",
+    );
+    // validate checks a landmark file against NAME.obj beside it.
+    std::fs::copy(d.join("face.obj"), d.join("far.obj")).unwrap();
+    let out = grimace_in(d, &["validate", "far.landmarks.ron"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out).1.contains("far.landmarks.ron:4:"),
+        "{:?}",
+        text(&out)
+    );
+}
+
+#[test]
+fn fit_au_fills_a_table_and_refuses_other_meshes() {
+    let dir = temp();
+    let d = dir.path();
+    // Two targets made by the default rig: AU 12 and AU 26 of the built-in table.
+    for au in ["12", "26"] {
+        let out = grimace_in(
+            d,
+            &[
+                "export",
+                "--rig",
+                "builtin:default",
+                "--table",
+                "builtin:default",
+                "--au",
+                au,
+                "--out",
+                &format!("shape{au}.obj"),
+            ],
+        );
+        assert!(out.status.success(), "{:?}", text(&out));
+    }
+    let out = grimace_in(
+        d,
+        &[
+            "fit-au",
+            "shape12.obj",
+            "--rig",
+            "builtin:default",
+            "--au",
+            "12",
+            "--table",
+            "mine.au.ron",
+        ],
+    );
+    let (stdout, stderr) = text(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stdout.contains("explained 1.0000"), "{stdout}");
+    std::fs::write(
+        d.join("set.map.ron"),
+        "{ \"shape26\": \"26\", \"shape12\": \"R12\", \"absent\": \"L12\" }",
+    )
+    .unwrap();
+    let out = grimace_in(
+        d,
+        &[
+            "fit-au",
+            "--rig",
+            "builtin:default",
+            "--map",
+            "set.map.ron",
+            "--dir",
+            ".",
+            "--table",
+            "mine.au.ron",
+        ],
+    );
+    let (stdout, stderr) = text(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stdout.contains("L12: skipped"), "{stdout}");
+    let table = grimace::io::load_table(&d.join("mine.au.ron")).unwrap();
+    let key = |k: &str| k.parse::<grimace::facs::AuKey>().unwrap();
+    let want = builtin::default_table();
+    assert!((table.aus[&key("26")].jaw - want.aus[&key("26")].jaw).abs() < 1e-3);
+    for (name, value) in &want.aus[&key("12")].muscles {
+        assert!(
+            (table.aus[&key("12")].muscles[name] - value).abs() < 1e-3,
+            "{name}"
+        );
+    }
+    // R12 from a bilateral smile: both sides' muscles, the table says what the shape shows.
+    assert!(table.aus.contains_key(&key("R12")));
+    let out = grimace_in(d, &["validate", "mine.au.ron"]);
+    assert!(out.status.success(), "{:?}", text(&out));
+
+    // A target with another vertex count.
+    std::fs::write(d.join("small.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    fails_naming(
+        d,
+        &[
+            "fit-au",
+            "small.obj",
+            "--rig",
+            "builtin:default",
+            "--au",
+            "12",
+            "--table",
+            "out.au.ron",
+        ],
+        "small.obj",
+        "the target has 3 vertices",
+    );
+    // The built-in ARKit map loads: 52 shapes, 3 of them shown by no AU.
+    let map = grimace::io::shape_map::load_map(Path::new("builtin:arkit")).unwrap();
+    assert_eq!(map.len(), 49);
+    assert_eq!(builtin::ARKIT_MAP.matches("\": \"").count(), 52);
+}

@@ -1,0 +1,23 @@
+//! The core library: the model, FACS tables, file formats, the default face and its
+//! presets.
+//!
+//! One test binary with a module per former test file (fewer binaries to link).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod classic_face;
+mod convention;
+mod face_gallery;
+mod face_mesh;
+mod face_rig;
+mod facs_combo;
+mod facs_table;
+mod fuzz_regressions;
+mod golden_linear;
+mod io_rig_table;
+mod io_waters;
+mod openface_proptest;
+mod presets_builtin;
+mod presets_table;
+mod properties;

@@ -1,0 +1,13 @@
+//! The renderer: camera, rasterizer, cells, SVG and PNG, on synthetic meshes, the default
+//! face and the classic face.
+//!
+//! One test binary with a module per former test file (fewer binaries to link).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod cells;
+mod classic;
+mod default_face;
+mod files;
+mod geometry;

@@ -1,0 +1,9 @@
+//! The editor: startup, whole-screen snapshots, bytes sent, and the real binary in a
+//! pseudo-terminal.
+//!
+//! One test binary with a module per former test file (fewer binaries to link).
+
+mod bytes;
+mod e2e;
+mod screens;
+mod startup;
