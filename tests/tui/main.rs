@@ -5,5 +5,7 @@
 
 mod bytes;
 mod e2e;
+mod editing;
+mod pty;
 mod screens;
 mod startup;

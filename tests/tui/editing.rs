@@ -1,9 +1,7 @@
 //! The editing commands end to end, in a pseudo-terminal: `=` with an empty field, Ctrl-u,
 //! `:import`, `:expr` offering missing AUs, and the jaw's steps.
 
-mod pty;
-
-use pty::Editor;
+use super::pty::Editor;
 
 #[test]
 fn typing_after_equals_gives_the_typed_value_and_ctrl_u_clears() {

@@ -1,6 +1,6 @@
 //! A small harness for driving the real binary in a pseudo-terminal (portable-pty) and
 //! reading the screen back through a VT parser (vt100), for the editor's newer end-to-end
-//! tests (`mod pty;` in each test file).
+//! tests (`super::pty::Editor`).
 #![allow(dead_code)]
 
 use std::io::{Read, Write};
