@@ -4,6 +4,7 @@
 //! One test binary with a module per former test file (fewer binaries to link).
 
 mod bytes;
+mod colors;
 mod e2e;
 mod editing;
 mod pty;
