@@ -213,8 +213,9 @@ pub fn parse_rig_with(
 ///
 /// - On a built-in mesh (`builtin:NAME`), whose convention is known: the built-in face is
 ///   now its own mirror image, so every muscle point and the jaw pivot are reflected across
-///   x = 0 and each jaw weight moves to the mirror vertex (the vertex at the reflected
-///   position). `L_` muscles stay on the subject's left.
+///   x = 0, the jaw's axis is reflected (and reversed, so the mouth still opens), and each
+///   jaw and mask weight moves to the mirror vertex (the vertex at the reflected position).
+///   `L_` muscles stay on the subject's left.
 /// - On a mesh file: the mesh is read as it is, in its own coordinates, so the muscles are
 ///   kept exactly where they are on it (reflecting them alone would take them off the mesh).
 ///   What moves stays the same; only the screen shows the mesh unmirrored now.
@@ -233,16 +234,26 @@ pub fn upgrade_v1(rig: &mut Rig, builtin: BuiltinMeshes) -> String {
     for muscle in &mut rig.muscles {
         muscle.kind = muscle.kind.mirrored_x();
     }
+    let mesh = builtin(&name);
     if let Some(jaw) = &mut rig.jaw {
         jaw.pivot = mirror_x(jaw.pivot);
-        if let Some(mesh) = builtin(&name) {
-            jaw.weights = mirrored_weights(&jaw.weights, &mesh);
+        // A reflection reverses the sense of a turn: turning by an angle about the axis
+        // becomes turning by the same angle about minus the reflected axis.
+        jaw.axis = -mirror_x(jaw.axis);
+        if let Some(mesh) = &mesh {
+            jaw.weights = mirrored_weights(&jaw.weights, mesh);
+        }
+    }
+    if let Some(mesh) = &mesh {
+        for mask in &mut rig.masks {
+            mask.weights = mirrored_weights(&mask.weights, mesh);
         }
     }
     format!(
         "rig version 1 converted to version {RIG_VERSION}: builtin:{name} now has the \
-         subject's left at positive x (glTF's convention), so the rig's muscles and jaw were \
-         mirrored across x = 0 to stay on the same side of the face (the file is unchanged)"
+         subject's left at positive x (glTF's convention), so the rig's muscles, masks and \
+         jaw were mirrored across x = 0 to stay on the same side of the face (the file is \
+         unchanged)"
     )
 }
 

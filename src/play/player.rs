@@ -34,6 +34,17 @@ pub enum PlayError {
     Strict(String),
 }
 
+/// Where playback stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlayState {
+    /// Frames are taken as they come due.
+    Playing,
+    /// Stopped until resumed or stepped.
+    Paused,
+    /// The source has nothing more (and `--loop` did not restart it).
+    Ended,
+}
+
 /// Plays a source against a clock.
 pub struct Player {
     source: Box<dyn FrameSource>,
@@ -41,10 +52,9 @@ pub struct Player {
     live: bool,
     strict: bool,
     speed: f64,
-    paused: bool,
+    state: PlayState,
     clock: Option<PlayClock>,
     lookahead: Option<Frame>,
-    ended: bool,
     limit: Option<usize>,
     /// The last frame taken: its source time and when it was due.
     last: Option<(f64, Instant)>,
@@ -79,10 +89,9 @@ impl Player {
             live,
             strict,
             speed,
-            paused: false,
+            state: PlayState::Playing,
             clock: None,
             lookahead: None,
-            ended: false,
             limit,
             last: None,
             gap: 1.0 / DEFAULT_FRAME_RATE,
@@ -101,7 +110,7 @@ impl Player {
 
     /// True when the source is exhausted (or the frame limit reached) and nothing is left.
     pub fn is_finished(&self) -> bool {
-        (self.ended && self.lookahead.is_none()) || self.limit_reached()
+        (self.state == PlayState::Ended && self.lookahead.is_none()) || self.limit_reached()
     }
 
     fn limit_reached(&self) -> bool {
@@ -115,7 +124,12 @@ impl Player {
 
     /// Whether playback is paused.
     pub fn is_paused(&self) -> bool {
-        self.paused
+        self.state == PlayState::Paused
+    }
+
+    /// Where playback stands.
+    pub fn state(&self) -> PlayState {
+        self.state
     }
 
     /// The playback speed.
@@ -125,9 +139,14 @@ impl Player {
 
     /// Pauses or resumes.
     pub fn toggle_pause(&mut self, now: Instant) {
-        self.paused = !self.paused;
+        self.state = match self.state {
+            PlayState::Playing => PlayState::Paused,
+            PlayState::Paused => PlayState::Playing,
+            PlayState::Ended => return,
+        };
+        let paused = self.is_paused();
         if let Some(clock) = &mut self.clock {
-            clock.set_paused(self.paused, now);
+            clock.set_paused(paused, now);
         }
     }
 
@@ -146,7 +165,7 @@ impl Player {
     /// all but the newest are counted as dropped. Returns the frame with the instant it was
     /// due. Paused players return nothing (see [`Player::step`]).
     pub fn tick(&mut self, now: Instant) -> Result<Option<(Frame, Instant)>, PlayError> {
-        if self.paused {
+        if self.state == PlayState::Paused {
             return Ok(None);
         }
         let mut newest: Option<(Frame, Instant)> = None;
@@ -178,7 +197,7 @@ impl Player {
 
     /// Takes the next frame regardless of the clock and pauses there (the step key).
     pub fn step(&mut self, now: Instant) -> Result<Option<Frame>, PlayError> {
-        if !self.paused {
+        if self.state == PlayState::Playing {
             self.toggle_pause(now);
         }
         if self.limit_reached() {
@@ -224,7 +243,7 @@ impl Player {
     /// The next frame without taking it, reading the source as needed (live sources do not
     /// wait). Skipped rows and notices on the way are counted and collected.
     fn peek(&mut self) -> Result<Option<&Frame>, PlayError> {
-        while self.lookahead.is_none() && !self.ended {
+        while self.lookahead.is_none() && self.state != PlayState::Ended {
             match self.source.poll(Duration::ZERO)? {
                 Poll::Event(Event::Frame(frame)) => self.lookahead = Some(frame),
                 Poll::Event(Event::Untracked { .. }) => self.skipped += 1,
@@ -248,7 +267,7 @@ impl Player {
                             due + Duration::from_secs_f64((self.gap / speed).min(60.0))
                         });
                     }
-                    _ => self.ended = true,
+                    _ => self.state = PlayState::Ended,
                 },
             }
         }
@@ -341,6 +360,11 @@ mod tests {
         assert_eq!(player.tick(t0 + ms(6500)).unwrap().unwrap().0.time, 3.0);
         assert!(player.step(t0 + ms(7000)).unwrap().is_none());
         assert!(player.is_finished());
+        // The source has ended; pausing does not bring playback back.
+        assert_eq!(player.state(), PlayState::Ended);
+        player.toggle_pause(t0 + ms(8000));
+        assert_eq!(player.state(), PlayState::Ended);
+        assert!(!player.is_paused());
     }
 
     #[test]

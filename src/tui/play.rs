@@ -24,6 +24,7 @@ use super::view::cells::CellGridView;
 use super::view::theme::Theme;
 use crate::model::deform::BoundRig;
 use crate::model::{Activations, Mesh, Rig};
+use crate::play::player::PlayState;
 use crate::play::skips::Skips;
 use crate::play::{Frame, Message, Player};
 use crate::render::{Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Scene, Style};
@@ -224,7 +225,9 @@ fn run_loop(
         let display_free = last_shown_due.map_or(now, |t| t + MIN_FRAME_INTERVAL);
         let wait = match player.next_due() {
             Some(when) => when.max(display_free).saturating_duration_since(now),
-            None if player.is_live() && !player.is_paused() => Duration::from_millis(4),
+            None if player.is_live() && player.state() == PlayState::Playing => {
+                Duration::from_millis(4)
+            }
             None => Duration::from_millis(250),
         };
         if !event::poll(wait).context("cannot read the keyboard")? {

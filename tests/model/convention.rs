@@ -199,6 +199,47 @@ fn a_version_1_jaw_weight_moves_to_the_mirror_vertex() {
     let jaw = rig.jaw.unwrap();
     assert_eq!(jaw.weights, vec![(corner("left_mouth_corner"), 0.5)]);
     assert_eq!(jaw.pivot, Vec3::new(-1.0, -3.0, -8.0));
+    assert_eq!(jaw.axis, Vec3::X, "a turn about x is its own mirror image");
+}
+
+#[test]
+fn a_version_1_jaw_about_another_axis_still_opens_the_mouth_the_same_way() {
+    let mesh = builtin::default_mesh();
+    let chin = mesh.groups["chin"][0];
+    let text = |version: u32, axis: Vec3| {
+        format!(
+            "(version: {version}, mesh: \"builtin:face\", muscles: [], jaw: (pivot: (0, -3, -8), \
+             degrees_per_unit: 3, weights: [({chin}, 1)], axis: ({}, {}, {})))",
+            axis.x, axis.y, axis.z
+        )
+    };
+    // A tilted axis in the old convention, and its conversion.
+    let axis = Vec3::new(1.0, 0.2, 0.1);
+    let old = grimace::io::parse_rig(&text(1, axis), Path::new("old.rig.ron")).unwrap();
+    let jaw = old.jaw.as_ref().unwrap();
+    assert_eq!(jaw.axis, Vec3::new(1.0, -0.2, -0.1));
+    // The old chin's motion, mirrored, is the new chin's motion.
+    let v1 = grimace::io::parse_rig(&text(2, axis), Path::new("v1-as-is.rig.ron")).unwrap();
+    let mut act = Activations::zero(&old);
+    act.jaw = 3.0;
+    let before = pose(&v1, &mesh, &act)[chin as usize] - mesh.positions[chin as usize];
+    let after = pose(&old, &mesh, &act)[chin as usize] - mesh.positions[chin as usize];
+    let mirrored = Vec3::new(-before.x, before.y, before.z);
+    assert!((after - mirrored).length() < 1e-6, "{after} vs {mirrored}");
+    assert!(after.y < -0.1, "the chin still moves down: {after}");
+}
+
+#[test]
+fn the_default_face_landmarks_are_right_handed_like_meshes_users_bring() {
+    let mesh = builtin::default_mesh();
+    let points = builtin::landmarks("face")
+        .unwrap()
+        .positions(&mesh)
+        .unwrap();
+    let frame = grimace::fit::landmarks::FaceFrame::of(&points).unwrap();
+    assert!(frame.right_handed);
+    // from the subject's right toward the left: +x
+    assert!(frame.lateral.x > 0.99, "{}", frame.lateral);
 }
 
 #[test]
