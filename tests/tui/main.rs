@@ -4,6 +4,9 @@
 //! One test binary with a module per former test file (fewer binaries to link).
 
 mod bytes;
+mod colors;
 mod e2e;
+mod editing;
+mod pty;
 mod screens;
 mod startup;
