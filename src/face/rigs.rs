@@ -13,7 +13,8 @@ use thiserror::Error;
 use super::anthropometry::*;
 use super::surface;
 use crate::model::{
-    Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter, RIG_VERSION,
+    Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
+    RIG_VERSION,
 };
 
 /// The mesh path the built-in rigs name: the embedded default face.
@@ -329,6 +330,7 @@ impl Placer<'_> {
                 semi_minor: round3(units(10.0) as f32),
                 convergence: Convergence::Centre,
                 bulge: 10.0,
+                frame: Frame::IDENTITY,
             }),
         })
     }
@@ -471,6 +473,7 @@ pub(crate) fn eye_sphincters(
         semi_minor: round3(semi_minor),
         convergence: Convergence::MajorAxis,
         bulge: 30.0,
+        frame: Frame::IDENTITY,
     };
     let right = Sphincter {
         centre: mirror(centre),
