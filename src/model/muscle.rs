@@ -222,6 +222,16 @@ impl Frame {
         Ok(())
     }
 
+    /// The unit major axis in mesh coordinates (the mesh's x for a bad frame).
+    pub fn axis_x(&self) -> Vec3 {
+        self.rotation().map_or(Vec3::X, |r| r.x_axis.as_vec3())
+    }
+
+    /// The unit up direction, perpendicular to the major axis (the mesh's y for a bad frame).
+    pub fn axis_y(&self) -> Vec3 {
+        self.rotation().map_or(Vec3::Y, |r| r.y_axis.as_vec3())
+    }
+
     /// The frame of the sphincter reflected across the plane x = 0. The major axis is also
     /// reversed so that `z` still points out of the face (an ellipse's pull does not change
     /// when its major axis is reversed); the mesh's own axes map to themselves.

@@ -222,3 +222,24 @@ fn bad_frames_are_refused_naming_the_muscle_and_place() {
     let err = io::parse_rig(&half, p()).unwrap_err().to_string();
     assert!(err.starts_with("t.ron:") && err.contains('y'), "{err}");
 }
+
+#[test]
+fn the_editor_draws_a_framed_ring_in_its_plane() {
+    use grimace::render::{muscle_overlays, Palette, Shape as Drawn};
+    let z_up = Frame {
+        x: Vec3::X,
+        y: Vec3::Z,
+    };
+    let mut overlays = Vec::new();
+    muscle_overlays(&framed_rig(z_up), None, &Palette::default(), &mut overlays);
+    let rig = builtin::default_rig();
+    let mouth = rig.muscle_index("Orbicularis_Oris").unwrap();
+    let MuscleKind::Sphincter(s) = &rig.muscles[mouth].kind else {
+        panic!("the mouth is not a sphincter")
+    };
+    let Drawn::Ellipse { semi_x, semi_y, .. } = overlays[mouth].shape else {
+        panic!("the mouth is not drawn as an ellipse")
+    };
+    assert_eq!(semi_x, Vec3::X * s.semi_major);
+    assert_eq!(semi_y, Vec3::Z * s.semi_minor);
+}
