@@ -23,8 +23,8 @@ use super::{atomic, builtin, obj, ron_text};
 use crate::model::field::validate_muscle;
 use crate::model::muscle::mirror_x;
 use crate::model::{
-    BindError, Combine, Convergence, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side,
-    Sphincter, RIG_VERSION,
+    BindError, Combine, Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig,
+    Sheet, Side, Sphincter, RIG_VERSION,
 };
 
 /// The prefix of a mesh (or rig) reference that names an embedded preset instead of a file.
@@ -676,13 +676,21 @@ pub fn rig_to_ron(rig: &Rig) -> String {
                 semi_minor,
                 convergence,
                 bulge,
-            }) => vec![
-                ("centre", point(*centre)),
-                ("semi_major", float(*semi_major)),
-                ("semi_minor", float(*semi_minor)),
-                ("convergence", format!("{convergence:?}")),
-                ("bulge", float(*bulge)),
-            ],
+                frame,
+            }) => {
+                let mut fields = vec![
+                    ("centre", point(*centre)),
+                    ("semi_major", float(*semi_major)),
+                    ("semi_minor", float(*semi_minor)),
+                    ("convergence", format!("{convergence:?}")),
+                    ("bulge", float(*bulge)),
+                ];
+                if !frame.is_identity() {
+                    let Frame { x, y } = frame;
+                    fields.push(("frame", format!("(x: {}, y: {})", point(*x), point(*y))));
+                }
+                fields
+            }
             MuscleKind::Sheet(Sheet {
                 attachment,
                 insertion,
@@ -831,6 +839,8 @@ enum KindFile {
         semi_minor: f32,
         convergence: Convergence,
         bulge: f32,
+        #[serde(default)]
+        frame: FrameFile,
     },
     Sheet {
         attachment: [P3; 2],
@@ -849,6 +859,23 @@ struct JawFile {
     weights: Vec<(u32, f32)>,
     #[serde(default = "crate::model::jaw::x_axis_p3")]
     axis: P3,
+}
+
+/// A sphincter's frame: both directions are required when the field is written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename = "frame")]
+struct FrameFile {
+    x: P3,
+    y: P3,
+}
+
+impl Default for FrameFile {
+    fn default() -> FrameFile {
+        FrameFile {
+            x: Frame::IDENTITY.x.into(),
+            y: Frame::IDENTITY.y.into(),
+        }
+    }
 }
 
 fn one() -> f32 {
@@ -912,12 +939,17 @@ impl MuscleFile {
                 semi_minor,
                 convergence,
                 bulge,
+                frame,
             } => MuscleKind::Sphincter(Sphincter {
                 centre: centre.into(),
                 semi_major,
                 semi_minor,
                 convergence,
                 bulge,
+                frame: Frame {
+                    x: frame.x.into(),
+                    y: frame.y.into(),
+                },
             }),
             KindFile::Sheet {
                 attachment,
