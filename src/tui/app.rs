@@ -414,6 +414,8 @@ pub struct App {
     pub mode: Mode,
     /// The status message.
     pub message: Option<Message>,
+    /// Rig mode: its state and the rig's file.
+    pub rig_edit: super::rig::RigEdit,
 }
 
 impl App {
@@ -442,6 +444,7 @@ impl App {
             history: History::default(),
             mode: Mode::Normal,
             message: None,
+            rig_edit: super::rig::RigEdit::default(),
         }
     }
 
@@ -452,7 +455,7 @@ impl App {
 
     /// True when the table differs from the file (or from the built-in table).
     pub fn dirty(&self) -> bool {
-        self.doc.table != self.doc.saved_table
+        self.doc.table != self.doc.saved_table || self.rig_edit.dirty(self.rig())
     }
 
     /// True when the table file does not exist yet (`:w` creates it).

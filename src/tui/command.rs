@@ -325,6 +325,9 @@ fn path_arg(args: &Args) -> Option<PathBuf> {
 }
 
 fn write(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
+    if app.rig_edit.on {
+        return crate::tui::rig::save(app, path_arg(args), fx);
+    }
     table::save(app, path_arg(args), false, fx);
 }
 

@@ -191,6 +191,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             }
         }
         Action::Resize(w, h) => app.view.size = (w, h),
+        Action::Rig(action) => crate::tui::rig::update(app, action, &mut fx),
         Action::Saved {
             path,
             stamp,
@@ -213,6 +214,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             app.mode = Mode::Confirm(Question::OverwriteFile { path, quit_after })
         }
     }
+    crate::tui::rig::sync(app);
     fx
 }
 
