@@ -70,7 +70,7 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         (Some(_), None) => (new_table(args.rig.as_deref()), None, true),
         (None, None) => (builtin_table()?, None, false),
     };
-    let (rig, mesh, notice) = load_face(args, &table, &table_path)?;
+    let (rig, mesh, notice, rig_path) = load_face(args, &table, &table_path)?;
     if let Some(loaded) = &loaded {
         crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
@@ -78,6 +78,9 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     let scene = Scene::new(rig, mesh)?;
     let mut app = App::new(scene, table, args.file.clone());
     app.doc.file_stamp = stamp;
+    // Rig mode's `:w` writes the rig file back; the stamp notices changes made meanwhile.
+    let rig_bytes = rig_path.as_deref().and_then(|p| std::fs::read(p).ok());
+    app.rig_edit = crate::tui::rig::RigEdit::for_file(rig_path, rig_bytes.as_deref());
     app.view = View::new(args.cells.mode());
     app.view.colors = ColorMode::from_env();
     if new_file {
@@ -208,18 +211,18 @@ pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
     Ok((loaded.rig, loaded.mesh, builtin_table()?))
 }
 
+/// The rig, its mesh, what loading it did, and its file (`None` when built in).
+type FaceParts = (Rig, Mesh, Option<String>, Option<PathBuf>);
+
 /// The rig and mesh to edit with: `--rig` (a file or `builtin:NAME`) if given, else the
 /// table's rig; `--mesh` replaces the rig's mesh. Also what loading an older rig file did
 /// (see [`crate::io::LoadedRig::notice`]), for the status line.
-fn load_face(
-    args: &EditArgs,
-    table: &AuTable,
-    table_path: &Path,
-) -> Result<(Rig, Mesh, Option<String>), String> {
+fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<FaceParts, String> {
     let reference = match &args.rig {
         Some(rig) => rig.clone(),
         None => rig_ref(table_path, &table.rig).to_path(),
     };
     let loaded = load_rig_ref(&reference, args.mesh.as_deref()).map_err(|e| e.to_string())?;
-    Ok((loaded.rig, loaded.mesh, loaded.notice))
+    let file = (!reference.to_string_lossy().starts_with("builtin:")).then_some(reference);
+    Ok((loaded.rig, loaded.mesh, loaded.notice, file))
 }

@@ -5,5 +5,6 @@
 
 mod bytes;
 mod e2e;
+mod rig_mode;
 mod screens;
 mod startup;
