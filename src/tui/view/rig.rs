@@ -11,7 +11,7 @@ use crate::tui::app::{App, Row};
 use crate::tui::rig::{point, point_names};
 
 /// Colour of the zone's outline.
-const ZONE: Rgb = Rgb(90, 220, 120);
+const ZONE: Rgb = Rgb(40, 230, 40);
 /// Colour of the falloff arcs.
 const FALLOFF: Rgb = Rgb(120, 180, 255);
 /// Arcs are drawn as this many segments per 90 degrees.
