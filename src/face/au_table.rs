@@ -82,11 +82,19 @@ const AUS: &[AuSpec] = &[
         6,
         &[
             ("Orbicularis_Oculi_Orbital", 1.6),
-            ("Orbicularis_Oculi", 0.35),
+            ("Orbicularis_Oculi_Lower", 0.5),
         ],
         0.0,
     ),
-    sided(7, &[("Orbicularis_Oculi", 0.9)], 0.0),
+    // mainly the lower lid, the upper lid a little
+    sided(
+        7,
+        &[
+            ("Orbicularis_Oculi_Lower", 1.4),
+            ("Orbicularis_Oculi", 0.25),
+        ],
+        0.0,
+    ),
     au(9, &[("Inner_Labii_Nasi", 2.0), ("Procerus", 1.0)], 0.0),
     sided(10, &[("Labii_Nasi", 1.2)], 0.0),
     sided(11, &[("Zygomatic_Minor", 1.4)], 0.0),
@@ -100,8 +108,9 @@ const AUS: &[AuSpec] = &[
     au(23, &[("Orbicularis_Oris", 1.2)], 0.0),
     au(24, &[("Orbicularis_Oris", 0.8), ("Mentalis", 0.6)], 0.0),
     au(25, &[("Depressor_Labii_Inferioris", 0.6)], 0.8),
-    au(26, &[], 2.5),
-    au(27, &[("Risorius", 0.3)], 4.0),
+    // the stretched lips draw the corners in round the opening (a light sphincter)
+    au(26, &[("Orbicularis_Oris", 0.4)], 2.5),
+    au(27, &[("Orbicularis_Oris", 0.6)], 4.0),
     au(43, &[("Orbicularis_Oculi", 2.0)], 0.0),
     au(45, &[("Orbicularis_Oculi", 2.0)], 0.0),
     sided(

@@ -13,7 +13,8 @@ use thiserror::Error;
 use super::anthropometry::*;
 use super::surface;
 use crate::model::{
-    Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter, RIG_VERSION,
+    Convergence, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
+    RIG_VERSION,
 };
 
 /// The mesh path the built-in rigs name: the embedded default face.
@@ -22,6 +23,32 @@ pub const FACE_PATH: &str = "builtin:face";
 /// Jaw rotation in degrees per unit of jaw activation: 4.0 turns the jaw 14 degrees, which
 /// opens the mouth about 20 mm at the lips, a wide but natural opening.
 pub const JAW_DEGREES_PER_UNIT: f32 = 3.5;
+
+/// The condyle: height above the nasion (mm) and distance in front of the tragion (mm), just
+/// in front of the tragus at the height of the ala-tragus line.
+pub const CONDYLE_MM: (f64, f64) = (-38.0, 8.0);
+
+/// How far the condyle slides forward and down the articular eminence per degree of jaw
+/// turn (mm): about 15 mm over a full opening of about 30 degrees.
+pub const CONDYLE_SLIDE_MM_PER_DEGREE: f64 = 0.5;
+
+/// The slope of the articular eminence below the horizontal (degrees).
+pub const EMINENCE_SLOPE_DEGREES: f64 = 35.0;
+
+/// Where the jaw turns (height above the nasion and distance in front of the tragion, mm).
+///
+/// Not the condyle itself: a real jaw turns and its condyle slides forward and down the
+/// articular eminence in proportion to the angle. A turn by a small angle `a` about the
+/// condyle `C` plus a slide `a t` is, to first order, a turn by `a` about
+/// `C + (-t_z, t_y)` in (height, depth): the instantaneous centre of rotation, below and
+/// behind the condyle. Turning about it moves the chin mostly down and a little back, as a
+/// jaw drop does; about the condyle it would move back as much as down.
+pub fn jaw_pivot_mm() -> (f64, f64) {
+    let per_radian = CONDYLE_SLIDE_MM_PER_DEGREE * 180.0 / std::f64::consts::PI;
+    let slope = EMINENCE_SLOPE_DEGREES.to_radians();
+    let (down, forward) = (per_radian * slope.sin(), per_radian * slope.cos());
+    (CONDYLE_MM.0 - forward, CONDYLE_MM.1 - down)
+}
 
 /// Why a rig cannot be placed on a mesh.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -234,8 +261,18 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
         rig.muscles.extend(place.linear_pair(spec)?);
     }
     rig.muscles.push(place.procerus()?);
+    place.eyelids(&mut rig)?;
     Ok(rig)
 }
+
+/// Share of a blink's travel the upper lid carries in the default rig: in a blink the upper
+/// lid sweeps down over the eye and the lower lid barely rises.
+pub const UPPER_LID_SHARE: f32 = 0.85;
+
+/// Gain of the default rig's closing eye sphincters. A sphincter at activation `K` moves a
+/// vertex at most `K / 4` units toward its axis (`K t (1 - t)`, largest at `t = 1/2`), less
+/// than the upper lid's travel to where the lids meet; the gain lets it reach.
+pub const EYE_CLOSING_GAIN: f32 = 1.6;
 
 struct Placer<'a> {
     mesh: &'a Mesh,
@@ -345,6 +382,115 @@ impl Placer<'_> {
         .ok_or_else(|| PlacementError::MissingLandmark("left_upper_lid_centre (open)".into()))
     }
 
+    /// Reshapes the default rig's eye sphincters so that closing the eye is mostly the upper
+    /// lid's travel, and adds `Orbicularis_Oculi_Lower`, which tightens the lower lid alone.
+    ///
+    /// `Orbicularis_Oculi` gets its axis (where the lids meet) moved down to
+    /// `1 - UPPER_LID_SHARE` of the opening above the lower lid, a mask with gain
+    /// [`EYE_CLOSING_GAIN`], and a smaller weight on everything below the axis, so that at 2.0
+    /// both lid margins reach the axis on the eye's centre line and no vertex goes past it
+    /// (each moves `2 g w t (1 - t)` units with `t = |Py| / ly`; `ly` and the lower weight
+    /// are solved for that). `Orbicularis_Oculi_Lower` is the paper's centred sphincter
+    /// masked to the lower lid side.
+    fn eyelids(&self, rig: &mut Rig) -> Result<(), PlacementError> {
+        let inner = self.landmark("left_inner_eye_corner")?;
+        let outer = self.landmark("left_outer_eye_corner")?;
+        let upper = self.landmark("left_upper_lid_centre")?;
+        let lower = self.landmark("left_lower_lid_centre")?;
+        let missing = || PlacementError::MissingLandmark("left_upper_lid_centre (open)".into());
+        let opening = upper.y - lower.y;
+        if opening.is_nan() || opening <= 0.0 {
+            return Err(missing());
+        }
+        let reach = |half_width: f32, _| half_width + units(7.0) as f32;
+        // the lower lid's own sphincter: the paper's geometry, only below its axis
+        let [lower_left, lower_right] =
+            eye_sphincters([inner, outer], [upper, lower], reach).ok_or_else(missing)?;
+        // the closing sphincter: axis low, stronger, weaker below the axis
+        let k = 2.0 * EYE_CLOSING_GAIN;
+        let upper_travel = UPPER_LID_SHARE * opening;
+        let lower_travel = opening - upper_travel;
+        // upper margin: k t (1 - t) = t ly with t = h / ly  =>  ly = (k/2)(1 - sqrt(1 - 4h/k))
+        let discriminant = 1.0 - 4.0 * upper_travel / k;
+        if discriminant < 0.0 {
+            return Err(missing());
+        }
+        let semi_minor = 0.5 * k * (1.0 - discriminant.sqrt());
+        let t_lower = lower_travel / semi_minor;
+        let lower_weight = semi_minor / (k * (1.0 - t_lower));
+        let centre = rounded(Vec3::new(
+            0.5 * (inner.x + outer.x),
+            lower.y + lower_travel,
+            0.5 * (upper.z + lower.z),
+        ));
+        let closing = Sphincter {
+            centre,
+            semi_major: round3(reach(0.5 * (outer.x - inner.x).abs(), semi_minor)),
+            semi_minor: round3(semi_minor),
+            convergence: Convergence::MajorAxis,
+            bulge: 30.0,
+        };
+        for muscle in &mut rig.muscles {
+            let left = muscle.name == "L_Orbicularis_Oculi";
+            if left || muscle.name == "R_Orbicularis_Oculi" {
+                muscle.kind = MuscleKind::Sphincter(Sphincter {
+                    centre: if left { centre } else { mirror(centre) },
+                    ..closing.clone()
+                });
+            }
+        }
+        rig.muscles.extend(pair(
+            "Orbicularis_Oculi_Lower",
+            lower_left.kind.clone(),
+            lower_right.kind,
+        ));
+        let positions = &self.mesh.positions;
+        // Per vertex: `lower_weight` below the axis, and never more than brings the vertex to
+        // 3 % of its distance from the axis at 2.0 (`2 g w f |Py| / ly <= 0.97 |Py|`), so off
+        // the centre line, where the margins lie nearer the axis, no lid passes it.
+        let closing_weights = positions
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| {
+                let px = (p.x.abs() - centre.x) / closing.semi_major;
+                let py = (p.y - centre.y) / closing.semi_minor;
+                let f = 1.0 - (px * px + py * py).sqrt();
+                if f <= 0.0 {
+                    return None;
+                }
+                let base = if py < 0.0 { lower_weight } else { 1.0 };
+                let w = base.min(0.97 * closing.semi_minor / (k * f));
+                (w < 1.0).then(|| (i as u32, round3(w)))
+            })
+            .collect();
+        rig.masks.push(Mask {
+            muscles: vec!["L_Orbicularis_Oculi".into(), "R_Orbicularis_Oculi".into()],
+            gain: EYE_CLOSING_GAIN,
+            weights: closing_weights,
+        });
+        let MuscleKind::Sphincter(lower_ring) = &lower_left.kind else {
+            return Err(missing());
+        };
+        rig.masks.push(Mask {
+            muscles: vec![
+                "L_Orbicularis_Oculi_Lower".into(),
+                "R_Orbicularis_Oculi_Lower".into(),
+            ],
+            gain: 1.0,
+            weights: positions
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| {
+                    p.y >= lower_ring.centre.y
+                        && (p.x.abs() - lower_ring.centre.x).abs() <= lower_ring.semi_major
+                        && p.y - lower_ring.centre.y <= lower_ring.semi_minor
+                })
+                .map(|(i, _)| (i as u32, 0.0))
+                .collect(),
+        });
+        Ok(())
+    }
+
     /// The procerus: a midline muscle from the nasal bones up into the glabella skin; it
     /// draws the skin between the brows down (AU4, AU9).
     fn procerus(&self) -> Result<Muscle, PlacementError> {
@@ -377,12 +523,10 @@ impl Placer<'_> {
         let weights = jaw_weights(&self.mesh.positions, mouth_y, corner.x);
         Ok(Jaw {
             axis: glam::Vec3::X,
-            // just in front of the tragus, at the height of the ala-tragus line, deep in the
-            // head; only y and z matter for a turn about the x axis
             pivot: rounded(Vec3::new(
                 0.0,
-                y_units(-38.0) as f32,
-                units(-HEAD_DEPTH + 8.0) as f32,
+                y_units(jaw_pivot_mm().0) as f32,
+                units(-HEAD_DEPTH + jaw_pivot_mm().1) as f32,
             )),
             degrees_per_unit: JAW_DEGREES_PER_UNIT,
             weights,
@@ -390,22 +534,47 @@ impl Placer<'_> {
     }
 }
 
-/// Jaw weights: 0 on and above the mouth line; below it, 1 across the middle of the lower
-/// lip and chin, falling smoothly to 0 at the mouth corners. Lower down the band that moves
-/// widens to the whole mandible, so the lower lip turns with the chin and the corners and
-/// cheeks stay put.
+/// Jaw weight at the mouth corners: a dropped jaw pulls the corners a little down (they are
+/// part of both lips), about a fifth of the lower lip's drop.
+pub const JAW_CORNER_WEIGHT: f64 = 0.2;
+
+/// Radius (mm) of the skin round each mouth corner that follows the corner down.
+const JAW_CORNER_REACH_MM: f64 = 9.0;
+
+/// Jaw weights. Below the mouth line: 1 across the middle of the lower lip and chin, falling
+/// along a quarter ellipse (`sqrt(1 - u^2)`, steep only near the corner) to
+/// [`JAW_CORNER_WEIGHT`] at the mouth corners, so the opening is an oval rather than a
+/// crescent whose sides barely part; lower down the band that moves widens to the whole
+/// mandible. On and above the mouth line only the skin beside each corner moves (not the
+/// upper lip), with the corner's weight fading to 0 within [`JAW_CORNER_REACH_MM`]: the
+/// corners sink a little and the upper lip stays.
 pub fn jaw_weights(positions: &[Vec3], mouth_y: f32, corner_x: f32) -> Vec<(u32, f32)> {
     let chin_y = y_units(GNATHION_Y) as f32;
+    let corner = (f64::from(corner_x), f64::from(mouth_y));
+    let reach = units(JAW_CORNER_REACH_MM);
     let mut weights = Vec::new();
     for (i, p) in positions.iter().enumerate() {
-        if p.y >= mouth_y {
-            continue;
-        }
-        let depth = f64::from(((mouth_y - p.y) / (mouth_y - chin_y)).clamp(0.0, 1.0));
-        let ease = surface::smoothstep(0.0, 0.6, depth);
-        let inner = ease * units(GONION_X - 8.0);
-        let outer = f64::from(corner_x) + ease * (units(GONION_X + 16.0) - f64::from(corner_x));
-        let w = 1.0 - surface::smoothstep(inner, outer, f64::from(p.x.abs()));
+        let (x, y) = (f64::from(p.x.abs()), f64::from(p.y));
+        let w = if p.y >= mouth_y && x < corner.0 {
+            // the upper lip: parts from the lower lip (a fitted rig splits it off the same way)
+            0.0
+        } else if p.y >= mouth_y {
+            let from_corner = ((x - corner.0).powi(2) + (y - corner.1).powi(2)).sqrt();
+            JAW_CORNER_WEIGHT * (1.0 - surface::smoothstep(0.0, reach, from_corner))
+        } else {
+            let depth = f64::from(((mouth_y - p.y) / (mouth_y - chin_y)).clamp(0.0, 1.0));
+            let ease = surface::smoothstep(0.0, 0.6, depth);
+            let inner = ease * units(GONION_X - 8.0);
+            let outer = corner.0 + ease * (units(GONION_X + 16.0) - corner.0);
+            let u = ((x - inner) / (outer - inner)).clamp(0.0, 1.0);
+            // near the lips: a quarter ellipse down to the corner's weight, which fades
+            // beyond the corner as it does above the mouth line; lower down the smoothstep
+            // across the mandible, whose edge stays soft
+            let tail = JAW_CORNER_WEIGHT * (1.0 - surface::smoothstep(outer, outer + reach, x));
+            let oval = (1.0 - JAW_CORNER_WEIGHT) * (1.0 - u * u).sqrt() + tail;
+            let soft = 1.0 - surface::smoothstep(0.0, 1.0, u);
+            oval * (1.0 - ease) + soft * ease
+        };
         let w = round3(w as f32);
         if w > 0.0 {
             weights.push((i as u32, w));

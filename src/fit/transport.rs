@@ -87,6 +87,15 @@ pub fn fit_rig(
         .iter()
         .map(|m| {
             let (kind, gain) = carry(&m.kind, &warp);
+            // the template's own gains on the muscle (its per-vertex weights are not carried)
+            let gain = gain
+                * template
+                    .rig
+                    .masks
+                    .iter()
+                    .filter(|mask| mask.muscles.contains(&m.name))
+                    .map(|mask| f64::from(mask.gain))
+                    .product::<f64>();
             if (gain - 1.0).abs() > GAIN_EPSILON {
                 gains.push((m.name.clone(), gain));
             }

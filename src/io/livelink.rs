@@ -13,11 +13,12 @@
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::arkit;
 use super::error::LoadError;
-use super::openface::RowError;
+use super::lines::LineReader;
+use super::openface::{RowError, MAX_LINE_BYTES};
 
 /// The columns of a Live Link Face header.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -185,34 +186,38 @@ pub fn parse_timecode(text: &str, fps: f64) -> Option<f64> {
     Some((h * 60.0 + m) * 60.0 + s + frame / fps)
 }
 
-/// A Live Link Face recording read row by row.
+/// A Live Link Face recording read row by row, each line in bounded memory.
 pub struct LiveLinkReader<R> {
-    input: R,
+    lines: LineReader<R>,
+    path: PathBuf,
     columns: LiveLinkColumns,
-    line: usize,
     fps: f64,
-    buffer: String,
 }
 
 impl<R: BufRead> LiveLinkReader<R> {
-    /// Reads the header; `fps` is the recording's frame rate.
-    pub fn new(mut input: R, path: &Path, fps: f64) -> Result<LiveLinkReader<R>, LoadError> {
-        let mut header = String::new();
-        input
-            .read_line(&mut header)
-            .map_err(|e| LoadError::new(path, format!("cannot read: {e}")))?;
-        let columns = LiveLinkColumns::from_header(&header).map_err(|message| LoadError {
+    /// Reads the header line; `path` names the input in messages, `fps` is the recording's
+    /// frame rate.
+    pub fn new(input: R, path: &Path, fps: f64) -> Result<LiveLinkReader<R>, LoadError> {
+        let mut lines = LineReader::new(input, MAX_LINE_BYTES);
+        let error = |line: Option<usize>, message: String| LoadError {
             path: path.to_path_buf(),
-            line: Some(1),
+            line,
             column: None,
             message,
-        })?;
+        };
+        let header = lines
+            .next_line()
+            .map_err(|e| error(Some(1), format!("cannot read: {e}")))?
+            .ok_or_else(|| error(None, "empty input: no header line".into()))?;
+        if let Some(why) = header.too_long(MAX_LINE_BYTES) {
+            return Err(error(Some(1), format!("the header: {why}")));
+        }
+        let columns = LiveLinkColumns::from_header(&header.text).map_err(|m| error(Some(1), m))?;
         Ok(LiveLinkReader {
-            input,
+            lines,
+            path: path.to_path_buf(),
             columns,
-            line: 1,
             fps,
-            buffer: String::new(),
         })
     }
 
@@ -221,32 +226,32 @@ impl<R: BufRead> LiveLinkReader<R> {
         &self.columns
     }
 
-    /// The next row (blank lines are passed over); `None` at the end of the input.
-    pub fn next_row(
-        &mut self,
-        path: &Path,
-    ) -> Result<Option<Result<LiveLinkRow, RowError>>, LoadError> {
+    /// The next row (blank lines are passed over; a line longer than [`MAX_LINE_BYTES`] is a
+    /// malformed row); `None` at the end of the input.
+    pub fn next_row(&mut self) -> Result<Option<Result<LiveLinkRow, RowError>>, LoadError> {
         loop {
-            self.buffer.clear();
-            let read = self
-                .input
-                .read_line(&mut self.buffer)
-                .map_err(|e| LoadError {
-                    path: path.to_path_buf(),
-                    line: Some(self.line + 1),
-                    column: None,
-                    message: format!("cannot read: {e}"),
-                })?;
-            if read == 0 {
+            let read = self.lines.next_line().map_err(|e| LoadError {
+                path: self.path.clone(),
+                line: Some(self.lines.number() + 1),
+                column: None,
+                message: format!("cannot read: {e}"),
+            })?;
+            let Some(line) = read else {
                 return Ok(None);
+            };
+            if let Some(message) = line.too_long(MAX_LINE_BYTES) {
+                return Ok(Some(Err(RowError {
+                    line: line.number,
+                    column: None,
+                    message,
+                })));
             }
-            self.line += 1;
-            if self.buffer.trim().is_empty() {
+            if line.text.trim().is_empty() {
                 continue;
             }
             return Ok(Some(self.columns.parse_row(
-                &self.buffer,
-                self.line,
+                &line.text,
+                line.number,
                 self.fps,
             )));
         }

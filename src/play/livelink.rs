@@ -5,7 +5,7 @@
 use std::collections::BTreeSet;
 use std::fs::File;
 use std::io::BufReader;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 use super::map::{AuMapper, IntensityScale};
@@ -20,7 +20,6 @@ pub const LIVELINK_FRAME_RATE: f64 = 60.0;
 /// A Live Link Face CSV file.
 pub struct LiveLinkSource {
     reader: LiveLinkReader<BufReader<File>>,
-    path: PathBuf,
     name: String,
     /// The AU of each shape column (`None`: the shape has no AU).
     keys: Vec<Option<AuKey>>,
@@ -74,7 +73,6 @@ impl LiveLinkSource {
         builder.report_missing(keys.iter().flatten().copied());
         Ok(LiveLinkSource {
             reader,
-            path: path.to_path_buf(),
             name,
             keys,
             builder,
@@ -92,7 +90,7 @@ impl FrameSource for LiveLinkSource {
         if let Some(event) = self.stashed.take() {
             return Ok(Poll::Event(event));
         }
-        let Some(row) = self.reader.next_row(&self.path)? else {
+        let Some(row) = self.reader.next_row()? else {
             return Ok(Poll::End);
         };
         let event = match row {

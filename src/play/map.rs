@@ -68,6 +68,8 @@ struct Contribution {
 pub struct AuMapper {
     muscle_count: usize,
     contributions: BTreeMap<AuKey, Vec<Contribution>>,
+    /// One-sided AUs the table only records bilaterally, made from that recording.
+    derived: BTreeMap<AuKey, Vec<Contribution>>,
     unknown_muscles: BTreeSet<String>,
 }
 
@@ -98,9 +100,11 @@ impl AuMapper {
                 .or_default()
                 .push(Contribution { muscles, jaw });
         }
+        let derived = one_sided_from_bilateral(&contributions, rig);
         AuMapper {
             muscle_count: rig.muscles.len(),
             contributions,
+            derived,
             unknown_muscles,
         }
     }
@@ -110,8 +114,11 @@ impl AuMapper {
         &self.unknown_muscles
     }
 
-    /// Whether the table has a recording for this AU: the key itself, or for a bilateral key
-    /// both or either side (`12` is played as `L12` + `R12` when only the sides are recorded).
+    /// Whether the table has a recording for this AU: the key itself, for a bilateral key
+    /// both or either side (`12` is played as `L12` + `R12` when only the sides are
+    /// recorded), for a one-sided key the bilateral recording (`L45` is the `45`
+    /// recording's left muscles and half its midline muscles and jaw, so `L45` + `R45` is
+    /// `45`).
     pub fn knows(&self, key: AuKey) -> bool {
         !self.entries_for(key).is_empty()
     }
@@ -132,7 +139,10 @@ impl AuMapper {
                 .flatten()
                 .collect();
         }
-        Vec::new()
+        self.derived
+            .get(&key)
+            .map(|found| found.iter().collect())
+            .unwrap_or_default()
     }
 
     /// The activations for a set of AUs with factors: the scaled recordings added, clamped to
@@ -154,6 +164,44 @@ impl AuMapper {
         }
         clamp_activations(out);
     }
+}
+
+/// The one-sided AUs a table records only bilaterally (`L45`, `R45` from `45`): the
+/// recording's muscles on that side, and half of its midline muscles and jaw, so the two
+/// sides add up to the bilateral AU.
+fn one_sided_from_bilateral(
+    contributions: &BTreeMap<AuKey, Vec<Contribution>>,
+    rig: &Rig,
+) -> BTreeMap<AuKey, Vec<Contribution>> {
+    let mut derived = BTreeMap::new();
+    for (key, list) in contributions.iter().filter(|(k, _)| k.side.is_none()) {
+        for side in [Side::Left, Side::Right] {
+            let sided = AuKey {
+                number: key.number,
+                side: Some(side),
+            };
+            if contributions.contains_key(&sided) {
+                continue;
+            }
+            let half = list
+                .iter()
+                .map(|c| Contribution {
+                    muscles: c
+                        .muscles
+                        .iter()
+                        .filter_map(|&(i, v)| match rig.muscles[i].side {
+                            Side::Centre => Some((i, v * 0.5)),
+                            s if s == side => Some((i, v)),
+                            _ => None,
+                        })
+                        .collect(),
+                    jaw: c.jaw * 0.5,
+                })
+                .collect();
+            derived.insert(sided, half);
+        }
+    }
+    derived
 }
 
 /// Clamps muscles to 0-2 and the jaw to 0-4.
@@ -239,6 +287,28 @@ mod tests {
         let mut out = Activations::default();
         mapper.map([(AuKey::new(14), 0.5)], &mut out);
         assert_eq!(out.muscles, vec![0.2, 0.2]);
+    }
+
+    #[test]
+    fn one_sided_input_plays_its_side_of_a_bilateral_recording() {
+        let (mut rig, table) = rig_and_table();
+        rig.muscles[0].side = Side::Left;
+        let mapper = AuMapper::new(&table, &rig);
+        assert!(mapper.knows("L12".parse().unwrap()));
+        assert!(!mapper.knows("L1".parse().unwrap()));
+        let mut left = Activations::default();
+        mapper.map([("L12".parse().unwrap(), 1.0)], &mut left);
+        // a is on the left (all of it), b on the midline (half of it).
+        assert_eq!(left.muscles, vec![1.5, 0.25]);
+        let mut right = Activations::default();
+        mapper.map([("R12".parse().unwrap(), 1.0)], &mut right);
+        assert_eq!(right.muscles, vec![0.0, 0.25]);
+        let mut both = Activations::default();
+        mapper.map([(AuKey::new(12), 1.0)], &mut both);
+        assert_eq!(both.muscles, vec![1.5, 0.5], "the sides add up to the AU");
+        // Recorded sides are used as they are.
+        mapper.map([("L14".parse().unwrap(), 1.0)], &mut left);
+        assert_eq!(left.muscles, vec![0.4, 0.0]);
     }
 
     #[test]

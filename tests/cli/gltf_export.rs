@@ -161,21 +161,39 @@ fn arkit_targets_are_the_52_names_through_the_map() {
     assert_eq!(read.names, grimace::io::arkit::ARKIT_NAMES);
     let map = ArkitMap::builtin();
     let table = grimace::io::load_table(Path::new("presets/default.au.ron")).unwrap();
+    let bilateral = |key: grimace::facs::AuKey| grimace::facs::AuKey {
+        number: key.number,
+        side: None,
+    };
     let mut shown = 0;
     for (i, name) in read.names.iter().enumerate() {
+        let moves = read.deltas[i].iter().any(|d| *d != Vec3::ZERO);
         match map.au(name) {
             Some(key) if table.aus.contains_key(&key) => {
                 let expected = export_obj(dir.path(), &["--au", &key.to_string()]);
                 assert_target_is(&read, i, &expected);
                 shown += 1;
             }
-            _ => assert!(
-                read.deltas[i].iter().all(|d| *d == Vec3::ZERO),
-                "{name} has no AU in the table and must not move"
-            ),
+            // A side the table records only bilaterally: that recording's side.
+            Some(key) if key.side.is_some() && table.aus.contains_key(&bilateral(key)) => {
+                assert!(moves, "{name}");
+                shown += 1;
+            }
+            _ => assert!(!moves, "{name} has no AU in the table and must not move"),
         }
     }
-    assert!(shown >= 20, "only {shown} ARKit shapes move");
+    assert_eq!(shown, 33, "ARKit shapes that move on the built-in table");
+    // eyeBlink_L + eyeBlink_R is AU 45: the two sides add up to the bilateral recording.
+    let at = |n: &str| read.names.iter().position(|x| x == n).unwrap();
+    let blink = export_obj(dir.path(), &["--au", "45"]);
+    let (l, r) = (at("eyeBlink_L"), at("eyeBlink_R"));
+    let mut worst = 0.0f32;
+    for (v, want) in blink.iter().enumerate() {
+        let sum = read.rest[v] + read.deltas[l][v] + read.deltas[r][v];
+        worst = worst.max((sum - *want).abs().max_element());
+    }
+    assert!(worst < 1e-4, "L + R blink is off AU 45 by {worst}");
+    assert!(share_at_positive_x(&read, "eyeBlink_L") > 0.95);
 }
 
 #[test]
@@ -272,4 +290,28 @@ fn the_khronos_validator_finds_no_errors() {
         assert_eq!(report["info"]["hasMorphTargets"], true);
         assert_eq!(report["info"]["totalVertexCount"], 3463);
     }
+}
+
+/// The share of a target's displacement (by length) on vertices at positive x.
+fn share_at_positive_x(read: &Read, name: &str) -> f32 {
+    let i = read.names.iter().position(|n| n == name).unwrap();
+    let (mut plus, mut all) = (0.0f32, 0.0f32);
+    for (rest, delta) in read.rest.iter().zip(&read.deltas[i]) {
+        all += delta.length();
+        if rest.x > 0.0 {
+            plus += delta.length();
+        }
+    }
+    plus / all
+}
+
+#[test]
+fn sides_follow_gltf_the_subjects_left_at_positive_x() {
+    let dir = tempfile::tempdir().unwrap();
+    let read = export_glb(dir.path(), "aus");
+    assert!(share_at_positive_x(&read, "AU_L12") > 0.95);
+    assert!(share_at_positive_x(&read, "AU_R12") < 0.05);
+    let read = export_glb(dir.path(), "arkit");
+    assert!(share_at_positive_x(&read, "mouthSmile_L") > 0.95);
+    assert!(share_at_positive_x(&read, "mouthSmile_R") < 0.05);
 }

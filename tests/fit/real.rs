@@ -14,28 +14,9 @@ use grimace::io::{builtin, landmarks::load_landmarks, obj};
 use grimace::model::{BoundRig, Mesh};
 
 fn fit(mesh: &Mesh, landmarks: &Landmarks) -> Fitted {
-    let mut face = builtin::default_mesh();
-    let mut rig = builtin::default_rig();
+    let face = builtin::default_mesh();
+    let rig = builtin::default_rig();
     let marks = builtin::landmarks("face").unwrap();
-    // Until the default face is in glTF's convention (the subject's left at +x, like these
-    // meshes), it is the mirror image of a real face: fit from its mirror image, which is
-    // what that convention makes it. Once it is, the handedness agrees and nothing changes.
-    let handed = |m: &Mesh, l: &Landmarks| {
-        FaceFrame::of(&l.positions(m).unwrap())
-            .unwrap()
-            .right_handed
-    };
-    if handed(&face, &marks) != handed(mesh, landmarks) {
-        for p in &mut face.positions {
-            p.x = -p.x;
-        }
-        for m in &mut rig.muscles {
-            m.kind = mirrored(&m.kind);
-        }
-        if let Some(j) = &mut rig.jaw {
-            j.pivot.x = -j.pivot.x;
-        }
-    }
     let points = marks.positions(&face).unwrap();
     fit_rig(
         Template {
@@ -218,26 +199,4 @@ fn makehuman_base_mesh() {
     }
     let dir = tempfile::tempdir().unwrap();
     save_and_validate(dir.path(), &path, &fitted);
-}
-
-/// A muscle reflected across x = 0.
-fn mirrored(k: &grimace::model::MuscleKind) -> grimace::model::MuscleKind {
-    use grimace::model::MuscleKind::*;
-    let f = |p: Vec3| Vec3::new(-p.x, p.y, p.z);
-    match k {
-        Linear(m) => Linear(grimace::model::Linear {
-            attachment: f(m.attachment),
-            insertion: f(m.insertion),
-            ..m.clone()
-        }),
-        Sphincter(m) => Sphincter(grimace::model::Sphincter {
-            centre: f(m.centre),
-            ..m.clone()
-        }),
-        Sheet(m) => Sheet(grimace::model::Sheet {
-            attachment: m.attachment.map(f),
-            insertion: m.insertion.map(f),
-            ..m.clone()
-        }),
-    }
 }

@@ -70,6 +70,36 @@ fn same_rig(a: &Rig, b: &Rig, tol: f32) {
 }
 
 #[test]
+fn the_default_landmarks_follow_the_face_and_its_rig() {
+    let (rig, _, points) = default_template();
+    let centre = |name: &str| match &rig.muscles[rig.muscle_index(name).unwrap()].kind {
+        MuscleKind::Sphincter(s) => s.centre,
+        _ => panic!("{name} is not a sphincter"),
+    };
+    // The subject's right eye (36-41) is the R_ eye sphincter's, the left (42-47) the L_'s.
+    let eye = |ids: std::ops::Range<usize>| ids.map(|i| points[i]).sum::<Vec3>() / 6.0;
+    let (right, left) = (eye(36..42), eye(42..48));
+    assert!(
+        right.distance(centre("R_Orbicularis_Oculi"))
+            < right.distance(centre("L_Orbicularis_Oculi"))
+    );
+    assert!(
+        left.distance(centre("L_Orbicularis_Oculi")) < left.distance(centre("R_Orbicularis_Oculi"))
+    );
+    // Mirror partners are mirror images; the chin is the lowest point, the nose tip the
+    // most forward.
+    for i in 0..68 {
+        let (p, q) = (points[i], points[grimace::fit::landmarks::mirror(i)]);
+        assert!(
+            (p.x + q.x).abs() < 1e-3 && (p.y - q.y).abs() < 1e-3,
+            "landmark {i}"
+        );
+    }
+    assert!(points.iter().all(|p| p.y >= points[8].y));
+    assert!(points.iter().all(|p| p.z <= points[30].z));
+}
+
+#[test]
 fn the_default_rig_fits_back_onto_its_own_face() {
     let (rig, mesh, points) = default_template();
     let template = Template {
@@ -88,10 +118,24 @@ fn the_default_rig_fits_back_onto_its_own_face() {
     .unwrap();
     same_rig(&fitted.rig, &rig, 1e-4);
     assert!((fitted.scale - 1.0).abs() < 1e-6);
-    // The only masks are the lip and lid sides: no gains, no still parts.
+    // The only masks are the lip and lid sides and the template's own gains: no still parts.
     for mask in &fitted.rig.masks {
-        assert_eq!(mask.gain, 1.0);
-        assert!(mask.weights.iter().all(|&(_, w)| w < 1.0));
+        if mask.weights.is_empty() {
+            let template_gain: f32 = rig
+                .masks
+                .iter()
+                .filter(|m| mask.muscles.iter().all(|n| m.muscles.contains(n)))
+                .map(|m| m.gain)
+                .product();
+            assert!(
+                (mask.gain - template_gain).abs() < 1e-6,
+                "{:?}",
+                mask.muscles
+            );
+        } else {
+            assert_eq!(mask.gain, 1.0);
+            assert!(mask.weights.iter().all(|&(_, w)| w < 1.0));
+        }
     }
     BoundRig::bind(&fitted.rig, &mesh).unwrap();
 }

@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod au_shapes;
 mod classic_face;
 mod convention;
 mod face_gallery;

@@ -1,0 +1,333 @@
+//! AU shapes on the default face, measured: how far (mm) and which way each AU moves the
+//! tissue FACS says it moves. The numbers are the golden values of `docs/au.md`; run with
+//! `--nocapture` to print them.
+
+use glam::Vec3;
+use grimace::face::anthropometry::MM_PER_UNIT;
+use grimace::face::{au_table, generate, rigs};
+use grimace::facs::combo::parse_combo;
+use grimace::facs::AuTable;
+use grimace::model::{Activations, BoundRig, Mesh, Rig};
+
+struct Face {
+    mesh: Mesh,
+    rig: Rig,
+    table: AuTable,
+    bound: BoundRig,
+}
+
+fn face() -> Face {
+    let mesh = generate();
+    let rig = rigs::default_rig(&mesh).expect("default rig places");
+    let bound = BoundRig::bind(&rig, &mesh).expect("default rig binds");
+    Face {
+        mesh,
+        rig,
+        table: au_table::default_table(),
+        bound,
+    }
+}
+
+const MM: f32 = MM_PER_UNIT as f32;
+
+impl Face {
+    fn combo(&self, text: &str) -> Vec<Vec3> {
+        let combo = parse_combo(text).expect("combination parses");
+        let act = self.table.evaluate(&combo, &self.rig).expect("evaluates");
+        self.deform(&act)
+    }
+
+    fn deform(&self, act: &Activations) -> Vec<Vec3> {
+        let mut out = Vec::new();
+        self.bound.deform(act, &mut out).expect("valid activations");
+        assert!(out.iter().all(|p| p.is_finite()));
+        out
+    }
+
+    fn group(&self, name: &str) -> &[u32] {
+        self.mesh
+            .groups
+            .get(name)
+            .unwrap_or_else(|| panic!("no group {name}"))
+    }
+
+    fn vertex(&self, name: &str) -> usize {
+        match self.group(name) {
+            [v] => *v as usize,
+            _ => panic!("{name} is not a landmark"),
+        }
+    }
+
+    /// Displacement of a landmark in mm.
+    fn moved(&self, pose: &[Vec3], name: &str) -> Vec3 {
+        let v = self.vertex(name);
+        (pose[v] - self.mesh.positions[v]) * MM
+    }
+
+    /// Mean displacement (mm) of a group's members, optionally only those with `x > 0`
+    /// (the subject's left) or `x < 0`.
+    fn region(&self, pose: &[Vec3], name: &str, side: Option<bool>) -> Vec3 {
+        let members: Vec<usize> = self
+            .group(name)
+            .iter()
+            .map(|&v| v as usize)
+            .filter(|&v| match side {
+                Some(left) => (self.mesh.positions[v].x > 0.0) == left,
+                None => true,
+            })
+            .collect();
+        let sum: Vec3 = members
+            .iter()
+            .map(|&v| pose[v] - self.mesh.positions[v])
+            .sum();
+        sum * MM / members.len() as f32
+    }
+
+    /// Pairs of (upper, lower) lid margin vertices of the left eye at about the same x.
+    fn lid_pairs(&self) -> Vec<(usize, usize)> {
+        let rest = &self.mesh.positions;
+        let lower = self.group("left_lower_lid");
+        self.group("left_upper_lid")
+            .iter()
+            .filter_map(|&u| {
+                let u = u as usize;
+                let l = *lower.iter().min_by(|&&a, &&b| {
+                    let da = (rest[a as usize].x - rest[u].x).abs();
+                    let db = (rest[b as usize].x - rest[u].x).abs();
+                    da.total_cmp(&db)
+                })? as usize;
+                (u != l && (rest[l].x - rest[u].x).abs() < 0.05).then_some((u, l))
+            })
+            .collect()
+    }
+
+    /// The left eye's opening at its middle (upper minus lower lid centre height, mm).
+    fn opening(&self, pose: &[Vec3]) -> f32 {
+        (pose[self.vertex("left_upper_lid_centre")].y
+            - pose[self.vertex("left_lower_lid_centre")].y)
+            * MM
+    }
+
+    /// How far (mm) the lower lid margin rises above the upper one anywhere (0 if never).
+    fn crossing(&self, pose: &[Vec3]) -> f32 {
+        self.lid_pairs()
+            .iter()
+            .map(|&(u, l)| (pose[l].y - pose[u].y) * MM)
+            .fold(0.0, f32::max)
+    }
+
+    /// Triangles whose front-facing normal turned by more than 90 degrees.
+    fn flips(&self, pose: &[Vec3]) -> usize {
+        let normal = |p: &[Vec3], t: &[u32; 3]| {
+            let [a, b, c] = t.map(|v| p[v as usize]);
+            (b - a).cross(c - a)
+        };
+        self.mesh
+            .triangles
+            .iter()
+            .filter(|t| normal(pose, t).dot(normal(&self.mesh.positions, t)) <= 0.0)
+            .count()
+    }
+}
+
+fn show(label: &str, v: Vec3) {
+    println!("{label:40} x {:6.2}  y {:6.2}  z {:6.2} mm", v.x, v.y, v.z);
+}
+
+#[test]
+fn print_measurements() {
+    let f = face();
+    for au in ["26", "27"] {
+        let p = f.combo(au);
+        show(&format!("AU{au} chin"), f.moved(&p, "chin"));
+        show(
+            &format!("AU{au} lower lip centre"),
+            f.moved(&p, "lower_lip_centre"),
+        );
+        show(
+            &format!("AU{au} left mouth corner"),
+            f.moved(&p, "left_mouth_corner"),
+        );
+    }
+    for au in ["43", "45", "5", "7", "6"] {
+        let p = f.combo(au);
+        show(
+            &format!("AU{au} upper lid centre"),
+            f.moved(&p, "left_upper_lid_centre"),
+        );
+        show(
+            &format!("AU{au} lower lid centre"),
+            f.moved(&p, "left_lower_lid_centre"),
+        );
+    }
+    for au in ["4", "1", "2"] {
+        let p = f.combo(au);
+        show(
+            &format!("AU{au} brow inner"),
+            f.moved(&p, "left_brow_inner"),
+        );
+        show(
+            &format!("AU{au} brow (left region)"),
+            f.region(&p, "left_brow", Some(true)),
+        );
+    }
+    for au in [
+        "9", "10", "11", "16", "17", "18", "23", "24", "12", "14", "15", "20",
+    ] {
+        let p = f.combo(au);
+        show(
+            &format!("AU{au} upper lip centre"),
+            f.moved(&p, "upper_lip_centre"),
+        );
+        show(
+            &format!("AU{au} lower lip centre"),
+            f.moved(&p, "lower_lip_centre"),
+        );
+        show(
+            &format!("AU{au} left mouth corner"),
+            f.moved(&p, "left_mouth_corner"),
+        );
+        show(&format!("AU{au} left alare"), f.moved(&p, "left_alare"));
+        show(&format!("AU{au} chin"), f.moved(&p, "chin"));
+    }
+    for text in ["R12A+R14A", "R12B+R14B"] {
+        let p = f.combo(text);
+        show(
+            &format!("{text} right mouth corner"),
+            f.moved(&p, "right_mouth_corner"),
+        );
+    }
+    for au in ["0", "43", "7", "5"] {
+        let p = if au == "0" {
+            f.mesh.positions.clone()
+        } else {
+            f.combo(au)
+        };
+        println!(
+            "AU{au} eye opening {:.2} mm, crossing {:.2} mm",
+            f.opening(&p),
+            f.crossing(&p)
+        );
+    }
+    let mut all = Activations::zero(&f.rig);
+    all.muscles.iter_mut().for_each(|a| *a = 2.0);
+    all.jaw = 4.0;
+    println!(
+        "flips, every muscle at 2, jaw 4: {}",
+        f.flips(&f.deform(&all))
+    );
+    for k in f.table.aus.keys() {
+        let p = f.combo(&k.to_string());
+        let n = f.flips(&p);
+        if n > 0 {
+            println!("AU{k}: {n} flipped triangles");
+        }
+    }
+}
+
+#[test]
+fn jaw_drop_moves_the_chin_mostly_down_and_opens_an_oval() {
+    let f = face();
+    // (AU, chin drop at least, lower lip drop at least) in mm
+    for (au, chin_drop, lip_drop) in [("26", 12.0, 12.0), ("27", 18.0, 20.0)] {
+        let p = f.combo(au);
+        let chin = f.moved(&p, "chin");
+        assert!(
+            -chin.y > chin_drop && -chin.y > 1.4 * -chin.z && chin.z < 0.0,
+            "AU{au}: chin {chin} mm should move mostly down, a little back"
+        );
+        let lip = f.moved(&p, "lower_lip_centre");
+        assert!(-lip.y > lip_drop, "AU{au}: lower lip drops {lip}");
+        for (corner, outward) in [("left_mouth_corner", 1.0), ("right_mouth_corner", -1.0)] {
+            let c = f.moved(&p, corner);
+            // drawn in and slightly down: below rest, by much less than the lower lip
+            assert!(c.x * outward < -0.5, "AU{au}: {corner} drawn in: {c}");
+            assert!(
+                c.y < -1.0 && c.y > 0.3 * lip.y,
+                "AU{au}: {corner} slightly down: {c}"
+            );
+        }
+        // an oval: halfway to the corner the lower lip has dropped more than half as far as
+        // its middle (a crescent keeps the sides nearly shut)
+        let rest = &f.mesh.positions;
+        let corner_x = rest[f.vertex("left_mouth_corner")].x;
+        let lower = f.group("lower_lip");
+        let upper = f.group("upper_lip");
+        let margin_near = |group: &[u32], top: bool| {
+            *group
+                .iter()
+                .filter(|&&v| {
+                    let x = rest[v as usize].x;
+                    (x - 0.5 * corner_x).abs() < 0.1 * corner_x
+                })
+                .min_by(|&&a, &&b| {
+                    let key = |v: u32| {
+                        let y = rest[v as usize].y;
+                        if top {
+                            y
+                        } else {
+                            -y
+                        }
+                    };
+                    key(a).total_cmp(&key(b))
+                })
+                .expect("lip margin halfway to the corner") as usize
+        };
+        let (u, l) = (margin_near(upper, true), margin_near(lower, false));
+        let middle = (p[f.vertex("upper_lip_centre")].y - p[f.vertex("lower_lip_centre")].y) * MM;
+        let side = (p[u].y - p[l].y) * MM;
+        assert!(
+            side > 0.75 * middle,
+            "AU{au}: opening halfway to the corner {side} mm of {middle} mm at the middle"
+        );
+    }
+}
+
+#[test]
+fn the_upper_lid_carries_a_blink_and_the_lids_never_cross() {
+    let f = face();
+    let rest_opening = f.opening(&f.mesh.positions);
+    for au in ["43", "45"] {
+        for letter in ["A", "B", "C", "D", "E"] {
+            let p = f.combo(&format!("{au}{letter}"));
+            assert!(f.crossing(&p) <= 0.0, "AU{au}{letter}: lids cross");
+        }
+        let p = f.combo(au);
+        let up = -f.moved(&p, "left_upper_lid_centre").y;
+        let low = f.moved(&p, "left_lower_lid_centre").y;
+        assert!(
+            up / (up + low) >= 0.8,
+            "AU{au}: upper lid {up} mm, lower {low} mm"
+        );
+        assert!(
+            f.opening(&p) < 0.5,
+            "AU{au}: eye still {} mm open",
+            f.opening(&p)
+        );
+        assert!(f.opening(&p) >= 0.0);
+        assert_eq!(f.flips(&p), 0, "AU{au}: flipped triangles");
+    }
+    // AU5 shows more of the eye; AU7 narrows it mainly from below
+    let p = f.combo("5");
+    assert!(
+        f.opening(&p) > rest_opening + 3.0,
+        "AU5: {} mm",
+        f.opening(&p)
+    );
+    let p = f.combo("7");
+    let up = -f.moved(&p, "left_upper_lid_centre").y;
+    let low = f.moved(&p, "left_lower_lid_centre").y;
+    assert!(
+        low > 2.5 && low > 2.0 * up,
+        "AU7: lower lid {low} mm, upper {up} mm"
+    );
+}
+
+#[test]
+fn no_au_flips_a_triangle_at_full_intensity() {
+    let f = face();
+    for k in f.table.aus.keys() {
+        let p = f.combo(&k.to_string());
+        assert_eq!(f.flips(&p), 0, "AU{k} flips triangles");
+    }
+}
