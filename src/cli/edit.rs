@@ -134,7 +134,8 @@ fn offer_recovery(app: &mut App, path: &Path) -> bool {
                 return false;
             }
             let activations = state.activations(app.rig());
-            if activations == app.doc.activations && state.table == app.doc.table {
+            let rig = state.rig.filter(|rig| rig != app.rig());
+            if activations == app.doc.activations && state.table == app.doc.table && rig.is_none() {
                 // Nothing that differs from what is on disk: nothing to offer.
                 let _ = recovery::remove(path);
                 return true;
@@ -144,6 +145,7 @@ fn offer_recovery(app: &mut App, path: &Path) -> bool {
                 table: state.table,
                 when: describe_age(state.written_at),
                 base: state.base.map(|(len, hash)| FileStamp { len, hash }),
+                rig,
             })));
         }
         Ok(None) => {}

@@ -290,6 +290,8 @@ pub struct Recovered {
     /// recovery file does not say). Recovering makes it the file's stamp, so a save asks
     /// before replacing a file that has changed since.
     pub base: Option<FileStamp>,
+    /// The rig as edited in rig mode, if it had unsaved changes.
+    pub rig: Option<Rig>,
 }
 
 /// The editor's mode.

@@ -219,6 +219,7 @@ fn write_recovery(app: &mut App, session: &Session) {
         &app.doc.table,
     );
     state.base = app.doc.file_stamp.map(|s| (s.len, s.hash));
+    state.rig = app.rig_edit.dirty(app.rig()).then(|| app.rig().clone());
     if let Err(e) = recovery::write(path, &state) {
         app.warn(format!(
             "could not write the recovery file {}: {}",

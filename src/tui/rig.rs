@@ -346,6 +346,12 @@ pub fn update(app: &mut App, action: RigAction, fx: &mut Vec<Effect>) {
             app.rig_edit.path = Some(path);
             app.rig_edit.stamp = Some(stamp);
             app.rig_edit.saved = Some(app.rig().clone());
+            // The recovery file now holds only what is still unsaved, if anything.
+            fx.push(if app.dirty() {
+                Effect::RecoveryDue
+            } else {
+                Effect::RemoveRecovery
+            });
         }
         RigAction::SaveFailed { path, error } => app.error(format!(
             "could not save the rig to {}: {error}; your edits are kept",
@@ -410,6 +416,21 @@ fn back(app: &mut App, undo: bool, fx: &mut Vec<Effect>) {
             app.info(format!("{to}: {}", describe(app)));
         }
         Err(reason) => app.error(format!("cannot {to}: {reason}")),
+    }
+}
+
+/// Puts back a rig found in a recovery file, as an unsaved (and undoable) change of the rig
+/// as loaded; a rig that no longer fits the mesh is left out, with the reason.
+pub fn recover(app: &mut App, rig: Rig) {
+    let before = app.rig().clone();
+    match app.doc.scene.set_rig(rig) {
+        Ok(()) => {
+            app.rig_edit.saved.get_or_insert_with(|| before.clone());
+            app.rig_edit.undo.push(before);
+            app.rig_edit.redo.clear();
+            app.rig_edit.shown = None;
+        }
+        Err(reason) => app.warn(format!("the recovered rig is left out: {reason}")),
     }
 }
 

@@ -162,7 +162,7 @@ impl Editor {
         }
     }
 
-    fn hang_up(&mut self) {
+    pub(super) fn hang_up(&mut self) {
         // portable-pty's killer sends SIGHUP on unix, like a dropped SSH connection.
         self.child.clone_killer().kill().unwrap();
     }

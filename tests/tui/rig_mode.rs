@@ -77,3 +77,48 @@ fn move_a_zygomatic_attachment_save_and_reload() {
     ed.send(":q\r");
     assert!(ed.wait_exit().success());
 }
+
+#[test]
+fn a_hangup_mid_edit_keeps_the_rig_and_the_next_launch_recovers_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("t.au.ron");
+    let arg = table.to_str().unwrap();
+    let builtin = load_rig_ref(Path::new("builtin:default"), None).unwrap();
+    let before = attachment(&builtin.rig, "L_Zygomatic_Major");
+    let (lo, hi) = builtin.mesh.bounds();
+    let coarse = (hi - lo).y * grimace::tui::rig::COARSE_FRACTION;
+    let expected = before + glam::Vec3::new(0.0, -coarse, 0.0);
+    let shown = format!("({:.4}, {:.4}, {:.4})", expected.x, expected.y, expected.z);
+
+    let mut ed = Editor::start(dir.path(), &["edit", arg], 200, 60);
+    ed.wait_for("new table");
+    ed.send("R");
+    ed.wait_for("held at 1.00");
+    ed.send("\x1b[1;2B"); // Shift-Down: a coarse step down
+    ed.wait_for(&shown);
+    ed.hang_up();
+    ed.wait_exit();
+    ed.wait_restored();
+    let recovery = dir.path().join(".t.au.ron.recover");
+    let text = std::fs::read_to_string(&recovery).expect("a recovery file");
+    assert!(text.contains("L_Zygomatic_Major"), "the rig is kept");
+
+    let mut ed = Editor::start(dir.path(), &["edit", arg], 200, 60);
+    ed.wait_for("recover");
+    ed.send("y");
+    let screen = ed.wait_for("recovered");
+    assert!(
+        screen.contains("[+]"),
+        "the recovered rig is unsaved: {screen}"
+    );
+    ed.send("R");
+    ed.wait_for(&shown);
+    // Undo goes back to the built-in rig's numbers.
+    ed.send("u");
+    ed.wait_for(&format!(
+        "({:.4}, {:.4}, {:.4})",
+        before.x, before.y, before.z
+    ));
+    ed.send(":q!\r");
+    assert!(ed.wait_exit().success());
+}

@@ -202,6 +202,10 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             app.doc.file_stamp = Some(stamp);
             app.doc.saved_table = app.doc.table.clone();
             fx.push(Effect::RemoveRecovery);
+            if app.dirty() {
+                // Rig edits are still unsaved: keep them for recovery.
+                fx.push(Effect::RecoveryDue);
+            }
             if quit_after {
                 fx.push(Effect::Quit);
             }
