@@ -332,6 +332,9 @@ fn write(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
 }
 
 fn write_quit(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
+    if app.rig_edit.dirty(app.rig()) {
+        return app.error(crate::tui::rig::UNSAVED_RIG);
+    }
     table::save(app, path_arg(args), true, fx);
 }
 

@@ -19,6 +19,10 @@ use crate::model::{Activations, MuscleKind, Rig};
 pub const FINE_FRACTION: f32 = 0.005;
 /// Coarse step of a point or a length, as a fraction of the face's height.
 pub const COARSE_FRACTION: f32 = 0.025;
+/// Said when a command would leave with the rig's changes unsaved.
+pub const UNSAVED_RIG: &str =
+    "the rig has unsaved changes: :w in rig mode (R) saves it, :q! discards it";
+
 /// Step of the held activation (`<` and `>`).
 pub const HELD_STEP: f32 = 0.25;
 
@@ -668,6 +672,41 @@ mod tests {
         assert_eq!(message.severity, crate::tui::app::Severity::Error);
         assert!(message.text.contains("zone"), "{}", message.text);
         assert_ne!(app.rig(), &before);
+    }
+
+    #[test]
+    fn write_and_quit_does_not_leave_an_unsaved_rig_behind() {
+        let mut app = rig_app();
+        let step = Action::Rig(RigAction::Move {
+            right: 0,
+            up: 1,
+            coarse: false,
+        });
+        run(&mut app, step);
+        let fx = run(&mut app, Action::Command("wq".into()));
+        assert!(!fx.contains(&Effect::Quit), "{fx:?}");
+        assert_eq!(app.message.as_ref().unwrap().text, UNSAVED_RIG);
+        // Plain quit asks.
+        run(&mut app, Action::Quit);
+        assert!(matches!(app.mode, Mode::Confirm(_)));
+    }
+
+    #[test]
+    fn the_zone_overlay_follows_the_kind() {
+        use crate::render::Shape;
+        let mut app = rig_app();
+        let mut out = Vec::new();
+        crate::tui::view::rig::zone_overlays(&app, &mut out);
+        // A linear muscle: two cone edges, two arcs of segments, and the point's mark.
+        assert!(out.len() > 5, "{}", out.len());
+        assert!(matches!(out.last().unwrap().shape, Shape::Point { .. }));
+        let last = app.selection.rows.len() - 1;
+        app.selection.selected = last; // the jaw
+        out.clear();
+        crate::tui::view::rig::zone_overlays(&app, &mut out);
+        let jaw = app.rig().jaw.as_ref().unwrap();
+        // One coloured mark per weighted vertex, plus the pivot's.
+        assert_eq!(out.len(), jaw.weights.len() + 1);
     }
 
     #[test]
