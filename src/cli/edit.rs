@@ -46,6 +46,25 @@ pub struct EditArgs {
     /// Braille, half-block or ASCII cells.
     #[command(flatten)]
     pub cells: super::CellsArgs,
+    /// Colours: auto (from NO_COLOR, TERM, COLORTERM and the terminal's name), truecolor,
+    /// 256, 16 or none. Over SSH COLORTERM is often lost; set this to what the terminal has.
+    #[arg(long, value_name = "MODE", default_value = "auto", value_parser = parse_colors)]
+    pub colors: ColorsChoice,
+}
+
+/// `--colors`: a colour mode, or `None` for auto (detected from the environment).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ColorsChoice(pub Option<ColorMode>);
+
+/// Parses `--colors`: `auto` or a mode's name.
+fn parse_colors(text: &str) -> Result<ColorsChoice, String> {
+    match text.trim().to_ascii_lowercase().as_str() {
+        "auto" => Ok(ColorsChoice(None)),
+        other => other
+            .parse()
+            .map(|mode| ColorsChoice(Some(mode)))
+            .map_err(|e: String| e.replace("(expected", "(expected auto,")),
+    }
 }
 
 /// Runs the editor.
@@ -82,7 +101,7 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     let rig_bytes = rig_path.as_deref().and_then(|p| std::fs::read(p).ok());
     app.rig_edit = crate::tui::rig::RigEdit::for_file(rig_path, rig_bytes.as_deref());
     app.view = View::new(args.cells.mode());
-    app.view.colors = ColorMode::from_env();
+    app.view.colors = args.colors.0.unwrap_or_else(ColorMode::from_env);
     if new_file {
         if let Some(path) = &args.file {
             app.info(format!(

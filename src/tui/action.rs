@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use super::app::{FileStamp, Row, ViewPreset};
 use super::rig::RigAction;
+use crate::facs::AuTable;
 
 /// Something the user (or the outcome of an effect) asks of the editor.
 #[derive(Debug, Clone, PartialEq)]
@@ -100,6 +101,8 @@ pub enum Action {
     InputHome,
     /// Cursor to the end.
     InputEnd,
+    /// Delete everything before the cursor (Ctrl-u).
+    InputClear,
     /// Complete the word before the cursor (muscle names, AU numbers, commands).
     InputComplete,
     /// Accept the input line.
@@ -129,6 +132,13 @@ pub enum Action {
         path: PathBuf,
         /// Why.
         error: String,
+    },
+    /// A table to import was read (`:import`).
+    TableRead {
+        /// What was named: a file or `builtin:NAME`.
+        source: String,
+        /// The table, or why it could not be read.
+        table: Result<AuTable, String>,
     },
     /// A save found the file changed on disk (or present where a new file was expected).
     SaveConflict {
@@ -169,6 +179,8 @@ pub enum Effect {
     RecoveryDue,
     /// Remove the recovery file (after a save or an explicit discard).
     RemoveRecovery,
+    /// Read a table to import its AUs (answered with [`Action::TableRead`]).
+    ReadTable(PathBuf),
     /// Leave the editor.
     Quit,
 }

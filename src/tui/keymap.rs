@@ -140,7 +140,7 @@ pub fn bindings() -> &'static [Binding] {
             NONE,
             A::StepCoarse(1),
             "adjust",
-            "increase by a coarse step (0.25)",
+            "increase by a coarse step (0.25; jaw 0.5)",
             None,
         ),
         bind(
@@ -615,6 +615,7 @@ pub const OTHER_KEYS: &[(&str, &str)] = &[
         "complete a muscle name, AU number or command (input line)",
     ),
     ("Enter / Esc", "accept / cancel the input line"),
+    ("Ctrl-u", "clear the input line before the cursor"),
     ("y / n", "answer a question (Esc = no)"),
 ];
 
@@ -809,6 +810,7 @@ fn input(key: KeyEvent) -> Option<Action> {
         KeyCode::Char('c') if ctrl => Action::Cancel,
         KeyCode::Char('a') if ctrl => Action::InputHome,
         KeyCode::Char('e') if ctrl => Action::InputEnd,
+        KeyCode::Char('u') if ctrl => Action::InputClear,
         KeyCode::Char('h') if ctrl => Action::InputBackspace,
         KeyCode::Char(c) if !ctrl => Action::InputChar(c),
         KeyCode::Backspace => Action::InputBackspace,

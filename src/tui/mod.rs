@@ -202,6 +202,10 @@ fn apply(app: &mut App, session: &mut Session, state: &mut LoopState, action: Ac
                         session.recovery = recovery::recovery_path(app.doc.file.as_deref());
                     }
                 }
+                Effect::ReadTable(path) => queue.push(Action::TableRead {
+                    source: path.display().to_string(),
+                    table: table_ops::read(&path),
+                }),
                 Effect::Quit => state.quit = true,
             }
         }

@@ -22,9 +22,10 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     };
     let file = format!(" {}{dirty} ", app.file_label());
     let view = format!(
-        "| {} {} ",
+        "| {} {} {} ",
         app.view.style.name(),
-        crate::tui::app::cells_name(app.view.cells)
+        crate::tui::app::cells_name(app.view.cells),
+        colors_label(app.view.colors)
     );
     let used = left.chars().count() + file.chars().count() + view.chars().count();
     let room = (area.width as usize).saturating_sub(used);
@@ -53,4 +54,13 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         Span::styled(hints, theme.status()),
     ]);
     buf.set_line(area.x, area.y, &line, area.width);
+}
+
+/// The colour mode as the status line shows it.
+fn colors_label(colors: crate::render::ColorMode) -> String {
+    match colors {
+        crate::render::ColorMode::None => "no colour".into(),
+        crate::render::ColorMode::TrueColor => "truecolor".into(),
+        other => format!("{} colours", other.name()),
+    }
 }
