@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use super::app::{FileStamp, Row, ViewPreset};
+use super::rig::RigAction;
 use crate::facs::AuTable;
 
 /// Something the user (or the outcome of an effect) asks of the editor.
@@ -114,6 +115,8 @@ pub enum Action {
     HelpScroll(i16),
     /// The terminal changed size.
     Resize(u16, u16),
+    /// Rig mode (`R`): placing muscles.
+    Rig(RigAction),
     /// A save finished.
     Saved {
         /// The file written.
@@ -162,6 +165,15 @@ pub enum Effect {
         force: bool,
         /// Quit after a successful save.
         quit_after: bool,
+    },
+    /// Write a rig file, as [`Effect::Save`] does a table file.
+    SaveRig {
+        /// Where.
+        path: PathBuf,
+        /// The file's contents.
+        contents: String,
+        /// What the file should look like now (`None`: it must not exist).
+        expected: Option<FileStamp>,
     },
     /// The unsaved state changed: write the recovery file (debounced by the loop).
     RecoveryDue,

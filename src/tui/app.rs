@@ -304,6 +304,8 @@ pub struct Recovered {
     /// recovery file does not say). Recovering makes it the file's stamp, so a save asks
     /// before replacing a file that has changed since.
     pub base: Option<FileStamp>,
+    /// The rig as edited in rig mode, if it had unsaved changes.
+    pub rig: Option<Rig>,
 }
 
 /// The editor's mode.
@@ -428,6 +430,8 @@ pub struct App {
     pub mode: Mode,
     /// The status message.
     pub message: Option<Message>,
+    /// Rig mode: its state and the rig's file.
+    pub rig_edit: super::rig::RigEdit,
 }
 
 impl App {
@@ -456,6 +460,7 @@ impl App {
             history: History::default(),
             mode: Mode::Normal,
             message: None,
+            rig_edit: super::rig::RigEdit::default(),
         }
     }
 
@@ -466,7 +471,7 @@ impl App {
 
     /// True when the table differs from the file (or from the built-in table).
     pub fn dirty(&self) -> bool {
-        self.doc.table != self.doc.saved_table
+        self.doc.table != self.doc.saved_table || self.rig_edit.dirty(self.rig())
     }
 
     /// True when the table file does not exist yet (`:w` creates it).

@@ -333,10 +333,16 @@ fn path_arg(args: &Args) -> Option<PathBuf> {
 }
 
 fn write(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
+    if app.rig_edit.on {
+        return crate::tui::rig::save(app, path_arg(args), fx);
+    }
     table::save(app, path_arg(args), false, fx);
 }
 
 fn write_quit(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
+    if app.rig_edit.dirty(app.rig()) {
+        return app.error(crate::tui::rig::UNSAVED_RIG);
+    }
     table::save(app, path_arg(args), true, fx);
 }
 

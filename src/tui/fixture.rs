@@ -46,7 +46,7 @@ pub(crate) fn app() -> App {
     let mesh = Mesh::new(positions, triangles).unwrap();
     let rig = Rig {
         masks: Vec::new(),
-        version: 1,
+        version: crate::model::rig::RIG_VERSION,
         mesh: PathBuf::from("grid.obj"),
         combine: Combine::Sum,
         muscles: vec![

@@ -8,5 +8,6 @@ mod colors;
 mod e2e;
 mod editing;
 mod pty;
+mod rig_mode;
 mod screens;
 mod startup;

@@ -203,6 +203,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             }
         }
         Action::Resize(w, h) => app.view.size = (w, h),
+        Action::Rig(action) => crate::tui::rig::update(app, action, &mut fx),
         Action::Saved {
             path,
             stamp,
@@ -213,6 +214,10 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             app.doc.file_stamp = Some(stamp);
             app.doc.saved_table = app.doc.table.clone();
             fx.push(Effect::RemoveRecovery);
+            if app.dirty() {
+                // Rig edits are still unsaved: keep them for recovery.
+                fx.push(Effect::RecoveryDue);
+            }
             if quit_after {
                 fx.push(Effect::Quit);
             }
@@ -229,6 +234,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             Err(e) => app.error(format!("could not import {source}: {e}")),
         },
     }
+    crate::tui::rig::sync(app);
     fx
 }
 

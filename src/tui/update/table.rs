@@ -73,6 +73,9 @@ pub(crate) fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<
             app.doc.activations = found.activations;
             app.doc.table = found.table;
             app.doc.file_stamp = found.base;
+            if let Some(rig) = found.rig {
+                crate::tui::rig::recover(app, rig);
+            }
             app.doc.scene.deform(&app.doc.activations);
             app.info("recovered the unsaved changes; :w saves them");
             edited(app, fx);

@@ -564,6 +564,7 @@ fn recovery_offer_restores_or_discards() {
         table: table.clone(),
         when: "5 s ago".into(),
         base: None,
+        rig: None,
     }));
     app.mode = Mode::Confirm(question.clone());
     assert!(question_text(&question).contains("recover"));

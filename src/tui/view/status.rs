@@ -16,7 +16,10 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         (false, true) => " [new]",
         (false, false) => "",
     };
-    let left = format!(" {} ", app.mode.name());
+    let left = match app.mode {
+        Mode::Normal if app.rig_edit.on => " RIG ".to_string(),
+        _ => format!(" {} ", app.mode.name()),
+    };
     let file = format!(" {}{dirty} ", app.file_label());
     let view = format!(
         "| {} {} {} ",
@@ -33,7 +36,7 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         hints = message.text.chars().take(room.saturating_sub(1)).collect();
         hints.push(' ');
     }
-    for (key, hint) in keymap::hints()
+    for (key, hint) in keymap::hints_for(app)
         .into_iter()
         .filter(|_| !typing || app.message.is_none())
     {
