@@ -101,8 +101,8 @@ fn zone_of(rig: &Rig, rest: &[Vec3], row: Row, out: &mut Vec<Overlay>) {
         MuscleKind::Sphincter(m) => out.push(Overlay {
             shape: Shape::Ellipse {
                 centre: m.centre,
-                semi_x: m.semi_major,
-                semi_y: m.semi_minor,
+                semi_x: m.frame.axis_x() * m.semi_major,
+                semi_y: m.frame.axis_y() * m.semi_minor,
             },
             color: ZONE,
             selected: false,
