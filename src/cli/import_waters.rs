@@ -1,6 +1,8 @@
 //! `grimace import-waters DIR --out OUTDIR`: the classic Waters face as OBJ and rig: the 18
 //! linear muscles of `muscle.dat` plus the paper's sheet and sphincter muscles and jaw, placed
-//! for that face by [`crate::face::classic`] (`--linear-only` leaves them out).
+//! for that face by [`crate::face::classic`] (`--linear-only` leaves them out), and the
+//! face's 68 iBUG landmarks, carried over from the built-in face by
+//! [`classic::ibug_landmarks`], so `grimace fit-rig` can fit any rig to it.
 
 use std::path::PathBuf;
 
@@ -8,15 +10,17 @@ use anyhow::{bail, Context};
 use clap::Args;
 
 use crate::face::classic;
+use crate::fit::Landmarks;
 use crate::io::waters::{self, ExtraMuscles, ImportOptions};
-use crate::io::{atomic, obj, rig_file};
+use crate::io::{atomic, builtin, landmarks, obj, rig_file};
 
 /// Arguments of `grimace import-waters`.
 #[derive(Debug, Args)]
 pub struct ImportWatersArgs {
     /// The folder holding faceline.dat, index.dat and muscle.dat.
     pub dir: PathBuf,
-    /// The folder to write mesh.obj and rig.ron into (created if missing).
+    /// The folder to write mesh.obj, mesh.landmarks.ron and rig.ron into (created if
+    /// missing).
     #[arg(long)]
     pub out: PathBuf,
     /// Drop the 6 triangles that repeat earlier ones exactly (kept by default, as in the
@@ -48,6 +52,13 @@ pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
             bail!("{e}; use --linear-only to import the 18 linear muscles alone");
         }
     }
+    let template = builtin::default_mesh();
+    let template_marks = builtin::landmarks("default")
+        .context("the built-in face has no landmarks")?
+        .vertices(&template);
+    // Without --linear-only the extras already needed the same features, so only a
+    // --linear-only import of a face without them gets no landmark file.
+    let marks = classic::ibug_landmarks(&imported.mesh, &template, &template_marks);
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the folder {}", args.out.display()))?;
     let mesh_path = args.out.join("mesh.obj");
@@ -59,8 +70,16 @@ pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
         .map_err(|e| crate::io::SaveError::io(&mesh_path, &e))?;
     let rig_path = args.out.join("rig.ron");
     rig_file::save_rig(&rig_path, &imported.rig)?;
+    let marks_path = args.out.join("mesh.landmarks.ron");
+    let marks_note = match marks {
+        Ok(marks) => {
+            landmarks::save_landmarks(&marks_path, &Landmarks::Vertices(marks))?;
+            format!("wrote {} (68 landmarks)", marks_path.display())
+        }
+        Err(e) => format!("no landmarks written: {e}"),
+    };
     super::print(&format!(
-        "wrote {} ({} vertices, {} triangles) and {} ({} muscles{})\n",
+        "wrote {} ({} vertices, {} triangles) and {} ({} muscles{})\n{marks_note}\n",
         mesh_path.display(),
         imported.mesh.vertex_count(),
         imported.mesh.triangles.len(),
@@ -70,6 +89,6 @@ pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
             " and a jaw"
         } else {
             ""
-        }
+        },
     ))
 }

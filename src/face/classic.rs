@@ -28,6 +28,7 @@ use thiserror::Error;
 use super::rigs::{self, round3, rounded};
 use super::surface::smoothstep;
 use super::topology;
+use crate::fit::warp::Warp;
 use crate::model::{Convergence, Frame, Jaw, Mesh, Muscle, MuscleKind, Sheet, Side, Sphincter};
 
 /// Jaw rotation in degrees per unit of jaw activation on the classic face. The paper's 1
@@ -65,6 +66,11 @@ pub enum ClassicError {
         /// Front-view y.
         y: f32,
     },
+    /// The template's landmarks cannot be warped onto the found ones.
+    #[error(
+        "cannot carry the template's landmarks onto this face: the points found do not span it"
+    )]
+    Warp,
 }
 
 /// A slit-shaped hole of the mesh (the mouth or an eye), split into its two margins.
@@ -199,6 +205,101 @@ pub fn find_landmarks(mesh: &Mesh) -> Result<Landmarks, ClassicError> {
         top,
         deepest_z,
     })
+}
+
+/// The iBUG numbers of the points [`find_landmarks`] gives, in the order of [`found_ibug`]:
+/// the eye corners, the mouth corners, the middles of the inner lips and the chin.
+pub const FOUND_IBUG: [usize; 9] = [36, 39, 42, 45, 48, 54, 62, 66, 8];
+
+/// The vertices of the classic face at the iBUG points of [`FOUND_IBUG`]. iBUG's subject's
+/// right (36 to 41, 48) is at x < 0 in the glTF convention the import uses.
+pub fn found_ibug(mesh: &Mesh) -> Result<[u32; 9], ClassicError> {
+    let marks = find_landmarks(mesh)?;
+    let p = &mesh.positions;
+    let [r_out, r_in] = marks.right_eye.corners;
+    let [l_in, l_out] = marks.left_eye.corners;
+    let mouth = &marks.mouth;
+    let middle_x = 0.5 * (p[mouth.corners[0] as usize].x + p[mouth.corners[1] as usize].x);
+    let upper = Opening::nearest(&mouth.upper, p, middle_x)
+        .ok_or(ClassicError::Missing("the mouth has no upper lip"))?;
+    let lower = Opening::nearest(&mouth.lower, p, middle_x)
+        .ok_or(ClassicError::Missing("the mouth has no lower lip"))?;
+    // find_landmarks gives the chin as a point; it is the first vertex there.
+    let chin = p
+        .iter()
+        .position(|v| *v == marks.chin)
+        .ok_or(ClassicError::Missing("no vertex on the midline"))? as u32;
+    Ok([
+        r_out,
+        r_in,
+        l_in,
+        l_out,
+        mouth.corners[0],
+        mouth.corners[1],
+        upper,
+        lower,
+        chin,
+    ])
+}
+
+/// All 68 iBUG landmarks of the classic face as its vertex numbers, carried over from a
+/// template face (`template` with its 68 landmark vertices `template_marks`): the template is
+/// aligned and warped onto the classic face by the points of [`found_ibug`] (a similarity
+/// and a thin-plate spline, [`Warp`]), every template landmark is carried through the warp
+/// and snapped to the nearest classic vertex. The found points are kept exactly; the lids
+/// and inner lips snap to their own margin, so a point never lands on the wrong side of the
+/// closed mouth slit or an eye.
+pub fn ibug_landmarks(
+    mesh: &Mesh,
+    template: &Mesh,
+    template_marks: &[u32],
+) -> Result<Vec<u32>, ClassicError> {
+    let marks = find_landmarks(mesh)?;
+    let found = found_ibug(mesh)?;
+    let p = &mesh.positions;
+    let t = |i: usize| template.positions[template_marks[i] as usize];
+    let from: Vec<Vec3> = FOUND_IBUG.iter().map(|&i| t(i)).collect();
+    let to: Vec<Vec3> = found.iter().map(|&v| p[v as usize]).collect();
+    let warp = Warp::fit(&from, &to).ok_or(ClassicError::Warp)?;
+    let all: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
+    let with_corners = |o: &Opening, margin: &[u32]| {
+        let mut v = margin.to_vec();
+        v.extend(o.corners);
+        v
+    };
+    let margin = |i: usize| -> Vec<u32> {
+        match i {
+            37 | 38 => with_corners(&marks.right_eye, &marks.right_eye.upper),
+            40 | 41 => with_corners(&marks.right_eye, &marks.right_eye.lower),
+            43 | 44 => with_corners(&marks.left_eye, &marks.left_eye.upper),
+            46 | 47 => with_corners(&marks.left_eye, &marks.left_eye.lower),
+            61 | 63 => with_corners(&marks.mouth, &marks.mouth.upper),
+            65 | 67 => with_corners(&marks.mouth, &marks.mouth.lower),
+            // The classic mouth is a slit: its inner corners are its corners.
+            60 => vec![marks.mouth.corners[0]],
+            64 => vec![marks.mouth.corners[1]],
+            _ => all.clone(),
+        }
+    };
+    let landmarks = (0..template_marks.len())
+        .map(|i| match FOUND_IBUG.iter().position(|&f| f == i) {
+            Some(k) => found[k],
+            None => {
+                let q = warp.apply_f32(t(i));
+                let candidates = margin(i);
+                candidates
+                    .iter()
+                    .copied()
+                    .min_by(|&a, &b| {
+                        p[a as usize]
+                            .distance_squared(q)
+                            .total_cmp(&p[b as usize].distance_squared(q))
+                    })
+                    .unwrap_or(0)
+            }
+        })
+        .collect();
+    Ok(landmarks)
 }
 
 fn width((lo, hi): (Vec3, Vec3)) -> f32 {

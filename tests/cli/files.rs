@@ -35,7 +35,9 @@ fn import(shared: &Path, out: &Path) {
     assert_eq!(
         text(&result.stdout),
         format!(
-            "wrote {}/mesh.obj (478 vertices, 882 triangles) and {}/rig.ron (23 muscles and a jaw)\n",
+            "wrote {}/mesh.obj (478 vertices, 882 triangles) and {}/rig.ron (23 muscles and a jaw)\n\
+             wrote {}/mesh.landmarks.ron (68 landmarks)\n",
+            out.display(),
             out.display(),
             out.display()
         )

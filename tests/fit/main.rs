@@ -7,6 +7,7 @@
 mod common;
 
 mod au;
+mod classic;
 mod cli;
 mod parts;
 mod real;
