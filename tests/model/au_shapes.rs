@@ -108,6 +108,12 @@ impl Face {
             * MM
     }
 
+    /// The lips' gap at the middle (upper minus lower lip centre height, mm; negative when
+    /// the lower lip rises past the upper).
+    fn mouth_gap(&self, pose: &[Vec3]) -> f32 {
+        (pose[self.vertex("upper_lip_centre")].y - pose[self.vertex("lower_lip_centre")].y) * MM
+    }
+
     /// How far (mm) the lower lid margin rises above the upper one anywhere (0 if never).
     fn crossing(&self, pose: &[Vec3]) -> f32 {
         self.lid_pairs()
@@ -189,6 +195,22 @@ fn print_measurements() {
         );
         show(&format!("AU{au} left alare"), f.moved(&p, "left_alare"));
         show(&format!("AU{au} chin"), f.moved(&p, "chin"));
+        show(
+            &format!("AU{au} upper lip (left region)"),
+            f.region(&p, "upper_lip", Some(true)),
+        );
+        show(
+            &format!("AU{au} lower lip (left region)"),
+            f.region(&p, "lower_lip", Some(true)),
+        );
+    }
+    for au in ["0", "9", "10", "16", "17", "24"] {
+        let p = if au == "0" {
+            f.mesh.positions.clone()
+        } else {
+            f.combo(au)
+        };
+        println!("AU{au} mouth gap at the middle {:.2} mm", f.mouth_gap(&p));
     }
     for text in ["R12A+R14A", "R12B+R14B"] {
         let p = f.combo(text);
@@ -329,5 +351,99 @@ fn no_au_flips_a_triangle_at_full_intensity() {
     for k in f.table.aus.keys() {
         let p = f.combo(&k.to_string());
         assert_eq!(f.flips(&p), 0, "AU{k} flips triangles");
+    }
+}
+
+/// Asserts a displacement (mm) is within `tol` mm of its golden value in every coordinate.
+fn golden(label: &str, got: Vec3, want: [f32; 3], tol: f32) {
+    let want = Vec3::from(want);
+    assert!(
+        (got - want).abs().max_element() <= tol,
+        "{label}: {got} mm, golden {want} mm"
+    );
+}
+
+#[test]
+fn the_lip_aus_move_the_middle_of_their_lip() {
+    let f = face();
+    // AU10: the whole upper lip rises, its middle more than the corner; the lower lip stays
+    // and the lips part
+    let p = f.combo("10");
+    golden(
+        "AU10 upper lip centre",
+        f.moved(&p, "upper_lip_centre"),
+        [0.0, 6.02, -1.80],
+        0.3,
+    );
+    golden(
+        "AU10 upper lip (left)",
+        f.region(&p, "upper_lip", Some(true)),
+        [1.94, 6.82, -2.11],
+        0.3,
+    );
+    golden(
+        "AU10 lower lip centre",
+        f.moved(&p, "lower_lip_centre"),
+        [0.0, 0.0, 0.0],
+        0.05,
+    );
+    // AU9: the ala rises (hardly flaring) and takes the upper lip up with it
+    let p = f.combo("9");
+    golden(
+        "AU9 left alare",
+        f.moved(&p, "left_alare"),
+        [0.41, 7.40, -3.35],
+        0.3,
+    );
+    golden(
+        "AU9 upper lip centre",
+        f.moved(&p, "upper_lip_centre"),
+        [0.0, 3.24, -0.97],
+        0.3,
+    );
+    // AU16: the lower lip's middle drops; the upper lip stays
+    let p = f.combo("16");
+    golden(
+        "AU16 lower lip centre",
+        f.moved(&p, "lower_lip_centre"),
+        [0.0, -5.58, -2.14],
+        0.3,
+    );
+    golden(
+        "AU16 lower lip (left)",
+        f.region(&p, "lower_lip", Some(true)),
+        [0.05, -5.38, -2.38],
+        0.3,
+    );
+    golden(
+        "AU16 upper lip centre",
+        f.moved(&p, "upper_lip_centre"),
+        [0.0, 0.0, 0.0],
+        0.05,
+    );
+    // AU17: the chin boss rises and comes forward, the lower lip is pushed up against the
+    // upper one and out
+    let p = f.combo("17");
+    golden("AU17 chin", f.moved(&p, "chin"), [0.0, 5.97, 2.09], 0.3);
+    golden(
+        "AU17 lower lip centre",
+        f.moved(&p, "lower_lip_centre"),
+        [0.0, 0.61, 1.08],
+        0.2,
+    );
+    golden(
+        "AU17 lower lip (left)",
+        f.region(&p, "lower_lip", Some(true)),
+        [-0.50, 1.63, 1.51],
+        0.3,
+    );
+    // no lip AU pushes the lower lip through the upper one
+    for au in ["9", "10", "16", "17", "24"] {
+        let p = f.combo(au);
+        assert!(
+            f.mouth_gap(&p) >= -0.05,
+            "AU{au}: lips cross by {} mm",
+            -f.mouth_gap(&p)
+        );
     }
 }
