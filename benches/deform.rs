@@ -19,8 +19,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use grimace::model::field::muscle_displacement;
 use grimace::model::{
-    Activations, BoundRig, Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet,
-    Side, Sphincter, RIG_VERSION,
+    Activations, BoundRig, Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig,
+    Sheet, Side, Sphincter, RIG_VERSION,
 };
 
 fn golden_dir() -> PathBuf {
@@ -128,6 +128,7 @@ fn extra_muscles() -> Vec<Muscle> {
         semi_minor: 0.7,
         convergence: Convergence::MajorAxis,
         bulge: 30.0,
+        frame: Frame::IDENTITY,
     };
     vec![
         muscle("L_Frontalis_Sheet", MuscleKind::Sheet(sheet(-1.0))),
@@ -140,6 +141,7 @@ fn extra_muscles() -> Vec<Muscle> {
                 semi_minor: 0.8,
                 convergence: Convergence::Centre,
                 bulge: 10.0,
+                frame: Frame::IDENTITY,
             }),
         ),
         muscle("L_Orbicularis_Oculi", MuscleKind::Sphincter(eye(-1.0))),

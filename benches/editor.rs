@@ -1,7 +1,7 @@
 //! The editor's frame: one fine-step key press (update, incremental deformation, render of
 //! the face, the ratatui buffer diff written through the real crossterm backend into a
 //! counting writer) at 200x60 and 80x24, a selection move (the face's picture is reused), and
-//! start to first frame (load the built-in face, bind the rig, draw once).
+//! a fine move in rig mode at 200x60 (the zone overlay drawn), start to first frame (load the built-in face, bind the rig, draw once).
 //!
 //! Run: `cargo bench --bench editor -- --warm-up-time 1 --measurement-time 3`
 
@@ -12,6 +12,7 @@ use std::sync::Arc;
 use criterion::{criterion_group, criterion_main, Criterion};
 use grimace::tui::action::Action;
 use grimace::tui::app::{App, ColorMode};
+use grimace::tui::rig::RigAction;
 use grimace::tui::scene::Scene;
 use grimace::tui::update::update;
 use ratatui::backend::CrosstermBackend;
@@ -78,6 +79,26 @@ fn frames(c: &mut Criterion) {
             })
         });
     }
+    // Rig mode: a fine move of the selected muscle's attachment (the rig checked and bound
+    // again, the face deformed with the muscle held, drawn with the zone overlay).
+    let mut term = terminal(200, 60);
+    let mut rig_app = app(200, 60);
+    let mut cache = Default::default();
+    update(&mut rig_app, Action::Rig(RigAction::Toggle));
+    grimace::tui::draw(&mut term, &rig_app, &mut cache).unwrap();
+    let mut flip = 1;
+    c.bench_function("rig_move_frame_200x60", |b| {
+        b.iter(|| {
+            flip = -flip;
+            let action = RigAction::Move {
+                right: flip,
+                up: 0,
+                coarse: false,
+            };
+            update(&mut rig_app, Action::Rig(action));
+            grimace::tui::draw(&mut term, &rig_app, &mut cache).unwrap();
+        })
+    });
     c.bench_function("start_to_first_frame_200x60", |b| {
         b.iter(|| {
             let mut term = terminal(200, 60);

@@ -46,6 +46,25 @@ pub struct EditArgs {
     /// Braille, half-block or ASCII cells.
     #[command(flatten)]
     pub cells: super::CellsArgs,
+    /// Colours: auto (from NO_COLOR, TERM, COLORTERM and the terminal's name), truecolor,
+    /// 256, 16 or none. Over SSH COLORTERM is often lost; set this to what the terminal has.
+    #[arg(long, value_name = "MODE", default_value = "auto", value_parser = parse_colors)]
+    pub colors: ColorsChoice,
+}
+
+/// `--colors`: a colour mode, or `None` for auto (detected from the environment).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ColorsChoice(pub Option<ColorMode>);
+
+/// Parses `--colors`: `auto` or a mode's name.
+fn parse_colors(text: &str) -> Result<ColorsChoice, String> {
+    match text.trim().to_ascii_lowercase().as_str() {
+        "auto" => Ok(ColorsChoice(None)),
+        other => other
+            .parse()
+            .map(|mode| ColorsChoice(Some(mode)))
+            .map_err(|e: String| e.replace("(expected", "(expected auto,")),
+    }
 }
 
 /// Runs the editor.
@@ -70,7 +89,7 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         (Some(_), None) => (new_table(args.rig.as_deref()), None, true),
         (None, None) => (builtin_table()?, None, false),
     };
-    let (rig, mesh, notice) = load_face(args, &table, &table_path)?;
+    let (rig, mesh, notice, rig_path) = load_face(args, &table, &table_path)?;
     if let Some(loaded) = &loaded {
         crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
@@ -78,8 +97,11 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     let scene = Scene::new(rig, mesh)?;
     let mut app = App::new(scene, table, args.file.clone());
     app.doc.file_stamp = stamp;
+    // Rig mode's `:w` writes the rig file back; the stamp notices changes made meanwhile.
+    let rig_bytes = rig_path.as_deref().and_then(|p| std::fs::read(p).ok());
+    app.rig_edit = crate::tui::rig::RigEdit::for_file(rig_path, rig_bytes.as_deref());
     app.view = View::new(args.cells.mode());
-    app.view.colors = ColorMode::from_env();
+    app.view.colors = args.colors.0.unwrap_or_else(ColorMode::from_env);
     if new_file {
         if let Some(path) = &args.file {
             app.info(format!(
@@ -131,7 +153,8 @@ fn offer_recovery(app: &mut App, path: &Path) -> bool {
                 return false;
             }
             let activations = state.activations(app.rig());
-            if activations == app.doc.activations && state.table == app.doc.table {
+            let rig = state.rig.filter(|rig| rig != app.rig());
+            if activations == app.doc.activations && state.table == app.doc.table && rig.is_none() {
                 // Nothing that differs from what is on disk: nothing to offer.
                 let _ = recovery::remove(path);
                 return true;
@@ -141,6 +164,7 @@ fn offer_recovery(app: &mut App, path: &Path) -> bool {
                 table: state.table,
                 when: describe_age(state.written_at),
                 base: state.base.map(|(len, hash)| FileStamp { len, hash }),
+                rig,
             })));
         }
         Ok(None) => {}
@@ -208,18 +232,18 @@ pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
     Ok((loaded.rig, loaded.mesh, builtin_table()?))
 }
 
+/// The rig, its mesh, what loading it did, and its file (`None` when built in).
+type FaceParts = (Rig, Mesh, Option<String>, Option<PathBuf>);
+
 /// The rig and mesh to edit with: `--rig` (a file or `builtin:NAME`) if given, else the
 /// table's rig; `--mesh` replaces the rig's mesh. Also what loading an older rig file did
 /// (see [`crate::io::LoadedRig::notice`]), for the status line.
-fn load_face(
-    args: &EditArgs,
-    table: &AuTable,
-    table_path: &Path,
-) -> Result<(Rig, Mesh, Option<String>), String> {
+fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<FaceParts, String> {
     let reference = match &args.rig {
         Some(rig) => rig.clone(),
         None => rig_ref(table_path, &table.rig).to_path(),
     };
     let loaded = load_rig_ref(&reference, args.mesh.as_deref()).map_err(|e| e.to_string())?;
-    Ok((loaded.rig, loaded.mesh, loaded.notice))
+    let file = (!reference.to_string_lossy().starts_with("builtin:")).then_some(reference);
+    Ok((loaded.rig, loaded.mesh, loaded.notice, file))
 }

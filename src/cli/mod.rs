@@ -60,6 +60,7 @@ impl EditorOptions {
             rig: self.rig.clone(),
             mesh: self.mesh.clone(),
             cells: self.cells,
+            colors: edit::ColorsChoice(None),
         }
     }
 }

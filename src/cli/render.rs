@@ -70,9 +70,10 @@ pub struct RenderArgs {
     /// File format for --all.
     #[arg(long, value_enum, default_value = "svg", requires = "all")]
     pub format: Format,
-    /// How the surface is drawn.
-    #[arg(long, default_value = "lines", value_parser = parse_style)]
-    pub style: Style,
+    /// How the surface is drawn: lines, shaded or wireframe. By default, what reads best in
+    /// each format: feature lines for text, shaded for PNG, shaded under feature lines for SVG.
+    #[arg(long, value_parser = parse_style)]
+    pub style: Option<Style>,
     /// The preset view.
     #[arg(long, value_enum, default_value = "front")]
     pub view: View,
@@ -126,7 +127,8 @@ const MAX_CELLS: usize = 2000;
 /// Everything about how to draw, shared by every picture of a run.
 struct Look {
     camera: Camera,
-    style: Style,
+    /// The style asked for; `None`: each format's own (see [`Look::style_for`]).
+    style: Option<Style>,
     mode: CellMode,
     colors: ColorMode,
     overlays: Vec<Overlay>,
@@ -164,6 +166,15 @@ impl Look {
             overlays,
             ghost: args.ghost,
             displacement: args.displacement,
+        })
+    }
+
+    /// The style for a format: the one asked for, else feature lines for text and shaded
+    /// for images (the SVG adds feature lines over the shading).
+    fn style_for(&self, format: Format) -> Style {
+        self.style.unwrap_or(match format {
+            Format::Txt => Style::Lines,
+            Format::Svg | Format::Png => Style::Shaded,
         })
     }
 
@@ -239,13 +250,15 @@ fn picture(
     Ok(match format {
         Format::Txt => {
             let mut canvas = look.mode.canvas(w, h);
-            renderer.render(&scene, &look.camera, look.style, &mut canvas);
+            renderer.render(&scene, &look.camera, look.style_for(format), &mut canvas);
             let mut grid = CellGrid::default();
             grid.fill(&canvas, look.mode, colors);
             to_ansi(&grid, colors).into_bytes()
         }
-        Format::Svg => svg::render_svg(&scene, &look.camera, look.style, w, h).into_bytes(),
-        Format::Png => png::render_png(&scene, &look.camera, look.style, w, h)?,
+        Format::Svg => {
+            svg::render_svg(&scene, &look.camera, look.style_for(format), w, h).into_bytes()
+        }
+        Format::Png => png::render_png(&scene, &look.camera, look.style_for(format), w, h)?,
     })
 }
 

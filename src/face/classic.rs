@@ -28,7 +28,7 @@ use thiserror::Error;
 use super::rigs::{self, round3, rounded};
 use super::surface::smoothstep;
 use super::topology;
-use crate::model::{Convergence, Jaw, Mesh, Muscle, MuscleKind, Sheet, Side, Sphincter};
+use crate::model::{Convergence, Frame, Jaw, Mesh, Muscle, MuscleKind, Sheet, Side, Sphincter};
 
 /// Jaw rotation in degrees per unit of jaw activation on the classic face. The paper's 1
 /// degree per unit (K in 0..4 degrees) opens the classic mouth by about 0.6 units (6 mm at the
@@ -400,6 +400,7 @@ fn orbicularis_oris(marks: &Landmarks, mesh: &Mesh) -> Result<Muscle, ClassicErr
             semi_minor: round3(semi_minor),
             convergence: Convergence::Centre,
             bulge: 10.0,
+            frame: Frame::IDENTITY,
         }),
     })
 }

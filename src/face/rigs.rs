@@ -13,7 +13,7 @@ use thiserror::Error;
 use super::anthropometry::*;
 use super::surface;
 use crate::model::{
-    Convergence, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
+    Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
     RIG_VERSION,
 };
 
@@ -415,6 +415,7 @@ impl Placer<'_> {
                 semi_minor: round3(units(10.0) as f32),
                 convergence: Convergence::Centre,
                 bulge: 10.0,
+                frame: Frame::IDENTITY,
             }),
         })
     }
@@ -478,6 +479,7 @@ impl Placer<'_> {
             semi_minor: round3(semi_minor),
             convergence: Convergence::MajorAxis,
             bulge: 30.0,
+            frame: Frame::IDENTITY,
         };
         for muscle in &mut rig.muscles {
             let left = muscle.name == "L_Orbicularis_Oculi";
@@ -752,6 +754,7 @@ pub(crate) fn eye_sphincters(
         semi_minor: round3(semi_minor),
         convergence: Convergence::MajorAxis,
         bulge: 30.0,
+        frame: Frame::IDENTITY,
     };
     let right = Sphincter {
         centre: mirror(centre),

@@ -15,7 +15,7 @@ use super::landmarks::{FaceFrame, LandmarkError, Landmarks};
 use super::parts::{find_parts, Part, PartOverrides, Parts};
 use super::regions::{Opening, Side};
 use super::warp::Warp;
-use crate::model::{Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Sphincter};
+use crate::model::{Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Sphincter};
 
 /// A rig with the mesh it is placed on and that mesh's landmarks: what a fit starts from.
 #[derive(Debug, Clone, Copy)]
@@ -198,12 +198,14 @@ fn carry(kind: &MuscleKind, warp: &Warp) -> (MuscleKind, f64) {
         MuscleKind::Sphincter(m) => {
             let c = m.centre.as_dvec3();
             let j = warp.jacobian(c);
-            let (u, v) = (j * DVec3::X, j * DVec3::Y);
+            let axes = m.frame.rotation().unwrap_or(DMat3::IDENTITY);
+            let (u, v) = (j * axes.x_axis, j * axes.y_axis);
             (
                 MuscleKind::Sphincter(Sphincter {
                     centre: map(m.centre),
                     semi_major: (f64::from(m.semi_major) * u.length()) as f32,
                     semi_minor: (f64::from(m.semi_minor) * v.length()) as f32,
+                    frame: carry_frame(u, v),
                     ..m.clone()
                 }),
                 warp.local_scale(c),
@@ -240,6 +242,25 @@ fn carry_jaw(
         degrees_per_unit: jaw.degrees_per_unit,
         weights,
         axis,
+    }
+}
+
+/// A sphincter's frame through the warp from its axes carried by the warp's local linear part
+/// (`u`, `v`): `u` normalised, `v` made perpendicular to it, each snapped to a coordinate axis
+/// within rounding, so that a rig fitted to a face in the template's axes keeps the mesh's
+/// own frame. A warp that flattens the ellipse (never for a fit that passed its checks) keeps
+/// the mesh's axes.
+fn carry_frame(u: DVec3, v: DVec3) -> Frame {
+    let x = u.normalize_or_zero();
+    let y = (v - x * x.dot(v)).normalize_or_zero();
+    let frame = Frame {
+        x: snap_axis(x.as_vec3()),
+        y: snap_axis(y.as_vec3()),
+    };
+    if frame.check().is_ok() {
+        frame
+    } else {
+        Frame::IDENTITY
     }
 }
 

@@ -48,6 +48,9 @@ pub struct RecoveryState {
     /// before replacing a file that no longer matches.
     #[serde(default)]
     pub base: Option<(u64, u64)>,
+    /// The rig as edited in rig mode, when it differs from its file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rig: Option<Rig>,
 }
 
 impl RecoveryState {
@@ -74,6 +77,7 @@ impl RecoveryState {
             table: table.clone(),
             pid: Some(std::process::id()),
             base: None,
+            rig: None,
         }
     }
 
@@ -215,6 +219,7 @@ mod tests {
             table: table(),
             pid: Some(7),
             base: Some((12, 34)),
+            rig: None,
         };
         write(&path, &state).unwrap();
         assert_eq!(read(&path).unwrap(), Some(state));

@@ -13,7 +13,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use glam::{DVec3, Vec3};
+use glam::{DMat3, DVec3, Vec3};
 
 use super::deform::BindError;
 use super::muscle::{Convergence, Linear, Muscle, MuscleKind, Sheet, Sphincter};
@@ -85,9 +85,10 @@ pub fn linear_displacement(muscle: &Linear, p: Vec3, activation: f32) -> Vec3 {
 }
 
 /// Displacement of the rest point `p` by a sphincter at `activation`: toward the centre for
-/// the mouth, toward the major axis for an eye, plus the z bulge (MODEL-NOTES sections 2, 3).
+/// the mouth, toward the major axis for an eye, plus the bulge out of the face (MODEL-NOTES
+/// sections 2, 3), all in the sphincter's frame.
 pub fn sphincter_displacement(muscle: &Sphincter, p: Vec3, activation: f32) -> Vec3 {
-    SphincterShape::new(muscle).unit_displacement(p) * activation
+    Shape::sphincter(muscle).unit_displacement(p) * activation
 }
 
 /// Displacement of the rest point `p` by a sheet muscle at `activation`
@@ -106,8 +107,10 @@ pub fn muscle_displacement(kind: &MuscleKind, p: Vec3, activation: f32) -> Vec3 
 pub enum Shape {
     /// A linear muscle.
     Linear(LinearShape),
-    /// A sphincter.
+    /// A sphincter in the mesh's own axes.
     Sphincter(SphincterShape),
+    /// A sphincter with a frame of its own.
+    FramedSphincter(FramedSphincter),
     /// A sheet muscle.
     Sheet(SheetShape),
 }
@@ -117,8 +120,21 @@ impl Shape {
     pub fn new(kind: &MuscleKind) -> Shape {
         match kind {
             MuscleKind::Linear(m) => Shape::Linear(LinearShape::new(m)),
-            MuscleKind::Sphincter(m) => Shape::Sphincter(SphincterShape::new(m)),
+            MuscleKind::Sphincter(m) => Shape::sphincter(m),
             MuscleKind::Sheet(m) => Shape::Sheet(SheetShape::new(m)),
+        }
+    }
+
+    /// Prepares a sphincter: in the mesh's own axes when its frame is those (so such rigs
+    /// compute exactly what they did before frames existed), else in its frame.
+    pub fn sphincter(m: &Sphincter) -> Shape {
+        match m.frame.rotation() {
+            Some(rotation) if !m.frame.is_identity() => Shape::FramedSphincter(FramedSphincter {
+                shape: SphincterShape::new(m),
+                centre: m.centre.as_dvec3(),
+                rotation,
+            }),
+            _ => Shape::Sphincter(SphincterShape::new(m)),
         }
     }
 
@@ -127,6 +143,7 @@ impl Shape {
         match self {
             Shape::Linear(s) => s.unit_displacement(p),
             Shape::Sphincter(s) => s.unit_displacement(p),
+            Shape::FramedSphincter(s) => s.unit_displacement(p),
             Shape::Sheet(s) => s.unit_displacement(p),
         }
     }
@@ -256,6 +273,26 @@ impl SphincterShape {
         }
         let g = py.abs() / self.ly;
         (0.0, -f * g * py.signum())
+    }
+}
+
+/// A sphincter with a frame of its own: the rest point is expressed in the frame (about the
+/// centre), the sphincter of the mesh's own axes moves it, and the displacement is turned
+/// back, so that the ellipse lies in the frame's x-y plane and bulges along its z.
+#[derive(Debug, Clone)]
+pub struct FramedSphincter {
+    shape: SphincterShape,
+    centre: DVec3,
+    /// Columns: the frame's unit x, y and z in mesh coordinates.
+    rotation: DMat3,
+}
+
+impl FramedSphincter {
+    /// Displacement of `p` per unit activation: `R d(Rᵀ (p - c) + c)`.
+    pub fn unit_displacement(&self, p: Vec3) -> Vec3 {
+        let local = self.centre + self.rotation.transpose() * (p.as_dvec3() - self.centre);
+        let d = self.shape.unit_displacement(local.as_vec3());
+        (self.rotation * d.as_dvec3()).as_vec3()
     }
 }
 
@@ -402,6 +439,7 @@ pub fn validate_muscle(muscle: &Muscle) -> Result<(), BindError> {
         }
         MuscleKind::Sphincter(m) => {
             finite("centre", m.centre)?;
+            m.frame.check().map_err(|message| bad("frame", message))?;
             for (parameter, v) in [
                 ("semi_major", m.semi_major),
                 ("semi_minor", m.semi_minor),
@@ -461,7 +499,7 @@ mod tests {
     //! Hand-computed examples (MODEL-NOTES sections 1-4); the arithmetic is in the comments.
 
     use super::*;
-    use crate::model::muscle::Side;
+    use crate::model::muscle::{Frame, Side};
 
     fn close(got: Vec3, want: [f32; 3]) {
         let want = Vec3::from(want);
@@ -555,6 +593,7 @@ mod tests {
             semi_minor: 1.0,
             convergence,
             bulge,
+            frame: Frame::IDENTITY,
         }
     }
 

@@ -15,5 +15,5 @@ pub use deform::{deform, BindError, BoundRig};
 pub use field::Field;
 pub use jaw::Jaw;
 pub use mesh::{Mesh, MeshError};
-pub use muscle::{Convergence, Linear, Muscle, MuscleKind, Sheet, Side, Sphincter};
+pub use muscle::{Convergence, Frame, Linear, Muscle, MuscleKind, Sheet, Side, Sphincter};
 pub use rig::{Combine, Mask, Rig, RIG_VERSION};

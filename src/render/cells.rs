@@ -76,24 +76,73 @@ pub enum ColorMode {
     None,
     /// The 16 ANSI colours; every colour is snapped to the nearest of [`ANSI16`].
     Ansi16,
+    /// The xterm 256-colour palette: greys are drawn from its 24-step grey ramp with ordered
+    /// dithering between neighbouring steps, other colours snapped to its 6x6x6 cube.
+    Ansi256,
     /// 24-bit colour.
     #[default]
     TrueColor,
 }
 
 impl ColorMode {
-    /// What a terminal can show, from the environment as most terminal programs read it:
-    /// none under `NO_COLOR` or `TERM=dumb`, 24-bit under `COLORTERM=truecolor` (or `24bit`),
-    /// else the 16 ANSI colours.
+    /// What a terminal can show, from the environment (see [`ColorMode::detect`]).
     pub fn from_env() -> ColorMode {
-        if std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty())
-            || std::env::var("TERM").is_ok_and(|t| t == "dumb")
-        {
+        let var = |name: &str| std::env::var(name).unwrap_or_default();
+        ColorMode::detect(
+            std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()),
+            &var("TERM"),
+            &var("COLORTERM"),
+            &var("TERM_PROGRAM"),
+        )
+    }
+
+    /// What a terminal can show, as most terminal programs read it: none under `NO_COLOR` or
+    /// `TERM=dumb`; 24-bit under `COLORTERM=truecolor` (or `24bit`), a `TERM` ending in
+    /// `-direct`, or a terminal known to have it (kitty, WezTerm, iTerm2, Alacritty, foot,
+    /// Ghostty, VS Code); 256 colours for a `TERM` naming `256color`; else 16. `COLORTERM` is
+    /// often dropped over SSH, hence the other signs.
+    pub fn detect(no_color: bool, term: &str, colorterm: &str, term_program: &str) -> ColorMode {
+        const TRUECOLOR_TERMS: &[&str] = &["kitty", "wezterm", "alacritty", "foot", "ghostty"];
+        const TRUECOLOR_PROGRAMS: &[&str] = &["iTerm.app", "WezTerm", "vscode", "ghostty"];
+        if no_color || term == "dumb" {
             return ColorMode::None;
         }
-        match std::env::var("COLORTERM").as_deref() {
-            Ok("truecolor") | Ok("24bit") => ColorMode::TrueColor,
-            _ => ColorMode::Ansi16,
+        if matches!(colorterm, "truecolor" | "24bit")
+            || term.ends_with("-direct")
+            || TRUECOLOR_TERMS.iter().any(|t| term.contains(t))
+            || TRUECOLOR_PROGRAMS.contains(&term_program)
+        {
+            ColorMode::TrueColor
+        } else if term.contains("256color") {
+            ColorMode::Ansi256
+        } else {
+            ColorMode::Ansi16
+        }
+    }
+
+    /// The name shown on the status line and accepted by `--colors`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ColorMode::None => "none",
+            ColorMode::Ansi16 => "16",
+            ColorMode::Ansi256 => "256",
+            ColorMode::TrueColor => "truecolor",
+        }
+    }
+}
+
+impl FromStr for ColorMode {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<ColorMode, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "none" | "no" | "never" => Ok(ColorMode::None),
+            "16" => Ok(ColorMode::Ansi16),
+            "256" => Ok(ColorMode::Ansi256),
+            "truecolor" | "24bit" => Ok(ColorMode::TrueColor),
+            other => Err(format!(
+                "unknown colour mode `{other}` (expected truecolor, 256, 16 or none)"
+            )),
         }
     }
 }
@@ -188,8 +237,8 @@ impl CellGrid {
             for col in c0..c1 {
                 let top = row * 2 * cw + col;
                 let bottom = top + cw;
-                let t = on[top].then_some(color[top]);
-                let b = on[bottom].then_some(color[bottom]);
+                let t = on[top].then(|| dither_256(color[top], col, row * 2, colors));
+                let b = on[bottom].then(|| dither_256(color[bottom], col, row * 2 + 1, colors));
                 self.cells[row * cols + col] = half_block(t, b, colors);
             }
         }
@@ -446,6 +495,72 @@ pub const ANSI16: [Rgb; 16] = [
     Rgb(255, 255, 255),
 ];
 
+/// A 4x4 ordered-dither (Bayer) matrix, thresholds 0..16.
+const BAYER: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+
+/// The grey levels of the 256-colour palette, dark to light: black (16), the 24-step ramp
+/// (232-255: 8, 18, ... 238) and white (231).
+fn grey_levels() -> [u8; 26] {
+    let mut levels = [0u8; 26];
+    for (k, level) in levels.iter_mut().enumerate().skip(1).take(24) {
+        *level = 8 + 10 * (k as u8 - 1);
+    }
+    levels[25] = 255;
+    levels
+}
+
+/// In 256-colour mode, a grey at dot (x, y) as one of the two palette greys around it,
+/// chosen by ordered dithering so areas average to the true level; other colours and modes
+/// pass through (reduced later).
+pub fn dither_256(c: Rgb, x: usize, y: usize, colors: ColorMode) -> Rgb {
+    if colors != ColorMode::Ansi256 || !(c.0 == c.1 && c.1 == c.2) {
+        return c;
+    }
+    let levels = grey_levels();
+    let v = c.0;
+    let i = levels.iter().rposition(|&l| l <= v).unwrap_or(0).min(24);
+    let (lo, hi) = (levels[i], levels[i + 1]);
+    let frac = f32::from(v - lo) / f32::from(hi - lo);
+    let level = if frac * 16.0 > f32::from(BAYER[y & 3][x & 3]) + 0.5 {
+        hi
+    } else {
+        lo
+    };
+    Rgb(level, level, level)
+}
+
+/// The colour of index `i` (16-255) of the xterm 256-colour palette.
+pub fn ansi256_rgb(i: u8) -> Rgb {
+    const STEPS: [u8; 6] = [0, 95, 135, 175, 215, 255];
+    match i {
+        0..=15 => ANSI16[i as usize],
+        16..=231 => {
+            let k = i - 16;
+            Rgb(
+                STEPS[(k / 36) as usize],
+                STEPS[(k / 6 % 6) as usize],
+                STEPS[(k % 6) as usize],
+            )
+        }
+        _ => {
+            let l = 8 + 10 * (i - 232);
+            Rgb(l, l, l)
+        }
+    }
+}
+
+/// The index (16-255) of the 256-colour palette entry nearest to `c` (the 6x6x6 cube and the
+/// grey ramp; the first 16 are left out, as terminals redefine them).
+pub fn nearest_ansi256(c: Rgb) -> u8 {
+    let dist = |p: Rgb| {
+        let d = |a: u8, b: u8| (a as i32 - b as i32).pow(2);
+        2 * d(c.0, p.0) + 4 * d(c.1, p.1) + 3 * d(c.2, p.2)
+    };
+    (16..=255u8)
+        .min_by_key(|&i| dist(ansi256_rgb(i)))
+        .unwrap_or(231)
+}
+
 /// The index (0-15) of the ANSI colour nearest to `c` (squared distance, weighted toward
 /// green as the eye is).
 pub fn nearest_ansi16(c: Rgb) -> u8 {
@@ -463,6 +578,7 @@ pub fn reduce(c: Rgb, colors: ColorMode) -> Option<Rgb> {
     match colors {
         ColorMode::None => None,
         ColorMode::Ansi16 => Some(ANSI16[nearest_ansi16(c) as usize]),
+        ColorMode::Ansi256 => Some(ansi256_rgb(nearest_ansi256(c))),
         ColorMode::TrueColor => Some(c),
     }
 }
@@ -527,9 +643,106 @@ fn push_sgr(out: &mut String, c: Rgb, colors: ColorMode, background: bool) {
             };
             let _ = write!(out, "\x1b[{}m", base + i as u32);
         }
+        ColorMode::Ansi256 => {
+            let code = if background { 48 } else { 38 };
+            let _ = write!(out, "\x1b[{code};5;{}m", nearest_ansi256(c));
+        }
         ColorMode::TrueColor => {
             let code = if background { 48 } else { 38 };
             let _ = write!(out, "\x1b[{code};2;{};{};{}m", c.0, c.1, c.2);
         }
+    }
+}
+
+#[cfg(test)]
+mod color_mode_tests {
+    use super::*;
+
+    #[test]
+    fn detection_reads_colorterm_direct_terms_known_terminals_and_256color() {
+        let d = ColorMode::detect;
+        assert_eq!(d(true, "xterm-256color", "truecolor", ""), ColorMode::None);
+        assert_eq!(d(false, "dumb", "truecolor", ""), ColorMode::None);
+        assert_eq!(d(false, "xterm", "truecolor", ""), ColorMode::TrueColor);
+        assert_eq!(d(false, "xterm", "24bit", ""), ColorMode::TrueColor);
+        assert_eq!(d(false, "xterm-direct", "", ""), ColorMode::TrueColor);
+        assert_eq!(d(false, "xterm-kitty", "", ""), ColorMode::TrueColor);
+        assert_eq!(d(false, "alacritty", "", ""), ColorMode::TrueColor);
+        assert_eq!(
+            d(false, "xterm-256color", "", "iTerm.app"),
+            ColorMode::TrueColor
+        );
+        assert_eq!(d(false, "xterm-256color", "", ""), ColorMode::Ansi256);
+        assert_eq!(d(false, "screen-256color", "", ""), ColorMode::Ansi256);
+        assert_eq!(d(false, "xterm", "", ""), ColorMode::Ansi16);
+        assert_eq!(d(false, "", "", ""), ColorMode::Ansi16);
+    }
+
+    #[test]
+    fn names_parse_back() {
+        for mode in [
+            ColorMode::None,
+            ColorMode::Ansi16,
+            ColorMode::Ansi256,
+            ColorMode::TrueColor,
+        ] {
+            assert_eq!(mode.name().parse::<ColorMode>(), Ok(mode));
+        }
+        assert!("257".parse::<ColorMode>().unwrap_err().contains("`257`"));
+    }
+
+    #[test]
+    fn the_palette_round_trips_and_greys_land_on_the_ramp() {
+        for i in 16..=255u8 {
+            assert_eq!(nearest_ansi256(ansi256_rgb(i)), i, "index {i}");
+        }
+        assert_eq!(nearest_ansi256(Rgb(128, 128, 128)), 244);
+        assert_eq!(ansi256_rgb(244), Rgb(128, 128, 128));
+        assert_eq!(ansi256_rgb(196), Rgb(255, 0, 0));
+    }
+
+    #[test]
+    fn dithered_greys_average_to_the_true_level_on_every_4x4_tile() {
+        for v in 0..=255u8 {
+            let grey = Rgb(v, v, v);
+            let mut sum = 0.0;
+            let mut levels = std::collections::BTreeSet::new();
+            for y in 0..4 {
+                for x in 0..4 {
+                    let d = dither_256(grey, x, y, ColorMode::Ansi256);
+                    assert_eq!(
+                        reduce(d, ColorMode::Ansi256),
+                        Some(d),
+                        "{d:?} is a palette grey"
+                    );
+                    sum += f32::from(d.0);
+                    levels.insert(d.0);
+                }
+            }
+            assert!(levels.len() <= 2, "{v}: {levels:?}");
+            // Steps are at most 17 apart; sixteen thresholds leave at most a sixteenth off.
+            assert!(
+                (sum / 16.0 - f32::from(v)).abs() <= 17.0 / 16.0 + 0.5,
+                "{v}: {}",
+                sum / 16.0
+            );
+        }
+        // Colours and other modes pass through.
+        assert_eq!(
+            dither_256(Rgb(200, 40, 40), 1, 1, ColorMode::Ansi256),
+            Rgb(200, 40, 40)
+        );
+        assert_eq!(
+            dither_256(Rgb(77, 77, 77), 1, 1, ColorMode::TrueColor),
+            Rgb(77, 77, 77)
+        );
+    }
+
+    #[test]
+    fn sgr_codes_in_256_colours() {
+        let mut out = String::new();
+        push_sgr(&mut out, Rgb(128, 128, 128), ColorMode::Ansi256, false);
+        push_sgr(&mut out, Rgb(255, 0, 0), ColorMode::Ansi256, true);
+        assert_eq!(out, "\x1b[38;5;244m\x1b[48;5;196m");
     }
 }

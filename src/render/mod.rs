@@ -85,8 +85,8 @@ pub mod svg;
 pub use camera::{Camera, Projection};
 pub use canvas::{DotCanvas, Layer, Rgb};
 pub use cells::{
-    ascii_char, braille_bit, braille_char, nearest_ansi16, reduce, to_ansi, to_text, Cell,
-    CellGrid, CellMode, ColorMode, ANSI16,
+    ansi256_rgb, ascii_char, braille_bit, braille_char, dither_256, nearest_ansi16,
+    nearest_ansi256, reduce, to_ansi, to_text, Cell, CellGrid, CellMode, ColorMode, ANSI16,
 };
 pub use raster::{render, LitTriangle, Renderer, Run};
 pub use scene::{

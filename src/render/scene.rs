@@ -124,14 +124,14 @@ pub enum Shape {
         /// End (the insertion).
         to: Vec3,
     },
-    /// An ellipse in the x-y plane (a sphincter).
+    /// An ellipse (a sphincter), in the plane of its two semi-axes.
     Ellipse {
         /// Centre.
         centre: Vec3,
-        /// Semi-axis along x.
-        semi_x: f32,
-        /// Semi-axis along y.
-        semi_y: f32,
+        /// The semi-major axis, as a vector from the centre.
+        semi_x: Vec3,
+        /// The semi-minor axis, as a vector from the centre.
+        semi_y: Vec3,
     },
     /// A closed quadrilateral through four corners in order (a sheet muscle).
     Quad {
@@ -176,8 +176,8 @@ pub fn muscle_overlays(
             MuscleKind::Sphincter(s) => (
                 Shape::Ellipse {
                     centre: s.centre,
-                    semi_x: s.semi_major,
-                    semi_y: s.semi_minor,
+                    semi_x: s.frame.axis_x() * s.semi_major,
+                    semi_y: s.frame.axis_y() * s.semi_minor,
                 },
                 palette.sphincter,
             ),

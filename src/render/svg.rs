@@ -1,5 +1,5 @@
 //! SVG output: visible lines as line segments (and, for the shaded style, lit triangles
-//! painted back to front), with a viewBox in pixels.
+//! painted back to front under the feature lines), with a viewBox in pixels.
 
 use std::fmt::Write as _;
 
@@ -50,7 +50,13 @@ pub fn render_svg(
         }
         let _ = writeln!(out, "</g>");
     }
-    let runs = renderer.render_runs(scene, camera, style, &mut canvas);
+    // Over the shading, the feature lines keep eyes, lids and lips sharp at any scale.
+    let line_style = if style == Style::Shaded {
+        Style::Lines
+    } else {
+        style
+    };
+    let runs = renderer.render_runs(scene, camera, line_style, &mut canvas);
     let _ = writeln!(
         out,
         r#"<g stroke-width="1" stroke-linecap="round" fill="none">"#

@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 
 use super::app::{FileStamp, Row, ViewPreset};
+use super::rig::RigAction;
+use crate::facs::AuTable;
 
 /// Something the user (or the outcome of an effect) asks of the editor.
 #[derive(Debug, Clone, PartialEq)]
@@ -99,6 +101,8 @@ pub enum Action {
     InputHome,
     /// Cursor to the end.
     InputEnd,
+    /// Delete everything before the cursor (Ctrl-u).
+    InputClear,
     /// Complete the word before the cursor (muscle names, AU numbers, commands).
     InputComplete,
     /// Accept the input line.
@@ -111,6 +115,8 @@ pub enum Action {
     HelpScroll(i16),
     /// The terminal changed size.
     Resize(u16, u16),
+    /// Rig mode (`R`): placing muscles.
+    Rig(RigAction),
     /// A save finished.
     Saved {
         /// The file written.
@@ -126,6 +132,13 @@ pub enum Action {
         path: PathBuf,
         /// Why.
         error: String,
+    },
+    /// A table to import was read (`:import`).
+    TableRead {
+        /// What was named: a file or `builtin:NAME`.
+        source: String,
+        /// The table, or why it could not be read.
+        table: Result<AuTable, String>,
     },
     /// A save found the file changed on disk (or present where a new file was expected).
     SaveConflict {
@@ -153,10 +166,21 @@ pub enum Effect {
         /// Quit after a successful save.
         quit_after: bool,
     },
+    /// Write a rig file, as [`Effect::Save`] does a table file.
+    SaveRig {
+        /// Where.
+        path: PathBuf,
+        /// The file's contents.
+        contents: String,
+        /// What the file should look like now (`None`: it must not exist).
+        expected: Option<FileStamp>,
+    },
     /// The unsaved state changed: write the recovery file (debounced by the loop).
     RecoveryDue,
     /// Remove the recovery file (after a save or an explicit discard).
     RemoveRecovery,
+    /// Read a table to import its AUs (answered with [`Action::TableRead`]).
+    ReadTable(PathBuf),
     /// Leave the editor.
     Quit,
 }

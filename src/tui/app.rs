@@ -12,8 +12,12 @@ pub const MIN_SIZE: (u16, u16) = (60, 16);
 
 /// Fine adjustment step (h/l, arrows, mouse wheel).
 pub const FINE_STEP: f32 = 0.05;
-/// Coarse adjustment step (H/L).
-pub const COARSE_STEP: f32 = 0.25;
+/// Coarse adjustment steps (H/L) per row range: an eighth of the range, so a muscle (0-2)
+/// moves by 0.25 and the jaw (0-4) by 0.5.
+pub const COARSE_STEPS_PER_RANGE: f32 = 8.0;
+/// Activations set by steps are stored rounded to this many parts of one (hundredths), so four
+/// fine steps give exactly 0.2.
+pub const STEP_RESOLUTION: f32 = 100.0;
 
 /// One row of the muscle panel: a muscle (index into the rig) or the jaw.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -199,8 +203,9 @@ pub enum InputKind {
     Command,
     /// `/`: find a muscle by name.
     Find,
-    /// `=`: an exact value for the selected row.
-    Value,
+    /// `=`: an exact value for the selected row; holds the row's name, value and range, shown
+    /// in the prompt (the field itself starts empty).
+    Value(String),
     /// Record: the AU to record the current state as.
     RecordKey,
     /// Record: the name of the AU (the FACS name is suggested).
@@ -219,7 +224,7 @@ impl InputKind {
         match self {
             InputKind::Command => ":".into(),
             InputKind::Find => "/".into(),
-            InputKind::Value => "value: ".into(),
+            InputKind::Value(now) => format!("value ({now}): "),
             InputKind::RecordKey => "record as AU (e.g. 12, L12): ".into(),
             InputKind::RecordName(key) => format!("name of AU {key}: "),
             InputKind::Rename(key) => format!("rename AU {key}: "),
@@ -266,6 +271,15 @@ pub enum Question {
     },
     /// Delete a recorded AU?
     DeleteAu(AuKey),
+    /// Store an expression after adding the AUs it needs from the built-in table?
+    AddMissingAus {
+        /// The expression's name.
+        name: String,
+        /// Its combination.
+        combo: String,
+        /// The AUs the table lacks, in the order written.
+        missing: Vec<AuKey>,
+    },
     /// Overwrite a file that changed on disk (or that is not ours)?
     OverwriteFile {
         /// The file.
@@ -290,6 +304,8 @@ pub struct Recovered {
     /// recovery file does not say). Recovering makes it the file's stamp, so a save asks
     /// before replacing a file that has changed since.
     pub base: Option<FileStamp>,
+    /// The rig as edited in rig mode, if it had unsaved changes.
+    pub rig: Option<Rig>,
 }
 
 /// The editor's mode.
@@ -414,6 +430,8 @@ pub struct App {
     pub mode: Mode,
     /// The status message.
     pub message: Option<Message>,
+    /// Rig mode: its state and the rig's file.
+    pub rig_edit: super::rig::RigEdit,
 }
 
 impl App {
@@ -442,6 +460,7 @@ impl App {
             history: History::default(),
             mode: Mode::Normal,
             message: None,
+            rig_edit: super::rig::RigEdit::default(),
         }
     }
 
@@ -452,7 +471,7 @@ impl App {
 
     /// True when the table differs from the file (or from the built-in table).
     pub fn dirty(&self) -> bool {
-        self.doc.table != self.doc.saved_table
+        self.doc.table != self.doc.saved_table || self.rig_edit.dirty(self.rig())
     }
 
     /// True when the table file does not exist yet (`:w` creates it).
@@ -492,6 +511,12 @@ impl App {
             Row::Jaw => crate::model::JAW_RANGE,
         };
         (*range.start(), *range.end())
+    }
+
+    /// The coarse step of a row: an eighth of its range.
+    pub fn coarse_step(&self, row: Row) -> f32 {
+        let (lo, hi) = self.range(row);
+        (hi - lo) / COARSE_STEPS_PER_RANGE
     }
 
     /// The row mirrored to `row` when mirror mode is on.

@@ -199,6 +199,14 @@ pub const COMMANDS: &[Command] = &[
         completer: Completer::Expressions,
     },
     Command {
+        name: "import",
+        aliases: &[],
+        usage: "TABLE",
+        description: "add the AUs this table lacks from another (a file, or builtin:default)",
+        run: import,
+        completer: Completer::Words(&["builtin:default"]),
+    },
+    Command {
         name: "set",
         aliases: &[],
         usage: "MUSCLE VALUE",
@@ -325,10 +333,16 @@ fn path_arg(args: &Args) -> Option<PathBuf> {
 }
 
 fn write(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
+    if app.rig_edit.on {
+        return crate::tui::rig::save(app, path_arg(args), fx);
+    }
     table::save(app, path_arg(args), false, fx);
 }
 
 fn write_quit(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
+    if app.rig_edit.dirty(app.rig()) {
+        return app.error(crate::tui::rig::UNSAVED_RIG);
+    }
     table::save(app, path_arg(args), true, fx);
 }
 
@@ -417,6 +431,13 @@ fn expr(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     }
 }
 
+fn import(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
+    if args.rest.is_empty() {
+        return app.error("usage: :import TABLE, e.g. :import builtin:default");
+    }
+    fx.push(Effect::ReadTable(PathBuf::from(args.rest)));
+}
+
 fn set(app: &mut App, args: &Args, fx: &mut Vec<Effect>) {
     match args.words.as_slice() {
         [name, value] => match prompt::row_by_name(app, name) {
@@ -492,7 +513,7 @@ mod tests {
     const EXPECTED: &[&str] = &[
         "w", "write", "wq", "x", "q", "quit", "q!", "quit!", "record", "load", "delete", "rename",
         "add", "combo", "expr", "set", "jaw", "zero", "reset", "undo", "redo", "view", "style",
-        "help",
+        "help", "import",
     ];
 
     fn app() -> App {

@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use crate::facs::{AuEntry, AuKey, AuTable};
 use crate::model::{
-    Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
+    Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
 };
 use crate::tui::app::{App, FileStamp};
 use crate::tui::scene::Scene;
@@ -46,7 +46,7 @@ pub(crate) fn app() -> App {
     let mesh = Mesh::new(positions, triangles).unwrap();
     let rig = Rig {
         masks: Vec::new(),
-        version: 1,
+        version: crate::model::rig::RIG_VERSION,
         mesh: PathBuf::from("grid.obj"),
         combine: Combine::Sum,
         muscles: vec![
@@ -60,6 +60,7 @@ pub(crate) fn app() -> App {
                     semi_minor: 0.5,
                     convergence: Convergence::Centre,
                     bulge: 10.0,
+                    frame: Frame::IDENTITY,
                 }),
             },
             linear("L_Zygomatic_Major", Side::Left, "R_Zygomatic_Major", -1.5),

@@ -4,7 +4,8 @@
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
 use super::action::Action;
-use super::app::{Mode, ViewPreset};
+use super::app::{App, Mode, ViewPreset};
+use super::rig::RigAction;
 
 /// One key binding in normal mode.
 #[derive(Debug, Clone)]
@@ -139,7 +140,7 @@ pub fn bindings() -> &'static [Binding] {
             NONE,
             A::StepCoarse(1),
             "adjust",
-            "increase by a coarse step (0.25)",
+            "increase by a coarse step (0.25; jaw 0.5)",
             None,
         ),
         bind(
@@ -351,6 +352,14 @@ pub fn bindings() -> &'static [Binding] {
             None,
         ),
         bind(
+            ch('R'),
+            NONE,
+            A::Rig(RigAction::Toggle),
+            "view",
+            "rig mode: place the selected muscle",
+            Some("rig"),
+        ),
+        bind(
             ch('o'),
             NONE,
             A::ToggleGhost,
@@ -403,6 +412,202 @@ pub fn bindings() -> &'static [Binding] {
     TABLE
 }
 
+const SHIFT: KeyModifiers = KeyModifiers::SHIFT;
+
+const fn rig_move(right: i8, up: i8, coarse: bool) -> Action {
+    Action::Rig(RigAction::Move { right, up, coarse })
+}
+
+/// Rig mode's own keys: looked up before the normal ones while rig mode is on, so they win
+/// where both bind a key (Tab, arrows, h/l, u); every other normal key still works.
+pub fn rig_bindings() -> &'static [Binding] {
+    use RigAction as R;
+    const SECTION: &str = "rig mode (R)";
+    static TABLE: &[Binding] = &[
+        bind(
+            ch('R'),
+            NONE,
+            Action::Rig(R::Toggle),
+            SECTION,
+            "leave rig mode",
+            Some("leave"),
+        ),
+        bind(
+            KeyCode::Esc,
+            NONE,
+            Action::Rig(R::Toggle),
+            SECTION,
+            "leave rig mode",
+            None,
+        ),
+        bind(
+            KeyCode::Tab,
+            NONE,
+            Action::Rig(R::NextPoint),
+            SECTION,
+            "next point: attachment, insertion, centre, sheet line ends, jaw pivot",
+            Some("point"),
+        ),
+        bind(
+            KeyCode::Left,
+            NONE,
+            rig_move(-1, 0, false),
+            SECTION,
+            "move the point left in the view (fine)",
+            Some("move"),
+        ),
+        bind(
+            KeyCode::Right,
+            NONE,
+            rig_move(1, 0, false),
+            SECTION,
+            "move the point right in the view (fine)",
+            None,
+        ),
+        bind(
+            KeyCode::Up,
+            NONE,
+            rig_move(0, 1, false),
+            SECTION,
+            "move the point up in the view (fine)",
+            None,
+        ),
+        bind(
+            KeyCode::Down,
+            NONE,
+            rig_move(0, -1, false),
+            SECTION,
+            "move the point down in the view (fine)",
+            None,
+        ),
+        bind(
+            KeyCode::Left,
+            SHIFT,
+            rig_move(-1, 0, true),
+            SECTION,
+            "move the point left (coarse)",
+            None,
+        ),
+        bind(
+            KeyCode::Right,
+            SHIFT,
+            rig_move(1, 0, true),
+            SECTION,
+            "move the point right (coarse)",
+            None,
+        ),
+        bind(
+            KeyCode::Up,
+            SHIFT,
+            rig_move(0, 1, true),
+            SECTION,
+            "move the point up (coarse)",
+            None,
+        ),
+        bind(
+            KeyCode::Down,
+            SHIFT,
+            rig_move(0, -1, true),
+            SECTION,
+            "move the point down (coarse)",
+            None,
+        ),
+        bind(
+            ch('p'),
+            NONE,
+            Action::Rig(R::NextParam),
+            SECTION,
+            "next parameter: zone, falloff, semi-axes, bulge, length, width, degrees per unit",
+            Some("param"),
+        ),
+        bind(
+            ch('l'),
+            NONE,
+            Action::Rig(R::Param {
+                by: 1,
+                coarse: false,
+            }),
+            SECTION,
+            "increase the parameter (fine)",
+            Some("change"),
+        ),
+        bind(
+            ch('h'),
+            NONE,
+            Action::Rig(R::Param {
+                by: -1,
+                coarse: false,
+            }),
+            SECTION,
+            "decrease the parameter (fine)",
+            None,
+        ),
+        bind(
+            ch('L'),
+            NONE,
+            Action::Rig(R::Param {
+                by: 1,
+                coarse: true,
+            }),
+            SECTION,
+            "increase the parameter (coarse)",
+            None,
+        ),
+        bind(
+            ch('H'),
+            NONE,
+            Action::Rig(R::Param {
+                by: -1,
+                coarse: true,
+            }),
+            SECTION,
+            "decrease the parameter (coarse)",
+            None,
+        ),
+        bind(
+            ch('>'),
+            NONE,
+            Action::Rig(R::Held(1)),
+            SECTION,
+            "hold the muscle at a higher activation",
+            None,
+        ),
+        bind(
+            ch('<'),
+            NONE,
+            Action::Rig(R::Held(-1)),
+            SECTION,
+            "hold the muscle at a lower activation",
+            None,
+        ),
+        bind(
+            ch('u'),
+            NONE,
+            Action::Rig(R::Undo),
+            SECTION,
+            "undo the last rig change",
+            Some("undo"),
+        ),
+        bind(
+            ch('U'),
+            NONE,
+            Action::Rig(R::Redo),
+            SECTION,
+            "redo a rig change",
+            None,
+        ),
+        bind(
+            ch('r'),
+            CTRL,
+            Action::Rig(R::Redo),
+            SECTION,
+            "redo a rig change",
+            None,
+        ),
+    ];
+    TABLE
+}
+
 /// The keys of the input line, the help overlay and questions, for the help overlay.
 pub const OTHER_KEYS: &[(&str, &str)] = &[
     (
@@ -410,6 +615,7 @@ pub const OTHER_KEYS: &[(&str, &str)] = &[
         "complete a muscle name, AU number or command (input line)",
     ),
     ("Enter / Esc", "accept / cancel the input line"),
+    ("Ctrl-u", "clear the input line before the cursor"),
     ("y / n", "answer a question (Esc = no)"),
 ];
 
@@ -563,6 +769,21 @@ pub fn dispatch(mode: &Mode, key: KeyEvent) -> Option<Action> {
     }
 }
 
+/// The action for a key press in the editor's current mode: rig mode's keys first while it
+/// is on, then [`dispatch`].
+pub fn dispatch_for(app: &App, key: KeyEvent) -> Option<Action> {
+    if app.rig_edit.on && app.mode == Mode::Normal {
+        let mods = significant(key);
+        if let Some(b) = rig_bindings()
+            .iter()
+            .find(|b| b.code == key.code && b.mods == mods)
+        {
+            return Some(b.action.clone());
+        }
+    }
+    dispatch(&app.mode, key)
+}
+
 fn normal(key: KeyEvent) -> Option<Action> {
     let mods = significant(key);
     bindings()
@@ -589,6 +810,7 @@ fn input(key: KeyEvent) -> Option<Action> {
         KeyCode::Char('c') if ctrl => Action::Cancel,
         KeyCode::Char('a') if ctrl => Action::InputHome,
         KeyCode::Char('e') if ctrl => Action::InputEnd,
+        KeyCode::Char('u') if ctrl => Action::InputClear,
         KeyCode::Char('h') if ctrl => Action::InputBackspace,
         KeyCode::Char(c) if !ctrl => Action::InputChar(c),
         KeyCode::Backspace => Action::InputBackspace,
@@ -618,6 +840,8 @@ pub fn key_label(code: KeyCode, mods: KeyModifiers) -> String {
     };
     if mods.contains(KeyModifiers::CONTROL) {
         format!("Ctrl-{base}")
+    } else if mods.contains(KeyModifiers::SHIFT) {
+        format!("Shift-{base}")
     } else {
         base
     }
@@ -626,7 +850,7 @@ pub fn key_label(code: KeyCode, mods: KeyModifiers) -> String {
 /// The help overlay's lines for the bindings: keys doing the same thing share a line.
 pub fn help_lines() -> Vec<(String, String, &'static str)> {
     let mut lines: Vec<(String, String, &'static str)> = Vec::new();
-    for b in bindings() {
+    for b in bindings().iter().chain(rig_bindings()) {
         let label = key_label(b.code, b.mods);
         match lines
             .iter_mut()
@@ -644,7 +868,22 @@ pub fn help_lines() -> Vec<(String, String, &'static str)> {
 
 /// The status line hints: `key hint` for the bindings that have one.
 pub fn hints() -> Vec<(String, &'static str)> {
-    bindings()
+    hints_of(bindings())
+}
+
+/// The status line hints for the editor's state: rig mode's own while it is on.
+pub fn hints_for(app: &App) -> Vec<(String, &'static str)> {
+    if app.rig_edit.on {
+        let mut hints = hints_of(rig_bindings());
+        hints.push((":w".into(), "save rig"));
+        hints
+    } else {
+        hints()
+    }
+}
+
+fn hints_of(table: &[Binding]) -> Vec<(String, &'static str)> {
+    table
         .iter()
         .filter_map(|b| b.hint.map(|h| (key_label(b.code, b.mods), h)))
         .collect()
@@ -688,6 +927,45 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn rig_keys_are_bound_once_shown_in_help_and_win_only_in_rig_mode() {
+        let table = rig_bindings();
+        let help = help_lines();
+        for (i, a) in table.iter().enumerate() {
+            assert!(
+                !table[i + 1..]
+                    .iter()
+                    .any(|b| a.code == b.code && a.mods == b.mods),
+                "{:?} bound twice",
+                a.code
+            );
+            let label = key_label(a.code, a.mods);
+            assert!(
+                help.iter()
+                    .any(|(keys, _, section)| *section == "rig mode (R)"
+                        && keys.split(" / ").any(|k| k == label)),
+                "{label} missing from help"
+            );
+        }
+        let mut app = crate::tui::fixture::app();
+        let tab = key(KeyCode::Tab, NONE);
+        assert_eq!(dispatch_for(&app, tab), Some(Action::SwitchFocus));
+        app.rig_edit.on = true;
+        assert_eq!(
+            dispatch_for(&app, tab),
+            Some(Action::Rig(RigAction::NextPoint))
+        );
+        assert_eq!(
+            dispatch_for(&app, key(KeyCode::Left, SHIFT)),
+            Some(rig_move(-1, 0, true))
+        );
+        // Keys rig mode does not bind keep their normal meaning.
+        assert_eq!(
+            dispatch_for(&app, key(KeyCode::Char('j'), NONE)),
+            Some(Action::SelectNext)
+        );
     }
 
     #[test]

@@ -10,6 +10,7 @@ pub mod command;
 mod fixture;
 pub mod keymap;
 pub mod play;
+pub mod rig;
 pub mod scene;
 pub mod table_ops;
 pub mod term;
@@ -177,6 +178,13 @@ fn apply(app: &mut App, session: &mut Session, state: &mut LoopState, action: Ac
                     force,
                     quit_after,
                 } => queue.push(save(&path, &contents, expected, force, quit_after)),
+                Effect::SaveRig {
+                    path,
+                    contents,
+                    expected,
+                } => queue.push(rig::saved_action(save(
+                    &path, &contents, expected, false, false,
+                ))),
                 Effect::RecoveryDue => {
                     if session.recovery.is_some() {
                         state.recovery_due = Some(Instant::now() + RECOVERY_DEBOUNCE);
@@ -194,6 +202,10 @@ fn apply(app: &mut App, session: &mut Session, state: &mut LoopState, action: Ac
                         session.recovery = recovery::recovery_path(app.doc.file.as_deref());
                     }
                 }
+                Effect::ReadTable(path) => queue.push(Action::TableRead {
+                    source: path.display().to_string(),
+                    table: table_ops::read(&path),
+                }),
                 Effect::Quit => state.quit = true,
             }
         }
@@ -211,6 +223,7 @@ fn write_recovery(app: &mut App, session: &Session) {
         &app.doc.table,
     );
     state.base = app.doc.file_stamp.map(|s| (s.len, s.hash));
+    state.rig = app.rig_edit.dirty(app.rig()).then(|| app.rig().clone());
     if let Err(e) = recovery::write(path, &state) {
         app.warn(format!(
             "could not write the recovery file {}: {}",
@@ -276,7 +289,7 @@ pub fn save(
 pub fn actions_for(app: &App, ev: &Event, drag: &mut Option<(u16, u16)>) -> Vec<Action> {
     match ev {
         Event::Key(key) if key.kind != KeyEventKind::Release => {
-            keymap::dispatch(&app.mode, *key).into_iter().collect()
+            keymap::dispatch_for(app, *key).into_iter().collect()
         }
         Event::Resize(w, h) => vec![Action::Resize(*w, *h)],
         Event::Mouse(mouse) => mouse_actions(app, *mouse, drag),

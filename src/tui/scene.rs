@@ -58,6 +58,20 @@ impl Scene {
         let _ = self.bound.deform(activations, &mut self.positions);
     }
 
+    /// Checks that `rig` binds to this scene's mesh, saying why not.
+    pub fn check_rig(&self, rig: &Rig) -> Result<(), String> {
+        crate::io::rig_file::check_rig_mesh(rig, &self.mesh).map_err(|e| e.to_string())
+    }
+
+    /// Replaces the rig (rig mode's edits), keeping the old one when the new one does not
+    /// bind to the mesh. The positions are those of the rest pose until the next deform.
+    pub fn set_rig(&mut self, rig: Rig) -> Result<(), String> {
+        self.bound = BoundRig::bind(&rig, &self.mesh).map_err(|e| e.to_string())?;
+        self.positions.clone_from(&self.mesh.positions);
+        self.generation += 1;
+        Ok(())
+    }
+
     /// Recomputes the region of one muscle (or everything for the jaw, `None`), after
     /// `activations` changed in that muscle only.
     pub fn update_muscle(&mut self, activations: &Activations, muscle: Option<usize>) {

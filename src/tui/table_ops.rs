@@ -65,3 +65,16 @@ pub fn add_scaled(base: &Activations, add: &Activations, intensity: f32) -> Acti
         jaw: (base.jaw + intensity * add.jaw).clamp(j0, j1),
     }
 }
+
+/// Reads a table to import from: `builtin:NAME`, or a table file (checked on its own; AUs
+/// that do not fit the rig are left out by the import).
+pub fn read(path: &std::path::Path) -> Result<AuTable, String> {
+    match crate::io::builtin::builtin_name(path) {
+        Some(name) => crate::io::builtin::table(name).ok_or_else(|| {
+            format!(
+                "there is no built-in table named `{name}`; the built-in table is builtin:default"
+            )
+        }),
+        None => crate::io::load_table(path).map_err(|e| e.to_string()),
+    }
+}

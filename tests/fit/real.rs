@@ -5,6 +5,7 @@
 
 use crate::common;
 
+use std::f32::consts::FRAC_PI_2;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
@@ -199,4 +200,22 @@ fn makehuman_base_mesh() {
     }
     let dir = tempfile::tempdir().unwrap();
     save_and_validate(dir.path(), &path, &fitted);
+}
+
+/// The same face z-up in millimetres and turned half away: the mouth and eye rings still
+/// close the lids and the mouth in the face's own plane.
+#[test]
+fn mediapipe_canonical_face_z_up_and_turned() {
+    let Some(shared) = common::shared_with(&["meshes/mediapipe_canonical_face.obj"]) else {
+        return;
+    };
+    let path = shared.join("meshes/mediapipe_canonical_face.obj");
+    let mut mesh = obj::read_obj(&path).unwrap();
+    let turn = glam::Quat::from_rotation_z(0.7) * glam::Quat::from_rotation_x(FRAC_PI_2);
+    for p in &mut mesh.positions {
+        *p = turn * *p * 10.0 + Vec3::new(30.0, -5.0, 1650.0);
+    }
+    let landmarks = Landmarks::mediapipe(&mesh).unwrap();
+    let fitted = fit(&mesh, &landmarks);
+    check_aus(&mesh, &fitted, &landmarks.vertices(&mesh));
 }

@@ -8,8 +8,8 @@ use glam::Vec3;
 use grimace::facs::{AuEntry, AuKey, AuTable, TABLE_VERSION};
 use grimace::io::{self, rig_file, table_file};
 use grimace::model::{
-    Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
-    RIG_VERSION,
+    Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side,
+    Sphincter, RIG_VERSION,
 };
 use proptest::prelude::*;
 
@@ -57,6 +57,7 @@ fn sample_rig() -> Rig {
                     semi_minor: 0.7,
                     convergence: Convergence::Centre,
                     bulge: 10.0,
+                    frame: Frame::IDENTITY,
                 }),
             },
             Muscle {

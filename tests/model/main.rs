@@ -14,6 +14,7 @@ mod face_mesh;
 mod face_rig;
 mod facs_combo;
 mod facs_table;
+mod frames;
 mod fuzz_regressions;
 mod golden_linear;
 mod io_rig_table;

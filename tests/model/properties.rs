@@ -10,8 +10,8 @@ use grimace::model::field::{
     SphincterShape,
 };
 use grimace::model::{
-    Activations, BoundRig, Combine, Convergence, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet,
-    Side, Sphincter, RIG_VERSION,
+    Activations, BoundRig, Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig,
+    Sheet, Side, Sphincter, RIG_VERSION,
 };
 use proptest::prelude::*;
 
@@ -103,6 +103,7 @@ fn left_eye() -> Sphincter {
         semi_minor: 0.6,
         convergence: Convergence::MajorAxis,
         bulge: 30.0,
+        frame: Frame::IDENTITY,
     }
 }
 
@@ -113,6 +114,7 @@ fn mouth() -> Sphincter {
         semi_minor: 0.8,
         convergence: Convergence::Centre,
         bulge: 10.0,
+        frame: Frame::IDENTITY,
     }
 }
 

@@ -2,7 +2,7 @@
 //! on small synthetic meshes.
 
 use glam::{Vec2, Vec3};
-use grimace::model::Mesh;
+use grimace::model::{Frame, Mesh};
 use grimace::render::{
     muscle_overlays, Camera, CellMode, DotCanvas, Layer, Orientation, Overlay, Palette, Renderer,
     Rgb, Scene, Shape, Style,
@@ -415,6 +415,7 @@ fn muscle_overlays_cover_every_muscle_and_the_jaw() {
             semi_minor: 0.1,
             convergence: Convergence::Centre,
             bulge: 10.0,
+            frame: Frame::IDENTITY,
         }),
     };
     let sheet = Muscle {

@@ -9,5 +9,6 @@ mod common;
 mod cells;
 mod classic;
 mod default_face;
+mod defaults;
 mod files;
 mod geometry;

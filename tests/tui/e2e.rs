@@ -12,7 +12,7 @@ use portable_pty::{native_pty_system, Child, CommandBuilder, MasterPty, PtySize}
 
 const TIMEOUT: Duration = Duration::from_secs(10);
 
-struct Editor {
+pub(super) struct Editor {
     child: Box<dyn Child + Send + Sync>,
     writer: Box<dyn Write + Send>,
     parser: Arc<Mutex<vt100::Parser>>,
@@ -24,7 +24,7 @@ struct Editor {
 }
 
 impl Editor {
-    fn start(state_dir: &Path, args: &[&str], cols: u16, rows: u16) -> Editor {
+    pub(super) fn start(state_dir: &Path, args: &[&str], cols: u16, rows: u16) -> Editor {
         Editor::start_command(env!("CARGO_BIN_EXE_grimace"), args, state_dir, cols, rows)
     }
 
@@ -110,17 +110,17 @@ impl Editor {
         drop(self.master);
     }
 
-    fn send(&mut self, keys: &str) {
+    pub(super) fn send(&mut self, keys: &str) {
         self.writer.write_all(keys.as_bytes()).unwrap();
         self.writer.flush().unwrap();
     }
 
-    fn screen(&self) -> String {
+    pub(super) fn screen(&self) -> String {
         self.parser.lock().unwrap().screen().contents()
     }
 
     /// Waits until the screen contains `needle`; fails with the screen after the timeout.
-    fn wait_for(&self, needle: &str) -> String {
+    pub(super) fn wait_for(&self, needle: &str) -> String {
         let start = Instant::now();
         loop {
             let screen = self.screen();
@@ -134,7 +134,7 @@ impl Editor {
         }
     }
 
-    fn wait_exit(&mut self) -> portable_pty::ExitStatus {
+    pub(super) fn wait_exit(&mut self) -> portable_pty::ExitStatus {
         let start = Instant::now();
         loop {
             if let Some(status) = self.child.try_wait().unwrap() {
@@ -149,7 +149,7 @@ impl Editor {
     }
 
     /// Waits until the editor has left the alternate screen (the terminal is restored).
-    fn wait_restored(&self) {
+    pub(super) fn wait_restored(&self) {
         let start = Instant::now();
         while self.parser.lock().unwrap().screen().alternate_screen() {
             if start.elapsed() > TIMEOUT {
@@ -162,7 +162,7 @@ impl Editor {
         }
     }
 
-    fn hang_up(&mut self) {
+    pub(super) fn hang_up(&mut self) {
         // portable-pty's killer sends SIGHUP on unix, like a dropped SSH connection.
         self.child.clone_killer().kill().unwrap();
     }

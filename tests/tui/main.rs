@@ -4,6 +4,10 @@
 //! One test binary with a module per former test file (fewer binaries to link).
 
 mod bytes;
+mod colors;
 mod e2e;
+mod editing;
+mod pty;
+mod rig_mode;
 mod screens;
 mod startup;

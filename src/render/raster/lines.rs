@@ -93,7 +93,7 @@ impl Renderer {
                     const STEPS: usize = 48;
                     let at = |k: usize| {
                         let a = k as f32 / STEPS as f32 * std::f32::consts::TAU;
-                        proj.project(centre + Vec3::new(semi_x * a.cos(), semi_y * a.sin(), 0.0))
+                        proj.project(centre + semi_x * a.cos() + semi_y * a.sin())
                     };
                     for k in 0..STEPS {
                         line(at(k), at(k + 1));

@@ -13,12 +13,17 @@ pub(crate) fn edited(app: &mut App, fx: &mut Vec<Effect>) {
     fx.push(Effect::RecoveryDue);
 }
 
+/// `value` rounded to hundredths, as the nearest `f32` to the decimal (dividing the whole
+/// number of hundredths rounds once; multiplying by 0.01 would round twice).
+pub(crate) fn round_to_step(value: f32) -> f32 {
+    (value * STEP_RESOLUTION).round() / STEP_RESOLUTION
+}
+
 pub(crate) fn step(app: &mut App, by: f32, fx: &mut Vec<Effect>) {
     let row = app.selected_row();
     let (lo, hi) = app.range(row);
     let old = app.value(row);
-    let new = ((old + by) / 0.01).round() * 0.01;
-    let new = new.clamp(lo, hi);
+    let new = round_to_step(old + by).clamp(lo, hi);
     if new == old {
         app.info(format!(
             "{} is at its {} ({})",

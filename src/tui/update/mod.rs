@@ -13,8 +13,8 @@ use crate::model::Activations;
 
 use crate::tui::action::{Action, Effect};
 use crate::tui::app::{
-    App, CellMode, Focus, Input, InputKind, Mode, Question, Row, TableItem, ViewPreset,
-    COARSE_STEP, FINE_STEP,
+    App, CellMode, Focus, Input, InputKind, Mode, Question, Row, TableItem, ViewPreset, FINE_STEP,
+    STEP_RESOLUTION,
 };
 use crate::tui::command;
 use crate::tui::table_ops;
@@ -61,10 +61,21 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         }
         Action::StartFind => open(app, InputKind::Find, ""),
         Action::StepFine(n) => step(app, f32::from(n) * FINE_STEP, &mut fx),
-        Action::StepCoarse(n) => step(app, f32::from(n) * COARSE_STEP, &mut fx),
+        Action::StepCoarse(n) => {
+            let size = app.coarse_step(app.selected_row());
+            step(app, f32::from(n) * size, &mut fx)
+        }
         Action::StartSetValue => {
-            let value = format_value(app.value(app.selected_row()));
-            open(app, InputKind::Value, value);
+            let row = app.selected_row();
+            let (lo, hi) = app.range(row);
+            let now = format!(
+                "{} {}, {}-{}",
+                app.row_name(row),
+                format_value(app.value(row)),
+                lo,
+                hi
+            );
+            open(app, InputKind::Value(now), "");
         }
         Action::ZeroSelected => {
             let row = app.selected_row();
@@ -168,6 +179,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         | Action::InputRight
         | Action::InputHome
         | Action::InputEnd
+        | Action::InputClear
         | Action::InputComplete) => prompt::edit(app, action),
         Action::InputSubmit => {
             if let Mode::Input(input) = std::mem::replace(&mut app.mode, Mode::Normal) {
@@ -191,6 +203,7 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             }
         }
         Action::Resize(w, h) => app.view.size = (w, h),
+        Action::Rig(action) => crate::tui::rig::update(app, action, &mut fx),
         Action::Saved {
             path,
             stamp,
@@ -201,6 +214,10 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             app.doc.file_stamp = Some(stamp);
             app.doc.saved_table = app.doc.table.clone();
             fx.push(Effect::RemoveRecovery);
+            if app.dirty() {
+                // Rig edits are still unsaved: keep them for recovery.
+                fx.push(Effect::RecoveryDue);
+            }
             if quit_after {
                 fx.push(Effect::Quit);
             }
@@ -212,7 +229,12 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         Action::SaveConflict { path, quit_after } => {
             app.mode = Mode::Confirm(Question::OverwriteFile { path, quit_after })
         }
+        Action::TableRead { source, table } => match table {
+            Ok(from) => table::import(app, &source, &from, &mut fx),
+            Err(e) => app.error(format!("could not import {source}: {e}")),
+        },
     }
+    crate::tui::rig::sync(app);
     fx
 }
 
@@ -226,6 +248,19 @@ pub fn question_text(question: &Question) -> String {
             format!("AU {key} exists. Overwrite it with the current state as \"{name}\"? (y/n)")
         }
         Question::DeleteAu(key) => format!("Delete AU {key}? (y/n)"),
+        Question::AddMissingAus { name, missing, .. } => {
+            let named: Vec<String> = missing
+                .iter()
+                .map(|k| match crate::facs::catalogue::name_of(k.number) {
+                    Some(facs) => format!("{k} {facs}"),
+                    None => k.to_string(),
+                })
+                .collect();
+            format!(
+                "{name} needs AUs the table lacks: {}. Add them from the built-in table? (y/n)",
+                named.join(", ")
+            )
+        }
         Question::OverwriteFile { path, .. } => format!(
             "{} changed on disk since it was loaded (or is another file). Overwrite it? (y/n)",
             path.display()

@@ -34,6 +34,11 @@ pub(crate) fn edit(app: &mut App, action: Action) {
         Action::InputRight => edit_input(app, |input| {
             input.cursor = (input.cursor + 1).min(input.text.chars().count())
         }),
+        Action::InputClear => edit_input(app, |input| {
+            let at = byte_index(&input.text, input.cursor);
+            input.text.replace_range(..at, "");
+            input.cursor = 0;
+        }),
         Action::InputHome => edit_input(app, |input| input.cursor = 0),
         Action::InputEnd => edit_input(app, |input| input.cursor = input.text.chars().count()),
         Action::InputComplete => complete(app),
@@ -82,7 +87,8 @@ pub(crate) fn submit(app: &mut App, input: Input, fx: &mut Vec<Effect>) {
     match input.kind {
         InputKind::Command => command::run(app, &text, fx),
         InputKind::Find => find(app, &text),
-        InputKind::Value => {
+        InputKind::Value(_) if text.is_empty() => {}
+        InputKind::Value(_) => {
             if let Some(v) = parse_value(app, &text) {
                 let row = app.selected_row();
                 set_rows(app, row, v, fx);

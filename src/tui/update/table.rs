@@ -53,6 +53,14 @@ pub(crate) fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<
         }
         (Question::OverwriteAu { key, name }, true) => record(app, key, &name, fx),
         (Question::DeleteAu(key), true) => delete_au(app, key, fx),
+        (
+            Question::AddMissingAus {
+                name,
+                combo,
+                missing,
+            },
+            true,
+        ) => add_missing_and_store(app, &name, &combo, &missing, fx),
         (Question::OverwriteFile { path, quit_after }, true) => fx.push(Effect::Save {
             path,
             contents: table_ops::to_ron(&app.doc.table),
@@ -65,6 +73,9 @@ pub(crate) fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<
             app.doc.activations = found.activations;
             app.doc.table = found.table;
             app.doc.file_stamp = found.base;
+            if let Some(rig) = found.rig {
+                crate::tui::rig::recover(app, rig);
+            }
             app.doc.scene.deform(&app.doc.activations);
             app.info("recovered the unsaved changes; :w saves them");
             edited(app, fx);
@@ -213,6 +224,10 @@ pub(crate) fn add_au(app: &mut App, what: &str, intensity: f32, fx: &mut Vec<Eff
 }
 
 pub(crate) fn store_expression(app: &mut App, name: &str, combo: &str, fx: &mut Vec<Effect>) {
+    if let Some(offer) = offer_missing(app, name, combo) {
+        app.mode = Mode::Confirm(offer);
+        return;
+    }
     let mut table = app.doc.table.clone();
     if let Err(e) = table_ops::set_expression(&mut table, name, combo) {
         app.error(e);
@@ -254,4 +269,137 @@ pub(crate) fn record_or_ask(app: &mut App, key: AuKey, name: &str, fx: &mut Vec<
     } else {
         record(app, key, name, fx);
     }
+}
+
+/// For an expression naming AUs the table lacks: the question offering to add them from the
+/// built-in table, when it has every one of them for this rig. `None` when nothing is missing
+/// or they cannot all be added (storing then says which are missing).
+fn offer_missing(app: &App, name: &str, combo: &str) -> Option<Question> {
+    let parsed = crate::facs::combo::parse_combo(combo).ok()?;
+    let missing = app.doc.table.missing(&parsed);
+    if missing.is_empty() {
+        return None;
+    }
+    let builtin = crate::io::builtin::default_table();
+    let mut table = app.doc.table.clone();
+    let added = import_missing(&mut table, &builtin, app.rig()).added;
+    missing
+        .iter()
+        .all(|k| added.contains(k))
+        .then(|| Question::AddMissingAus {
+            name: name.to_string(),
+            combo: combo.to_string(),
+            missing,
+        })
+}
+
+/// Yes to [`Question::AddMissingAus`]: adds the missing AUs from the built-in table and stores
+/// the expression, as one edit.
+pub(crate) fn add_missing_and_store(
+    app: &mut App,
+    name: &str,
+    combo: &str,
+    missing: &[AuKey],
+    fx: &mut Vec<Effect>,
+) {
+    let mut source = crate::io::builtin::default_table();
+    source.aus.retain(|k, _| missing.contains(k));
+    let mut table = app.doc.table.clone();
+    import_missing(&mut table, &source, app.rig());
+    if let Err(e) = table_ops::set_expression(&mut table, name, combo) {
+        app.error(e);
+        return;
+    }
+    begin_edit(app);
+    app.doc.table = table;
+    let keys: Vec<String> = missing.iter().map(|k| k.to_string()).collect();
+    app.info(format!(
+        "added AU {} from the built-in table; expression {name} = {combo} stored",
+        keys.join(", ")
+    ));
+    edited(app, fx);
+}
+
+/// What [`import_missing`] did.
+#[derive(Debug, Default, PartialEq)]
+pub(crate) struct Imported {
+    /// AUs added, in key order.
+    pub added: Vec<AuKey>,
+    /// AUs the table already had (kept as they are).
+    pub present: usize,
+    /// AUs left out because they move muscles this rig lacks.
+    pub unfit: Vec<AuKey>,
+    /// AUs left out because the table is full.
+    pub no_room: Vec<AuKey>,
+}
+
+/// Adds to `table` every AU of `from` it lacks, when the AU's muscles are in `rig` and the
+/// table has room. AUs the table has are never replaced.
+pub(crate) fn import_missing(
+    table: &mut crate::facs::AuTable,
+    from: &crate::facs::AuTable,
+    rig: &crate::model::Rig,
+) -> Imported {
+    let mut done = Imported::default();
+    for (key, entry) in &from.aus {
+        if table.aus.contains_key(key) {
+            done.present += 1;
+        } else if entry.muscles.keys().any(|m| rig.muscle_index(m).is_none())
+            || (entry.jaw != 0.0 && rig.jaw.is_none())
+        {
+            done.unfit.push(*key);
+        } else if table.aus.len() >= crate::facs::table::MAX_AUS {
+            done.no_room.push(*key);
+        } else {
+            table.aus.insert(*key, entry.clone());
+            done.added.push(*key);
+        }
+    }
+    done
+}
+
+/// `:import`: adds the AUs of another table (`from`, read from `source`) that this one lacks.
+pub(crate) fn import(
+    app: &mut App,
+    source: &str,
+    from: &crate::facs::AuTable,
+    fx: &mut Vec<Effect>,
+) {
+    let mut table = app.doc.table.clone();
+    let done = import_missing(&mut table, from, app.rig());
+    let keys = |keys: &[AuKey]| {
+        keys.iter()
+            .map(|k| k.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut text = if done.added.is_empty() {
+        format!("nothing to add from {source}")
+    } else {
+        format!("added AU {} from {source}", keys(&done.added))
+    };
+    if done.present > 0 {
+        text.push_str(&format!("; {} already here, kept", done.present));
+    }
+    if !done.unfit.is_empty() {
+        text.push_str(&format!(
+            "; AU {} left out: they move muscles this rig lacks",
+            keys(&done.unfit)
+        ));
+    }
+    if !done.no_room.is_empty() {
+        text.push_str(&format!(
+            "; AU {} left out: a table holds at most {} AUs",
+            keys(&done.no_room),
+            crate::facs::table::MAX_AUS
+        ));
+    }
+    if done.added.is_empty() {
+        app.warn(text);
+        return;
+    }
+    begin_edit(app);
+    app.doc.table = table;
+    app.info(text);
+    edited(app, fx);
 }

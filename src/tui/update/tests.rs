@@ -191,17 +191,9 @@ fn mirror_mode_moves_the_partner() {
 fn exact_value_prompt_accepts_in_range_and_rejects_the_rest() {
     let mut app = app();
     update(&mut app, Action::StartSetValue);
-    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "0.00"));
-    update(&mut app, Action::InputHome);
-    run(
-        &mut app,
-        &[
-            Action::InputDelete,
-            Action::InputDelete,
-            Action::InputDelete,
-            Action::InputDelete,
-        ],
-    );
+    // The field starts empty: what is typed is the value (the prompt names the current one).
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text.is_empty()
+        && i.kind == InputKind::Value("L_Zygomatic_Major 0.00, 0-2".into())));
     typed(&mut app, "1.5");
     update(&mut app, Action::InputSubmit);
     assert_eq!(muscle(&app, "L_Zygomatic_Major"), 1.5);
@@ -572,6 +564,7 @@ fn recovery_offer_restores_or_discards() {
         table: table.clone(),
         when: "5 s ago".into(),
         base: None,
+        rig: None,
     }));
     app.mode = Mode::Confirm(question.clone());
     assert!(question_text(&question).contains("recover"));
@@ -755,7 +748,7 @@ fn table_selection_record_suggestion_and_enter_on_a_muscle() {
     update(&mut app, Action::Cancel);
     update(&mut app, Action::SwitchFocus);
     update(&mut app, Action::Activate);
-    assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Value));
+    assert!(matches!(&app.mode, Mode::Input(i) if matches!(i.kind, InputKind::Value(_))));
     update(&mut app, Action::Cancel);
     update(&mut app, Action::StartFind);
     assert!(matches!(&app.mode, Mode::Input(i) if i.kind == InputKind::Find));
@@ -766,4 +759,197 @@ fn resize_records_the_size() {
     let mut app = app();
     update(&mut app, Action::Resize(200, 60));
     assert_eq!(app.view.size, (200, 60));
+}
+
+#[test]
+fn typing_a_value_gives_that_value_and_enter_on_nothing_keeps_it() {
+    let mut app = app();
+    update(&mut app, Action::StartSetValue);
+    typed(&mut app, "2");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 2.0);
+    update(&mut app, Action::StartSetValue);
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 2.0);
+    assert_eq!(app.mode, Mode::Normal);
+}
+
+#[test]
+fn ctrl_u_clears_the_line_before_the_cursor() {
+    let mut app = app();
+    update(&mut app, Action::StartCommand);
+    typed(&mut app, "set jaw 3");
+    update(&mut app, Action::InputLeft);
+    update(&mut app, Action::InputClear);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text == "3" && i.cursor == 0));
+    update(&mut app, Action::InputEnd);
+    update(&mut app, Action::InputClear);
+    assert!(matches!(&app.mode, Mode::Input(i) if i.text.is_empty()));
+    typed(&mut app, "jaw 1");
+    update(&mut app, Action::InputSubmit);
+    assert_eq!(app.doc.activations.jaw, 1.0);
+}
+
+#[test]
+fn the_jaws_coarse_step_is_an_eighth_of_its_range() {
+    let mut app = app();
+    update(&mut app, Action::StepCoarse(1));
+    assert_eq!(muscle(&app, "L_Zygomatic_Major"), 0.25);
+    update(&mut app, Action::SelectLast);
+    assert_eq!(app.selected_row(), Row::Jaw);
+    update(&mut app, Action::StepCoarse(1));
+    assert_eq!(app.doc.activations.jaw, 0.5);
+    run(&mut app, &vec![Action::StepCoarse(1); 7]);
+    assert_eq!(app.doc.activations.jaw, 4.0);
+}
+
+#[test]
+fn steps_store_the_decimal_exactly() {
+    let mut app = app();
+    update(&mut app, Action::SelectLast);
+    for n in 1..=80 {
+        update(&mut app, Action::StepFine(1));
+        let decimal: f32 = format!("{}.{:02}", n * 5 / 100, n * 5 % 100)
+            .parse()
+            .unwrap();
+        assert_eq!(app.doc.activations.jaw, decimal, "after {n} fine steps");
+    }
+    for n in (0..80).rev() {
+        update(&mut app, Action::StepFine(-1));
+        let decimal: f32 = format!("{}.{:02}", n * 5 / 100, n * 5 % 100)
+            .parse()
+            .unwrap();
+        assert_eq!(app.doc.activations.jaw, decimal, "back at {n} fine steps");
+    }
+    run(&mut app, &vec![Action::StepFine(1); 4]);
+    assert_eq!(app.doc.activations.jaw.to_string(), "0.2");
+}
+
+fn default_app(table: AuTable) -> App {
+    let scene = crate::tui::scene::Scene::new(
+        crate::io::builtin::default_rig(),
+        crate::io::builtin::default_mesh(),
+    )
+    .unwrap();
+    App::new(scene, table, Some(PathBuf::from("new.au.ron")))
+}
+
+#[test]
+fn import_adds_the_missing_aus_and_keeps_the_rest() {
+    let mut app = app();
+    let mut from = app.doc.table.clone();
+    let mine = app.doc.table.aus[&AuKey::new(12)].clone();
+    from.aus.get_mut(&AuKey::new(12)).unwrap().name = "theirs".into();
+    let mut entry = mine.clone();
+    entry.name = "Cheek Raiser".into();
+    from.aus.insert(AuKey::new(6), entry);
+    let mut alien = mine.clone();
+    alien.muscles = BTreeMap::from([("Buccinator".to_string(), 1.0)]);
+    from.aus.insert(AuKey::new(14), alien);
+    let fx = update(
+        &mut app,
+        Action::TableRead {
+            source: "other.au.ron".into(),
+            table: Ok(from),
+        },
+    );
+    assert_eq!(fx, vec![Effect::RecoveryDue]);
+    let keys: Vec<AuKey> = app.doc.table.aus.keys().copied().collect();
+    assert_eq!(keys, [AuKey::new(6), AuKey::new(12)]);
+    assert_eq!(
+        app.doc.table.aus[&AuKey::new(12)],
+        mine,
+        "present AUs are kept"
+    );
+    assert_eq!(
+        app.message.as_ref().unwrap().text,
+        "added AU 6 from other.au.ron; 1 already here, kept; \
+         AU 14 left out: they move muscles this rig lacks"
+    );
+    update(&mut app, Action::Undo);
+    assert_eq!(app.doc.table.aus.len(), 1, "one undo takes the import back");
+}
+
+#[test]
+fn import_names_a_table_that_does_not_read() {
+    let mut app = app();
+    assert_eq!(
+        command(&mut app, "import builtin:default"),
+        vec![Effect::ReadTable(PathBuf::from("builtin:default"))]
+    );
+    update(
+        &mut app,
+        Action::TableRead {
+            source: "x.au.ron".into(),
+            table: Err("x.au.ron: no such file".into()),
+        },
+    );
+    assert_eq!(
+        error(&app),
+        "could not import x.au.ron: x.au.ron: no such file"
+    );
+    command(&mut app, "import");
+    assert!(error(&app).starts_with("usage: :import TABLE"));
+}
+
+#[test]
+fn a_new_table_starts_from_the_builtin_aus() {
+    let builtin = crate::io::builtin::default_table();
+    let mut app = default_app(AuTable::new("builtin:default"));
+    update(
+        &mut app,
+        Action::TableRead {
+            source: "builtin:default".into(),
+            table: crate::tui::table_ops::read(std::path::Path::new("builtin:default")),
+        },
+    );
+    assert_eq!(app.doc.table.aus, builtin.aus);
+    assert!(app.dirty());
+}
+
+#[test]
+fn expr_offers_the_missing_aus_from_the_builtin_table() {
+    let builtin = crate::io::builtin::default_table();
+    let mut table = AuTable::new("builtin:default");
+    let one = AuKey::new(1);
+    table.aus.insert(one, builtin.aus[&one].clone());
+    let mut app = default_app(table);
+    command(&mut app, "expr surprise 1+2+5+26");
+    let missing = vec![AuKey::new(2), AuKey::new(5), AuKey::new(26)];
+    assert_eq!(
+        app.mode,
+        Mode::Confirm(Question::AddMissingAus {
+            name: "surprise".into(),
+            combo: "1+2+5+26".into(),
+            missing: missing.clone(),
+        })
+    );
+    let Mode::Confirm(q) = &app.mode else {
+        unreachable!()
+    };
+    assert!(question_text(q).contains("2 Outer Brow Raiser, 5 Upper Lid Raiser, 26 Jaw Drop"));
+    // No: nothing changes.
+    update(&mut app, Action::Answer(false));
+    assert_eq!(app.doc.table.aus.len(), 1);
+    assert!(app.doc.table.expressions.is_empty());
+    // Yes: the AUs come from the built-in table and the expression is stored, one undo step.
+    command(&mut app, "expr surprise 1+2+5+26");
+    update(&mut app, Action::Answer(true));
+    for key in &missing {
+        assert_eq!(app.doc.table.aus[key], builtin.aus[key]);
+    }
+    assert_eq!(app.doc.table.expressions["surprise"], "1+2+5+26");
+    update(&mut app, Action::Undo);
+    assert_eq!(app.doc.table.aus.len(), 1);
+    assert!(app.doc.table.expressions.is_empty());
+}
+
+#[test]
+fn expr_still_refuses_aus_the_builtin_table_cannot_give() {
+    // The fixture's rig has none of the built-in table's muscles.
+    let mut app = app();
+    command(&mut app, "expr smile 6+12");
+    assert_eq!(app.mode, Mode::Normal);
+    assert!(error(&app).contains('6'), "{}", error(&app));
+    assert!(app.doc.table.expressions.is_empty());
 }

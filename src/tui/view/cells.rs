@@ -6,7 +6,7 @@ use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
 use ratatui::widgets::Widget;
 
-use crate::render::{nearest_ansi16, CellGrid, ColorMode, Rgb};
+use crate::render::{nearest_ansi16, nearest_ansi256, CellGrid, ColorMode, Rgb};
 
 /// Draws a cell grid from the top left of its area (what does not fit is cut off).
 #[derive(Debug, Clone, Copy)]
@@ -43,6 +43,7 @@ pub fn to_color(rgb: Rgb, colors: ColorMode) -> Option<Color> {
     match colors {
         ColorMode::None => None,
         ColorMode::Ansi16 => Some(NAMED[usize::from(nearest_ansi16(rgb)) & 15]),
+        ColorMode::Ansi256 => Some(Color::Indexed(nearest_ansi256(rgb))),
         ColorMode::TrueColor => Some(Color::Rgb(rgb.0, rgb.1, rgb.2)),
     }
 }

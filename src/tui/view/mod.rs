@@ -4,6 +4,7 @@ pub mod cells;
 pub mod help;
 pub mod muscles;
 pub mod prompt;
+pub mod rig;
 pub mod status;
 pub mod table;
 pub mod theme;

@@ -46,6 +46,28 @@ pub fn scroll(app: &App, lines: &[PanelLine], height: usize) -> usize {
     at.saturating_sub(height / 2).min(lines.len() - height)
 }
 
+/// The lines shown in a panel `height` lines tall. When the list does not fit, the jaw (its
+/// heading and row) stays pinned at the bottom and the muscles scroll above it, so the jaw is
+/// always in sight.
+pub fn visible(app: &App, height: usize) -> Vec<PanelLine> {
+    let all = lines(app);
+    let jaw = [PanelLine::Heading(Group::Jaw), PanelLine::Row(Row::Jaw)];
+    if all.len() <= height || height < 4 || !all.ends_with(&jaw) {
+        let offset = scroll(app, &all, height);
+        return all.into_iter().skip(offset).take(height).collect();
+    }
+    let muscles = &all[..all.len() - jaw.len()];
+    let room = height - jaw.len();
+    let offset = if app.selected_row() == Row::Jaw {
+        muscles.len() - room
+    } else {
+        scroll(app, muscles, room)
+    };
+    let mut out: Vec<PanelLine> = muscles[offset..offset + room].to_vec();
+    out.extend(jaw);
+    out
+}
+
 /// The inner area of the panel (inside its border).
 pub fn inner(area: Rect) -> Rect {
     Block::default().borders(Borders::ALL).inner(area)
@@ -57,9 +79,7 @@ pub fn row_at(app: &App, area: Rect, x: u16, y: u16) -> Option<Row> {
     if !inner.contains(ratatui::layout::Position { x, y }) {
         return None;
     }
-    let lines = lines(app);
-    let offset = scroll(app, &lines, inner.height as usize);
-    match lines.get(offset + (y - inner.y) as usize)? {
+    match visible(app, inner.height as usize).get((y - inner.y) as usize)? {
         PanelLine::Row(row) => Some(*row),
         PanelLine::Heading(_) => None,
     }
@@ -72,6 +92,40 @@ pub fn display_name(name: &str) -> String {
         .or_else(|| name.strip_prefix("R_"))
         .unwrap_or(name);
     bare.replace('_', " ")
+}
+
+/// A muscle name shortened to `width` characters, keeping it readable and telling it apart
+/// from its neighbours: words are cut to three letters and a dot from the left
+/// (`Orbicularis Oculi Orbital` becomes `Orb. Oculi Orbital`), the last word last, and only
+/// then is the end cut with an ellipsis.
+pub fn fit_name(name: &str, width: usize) -> String {
+    let mut words: Vec<String> = name.split(' ').map(str::to_string).collect();
+    let len =
+        |words: &[String]| words.iter().map(|w| w.chars().count()).sum::<usize>() + words.len() - 1;
+    for i in 0..words.len() {
+        if len(&words) <= width {
+            return words.join(" ");
+        }
+        if words[i].chars().count() > 4 {
+            words[i] = words[i].chars().take(3).chain(['.']).collect();
+        }
+    }
+    let joined = words.join(" ");
+    if joined.chars().count() <= width {
+        return joined;
+    }
+    let mut cut: String = joined.chars().take(width.saturating_sub(1)).collect();
+    cut.push('\u{2026}');
+    cut
+}
+
+/// The widths of a row's name and gauge in a panel `width` cells wide (inside its border):
+/// the name gets up to 20 cells before the gauge grows past its smallest (3).
+pub fn name_and_gauge(width: usize) -> (usize, usize) {
+    // side(1) + space + name + space + gauge + space + value(4) + mark(1)
+    let rest = width.saturating_sub(1 + 1 + 1 + 1 + 4 + 1);
+    let name = (rest - (rest / 4).clamp(3, 12).min(rest)).max(rest.saturating_sub(3).min(20));
+    (name, rest - name)
 }
 
 /// Draws the panel.
@@ -93,18 +147,12 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         .title(title);
     let inner = block.inner(area);
     block.render(area, buf);
-    let lines = lines(app);
-    let offset = scroll(app, &lines, inner.height as usize);
+    let shown = visible(app, inner.height as usize);
     let ascii = app.view.cells == CellMode::Ascii;
     let partner = app
         .partner(app.selected_row())
         .filter(|_| app.selection.mirror);
-    for (k, line) in lines
-        .iter()
-        .skip(offset)
-        .take(inner.height as usize)
-        .enumerate()
-    {
+    for (k, line) in shown.iter().enumerate() {
         let y = inner.y + k as u16;
         let rendered = match line {
             PanelLine::Heading(group) => {
@@ -144,12 +192,8 @@ fn row_line(
         (false, true, true) => "~",
         _ => " ",
     };
-    // side(1) + space + name + space + gauge + space + value(4) + mark(1)
-    let fixed = 1 + 1 + 1 + 1 + 4 + 1;
-    let rest = width.saturating_sub(fixed);
-    let gauge_width = (rest / 4).clamp(3, 12);
-    let name_width = rest.saturating_sub(gauge_width);
-    let name: String = name.chars().take(name_width).collect();
+    let (name_width, gauge_width) = name_and_gauge(width);
+    let name = fit_name(&name, name_width);
     let base = if selected {
         theme.selected(app.selection.focus == Focus::Muscles)
     } else {
@@ -192,4 +236,77 @@ pub fn gauge(fraction: f32, width: usize, ascii: bool) -> String {
         out.extend(std::iter::repeat_n('\u{b7}', width - full - 1));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tui::app::App;
+    use crate::tui::scene::Scene;
+
+    fn app_on(rig: crate::model::Rig) -> App {
+        let scene = Scene::new(rig, crate::io::builtin::default_mesh()).unwrap();
+        App::new(scene, crate::facs::AuTable::new("builtin:default"), None)
+    }
+
+    #[test]
+    fn names_fit_and_stay_unique_at_every_width() {
+        for rig in [
+            crate::io::builtin::default_rig(),
+            crate::io::builtin::paper_rig(),
+        ] {
+            let app = app_on(rig);
+            for columns in 60..=220 {
+                let area = Rect::new(0, 0, columns, 40);
+                let panel = crate::tui::view::layout(area, &app).unwrap().muscles;
+                let (width, _) = name_and_gauge(inner(panel).width as usize);
+                let mut seen = std::collections::BTreeSet::new();
+                for m in &app.rig().muscles {
+                    let shown = fit_name(&display_name(&m.name), width);
+                    assert!(shown.chars().count() <= width, "{shown} at {columns}");
+                    assert!(!shown.ends_with('\u{2026}'), "{} cut at {columns}", m.name);
+                    assert!(
+                        seen.insert((m.side.letter(), shown.clone())),
+                        "{shown} twice at {columns} columns"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn shortening_cuts_words_from_the_left() {
+        assert_eq!(
+            fit_name("Orbicularis Oculi Orbital", 25),
+            "Orbicularis Oculi Orbital"
+        );
+        assert_eq!(
+            fit_name("Orbicularis Oculi Orbital", 20),
+            "Orb. Oculi Orbital"
+        );
+        assert_eq!(
+            fit_name("Depressor Labii Inferioris", 20),
+            "Dep. Lab. Inferioris"
+        );
+        assert_eq!(fit_name("Depressor Labii Inferioris", 14), "Dep. Lab. Inf.");
+        assert_eq!(fit_name("Depressor Labii Inferioris", 8), "Dep. La\u{2026}");
+    }
+
+    #[test]
+    fn the_jaw_stays_in_sight_when_the_muscles_scroll() {
+        let mut app = app_on(crate::io::builtin::default_rig());
+        let rows = app.selection.rows.len();
+        for height in [10, 20, 36, 38] {
+            for selected in [0, rows / 2, rows - 2, rows - 1] {
+                app.selection.selected = selected;
+                let shown = visible(&app, height);
+                assert_eq!(shown.len(), height.min(lines(&app).len()));
+                assert_eq!(shown.last(), Some(&PanelLine::Row(Row::Jaw)));
+                assert!(
+                    shown.contains(&PanelLine::Row(app.selected_row())),
+                    "row {selected} at height {height}"
+                );
+            }
+        }
+    }
 }

@@ -16,12 +16,16 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         (false, true) => " [new]",
         (false, false) => "",
     };
-    let left = format!(" {} ", app.mode.name());
+    let left = match app.mode {
+        Mode::Normal if app.rig_edit.on => " RIG ".to_string(),
+        _ => format!(" {} ", app.mode.name()),
+    };
     let file = format!(" {}{dirty} ", app.file_label());
     let view = format!(
-        "| {} {} ",
+        "| {} {} {} ",
         app.view.style.name(),
-        crate::tui::app::cells_name(app.view.cells)
+        crate::tui::app::cells_name(app.view.cells),
+        colors_label(app.view.colors)
     );
     let used = left.chars().count() + file.chars().count() + view.chars().count();
     let room = (area.width as usize).saturating_sub(used);
@@ -32,7 +36,7 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         hints = message.text.chars().take(room.saturating_sub(1)).collect();
         hints.push(' ');
     }
-    for (key, hint) in keymap::hints()
+    for (key, hint) in keymap::hints_for(app)
         .into_iter()
         .filter(|_| !typing || app.message.is_none())
     {
@@ -50,4 +54,13 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         Span::styled(hints, theme.status()),
     ]);
     buf.set_line(area.x, area.y, &line, area.width);
+}
+
+/// The colour mode as the status line shows it.
+fn colors_label(colors: crate::render::ColorMode) -> String {
+    match colors {
+        crate::render::ColorMode::None => "no colour".into(),
+        crate::render::ColorMode::TrueColor => "truecolor".into(),
+        other => format!("{} colours", other.name()),
+    }
 }

@@ -106,37 +106,6 @@ impl Theme {
 
     /// A colour for the viewport, degraded to what the terminal shows.
     pub fn rgb(&self, r: u8, g: u8, b: u8) -> Option<Color> {
-        match self.colors {
-            ColorMode::None => None,
-            ColorMode::TrueColor => Some(Color::Rgb(r, g, b)),
-            ColorMode::Ansi16 => Some(nearest_ansi(r, g, b)),
-        }
+        super::cells::to_color(crate::render::Rgb(r, g, b), self.colors)
     }
-}
-
-/// The nearest of the 16 ANSI colours (by the usual xterm palette).
-pub fn nearest_ansi(r: u8, g: u8, b: u8) -> Color {
-    const PALETTE: [(Color, [i32; 3]); 16] = [
-        (Color::Black, [0, 0, 0]),
-        (Color::Red, [205, 0, 0]),
-        (Color::Green, [0, 205, 0]),
-        (Color::Yellow, [205, 205, 0]),
-        (Color::Blue, [0, 0, 238]),
-        (Color::Magenta, [205, 0, 205]),
-        (Color::Cyan, [0, 205, 205]),
-        (Color::Gray, [229, 229, 229]),
-        (Color::DarkGray, [127, 127, 127]),
-        (Color::LightRed, [255, 0, 0]),
-        (Color::LightGreen, [0, 255, 0]),
-        (Color::LightYellow, [255, 255, 0]),
-        (Color::LightBlue, [92, 92, 255]),
-        (Color::LightMagenta, [255, 0, 255]),
-        (Color::LightCyan, [0, 255, 255]),
-        (Color::White, [255, 255, 255]),
-    ];
-    let (r, g, b) = (i32::from(r), i32::from(g), i32::from(b));
-    PALETTE
-        .iter()
-        .min_by_key(|(_, [pr, pg, pb])| (r - pr).pow(2) + (g - pg).pow(2) + (b - pb).pow(2))
-        .map_or(Color::White, |(c, _)| *c)
 }

@@ -31,6 +31,8 @@ struct CacheKey {
     view: crate::tui::app::View,
     area: Rect,
     selected: Option<usize>,
+    /// Rig mode's selected point, while rig mode is on.
+    rig: Option<usize>,
 }
 
 /// The camera for the view settings: angles in degrees, pan as a fraction of the face's size.
@@ -72,6 +74,7 @@ pub fn draw(app: &App, cache: &mut RenderCache, theme: &Theme, area: Rect, buf: 
         view: app.view.clone(),
         area: inner,
         selected: selected.filter(|_| app.view.show_muscles),
+        rig: app.rig_edit.on.then_some(app.rig_edit.point),
     };
     let fresh = cache.key.as_ref() == Some(&key);
     if !fresh {
@@ -104,6 +107,9 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
     let palette = Palette::default();
     if app.view.show_muscles {
         muscle_overlays(app.rig(), selected, &palette, overlays);
+    }
+    if app.rig_edit.on {
+        super::rig::zone_overlays(app, overlays);
     }
     let mut scene = Scene::new(mesh, app.doc.scene.positions()).with_overlays(overlays);
     scene.ghost = app.view.show_ghost;

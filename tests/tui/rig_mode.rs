@@ -1,0 +1,124 @@
+//! Rig mode in the real binary: move the zygomatic's attachment, save the rig under a new
+//! name (the built-in rig has no file), reload it and find the new numbers.
+
+use std::path::Path;
+
+use grimace::io::rig_file::{load_rig, load_rig_ref};
+use grimace::model::MuscleKind;
+
+use super::e2e::Editor;
+
+fn attachment(rig: &grimace::model::Rig, name: &str) -> glam::Vec3 {
+    let i = rig.muscle_index(name).expect("the muscle");
+    match &rig.muscles[i].kind {
+        MuscleKind::Linear(m) => m.attachment,
+        other => panic!("{name} is {other:?}"),
+    }
+}
+
+#[test]
+fn move_a_zygomatic_attachment_save_and_reload() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("t.au.ron");
+    let rig_file = dir.path().join("mine.rig.ron");
+    let builtin = load_rig_ref(Path::new("builtin:default"), None).unwrap();
+    let before = attachment(&builtin.rig, "L_Zygomatic_Major");
+    let (lo, hi) = builtin.mesh.bounds();
+    let coarse = (hi - lo).y * grimace::tui::rig::COARSE_FRACTION;
+    let fine = (hi - lo).y * grimace::tui::rig::FINE_FRACTION;
+
+    let mut ed = Editor::start(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
+    ed.wait_for("new table");
+    ed.send("R");
+    ed.wait_for("L_Zygomatic_Major held at 1.00: attachment");
+    // Two coarse steps right (Shift-Right), one fine step up.
+    ed.send("\x1b[1;2C");
+    ed.send("\x1b[1;2C");
+    ed.send("\x1b[A");
+    let expected = before + glam::Vec3::new(2.0 * coarse, fine, 0.0);
+    let shown = format!("({:.4}, {:.4}, {:.4})", expected.x, expected.y, expected.z);
+    ed.wait_for(&shown);
+    // The built-in rig has no file: `:w` asks for one.
+    ed.send(":w\r");
+    ed.wait_for("type a file name");
+    ed.send(&format!("{}\r", rig_file.display()));
+    ed.wait_for("saved the rig");
+    ed.send(":q\r");
+    assert!(ed.wait_exit().success());
+    ed.wait_restored();
+
+    let saved = load_rig(&rig_file).expect("the saved rig loads").rig;
+    let after = attachment(&saved, "L_Zygomatic_Major");
+    assert!(
+        (after - expected).abs().max_element() < 1e-5,
+        "{after} vs {expected}"
+    );
+    // Nothing else moved.
+    assert_eq!(
+        attachment(&saved, "R_Zygomatic_Major"),
+        attachment(&builtin.rig, "R_Zygomatic_Major")
+    );
+
+    // Reloaded in the editor, rig mode shows the new numbers.
+    let mut ed = Editor::start(
+        dir.path(),
+        &[
+            "edit",
+            "--rig",
+            rig_file.to_str().unwrap(),
+            dir.path().join("u.au.ron").to_str().unwrap(),
+        ],
+        200,
+        60,
+    );
+    ed.wait_for("new table");
+    ed.send("R");
+    ed.wait_for(&shown);
+    ed.send(":q\r");
+    assert!(ed.wait_exit().success());
+}
+
+#[test]
+fn a_hangup_mid_edit_keeps_the_rig_and_the_next_launch_recovers_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("t.au.ron");
+    let arg = table.to_str().unwrap();
+    let builtin = load_rig_ref(Path::new("builtin:default"), None).unwrap();
+    let before = attachment(&builtin.rig, "L_Zygomatic_Major");
+    let (lo, hi) = builtin.mesh.bounds();
+    let coarse = (hi - lo).y * grimace::tui::rig::COARSE_FRACTION;
+    let expected = before + glam::Vec3::new(0.0, -coarse, 0.0);
+    let shown = format!("({:.4}, {:.4}, {:.4})", expected.x, expected.y, expected.z);
+
+    let mut ed = Editor::start(dir.path(), &["edit", arg], 200, 60);
+    ed.wait_for("new table");
+    ed.send("R");
+    ed.wait_for("held at 1.00");
+    ed.send("\x1b[1;2B"); // Shift-Down: a coarse step down
+    ed.wait_for(&shown);
+    ed.hang_up();
+    ed.wait_exit();
+    ed.wait_restored();
+    let recovery = dir.path().join(".t.au.ron.recover");
+    let text = std::fs::read_to_string(&recovery).expect("a recovery file");
+    assert!(text.contains("L_Zygomatic_Major"), "the rig is kept");
+
+    let mut ed = Editor::start(dir.path(), &["edit", arg], 200, 60);
+    ed.wait_for("recover");
+    ed.send("y");
+    let screen = ed.wait_for("recovered");
+    assert!(
+        screen.contains("[+]"),
+        "the recovered rig is unsaved: {screen}"
+    );
+    ed.send("R");
+    ed.wait_for(&shown);
+    // Undo goes back to the built-in rig's numbers.
+    ed.send("u");
+    ed.wait_for(&format!(
+        "({:.4}, {:.4}, {:.4})",
+        before.x, before.y, before.z
+    ));
+    ed.send(":q!\r");
+    assert!(ed.wait_exit().success());
+}
