@@ -447,3 +447,30 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
         );
     }
 }
+
+#[test]
+fn brow_lowerer_draws_the_brows_down_and_together() {
+    let f = face();
+    let p = f.combo("4");
+    // the head of the brow: in toward the midline and down (it reads as a frown with
+    // vertical furrows between the brows)
+    golden(
+        "AU4 brow inner",
+        f.moved(&p, "left_brow_inner"),
+        [-5.35, -4.42, -1.95],
+        0.3,
+    );
+    golden(
+        "AU4 brow (left)",
+        f.region(&p, "left_brow", Some(true)),
+        [-2.91, -1.54, -0.09],
+        0.3,
+    );
+    // one-sided: the left brow only
+    let p = f.combo("L4");
+    let right = f.moved(&p, "right_brow_inner");
+    assert!(
+        right.length() < 0.5,
+        "L4 moves the right brow head {right} mm"
+    );
+}
