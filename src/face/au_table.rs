@@ -113,7 +113,14 @@ const AUS: &[AuSpec] = &[
     au(17, &[("Mentalis", 0.55)], 0.0),
     au(18, &[("Orbicularis_Oris", 2.0)], 0.0),
     sided(20, &[("Risorius", 1.6)], 0.0),
-    au(23, &[("Orbicularis_Oris", 1.2)], 0.0),
+    au(
+        23,
+        &[
+            ("Orbicularis_Oris", 0.5),
+            ("Orbicularis_Oris_Marginal", 1.2),
+        ],
+        0.0,
+    ),
     au(24, &[("Orbicularis_Oris", 0.8), ("Mentalis", 0.5)], 0.0),
     au(25, &[("Depressor_Labii_Inferioris", 0.6)], 0.8),
     // the stretched lips draw the corners in round the opening (a light sphincter)
@@ -202,5 +209,8 @@ fn entry(name: &str, spec: &AuSpec, sides: Sides) -> AuEntry {
 
 /// Midline muscles have no side prefix.
 fn is_midline(name: &str) -> bool {
-    matches!(name, "Orbicularis_Oris" | "Procerus")
+    matches!(
+        name,
+        "Orbicularis_Oris" | "Orbicularis_Oris_Marginal" | "Procerus"
+    )
 }

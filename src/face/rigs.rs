@@ -268,7 +268,8 @@ pub fn paper_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
 
 /// Places the default rig: the paper's rig plus the muscles it lacks for the AUs face
 /// trackers report (levator palpebrae, pars orbitalis, buccinator, risorius, mentalis,
-/// depressor labii inferioris, depressor supercilii, zygomatic minor, procerus).
+/// depressor labii inferioris, depressor supercilii, zygomatic minor, procerus, the marginal
+/// part of the mouth sphincter).
 pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
     let mut rig = paper_rig(mesh)?;
     let place = Placer { mesh };
@@ -276,6 +277,7 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
         rig.muscles.extend(place.linear_pair(spec)?);
     }
     rig.muscles.push(place.procerus()?);
+    rig.muscles.push(place.orbicularis_oris_marginal()?);
     let [left, right] = place.linear_pair(&LABII_NASI)?;
     for muscle in &mut rig.muscles {
         if muscle.name == left.name {
@@ -415,6 +417,29 @@ impl Placer<'_> {
                 semi_minor: round3(units(10.0) as f32),
                 convergence: Convergence::Centre,
                 bulge: 10.0,
+                frame: Frame::IDENTITY,
+            }),
+        })
+    }
+
+    /// The marginal part of the mouth sphincter: it converges on the mouth line (not on the
+    /// centre), narrowing the red of both lips toward it with the corners nearly still and
+    /// hardly any bulge (AU23's thinned, tightened lips). `ly` covers both vermilions so the
+    /// lip margins, near the axis, barely move and the lips do not cross.
+    fn orbicularis_oris_marginal(&self) -> Result<Muscle, PlacementError> {
+        let upper = self.landmark("upper_lip_centre")?;
+        let lower = self.landmark("lower_lip_centre")?;
+        let corner = self.landmark("left_mouth_corner")?;
+        Ok(Muscle {
+            name: "Orbicularis_Oris_Marginal".into(),
+            side: Side::Centre,
+            mirror: None,
+            kind: MuscleKind::Sphincter(Sphincter {
+                centre: rounded(0.5 * (upper + lower)),
+                semi_major: round3(corner.x + units(8.0) as f32),
+                semi_minor: round3(units(16.0) as f32),
+                convergence: Convergence::MajorAxis,
+                bulge: 60.0,
                 frame: Frame::IDENTITY,
             }),
         })

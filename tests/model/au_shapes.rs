@@ -204,7 +204,7 @@ fn print_measurements() {
             f.region(&p, "lower_lip", Some(true)),
         );
     }
-    for au in ["0", "9", "10", "16", "17", "24"] {
+    for au in ["0", "9", "10", "16", "17", "23", "24"] {
         let p = if au == "0" {
             f.mesh.positions.clone()
         } else {
@@ -438,7 +438,50 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
         0.3,
     );
     // no lip AU pushes the lower lip through the upper one
-    for au in ["9", "10", "16", "17", "24"] {
+    // AU18, 23 and 24 differ in shape: 18 draws the corners in and pushes the lips forward,
+    // 23 thins both lips toward the mouth line with the corners nearly still, 24 presses the
+    // lower lip up from the chin
+    let p = f.combo("18");
+    golden(
+        "AU18 corner",
+        f.moved(&p, "left_mouth_corner"),
+        [-4.30, 0.0, 0.79],
+        0.3,
+    );
+    golden(
+        "AU18 upper lip centre",
+        f.moved(&p, "upper_lip_centre"),
+        [0.0, 0.0, 2.23],
+        0.2,
+    );
+    let p = f.combo("23");
+    golden(
+        "AU23 corner",
+        f.moved(&p, "left_mouth_corner"),
+        [-1.08, 0.0, 0.25],
+        0.3,
+    );
+    golden(
+        "AU23 upper lip (left)",
+        f.region(&p, "upper_lip", Some(true)),
+        [-0.30, -1.38, 0.46],
+        0.3,
+    );
+    golden(
+        "AU23 lower lip (left)",
+        f.region(&p, "lower_lip", Some(true)),
+        [-0.27, 1.69, 0.42],
+        0.3,
+    );
+    let p = f.combo("24");
+    golden("AU24 chin", f.moved(&p, "chin"), [0.0, 5.43, 1.90], 0.3);
+    golden(
+        "AU24 lower lip centre",
+        f.moved(&p, "lower_lip_centre"),
+        [0.0, 0.56, 1.87],
+        0.2,
+    );
+    for au in ["9", "10", "16", "17", "18", "23", "24"] {
         let p = f.combo(au);
         assert!(
             f.mouth_gap(&p) >= -0.05,
