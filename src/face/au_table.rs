@@ -95,18 +95,33 @@ const AUS: &[AuSpec] = &[
         ],
         0.0,
     ),
-    au(9, &[("Inner_Labii_Nasi", 2.0), ("Procerus", 1.0)], 0.0),
-    sided(10, &[("Labii_Nasi", 1.2)], 0.0),
+    au(
+        9,
+        &[
+            ("Inner_Labii_Nasi", 1.1),
+            ("Labii_Nasi", 0.35),
+            ("Procerus", 1.0),
+        ],
+        0.0,
+    ),
+    sided(10, &[("Labii_Nasi", 0.65)], 0.0),
     sided(11, &[("Zygomatic_Minor", 1.4)], 0.0),
     sided(12, &[("Zygomatic_Major", 1.5)], 0.0),
     sided(14, &[("Buccinator", 1.5)], 0.0),
     sided(15, &[("Angular_Depressor", 1.3)], 0.0),
-    au(16, &[("Depressor_Labii_Inferioris", 1.0)], 0.0),
-    au(17, &[("Mentalis", 1.6)], 0.0),
+    au(16, &[("Depressor_Labii_Inferioris", 0.8)], 0.0),
+    au(17, &[("Mentalis", 0.55)], 0.0),
     au(18, &[("Orbicularis_Oris", 2.0)], 0.0),
     sided(20, &[("Risorius", 1.6)], 0.0),
-    au(23, &[("Orbicularis_Oris", 1.2)], 0.0),
-    au(24, &[("Orbicularis_Oris", 0.8), ("Mentalis", 0.6)], 0.0),
+    au(
+        23,
+        &[
+            ("Orbicularis_Oris", 0.5),
+            ("Orbicularis_Oris_Marginal", 1.2),
+        ],
+        0.0,
+    ),
+    au(24, &[("Orbicularis_Oris", 0.8), ("Mentalis", 0.5)], 0.0),
     au(25, &[("Depressor_Labii_Inferioris", 0.6)], 0.8),
     // the stretched lips draw the corners in round the opening (a light sphincter)
     au(26, &[("Orbicularis_Oris", 0.4)], 2.5),
@@ -194,5 +209,8 @@ fn entry(name: &str, spec: &AuSpec, sides: Sides) -> AuEntry {
 
 /// Midline muscles have no side prefix.
 fn is_midline(name: &str) -> bool {
-    matches!(name, "Orbicularis_Oris" | "Procerus")
+    matches!(
+        name,
+        "Orbicularis_Oris" | "Orbicularis_Oris_Marginal" | "Procerus"
+    )
 }

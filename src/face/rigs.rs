@@ -162,6 +162,17 @@ const PAPER_LINEAR: [LinearSpec; 9] = [
     },
 ];
 
+/// The default rig's levator labii superioris, in place of the paper's: its pull reaches the
+/// middle of the upper lip (masked to the upper lip, see `LIP_MASKED`), which rises a little
+/// more than the sides, the upper lip's straight lift of AU10.
+const LABII_NASI: LinearSpec = LinearSpec {
+    name: "Labii_Nasi",
+    attachment: Anchor::Skin(25.0, -21.0, 3.0),
+    insertion: Anchor::Skin(9.0, -63.0, 1.0),
+    zone: 40.0,
+    falloff: (0.7, 1.6),
+};
+
 /// The muscles the default rig adds for the AUs face trackers report.
 const EXTRA_LINEAR: [LinearSpec; 8] = [
     // levator palpebrae superioris: from the orbit roof, retracts the upper lid up and back
@@ -196,21 +207,25 @@ const EXTRA_LINEAR: [LinearSpec; 8] = [
         zone: 40.0,
         falloff: (0.6, 1.2),
     },
-    // mentalis: from the incisive fossa into the chin skin, raises the chin boss (AU17)
+    // mentalis: from the incisive fossa into the chin boss; it bunches the chin skin up and
+    // pushes the lower lip up and out (AU17). The model's linear muscle pulls skin toward
+    // its attachment, so the attachment stands for where the push goes: above and in front
+    // of the lower lip (masked to the lower lip and chin, see `LIP_MASKED`)
     LinearSpec {
         name: "Mentalis",
-        attachment: Anchor::Skin(6.0, -88.0, 4.0),
-        insertion: Anchor::Skin(8.0, -112.0, 1.0),
-        zone: 35.0,
-        falloff: (0.3, 1.05),
+        attachment: Anchor::Mark("lower_lip_centre", 4.0, 8.0, -14.0),
+        insertion: Anchor::Skin(4.0, -108.0, 1.0),
+        zone: 45.0,
+        falloff: (0.5, 1.15),
     },
-    // depressor labii inferioris: mandible to the lower lip, pulls it down and out (AU16)
+    // depressor labii inferioris: mandible to the lower lip, pulls it down and out (AU16);
+    // its pull reaches the middle of the lower lip (masked to the lower lip)
     LinearSpec {
         name: "Depressor_Labii_Inferioris",
-        attachment: Anchor::Skin(20.0, -106.0, 3.0),
-        insertion: Anchor::Skin(9.0, -79.0, 1.0),
+        attachment: Anchor::Skin(18.0, -108.0, 3.0),
+        insertion: Anchor::Skin(7.0, -79.0, 1.0),
         zone: 40.0,
-        falloff: (0.5, 1.15),
+        falloff: (0.55, 1.45),
     },
     // depressor supercilii: medial orbit to the head of the brow, pulls it down (AU4)
     LinearSpec {
@@ -253,7 +268,8 @@ pub fn paper_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
 
 /// Places the default rig: the paper's rig plus the muscles it lacks for the AUs face
 /// trackers report (levator palpebrae, pars orbitalis, buccinator, risorius, mentalis,
-/// depressor labii inferioris, depressor supercilii, zygomatic minor, procerus).
+/// depressor labii inferioris, depressor supercilii, zygomatic minor, procerus, the marginal
+/// part of the mouth sphincter).
 pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
     let mut rig = paper_rig(mesh)?;
     let place = Placer { mesh };
@@ -261,9 +277,44 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
         rig.muscles.extend(place.linear_pair(spec)?);
     }
     rig.muscles.push(place.procerus()?);
+    rig.muscles.push(place.orbicularis_oris_marginal()?);
+    let [left, right] = place.linear_pair(&LABII_NASI)?;
+    for muscle in &mut rig.muscles {
+        if muscle.name == left.name {
+            *muscle = left.clone();
+        } else if muscle.name == right.name {
+            *muscle = right.clone();
+        }
+    }
     place.eyelids(&mut rig)?;
+    for (name, upper, own_half) in LIP_MASKED {
+        for side in ["L", "R"] {
+            let mask = place.lip_mask(&rig, &format!("{side}_{name}"), upper, own_half)?;
+            rig.masks.push(mask);
+        }
+    }
     Ok(rig)
 }
+
+/// Lip muscles of the default rig kept to one lip: `true` for the upper lip, `false` for
+/// the lower lip and chin. Their pull reaches the middle of the lip; the mask keeps it off
+/// the other lip, which the mouth separates from it. The last flag fades the pull out across
+/// the midline, so each side's muscle moves its own half (the middle gets half of each): for
+/// the levator, whose AU10 FACS scores on one side too. The mentalis and the depressor act
+/// as one midline pair (AU16 and AU17 are scored bilaterally) and keep their full pull.
+const LIP_MASKED: [(&str, bool, bool); 3] = [
+    ("Labii_Nasi", true, true),
+    ("Depressor_Labii_Inferioris", false, false),
+    ("Mentalis", false, false),
+];
+
+/// Below (or above) the mouth line outside the mouth corners, the skin is one piece: a lip
+/// mask fades over this distance (mm) from the mouth line there.
+const LIP_MASK_FADE_MM: f64 = 8.0;
+
+/// A lip mask fades from 0 to 1 between this distance (mm) on the other side of the midline
+/// and the same distance on the muscle's own side.
+const LIP_MASK_MIDLINE_MM: f64 = 4.0;
 
 /// Share of a blink's travel the upper lid carries in the default rig: in a blink the upper
 /// lid sweeps down over the eye and the lower lid barely rises.
@@ -366,6 +417,29 @@ impl Placer<'_> {
                 semi_minor: round3(units(10.0) as f32),
                 convergence: Convergence::Centre,
                 bulge: 10.0,
+                frame: Frame::IDENTITY,
+            }),
+        })
+    }
+
+    /// The marginal part of the mouth sphincter: it converges on the mouth line (not on the
+    /// centre), narrowing the red of both lips toward it with the corners nearly still and
+    /// hardly any bulge (AU23's thinned, tightened lips). `ly` covers both vermilions so the
+    /// lip margins, near the axis, barely move and the lips do not cross.
+    fn orbicularis_oris_marginal(&self) -> Result<Muscle, PlacementError> {
+        let upper = self.landmark("upper_lip_centre")?;
+        let lower = self.landmark("lower_lip_centre")?;
+        let corner = self.landmark("left_mouth_corner")?;
+        Ok(Muscle {
+            name: "Orbicularis_Oris_Marginal".into(),
+            side: Side::Centre,
+            mirror: None,
+            kind: MuscleKind::Sphincter(Sphincter {
+                centre: rounded(0.5 * (upper + lower)),
+                semi_major: round3(corner.x + units(8.0) as f32),
+                semi_minor: round3(units(16.0) as f32),
+                convergence: Convergence::MajorAxis,
+                bulge: 60.0,
                 frame: Frame::IDENTITY,
             }),
         })
@@ -491,6 +565,69 @@ impl Placer<'_> {
                 .collect(),
         });
         Ok(())
+    }
+
+    /// A mask keeping the muscle `name` to the upper (`upper`) or the lower lip on its own
+    /// side: weight 0 on the other side of the mouth line between the corners, and beyond the
+    /// corners a weight that fades in over [`LIP_MASK_FADE_MM`] toward the mouth line and the
+    /// corner, so the one-piece skin there is not torn; across the midline the weight fades
+    /// out over [`LIP_MASK_MIDLINE_MM`] if `own_half`. Only vertices within the muscle's reach
+    /// are listed.
+    fn lip_mask(
+        &self,
+        rig: &Rig,
+        name: &str,
+        upper: bool,
+        own_half: bool,
+    ) -> Result<Mask, PlacementError> {
+        let corner = self.landmark("left_mouth_corner")?;
+        let mouth_y =
+            0.5 * (self.landmark("upper_lip_centre")?.y + self.landmark("lower_lip_centre")?.y);
+        let Some(Muscle {
+            kind: MuscleKind::Linear(muscle),
+            ..
+        }) = rig.muscles.iter().find(|m| m.name == name)
+        else {
+            return Err(PlacementError::MissingLandmark(format!(
+                "{name} (a linear muscle)"
+            )));
+        };
+        let own_side = muscle.insertion.x.signum();
+        let fade = units(LIP_MASK_FADE_MM);
+        let midline = units(LIP_MASK_MIDLINE_MM);
+        let weights = self
+            .mesh
+            .positions
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| muscle.attachment.distance(**p) <= muscle.falloff_end)
+            .filter_map(|(i, p)| {
+                let beyond = f64::from(if upper { mouth_y - p.y } else { p.y - mouth_y });
+                let lip = if beyond <= 0.0 {
+                    1.0
+                } else {
+                    let near_line = 1.0 - surface::smoothstep(0.0, fade, beyond);
+                    let outside = surface::smoothstep(
+                        corner.x.into(),
+                        f64::from(corner.x) + fade,
+                        p.x.abs().into(),
+                    );
+                    near_line * outside
+                };
+                let side = if own_half {
+                    surface::smoothstep(-midline, midline, f64::from(p.x * own_side))
+                } else {
+                    1.0
+                };
+                let w = round3((lip * side) as f32);
+                (w < 1.0).then_some((i as u32, w))
+            })
+            .collect();
+        Ok(Mask {
+            muscles: vec![name.to_string()],
+            gain: 1.0,
+            weights,
+        })
     }
 
     /// The procerus: a midline muscle from the nasal bones up into the glabella skin; it

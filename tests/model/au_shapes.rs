@@ -108,6 +108,12 @@ impl Face {
             * MM
     }
 
+    /// The lips' gap at the middle (upper minus lower lip centre height, mm; negative when
+    /// the lower lip rises past the upper).
+    fn mouth_gap(&self, pose: &[Vec3]) -> f32 {
+        (pose[self.vertex("upper_lip_centre")].y - pose[self.vertex("lower_lip_centre")].y) * MM
+    }
+
     /// How far (mm) the lower lid margin rises above the upper one anywhere (0 if never).
     fn crossing(&self, pose: &[Vec3]) -> f32 {
         self.lid_pairs()
@@ -189,6 +195,22 @@ fn print_measurements() {
         );
         show(&format!("AU{au} left alare"), f.moved(&p, "left_alare"));
         show(&format!("AU{au} chin"), f.moved(&p, "chin"));
+        show(
+            &format!("AU{au} upper lip (left region)"),
+            f.region(&p, "upper_lip", Some(true)),
+        );
+        show(
+            &format!("AU{au} lower lip (left region)"),
+            f.region(&p, "lower_lip", Some(true)),
+        );
+    }
+    for au in ["0", "9", "10", "16", "17", "23", "24"] {
+        let p = if au == "0" {
+            f.mesh.positions.clone()
+        } else {
+            f.combo(au)
+        };
+        println!("AU{au} mouth gap at the middle {:.2} mm", f.mouth_gap(&p));
     }
     for text in ["R12A+R14A", "R12B+R14B"] {
         let p = f.combo(text);
@@ -330,4 +352,168 @@ fn no_au_flips_a_triangle_at_full_intensity() {
         let p = f.combo(&k.to_string());
         assert_eq!(f.flips(&p), 0, "AU{k} flips triangles");
     }
+}
+
+/// Asserts a displacement (mm) is within `tol` mm of its golden value in every coordinate.
+fn golden(label: &str, got: Vec3, want: [f32; 3], tol: f32) {
+    let want = Vec3::from(want);
+    assert!(
+        (got - want).abs().max_element() <= tol,
+        "{label}: {got} mm, golden {want} mm"
+    );
+}
+
+#[test]
+fn the_lip_aus_move_the_middle_of_their_lip() {
+    let f = face();
+    // AU10: the whole upper lip rises, its middle more than the corner; the lower lip stays
+    // and the lips part
+    let p = f.combo("10");
+    golden(
+        "AU10 upper lip centre",
+        f.moved(&p, "upper_lip_centre"),
+        [0.0, 6.02, -1.80],
+        0.3,
+    );
+    golden(
+        "AU10 upper lip (left)",
+        f.region(&p, "upper_lip", Some(true)),
+        [1.94, 6.82, -2.11],
+        0.3,
+    );
+    golden(
+        "AU10 lower lip centre",
+        f.moved(&p, "lower_lip_centre"),
+        [0.0, 0.0, 0.0],
+        0.05,
+    );
+    // AU9: the ala rises (hardly flaring) and takes the upper lip up with it
+    let p = f.combo("9");
+    golden(
+        "AU9 left alare",
+        f.moved(&p, "left_alare"),
+        [0.41, 7.40, -3.35],
+        0.3,
+    );
+    golden(
+        "AU9 upper lip centre",
+        f.moved(&p, "upper_lip_centre"),
+        [0.0, 3.24, -0.97],
+        0.3,
+    );
+    // AU16: the lower lip's middle drops; the upper lip stays
+    let p = f.combo("16");
+    golden(
+        "AU16 lower lip centre",
+        f.moved(&p, "lower_lip_centre"),
+        [0.0, -5.58, -2.14],
+        0.3,
+    );
+    golden(
+        "AU16 lower lip (left)",
+        f.region(&p, "lower_lip", Some(true)),
+        [0.05, -5.38, -2.38],
+        0.3,
+    );
+    golden(
+        "AU16 upper lip centre",
+        f.moved(&p, "upper_lip_centre"),
+        [0.0, 0.0, 0.0],
+        0.05,
+    );
+    // AU17: the chin boss rises and comes forward, the lower lip is pushed up against the
+    // upper one and out
+    let p = f.combo("17");
+    golden("AU17 chin", f.moved(&p, "chin"), [0.0, 5.97, 2.09], 0.3);
+    golden(
+        "AU17 lower lip centre",
+        f.moved(&p, "lower_lip_centre"),
+        [0.0, 0.61, 1.08],
+        0.2,
+    );
+    golden(
+        "AU17 lower lip (left)",
+        f.region(&p, "lower_lip", Some(true)),
+        [-0.50, 1.63, 1.51],
+        0.3,
+    );
+    // no lip AU pushes the lower lip through the upper one
+    // AU18, 23 and 24 differ in shape: 18 draws the corners in and pushes the lips forward,
+    // 23 thins both lips toward the mouth line with the corners nearly still, 24 presses the
+    // lower lip up from the chin
+    let p = f.combo("18");
+    golden(
+        "AU18 corner",
+        f.moved(&p, "left_mouth_corner"),
+        [-4.30, 0.0, 0.79],
+        0.3,
+    );
+    golden(
+        "AU18 upper lip centre",
+        f.moved(&p, "upper_lip_centre"),
+        [0.0, 0.0, 2.23],
+        0.2,
+    );
+    let p = f.combo("23");
+    golden(
+        "AU23 corner",
+        f.moved(&p, "left_mouth_corner"),
+        [-1.08, 0.0, 0.25],
+        0.3,
+    );
+    golden(
+        "AU23 upper lip (left)",
+        f.region(&p, "upper_lip", Some(true)),
+        [-0.30, -1.38, 0.46],
+        0.3,
+    );
+    golden(
+        "AU23 lower lip (left)",
+        f.region(&p, "lower_lip", Some(true)),
+        [-0.27, 1.69, 0.42],
+        0.3,
+    );
+    let p = f.combo("24");
+    golden("AU24 chin", f.moved(&p, "chin"), [0.0, 5.43, 1.90], 0.3);
+    golden(
+        "AU24 lower lip centre",
+        f.moved(&p, "lower_lip_centre"),
+        [0.0, 0.56, 1.87],
+        0.2,
+    );
+    for au in ["9", "10", "16", "17", "18", "23", "24"] {
+        let p = f.combo(au);
+        assert!(
+            f.mouth_gap(&p) >= -0.05,
+            "AU{au}: lips cross by {} mm",
+            -f.mouth_gap(&p)
+        );
+    }
+}
+
+#[test]
+fn brow_lowerer_draws_the_brows_down_and_together() {
+    let f = face();
+    let p = f.combo("4");
+    // the head of the brow: in toward the midline and down (it reads as a frown with
+    // vertical furrows between the brows)
+    golden(
+        "AU4 brow inner",
+        f.moved(&p, "left_brow_inner"),
+        [-5.35, -4.42, -1.95],
+        0.3,
+    );
+    golden(
+        "AU4 brow (left)",
+        f.region(&p, "left_brow", Some(true)),
+        [-2.91, -1.54, -0.09],
+        0.3,
+    );
+    // one-sided: the left brow only
+    let p = f.combo("L4");
+    let right = f.moved(&p, "right_brow_inner");
+    assert!(
+        right.length() < 0.5,
+        "L4 moves the right brow head {right} mm"
+    );
 }
