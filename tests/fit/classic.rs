@@ -59,12 +59,18 @@ fn import_waters_writes_landmarks_that_fit_the_default_rig() {
         let gap = (a * Vec3::new(-1.0, 1.0, 1.0)).distance(b);
         assert!(a.x < 0.0 && gap < 0.01 * size.y, "{i}: {a} vs {b}");
     }
-    // Every landmark is a mirror of its partner within 5% of the face's height.
+    // Every landmark is a mirror of its partner within 1% of the face's height.
+    let mut worst = 0.0f32;
     for i in 0..68 {
         let (a, b) = (at(i), at(mirror(i)));
         let gap = (a * Vec3::new(-1.0, 1.0, 1.0)).distance(b);
-        assert!(gap < 0.05 * size.y, "{i}: {a} vs {b}: {gap}");
+        assert!(gap < 0.01 * size.y, "{i}: {a} vs {b}: {gap}");
+        worst = worst.max(gap / size.y);
     }
+    eprintln!(
+        "largest left-right mismatch: {:.2}% of the face's height",
+        100.0 * worst
+    );
     // The chin is the lowest landmark; the brows are above the eyes, the nose between eyes
     // and mouth.
     for i in 0..68 {
