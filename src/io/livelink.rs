@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use super::arkit;
 use super::error::LoadError;
 use super::lines::LineReader;
-use super::openface::{RowError, MAX_LINE_BYTES};
+use super::openface::{next_row_line, RowError, MAX_LINE_BYTES};
 
 /// The columns of a Live Link Face header.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -229,32 +229,15 @@ impl<R: BufRead> LiveLinkReader<R> {
     /// The next row (blank lines are passed over; a line longer than [`MAX_LINE_BYTES`] is a
     /// malformed row); `None` at the end of the input.
     pub fn next_row(&mut self) -> Result<Option<Result<LiveLinkRow, RowError>>, LoadError> {
-        loop {
-            let read = self.lines.next_line().map_err(|e| LoadError {
-                path: self.path.clone(),
-                line: Some(self.lines.number() + 1),
-                column: None,
-                message: format!("cannot read: {e}"),
-            })?;
-            let Some(line) = read else {
-                return Ok(None);
-            };
-            if let Some(message) = line.too_long(MAX_LINE_BYTES) {
-                return Ok(Some(Err(RowError {
-                    line: line.number,
-                    column: None,
-                    message,
-                })));
-            }
-            if line.text.trim().is_empty() {
-                continue;
-            }
-            return Ok(Some(self.columns.parse_row(
-                &line.text,
-                line.number,
-                self.fps,
-            )));
-        }
+        let read = next_row_line(&mut self.lines).map_err(|e| LoadError {
+            path: self.path.clone(),
+            line: Some(self.lines.number() + 1),
+            column: None,
+            message: format!("cannot read: {e}"),
+        })?;
+        Ok(read.map(|line| {
+            line.and_then(|line| self.columns.parse_row(&line.text, line.number, self.fps))
+        }))
     }
 }
 

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use super::error::LoadError;
-use super::lines::LineReader;
+use super::lines::{Line, LineReader};
 
 /// The highest AU intensity OpenFace writes (`AUxx_r` runs from 0 to 5).
 pub const OPENFACE_MAX_INTENSITY: f32 = 5.0;
@@ -336,32 +336,19 @@ impl<R: BufRead> OpenFaceReader<R> {
     /// The next row, `Ok(None)` at the end of the input; blank lines are passed over. A line
     /// longer than [`MAX_LINE_BYTES`] is a malformed row, read past in bounded memory.
     pub fn next_row(&mut self) -> Result<Option<RowOutcome>, OpenFaceError> {
-        loop {
-            let read = self.lines.next_line().map_err(|e| OpenFaceError {
-                path: self.path.clone(),
-                line: Some(self.lines.number() + 1),
-                column: None,
-                message: format!("cannot read: {e}"),
-            })?;
-            let Some(line) = read else {
-                return Ok(None);
-            };
-            if let Some(message) = line.too_long(MAX_LINE_BYTES) {
-                return Ok(Some(RowOutcome::Malformed(RowError {
-                    line: line.number,
-                    column: None,
-                    message,
-                })));
-            }
-            if line.text.trim().is_empty() {
-                continue;
-            }
-            let outcome = match self.columns.parse_row(&line.text, line.number) {
+        let read = next_row_line(&mut self.lines).map_err(|e| OpenFaceError {
+            path: self.path.clone(),
+            line: Some(self.lines.number() + 1),
+            column: None,
+            message: format!("cannot read: {e}"),
+        })?;
+        Ok(read.map(|line| match line {
+            Ok(line) => match self.columns.parse_row(&line.text, line.number) {
                 Ok(row) => RowOutcome::Row(row),
                 Err(e) => RowOutcome::Malformed(e),
-            };
-            return Ok(Some(outcome));
-        }
+            },
+            Err(e) => RowOutcome::Malformed(e),
+        }))
     }
 }
 
@@ -371,6 +358,27 @@ impl<R: BufRead> Iterator for OpenFaceReader<R> {
     fn next(&mut self) -> Option<Self::Item> {
         self.next_row().transpose()
     }
+}
+
+/// The next line of a CSV recording's rows, `None` at the end: blank lines are passed over,
+/// and a line longer than [`MAX_LINE_BYTES`] is a malformed row, read past in bounded memory.
+/// Shared by the OpenFace and Live Link Face readers.
+pub(crate) fn next_row_line<R: BufRead>(
+    lines: &mut LineReader<R>,
+) -> std::io::Result<Option<Result<Line, RowError>>> {
+    while let Some(line) = lines.next_line()? {
+        if let Some(message) = line.too_long(MAX_LINE_BYTES) {
+            return Ok(Some(Err(RowError {
+                line: line.number,
+                column: None,
+                message,
+            })));
+        }
+        if !line.text.trim().is_empty() {
+            return Ok(Some(Ok(line)));
+        }
+    }
+    Ok(None)
 }
 
 #[cfg(test)]
