@@ -139,7 +139,7 @@ fn visibility(
         let (ab, ac) = (p[1] - p[0], p[2] - p[0]);
         let area = ab.x * ac.y - ab.y * ac.x;
         // Screen y runs down: counter-clockwise as seen has a negative area here.
-        if !(sign * area < 0.0) {
+        if sign * area >= 0.0 || area.is_nan() {
             continue;
         }
         // The depth plane z = a x + b y + c.

@@ -981,9 +981,9 @@ mod tests {
             app.update(PickAction::Confirm);
         }
         // After the minimal set, every other landmark is proposed: exactly the preset's.
-        for l in 0..COUNT {
+        for (l, &v) in preset.iter().enumerate() {
             if app.picks[l].is_none() {
-                assert_eq!(app.proposals[l].map(|p| p.0), Some(preset[l]), "{l}");
+                assert_eq!(app.proposals[l].map(|p| p.0), Some(v), "{l}");
             }
         }
         while let Some(l) = app.current {
@@ -1023,6 +1023,22 @@ mod tests {
             .unwrap()
             .text
             .contains("unknown command"));
+    }
+
+    #[test]
+    fn a_click_puts_the_cursor_on_the_cell_and_snaps() {
+        let mut app = picker(crate::io::builtin::default_mesh());
+        let preset = preset();
+        let area = app.viewport();
+        let screen = app.screen.clone().unwrap();
+        let (col, row) = screen.cell_of(screen.dot_of(preset[30]).unwrap()).unwrap();
+        app.update(PickAction::Click(area.x + col, area.y + row));
+        assert_eq!(app.cursor, screen.cell_centre(col, row));
+        let v = app.snapped.unwrap();
+        assert_eq!(screen.cell_of(screen.dot_of(v).unwrap()), Some((col, row)));
+        // Outside the mesh's viewport a click does nothing.
+        app.update(PickAction::Click(area.right() + 2, area.y + 1));
+        assert_eq!(app.snapped, Some(v));
     }
 
     #[test]
