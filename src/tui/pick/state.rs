@@ -437,10 +437,7 @@ impl PickApp {
                 .map(point)
                 .collect()
         };
-        let left: Vec<usize> = (0..COUNT)
-            .filter(|&i| mirror(i) != i && LEFT.contains(&i))
-            .collect();
-        let plane = MirrorPlane::fit(&picked(&MIDLINE), &picked(&left));
+        let plane = MirrorPlane::fit(&picked(&MIDLINE), &picked(&LEFT));
         let minimal_done = MINIMAL
             .iter()
             .all(|&i| self.picks[i].is_some() || self.skipped[i]);
@@ -715,13 +712,14 @@ impl PickApp {
 
     fn step(&mut self, by: i8) {
         let order = order();
-        let at = self
-            .current
-            .and_then(|c| order.iter().position(|&l| l == c))
-            .unwrap_or(0) as isize;
         let n = order.len() as isize;
-        let next = (at + isize::from(by)).rem_euclid(n) as usize;
-        self.enter(Some(order[next]));
+        let next = match self.current.and_then(|c| order.iter().position(|&l| l == c)) {
+            Some(at) => (at as isize + isize::from(by)).rem_euclid(n),
+            // Past the end: forward starts at the first landmark, back at the last.
+            None if by > 0 => 0,
+            None => n - 1,
+        };
+        self.enter(Some(order[next as usize]));
     }
 
     fn save(&mut self, quit_after: bool) -> Vec<PickEffect> {
@@ -950,6 +948,12 @@ mod tests {
                 quit_after: false
             }]
         );
+        // n and p go through the picked landmarks, the cursor on each one's vertex.
+        app.update(PickAction::Step(1));
+        assert_eq!(app.current, Some(LEFT[0]));
+        assert_eq!(app.snapped, Some(preset[LEFT[0]]));
+        app.update(PickAction::Step(-1));
+        assert_eq!(app.current, Some(crate::tui::pick::order()[COUNT - 1]));
     }
 
     #[test]
