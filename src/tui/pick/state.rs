@@ -713,7 +713,10 @@ impl PickApp {
     fn step(&mut self, by: i8) {
         let order = order();
         let n = order.len() as isize;
-        let next = match self.current.and_then(|c| order.iter().position(|&l| l == c)) {
+        let next = match self
+            .current
+            .and_then(|c| order.iter().position(|&l| l == c))
+        {
             Some(at) => (at as isize + isize::from(by)).rem_euclid(n),
             // Past the end: forward starts at the first landmark, back at the last.
             None if by > 0 => 0,
