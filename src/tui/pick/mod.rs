@@ -99,7 +99,8 @@ pub fn layout(area: Rect) -> PickLayout {
     let status = Rect::new(area.x, area.y + body_h, area.width, area.height.min(1));
     let right_w = (area.width * 2 / 5).clamp(24, 56).min(area.width / 2);
     let mesh = Rect::new(area.x, area.y, area.width - right_w, body_h);
-    let info_h = 7.min(body_h);
+    // Room for the name, the progress and the proposal, wrapped in a narrow panel.
+    let info_h = if right_w >= 44 { 8 } else { 10 }.min(body_h);
     let info = Rect::new(area.x + mesh.width, area.y, right_w, info_h);
     let reference = Rect::new(
         area.x + mesh.width,
