@@ -79,8 +79,9 @@ fn frames(c: &mut Criterion) {
             })
         });
     }
-    // Rig mode: a fine move of the selected muscle's attachment (the rig checked and bound
-    // again, the face deformed with the muscle held, drawn with the zone overlay).
+    // Rig mode: a fine move of the selected muscle's attachment (the moved muscle checked
+    // and its field bound again, the face deformed with the muscle held, drawn with the zone
+    // overlay).
     let mut term = terminal(200, 60);
     let mut rig_app = app(200, 60);
     let mut cache = Default::default();
