@@ -390,12 +390,13 @@ pub fn update(app: &mut App, action: RigAction, fx: &mut Vec<Effect>) {
         }
         RigAction::NextPoint => {
             let n = point_names(kind_of(app.rig(), app.selected_row())).len();
-            app.rig_edit.point = (app.rig_edit.point + 1) % n.max(1);
+            // From the point shown (a muscle with fewer points shows its last one).
+            app.rig_edit.point = (app.rig_edit.point.min(n.saturating_sub(1)) + 1) % n.max(1);
             app.info(describe(app));
         }
         RigAction::NextParam => {
             let n = params(kind_of(app.rig(), app.selected_row())).len();
-            app.rig_edit.param = (app.rig_edit.param + 1) % n.max(1);
+            app.rig_edit.param = (app.rig_edit.param.min(n.saturating_sub(1)) + 1) % n.max(1);
             app.info(describe(app));
         }
         RigAction::Move { right, up, coarse } => {
