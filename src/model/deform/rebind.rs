@@ -7,11 +7,10 @@
 
 use glam::Vec3;
 
-use super::{
-    bind_jaw, check_budget, check_reach, mask_scales, BindError, BoundRig, MAX_INFLUENCES,
-};
+use super::{bind_jaw, check_budget, check_reach, BindError, BoundRig, MAX_INFLUENCES};
 use crate::model::field::{validate_muscle, Field};
 use crate::model::muscle::{Muscle, MuscleKind};
+use crate::model::Rig;
 
 impl BoundRig {
     /// Gives muscle `index` new parameters (its kind and geometry; its name, side and
@@ -51,20 +50,12 @@ impl BoundRig {
             }
             check_budget(&rig, &self.rest)?;
         }
-        let scales = if sorted
-            .iter()
-            .any(|(i, _)| self.rig.masks.iter().any(|m| names(m, &self.rig, *i)))
-        {
-            mask_scales(&self.rig, count)?
-        } else {
-            Vec::new()
-        };
         let mut old = Vec::with_capacity(sorted.len());
         for (index, kind) in &sorted {
             let field = Field::of(kind, &self.rest);
-            let field = match scales.get(*index) {
-                Some(Some(scale)) => field.scaled(scale),
-                _ => field,
+            let field = match mask_scale(&self.rig, *index, count) {
+                Some(scale) => field.scaled(&scale),
+                None => field,
             };
             old.push(std::mem::replace(&mut self.fields[*index], field));
         }
@@ -127,10 +118,24 @@ impl BoundRig {
     }
 }
 
-/// True when `mask` names muscle `index` of `rig`.
-fn names(mask: &crate::model::Mask, rig: &crate::model::Rig, index: usize) -> bool {
+/// The product of the weights of the masks naming muscle `index` (one per vertex), or `None`
+/// when no mask names it: `mask_scales(rig, count)[index]`, in the same order of products,
+/// for one muscle of a rig whose masks were checked when it was bound.
+fn mask_scale(rig: &Rig, index: usize, count: usize) -> Option<Vec<f32>> {
     let name = &rig.muscles[index].name;
-    mask.muscles.iter().any(|n| n == name)
+    let mut scale: Option<Vec<f32>> = None;
+    for mask in &rig.masks {
+        for _ in mask.muscles.iter().filter(|n| *n == name) {
+            let scale = scale.get_or_insert_with(|| vec![1.0; count]);
+            if mask.gain != 1.0 {
+                scale.iter_mut().for_each(|s| *s *= mask.gain);
+            }
+            for &(vertex, weight) in &mask.weights {
+                scale[vertex as usize] *= weight;
+            }
+        }
+    }
+    scale
 }
 
 #[cfg(test)]
@@ -138,7 +143,7 @@ mod tests {
     //! A rebound rig equals the rig bound from scratch, bit for bit, on the default face.
 
     use super::*;
-    use crate::model::{Activations, Rig};
+    use crate::model::Activations;
 
     fn default_face() -> (Rig, crate::model::Mesh) {
         let loaded =
