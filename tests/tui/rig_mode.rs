@@ -8,7 +8,7 @@ use std::path::Path;
 use grimace::io::rig_file::{load_rig, load_rig_ref};
 use grimace::model::MuscleKind;
 
-use super::e2e::Editor;
+use crate::common::pty::Term;
 
 fn attachment(rig: &grimace::model::Rig, name: &str) -> glam::Vec3 {
     let i = rig.muscle_index(name).expect("the muscle");
@@ -29,7 +29,7 @@ fn move_a_zygomatic_attachment_save_and_reload() {
     let coarse = (hi - lo).y * grimace::tui::rig::COARSE_FRACTION;
     let fine = (hi - lo).y * grimace::tui::rig::FINE_FRACTION;
 
-    let mut ed = Editor::start(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
+    let mut ed = Term::grimace(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
     ed.wait_for("new table");
     ed.send("R");
     ed.wait_for("L_Zygomatic_Major held at 1.00: attachment");
@@ -62,7 +62,7 @@ fn move_a_zygomatic_attachment_save_and_reload() {
     );
 
     // Reloaded in the editor, rig mode shows the new numbers.
-    let mut ed = Editor::start(
+    let mut ed = Term::grimace(
         dir.path(),
         &[
             "edit",
@@ -92,7 +92,7 @@ fn a_hangup_mid_edit_keeps_the_rig_and_the_next_launch_recovers_it() {
     let expected = before + glam::Vec3::new(0.0, -coarse, 0.0);
     let shown = format!("({:.4}, {:.4}, {:.4})", expected.x, expected.y, expected.z);
 
-    let mut ed = Editor::start(dir.path(), &["edit", arg], 200, 60);
+    let mut ed = Term::grimace(dir.path(), &["edit", arg], 200, 60);
     ed.wait_for("new table");
     ed.send("R");
     ed.wait_for("held at 1.00");
@@ -105,7 +105,7 @@ fn a_hangup_mid_edit_keeps_the_rig_and_the_next_launch_recovers_it() {
     let text = std::fs::read_to_string(&recovery).expect("a recovery file");
     assert!(text.contains("L_Zygomatic_Major"), "the rig is kept");
 
-    let mut ed = Editor::start(dir.path(), &["edit", arg], 200, 60);
+    let mut ed = Term::grimace(dir.path(), &["edit", arg], 200, 60);
     ed.wait_for("recover");
     ed.send("y");
     let screen = ed.wait_for("recovered");
@@ -134,7 +134,7 @@ fn turn_the_jaw_axis_then_undo_an_activation_and_the_turn_in_order() {
     let jaw = builtin.rig.jaw.clone().expect("the default rig has a jaw");
     assert_eq!(jaw.axis, glam::Vec3::X, "the default jaw turns about x");
 
-    let mut ed = Editor::start(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
+    let mut ed = Term::grimace(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
     ed.wait_for("new table");
     ed.send("/jaw\r");
     ed.wait_for("found jaw");
@@ -191,7 +191,7 @@ fn turn_an_eye_frame_in_mirror_mode_save_and_reload() {
     let table = dir.path().join("t.au.ron");
     let rig_file = dir.path().join("eyes.rig.ron");
 
-    let mut ed = Editor::start(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
+    let mut ed = Term::grimace(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
     ed.wait_for("new table");
     ed.send(&select_keys("L_Orbicularis_Oculi"));
     ed.send("R");
@@ -224,7 +224,7 @@ fn turn_an_eye_frame_in_mirror_mode_save_and_reload() {
     );
 
     // Reloaded, rig mode shows the turned frame.
-    let mut ed = Editor::start(
+    let mut ed = Term::grimace(
         dir.path(),
         &[
             "edit",
