@@ -258,3 +258,21 @@ fn a_file_changed_on_disk_is_not_overwritten_without_asking() {
     ed.send("q");
     assert!(ed.wait_exit().success());
 }
+
+/// A terminal made larger mid-session: the editor redraws at the new size at once, with the
+/// status line on the new last row and the key hints that did not fit before.
+#[test]
+fn a_resized_terminal_is_redrawn_at_its_new_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut ed = Term::grimace(dir.path(), &[], 80, 24);
+    let screen = ed.wait_for("NORMAL");
+    assert!(!screen.contains("Tab table"), "{screen}");
+    ed.resize(120, 40);
+    let status_row = |t: &Term| t.with_screen(|s| s.rows(0, 120).nth(38).unwrap_or_default());
+    ed.wait_until("the status line on row 39 with more key hints", |t| {
+        let row = status_row(t);
+        row.contains("NORMAL") && row.contains("Tab table")
+    });
+    ed.send(":q!\r");
+    assert!(ed.wait_exit().success());
+}
