@@ -390,7 +390,7 @@ impl<'a> Builder<'a> {
 /// Sizes are adult means: the globe about 24 mm across, the visible iris (the cornea's
 /// diameter) 11.5 mm, a pupil of 4 mm in room light. The centre lies 31 mm from the midline
 /// (an interpupillary distance of 62 mm) and 2.5 mm above the corner line, so the upper lid
-/// covers the top 2 mm of the iris and the lower lid just reaches its bottom. It sits as far
+/// covers the top 1.5 mm of the iris and the lower lid its bottom 1 mm. It sits as far
 /// forward as the lids allow: the outer half of the lower lid margin, where the skin turns
 /// back toward the temple, lies about 1 mm in front of it (0.4 mm when AU5 draws the upper
 /// lid back), so no lid, open, closing or raised, lets the globe through.
