@@ -11,3 +11,4 @@ mod pty;
 mod rig_mode;
 mod screens;
 mod startup;
+mod view_focus;
