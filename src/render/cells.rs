@@ -275,7 +275,7 @@ impl CellGrid {
                     };
                     self.cells[row * cols + col] = Cell {
                         ch,
-                        fg: reduce(fg, colors),
+                        fg: reduce(dither_256(fg, col, row, colors), colors),
                         bg: None,
                     };
                 }

@@ -8,6 +8,7 @@ mod common;
 
 mod cells;
 mod classic;
+mod colors;
 mod default_face;
 mod defaults;
 mod files;
