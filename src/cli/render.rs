@@ -13,8 +13,8 @@ use super::export::{self, SourceArgs, Sources, StateArgs};
 use crate::io::atomic::{replace_unsynced, write_atomic_no_backup};
 use crate::model::{Activations, BoundRig, Mesh};
 use crate::render::{
-    muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, Overlay, Palette,
-    Renderer, Scene, Style,
+    muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, DisplacementLegend,
+    Overlay, Palette, Renderer, Scene, Style,
 };
 
 /// Preset views.
@@ -263,7 +263,13 @@ fn picture(
             renderer.render(&scene, &look.camera, look.style_for(format), &mut canvas);
             let mut grid = CellGrid::default();
             grid.fill(&canvas, look.mode, colors);
-            to_ansi(&grid, colors).into_bytes()
+            let mut text = to_ansi(&grid, colors);
+            if look.displacement {
+                // What the colours stand for, on a line of its own under the face.
+                let legend = DisplacementLegend::of(&scene).row(w, colors);
+                text.push_str(&to_ansi(&legend, colors));
+            }
+            text.into_bytes()
         }
         Format::Svg => {
             svg::render_svg(&scene, &look.camera, look.style_for(format), w, h).into_bytes()

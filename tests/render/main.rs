@@ -13,3 +13,4 @@ mod default_face;
 mod defaults;
 mod files;
 mod geometry;
+mod ghost;

@@ -32,6 +32,7 @@ use depth::DotMask;
 use features::build_edges;
 use fill::LIGHT;
 use lines::LineDot;
+pub(crate) use project::finite_bounds as finite_bounds_of;
 use project::{classify, detect_orientation, project_all};
 
 /// No second triangle on this edge (a mesh border).
