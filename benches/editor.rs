@@ -1,7 +1,11 @@
 //! The editor's frame: one fine-step key press (update, incremental deformation, render of
 //! the face, the ratatui buffer diff written through the real crossterm backend into a
 //! counting writer) at 200x60 and 80x24, a selection move (the face's picture is reused), and
-//! a fine move in rig mode at 200x60 (the zone overlay drawn), start to first frame (load the built-in face, bind the rig, draw once).
+//! a fine move in rig mode at 200x60 (the zone overlay drawn), the same in mirror mode, binding
+//! one muscle again against binding the whole rig, start to first frame (load the built-in
+//! face, bind the rig, draw once).
+//!
+//! The landmark picker: a cursor step, a turn, and a pick with its undo (`pick_*`).
 //!
 //! Run: `cargo bench --bench editor -- --warm-up-time 1 --measurement-time 3`
 
@@ -79,8 +83,9 @@ fn frames(c: &mut Criterion) {
             })
         });
     }
-    // Rig mode: a fine move of the selected muscle's attachment (the rig checked and bound
-    // again, the face deformed with the muscle held, drawn with the zone overlay).
+    // Rig mode: a fine move of the selected muscle's attachment (the moved muscle checked
+    // and its field bound again, the face deformed with the muscle held, drawn with the zone
+    // overlay).
     let mut term = terminal(200, 60);
     let mut rig_app = app(200, 60);
     let mut cache = Default::default();
@@ -99,6 +104,32 @@ fn frames(c: &mut Criterion) {
             grimace::tui::draw(&mut term, &rig_app, &mut cache).unwrap();
         })
     });
+    // The same in mirror mode: the partner moves too, two muscles bound again.
+    update(&mut rig_app, Action::ToggleMirror);
+    c.bench_function("rig_mirror_move_frame_200x60", |b| {
+        b.iter(|| {
+            flip = -flip;
+            let action = RigAction::Move {
+                right: flip,
+                up: 0,
+                coarse: false,
+            };
+            update(&mut rig_app, Action::Rig(action));
+            grimace::tui::draw(&mut term, &rig_app, &mut cache).unwrap();
+        })
+    });
+    // What a rig-mode move binds: the zygomatic alone again, against the whole rig.
+    let mut bound = grimace::model::BoundRig::bind(rig_app.rig(), rig_app.doc.scene.mesh())
+        .expect("the rig binds");
+    let kind = rig_app.rig().muscles[0].kind.clone();
+    c.bench_function("rebind_one_muscle", |b| {
+        b.iter(|| bound.rebind_muscle(0, kind.clone()).expect("rebinds"))
+    });
+    c.bench_function("bind_whole_rig", |b| {
+        b.iter(|| {
+            grimace::model::BoundRig::bind(rig_app.rig(), rig_app.doc.scene.mesh()).expect("binds")
+        })
+    });
     c.bench_function("start_to_first_frame_200x60", |b| {
         b.iter(|| {
             let mut term = terminal(200, 60);
@@ -108,5 +139,46 @@ fn frames(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, frames);
+/// The landmark picker on the default face at 120x40: a cursor step (snap to the nearest
+/// visible vertex), a turn (projection and visibility again), and a pick after the minimal
+/// set with its undo (the proposals carried through the warp, twice).
+fn picker(c: &mut Criterion) {
+    use grimace::tui::pick::{PickAction, PickApp, MINIMAL};
+    let mesh = grimace::io::builtin::default_mesh();
+    let preset = grimace::io::builtin::landmarks("face")
+        .expect("the default face's landmarks")
+        .vertices(&mesh);
+    let mut app = PickApp::new(
+        mesh,
+        "face.obj".into(),
+        "face.landmarks.ron".into(),
+        (120, 40),
+        grimace::render::CellMode::Braille,
+    );
+    let mut flip = 1;
+    c.bench_function("pick_cursor_step_120x40", |b| {
+        b.iter(|| {
+            flip = -flip;
+            app.update(PickAction::Move(flip, 0))
+        })
+    });
+    c.bench_function("pick_turn_120x40", |b| {
+        b.iter(|| {
+            flip = -flip;
+            app.update(PickAction::Turn(15.0 * f32::from(flip), 0.0))
+        })
+    });
+    for &l in &MINIMAL {
+        app.snapped = Some(preset[l]);
+        app.update(PickAction::Confirm);
+    }
+    c.bench_function("pick_confirm_and_undo_warp", |b| {
+        b.iter(|| {
+            app.update(PickAction::Confirm);
+            app.update(PickAction::Undo)
+        })
+    });
+}
+
+criterion_group!(benches, frames, picker);
 criterion_main!(benches);

@@ -7,6 +7,8 @@ use super::action::Action;
 use super::app::{App, Mode, ViewPreset};
 use super::rig::RigAction;
 
+pub mod pick;
+
 /// One key binding in normal mode.
 #[derive(Debug, Clone)]
 pub struct Binding {
@@ -517,7 +519,7 @@ pub fn rig_bindings() -> &'static [Binding] {
             NONE,
             Action::Rig(R::NextParam),
             SECTION,
-            "next parameter: zone, falloff, semi-axes, bulge, length, width, degrees per unit",
+            "next parameter: zone, falloff; semi-axes, bulge, frame angle; length, width; jaw degrees per unit, axis angle",
             Some("param"),
         ),
         bind(
@@ -528,7 +530,7 @@ pub fn rig_bindings() -> &'static [Binding] {
                 coarse: false,
             }),
             SECTION,
-            "increase the parameter (fine)",
+            "increase the parameter, or turn it counter-clockwise (fine)",
             Some("change"),
         ),
         bind(
@@ -583,25 +585,25 @@ pub fn rig_bindings() -> &'static [Binding] {
         bind(
             ch('u'),
             NONE,
-            Action::Rig(R::Undo),
+            Action::Undo,
             SECTION,
-            "undo the last rig change",
+            "undo the last edit, a rig change or an activation, in the order made",
             Some("undo"),
         ),
         bind(
             ch('U'),
             NONE,
-            Action::Rig(R::Redo),
+            Action::Redo,
             SECTION,
-            "redo a rig change",
+            "redo the last undone edit",
             None,
         ),
         bind(
             ch('r'),
             CTRL,
-            Action::Rig(R::Redo),
+            Action::Redo,
             SECTION,
-            "redo a rig change",
+            "redo the last undone edit",
             None,
         ),
     ];

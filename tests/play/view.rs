@@ -157,10 +157,11 @@ fn has_braille(screen: &str) -> bool {
         .any(|c| ('\u{2801}'..='\u{28ff}').contains(&c))
 }
 
+/// Long enough that a loaded machine cannot reach its end before a test's keys arrive.
 const TIMELINE: &str = r#"Timeline(
     version: 1,
     frame_rate: 30.0,
-    keyframes: [(time: 0.0), (time: 1.0, aus: "12"), (time: 2.0, aus: "26")],
+    keyframes: [(time: 0.0), (time: 1.0, aus: "12"), (time: 60.0, aus: "26")],
 )"#;
 
 #[test]

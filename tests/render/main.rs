@@ -11,6 +11,7 @@ mod classic;
 mod colors;
 mod default_face;
 mod defaults;
+mod eyes;
 mod files;
 mod geometry;
 mod ghost;
