@@ -137,3 +137,32 @@ fn shaded_face_in_256_colours_braille_and_half_block() {
         insta::assert_snapshot!(format!("shaded_face_256_{cells}"), steps);
     }
 }
+
+#[test]
+fn displacement_outputs_carry_the_colour_scale() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("smile.svg");
+    let svg_arg = svg.to_str().unwrap();
+    render(
+        &["--expr", "happiness", "--displacement", "--out", svg_arg],
+        &[],
+    );
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("linearGradient"), "the ramp");
+    assert!(text.contains(" mm+</text>"), "the full-colour distance");
+    let coloured = text_of(&["--expr", "happiness", "--displacement", "--colors", "256"]);
+    let last = coloured.lines().last().unwrap();
+    assert!(last.contains('█') && last.contains(" mm+"), "{last}");
+    let plain = text_of(&["--expr", "happiness", "--displacement", "--colors", "none"]);
+    let last = plain.lines().last().unwrap();
+    assert!(
+        last.starts_with("moved: blue 0") && last.ends_with(" mm+"),
+        "{last}"
+    );
+    let without = text_of(&["--expr", "happiness", "--colors", "none"]);
+    assert!(!without.contains("moved:"));
+}
+
+fn text_of(args: &[&str]) -> String {
+    text(&render(args, &[]))
+}
