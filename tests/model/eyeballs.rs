@@ -319,3 +319,42 @@ fn fitting_keeps_the_eyeballs_still() {
         }
     }
 }
+
+/// A rig file for the built-in face written before it had eyeballs carries no mask for them;
+/// loading it keeps them still all the same.
+#[test]
+fn a_rig_file_without_the_eyeball_mask_keeps_them_still() {
+    let mesh = builtin::default_mesh();
+    let eyes = eyeball_vertices(&mesh);
+    let mut old = builtin::default_rig();
+    old.masks.retain(|m| {
+        !m.weights
+            .iter()
+            .any(|(v, _)| eyes.contains(v) && m.weights.len() == eyes.len())
+    });
+    assert!(
+        old.masks.len() < builtin::default_rig().masks.len(),
+        "the eyeball mask was not found to remove"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("old.rig.ron");
+    std::fs::write(&path, grimace::io::rig_to_ron(&old)).unwrap();
+    let loaded = grimace::io::load_rig(&path).expect("the old rig loads");
+    let bound = BoundRig::bind(&loaded.rig, &loaded.mesh).expect("rig binds");
+    let mut act = Activations::zero(&loaded.rig);
+    act.muscles.iter_mut().for_each(|a| *a = 2.0);
+    let mut out = Vec::new();
+    bound.deform(&act, &mut out).expect("deforms");
+    for &v in &eyes {
+        assert_eq!(
+            out[v as usize], mesh.positions[v as usize],
+            "eyeball vertex {v} moved"
+        );
+    }
+    // The mask is not added twice when a rig that has it is loaded.
+    assert_eq!(
+        loaded.rig.masks.len(),
+        builtin::default_rig().masks.len(),
+        "masks after loading"
+    );
+}
