@@ -57,7 +57,7 @@ pub struct EditArgs {
 pub struct ColorsChoice(pub Option<ColorMode>);
 
 /// Parses `--colors`: `auto` or a mode's name.
-fn parse_colors(text: &str) -> Result<ColorsChoice, String> {
+pub(crate) fn parse_colors(text: &str) -> Result<ColorsChoice, String> {
     match text.trim().to_ascii_lowercase().as_str() {
         "auto" => Ok(ColorsChoice(None)),
         other => other

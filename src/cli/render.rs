@@ -13,8 +13,8 @@ use super::export::{self, SourceArgs, Sources, StateArgs};
 use crate::io::atomic::{replace_unsynced, write_atomic_no_backup};
 use crate::model::{Activations, BoundRig, Mesh};
 use crate::render::{
-    muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, Overlay, Palette,
-    Renderer, Scene, Style,
+    muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, DisplacementLegend,
+    Overlay, Palette, Renderer, Scene, Style,
 };
 
 /// Preset views.
@@ -28,15 +28,25 @@ pub enum View {
     ThreeQuarter,
 }
 
-/// When to colour text output.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+/// `--colors`: how text output is coloured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ColorChoice {
-    /// When stdout is a terminal and NO_COLOR is not set.
+    /// On a terminal, what it can show ([`ColorMode::from_env`], as the editor reads it);
+    /// none when stdout is not a terminal or NO_COLOR is set.
     Auto,
-    /// Always (24-bit colour).
-    Always,
-    /// Never.
-    Never,
+    /// This mode, terminal or not (`always` is 24-bit, `never` none).
+    Mode(ColorMode),
+}
+
+/// Parses `--colors`: `auto`, a colour mode's name as the editor takes it, or `always` and
+/// `never`.
+fn parse_color_choice(text: &str) -> Result<ColorChoice, String> {
+    match text.trim().to_ascii_lowercase().as_str() {
+        "always" => Ok(ColorChoice::Mode(ColorMode::TrueColor)),
+        "never" => Ok(ColorChoice::Mode(ColorMode::None)),
+        other => super::edit::parse_colors(other)
+            .map(|c| c.0.map_or(ColorChoice::Auto, ColorChoice::Mode)),
+    }
 }
 
 /// Output file formats for `--all`.
@@ -96,8 +106,10 @@ pub struct RenderArgs {
     /// Braille, half-block or ASCII cells for text.
     #[command(flatten)]
     pub cells: super::CellsArgs,
-    /// Colour text output.
-    #[arg(long, value_enum, default_value = "auto")]
+    /// Colours of text output: auto (on a terminal, what NO_COLOR, TERM, COLORTERM and the
+    /// terminal's name say it shows, as the editor reads them; none into a pipe or file),
+    /// truecolor, 256 (greys from the 24-step ramp, dithered), 16 or none.
+    #[arg(long = "colors", visible_alias = "color", value_name = "MODE", default_value = "auto", value_parser = parse_color_choice)]
     pub color: ColorChoice,
     /// Draw the muscles over the face.
     #[arg(long)]
@@ -198,12 +210,10 @@ fn finite(flag: &str, value: f32) -> anyhow::Result<f32> {
 }
 
 fn color_mode(choice: ColorChoice) -> ColorMode {
-    let no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
     match choice {
-        ColorChoice::Never => ColorMode::None,
-        ColorChoice::Always => ColorMode::TrueColor,
-        ColorChoice::Auto if no_color || !std::io::stdout().is_terminal() => ColorMode::None,
-        ColorChoice::Auto => ColorMode::TrueColor,
+        ColorChoice::Mode(mode) => mode,
+        ColorChoice::Auto if !std::io::stdout().is_terminal() => ColorMode::None,
+        ColorChoice::Auto => ColorMode::from_env(),
     }
 }
 
@@ -253,7 +263,13 @@ fn picture(
             renderer.render(&scene, &look.camera, look.style_for(format), &mut canvas);
             let mut grid = CellGrid::default();
             grid.fill(&canvas, look.mode, colors);
-            to_ansi(&grid, colors).into_bytes()
+            let mut text = to_ansi(&grid, colors);
+            if look.displacement {
+                // What the colours stand for, on a line of its own under the face.
+                let legend = DisplacementLegend::of(&scene).row(w, colors);
+                text.push_str(&to_ansi(&legend, colors));
+            }
+            text.into_bytes()
         }
         Format::Svg => {
             svg::render_svg(&scene, &look.camera, look.style_for(format), w, h).into_bytes()

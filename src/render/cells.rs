@@ -259,6 +259,13 @@ impl CellGrid {
         let (on, color, layer) = canvas.buffers();
         let cw = canvas.width();
         let cols = self.width;
+        // Where the rest-pose ghost lies under live dots, it shows as the cell's background.
+        // Dimmer than the ghost's own dots; none where the terminal would only show black.
+        let ghost_bg = canvas
+            .ghost_color()
+            .and_then(|c| reduce(c.mix(Rgb(0, 0, 0), GHOST_UNDER_DIM), colors))
+            .filter(|&c| c != Rgb(0, 0, 0))
+            .map(|c| (canvas.ghost_dots(), c));
         for row in r0..r1 {
             let mut col = c0;
             while col < c1 {
@@ -266,8 +273,11 @@ impl CellGrid {
                     col += 4;
                     continue;
                 }
-                let (bits, fg) = gather_2x4(on, color, layer, cw, col * 2, row * 4);
+                let (bits, fg, top) = gather_2x4(on, color, layer, cw, col * 2, row * 4);
                 if bits != 0 {
+                    let bg = ghost_bg.and_then(|(ghost, c)| {
+                        (top > Layer::Ghost && any_2x4(ghost, cw, col * 2, row * 4)).then_some(c)
+                    });
                     let ch = if mode == CellMode::Braille {
                         braille_char(bits)
                     } else {
@@ -275,8 +285,8 @@ impl CellGrid {
                     };
                     self.cells[row * cols + col] = Cell {
                         ch,
-                        fg: reduce(fg, colors),
-                        bg: None,
+                        fg: reduce(dither_256(fg, col, row, colors), colors),
+                        bg,
                     };
                 }
                 col += 1;
@@ -295,8 +305,17 @@ fn dark_2x4_run(on: &[bool], width: usize, x: usize, y: usize) -> bool {
     })
 }
 
-/// The 2x4 dot pattern of a cell in braille bit order, and the colour of its highest-layer
-/// lit dot.
+/// How much darker than the ghost's colour the background under live dots is.
+pub const GHOST_UNDER_DIM: f32 = 0.35;
+
+/// Whether any of the 2x4 dots from (x, y) is set.
+#[inline]
+fn any_2x4(dots: &[bool], width: usize, x: usize, y: usize) -> bool {
+    (y..y + 4).any(|row| dots[row * width + x] | dots[row * width + x + 1])
+}
+
+/// The 2x4 dot pattern of a cell in braille bit order, and the colour and layer of its
+/// highest-layer lit dot.
 #[inline]
 fn gather_2x4(
     on: &[bool],
@@ -305,7 +324,7 @@ fn gather_2x4(
     width: usize,
     x: usize,
     y: usize,
-) -> (u8, Rgb) {
+) -> (u8, Rgb, Layer) {
     const BITS: [[u8; 2]; 4] = [[0x01, 0x08], [0x02, 0x10], [0x04, 0x20], [0x40, 0x80]];
     let mut bits = 0u8;
     for (dy, row_bits) in BITS.iter().enumerate() {
@@ -313,7 +332,7 @@ fn gather_2x4(
         bits |= (row[0] as u8 * row_bits[0]) | (row[1] as u8 * row_bits[1]);
     }
     if bits == 0 {
-        return (0, Rgb::default());
+        return (0, Rgb::default(), Layer::Empty);
     }
     let mut best = (Layer::Empty, Rgb::default());
     for dy in 0..4 {
@@ -324,7 +343,7 @@ fn gather_2x4(
             }
         }
     }
-    (bits, best.1)
+    (bits, best.1, best.0)
 }
 
 /// The braille bit of the dot at column `dx` (0-1), row `dy` (0-3) of a cell (Unicode's

@@ -79,6 +79,7 @@
 pub mod camera;
 pub mod canvas;
 pub mod cells;
+pub mod legend;
 pub mod png;
 pub mod raster;
 pub mod scene;
@@ -89,7 +90,9 @@ pub use canvas::{DotCanvas, Layer, Rgb};
 pub use cells::{
     ansi256_rgb, ascii_char, braille_bit, braille_char, dither_256, nearest_ansi16,
     nearest_ansi256, reduce, to_ansi, to_text, Cell, CellGrid, CellMode, ColorMode, ANSI16,
+    GHOST_UNDER_DIM,
 };
+pub use legend::DisplacementLegend;
 pub use raster::{render, LitTriangle, Renderer, Run};
 pub use scene::{
     displacement_ramp, muscle_overlays, Orientation, Overlay, Palette, Scene, Shape, Style,

@@ -5,8 +5,9 @@ use std::fmt::Write as _;
 
 use super::camera::Camera;
 use super::canvas::{DotCanvas, Rgb};
+use super::legend::DisplacementLegend;
 use super::raster::Renderer;
-use super::scene::{Scene, Style};
+use super::scene::{displacement_ramp, Scene, Style};
 
 /// The background colour of image output.
 pub const BACKGROUND: Rgb = Rgb(16, 16, 16);
@@ -73,8 +74,44 @@ pub fn render_svg(
         );
     }
     let _ = writeln!(out, "</g>");
+    if scene.displacement {
+        legend(&mut out, scene, width, height);
+    }
     out.push_str("</svg>\n");
     out
+}
+
+/// The displacement colours' scale along the bottom edge: the ramp from `0` to the
+/// distance drawn in the hottest colour.
+fn legend(out: &mut String, scene: &Scene, width: usize, height: usize) {
+    let legend = DisplacementLegend::of(scene);
+    let (w, h) = (width as f32, height as f32);
+    let bar = (w * 0.4).max(20.0);
+    let (x, y) = (w * 0.05, h - 14.0);
+    let _ = writeln!(
+        out,
+        r#"<defs><linearGradient id="displacement" x1="0" x2="1" y1="0" y2="0">"#
+    );
+    for k in 0..=6 {
+        let t = k as f32 / 6.0;
+        let _ = writeln!(
+            out,
+            r#"<stop offset="{t:.3}" stop-color="{}"/>"#,
+            hex(displacement_ramp(t))
+        );
+    }
+    let _ = writeln!(out, "</linearGradient></defs>");
+    let _ = writeln!(
+        out,
+        r#"<g font-family="sans-serif" font-size="10" fill="{}"><text x="{:.1}" y="{:.1}" text-anchor="end">0</text><rect x="{x:.1}" y="{:.1}" width="{bar:.1}" height="8" fill="url(#displacement)"/><text x="{:.1}" y="{:.1}">{}+</text></g>"#,
+        hex(scene.palette.mesh),
+        x - 3.0,
+        y + 8.0,
+        y,
+        x + bar + 3.0,
+        y + 8.0,
+        legend.label(legend.full)
+    );
 }
 
 fn hex(c: Rgb) -> String {

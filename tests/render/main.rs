@@ -8,8 +8,10 @@ mod common;
 
 mod cells;
 mod classic;
+mod colors;
 mod default_face;
 mod defaults;
 mod eyes;
 mod files;
 mod geometry;
+mod ghost;

@@ -14,3 +14,4 @@ mod picker;
 mod rig_mode;
 mod screens;
 mod startup;
+mod view_focus;

@@ -15,6 +15,9 @@ const SLOPE_BIAS: f32 = 0.8;
 /// Cap on the slope part of the bias, so steep faces do not let hidden lines through.
 const MAX_SLOPE_BIAS: f32 = 6.0;
 
+/// Displacements below this fraction of the full colour keep the mesh's own colour.
+pub(super) const HEAT_FLOOR: f32 = 0.02;
+
 impl Renderer {
     /// How far each vertex moved from rest, as a fraction of the full-colour displacement.
     #[inline(never)]
@@ -38,7 +41,7 @@ impl Renderer {
     fn edge_color(&self, scene: &Scene, e: &Edge) -> Rgb {
         let heat = |i: u32| self.vertex_heat.get(i as usize).copied().unwrap_or(0.0);
         let h = heat(e.a).max(heat(e.b));
-        if self.vertex_heat.is_empty() || h.is_nan() || h < 0.02 {
+        if self.vertex_heat.is_empty() || h.is_nan() || h < HEAT_FLOOR {
             scene.palette.mesh
         } else {
             displacement_ramp(h)

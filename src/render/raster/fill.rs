@@ -2,11 +2,12 @@
 
 use glam::Vec3;
 
-use super::depth::{ceil_nonneg, corner_weights, floor_end};
+use super::depth::{ceil_nonneg, corner_weights, dot_span, floor_end, triangle_box};
+use super::features::HEAT_FLOOR;
 use super::Renderer;
 use crate::model::Mesh;
 use crate::render::canvas::{DotCanvas, Layer, Rgb};
-use crate::render::scene::Scene;
+use crate::render::scene::{displacement_ramp, Scene};
 
 /// Light direction in view space: from the upper front, a little from the viewer's left.
 pub(super) const LIGHT: Vec3 = Vec3::new(-0.30, 0.55, 0.78);
@@ -16,30 +17,61 @@ const AMBIENT: f32 = 0.08;
 const BAYER: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
 
 impl Renderer {
-    /// Rasterizes front-facing triangles with depth and Gouraud-interpolated Lambert shading,
-    /// dithered when the canvas asks for it.
+    /// Rasterizes front-facing triangles with depth and Gouraud-interpolated Lambert shading
+    /// (and, with displacement colours, the interpolated displacement), dithered when the
+    /// canvas asks for it.
+    ///
+    /// Two steps: every triangle writes depth and its interpolated values into per-dot
+    /// buffers without a branch per dot (at terminal resolution a triangle covers a handful
+    /// of dots, and whether the next one is inside is a coin toss the branch predictor
+    /// loses); then each dot the surface covers is lit once, from the nearest triangle's
+    /// values. The same dots, depths and colours as lighting each dot as it is drawn.
     #[inline(never)]
-    pub(super) fn fill_shaded(&self, scene: &Scene, canvas: &mut DotCanvas) {
+    pub(super) fn fill_shaded(&mut self, scene: &Scene, canvas: &mut DotCanvas) {
         self.mark_faces_dirty(canvas);
         let (w, h, dither) = (canvas.width(), canvas.height(), canvas.dither);
-        let base = scene.palette.mesh;
+        let dirty = canvas.dirty_rect();
+        let n = w * h;
+        if self.dot_shade.len() < n {
+            self.dot_shade.resize(n, 0.0);
+        }
+        let heat = !self.vertex_heat.is_empty();
+        if heat && self.dot_heat.len() < n {
+            self.dot_heat.resize(n, 0.0);
+        }
+        let small = w.max(h) < 1 << 24;
+        self.dot_spans.clear();
+        if small {
+            self.dot_spans
+                .extend(self.projected.iter().map(move |&p| dot_span(p, w, h)));
+        }
         let (depth, on, color, layer) = canvas.buffers_mut();
         for (t, tri) in self.triangles.iter().enumerate() {
             if !self.facing[t] {
                 continue;
             }
             let p = tri.map(|i| self.projected[i as usize]);
+            let dots = if small {
+                triangle_box(tri.map(|i| self.dot_spans[i as usize]))
+            } else {
+                float_box(p, w, h)
+            };
             let s = tri.map(|i| self.vertex_shade[i as usize]);
-            raster_triangle(p, s, w, h, |i, x, y, z, shade| {
-                if z > depth[i] {
-                    depth[i] = z;
-                    let lit = !dither || shade * 16.0 > BAYER[y & 3][x & 3] as f32 + 0.5;
-                    on[i] = lit;
-                    color[i] = scale(base, if dither { 0.35 + 0.65 * shade } else { shade });
-                    layer[i] = if lit { Layer::Mesh } else { Layer::Empty };
-                }
-            });
+            if heat {
+                let k = tri.map(|i| self.vertex_heat[i as usize]);
+                let out = [&mut self.dot_shade[..], &mut self.dot_heat[..]];
+                shade_triangle_in::<2>(p, [s, k], dots, w, depth, out);
+            } else {
+                let out = [&mut self.dot_shade[..]];
+                shade_triangle_in::<1>(p, [s], dots, w, depth, out);
+            }
         }
+        let look = Look {
+            base: scene.palette.mesh,
+            dither,
+            heat: heat.then_some(&self.dot_heat[..]),
+        };
+        look.light_dots(dirty, w, depth, &self.dot_shade, (on, color, layer));
     }
 
     /// Per-vertex Lambert intensity from oriented, area-weighted vertex normals.
@@ -113,6 +145,70 @@ impl Renderer {
     }
 }
 
+/// The lit colour of a dot of the shaded surface: whether it is on, and its colour
+/// (`base` scaled by the light, which dithering keeps from going dark).
+#[cfg(test)]
+pub(super) fn reference_light(
+    base: Rgb,
+    dither: bool,
+    x: usize,
+    y: usize,
+    shade: f32,
+    heat: Option<f32>,
+) -> (bool, Rgb) {
+    let lit = !dither || shade * 16.0 > BAYER[y & 3][x & 3] as f32 + 0.5;
+    let base = heat.map_or(base, |h| heat_color(base, h));
+    (
+        lit,
+        scale(base, if dither { 0.35 + 0.65 * shade } else { shade }),
+    )
+}
+
+/// How the shaded surface's dots are lit and coloured.
+struct Look<'a> {
+    /// The surface's colour at full light.
+    base: Rgb,
+    /// Whether the shading is dithered into on and off dots.
+    dither: bool,
+    /// Per dot, the displacement as a fraction of the full colour (displacement colours on).
+    heat: Option<&'a [f32]>,
+}
+
+impl Look<'_> {
+    /// Lights every dot of the rectangle `(x0, y0, x1, y1)` (exclusive ends) that the
+    /// surface covers (finite depth), from its interpolated shade (and heat).
+    #[inline(never)]
+    fn light_dots(
+        &self,
+        (x0, y0, x1, y1): (usize, usize, usize, usize),
+        w: usize,
+        depth: &[f32],
+        shade: &[f32],
+        (on, color, layer): (&mut [bool], &mut [Rgb], &mut [Layer]),
+    ) {
+        for y in y0..y1 {
+            let thresholds = BAYER[y & 3].map(|b| b as f32 + 0.5);
+            let (from, to) = (y * w + x0, y * w + x1);
+            // Without branches on the dither, which is a coin toss per dot: the colour is
+            // computed for every covered dot (only read where the dot is on).
+            for (x, i) in (x0..x1).zip(from..to) {
+                if depth[i] == f32::NEG_INFINITY {
+                    continue;
+                }
+                let s = shade[i];
+                let lit = !self.dither || s * 16.0 > thresholds[x & 3];
+                on[i] = lit;
+                layer[i] = if lit { Layer::Mesh } else { Layer::Empty };
+                let base = match self.heat {
+                    Some(heat) => heat_color(self.base, heat[i]),
+                    None => self.base,
+                };
+                color[i] = scale(base, if self.dither { 0.35 + 0.65 * s } else { s });
+            }
+        }
+    }
+}
+
 /// The tone of a vertex group's material by its name: irises are mid grey, pupils nearly
 /// black, everything else as lit.
 const TONES: [(&str, f32); 2] = [("pupil", 0.12), ("iris", 0.45)];
@@ -135,6 +231,17 @@ pub(super) fn vertex_tones(mesh: &Mesh, out: &mut Vec<f32>) {
                 }
             }
         }
+    }
+}
+
+/// The surface colour for a displacement `heat` (a fraction of the full colour): the
+/// displacement ramp, or `base` where the skin barely moved (as the feature lines do).
+#[inline]
+fn heat_color(base: Rgb, heat: f32) -> Rgb {
+    if heat.is_nan() || heat < HEAT_FLOOR {
+        base
+    } else {
+        displacement_ramp(heat)
     }
 }
 
@@ -171,6 +278,8 @@ pub(super) fn normalize_or_zero_all(v: &mut [Vec3]) {
 ///
 /// At terminal resolution most triangles cover a handful of dots, so the cost is in the
 /// setup: one division, then the edge functions step across the bounding box.
+/// The plain reference the fast fills are tested against.
+#[cfg(test)]
 #[inline]
 pub(super) fn raster_triangle(
     p: [Vec3; 3],
@@ -222,4 +331,131 @@ pub(super) fn raster_triangle(
             s += sx;
         }
     }
+}
+
+/// A triangle's box of dot centres `[x0, x1, y0, y1]` from its corners, for any canvas (see
+/// [`triangle_box`] for the fast way below 2^24 dots a side).
+pub(super) fn float_box([a, b, c]: [Vec3; 3], w: usize, h: usize) -> [usize; 4] {
+    [
+        ceil_nonneg(a.x.min(b.x).min(c.x) - 0.5),
+        floor_end(a.x.max(b.x).max(c.x) - 0.5, w),
+        ceil_nonneg(a.y.min(b.y).min(c.y) - 0.5),
+        floor_end(a.y.max(b.y).max(c.y) - 0.5, h),
+    ]
+}
+
+/// Rasterizes a screen triangle over its box of dot centres `dots` into the depth buffer,
+/// and where it is nearer, writes its `N` interpolated attributes into `out`.
+///
+/// Every value at a dot centre `(x, y)` is its plane evaluated there, `(kx * x + ky * y) +
+/// k0` (as [`plane_at`] does), not a running sum along the row: so four dots are tested
+/// and written side by side, without a branch per dot, and with no error piling up along
+/// a row. A dot is inside when its three barycentric weights are at least `-1e-5`, so an
+/// edge shared by two triangles leaves no gap.
+#[inline(always)]
+pub(super) fn shade_triangle_in<const N: usize>(
+    p: [Vec3; 3],
+    attr: [[f32; 3]; N],
+    dots: [usize; 4],
+    w: usize,
+    depth: &mut [f32],
+    out: [&mut [f32]; N],
+) {
+    let [a, b, c] = p;
+    let [x0, x1, y0, y1] = dots;
+    if x0 >= x1 || y0 >= y1 {
+        return;
+    }
+    let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if !area.is_finite() || area.abs() < 1e-9 {
+        return;
+    }
+    let [wa, wb] = corner_weights(p, area);
+    let z = plane(wa, wb, [a.z, b.z, c.z]);
+    let planes = attr.map(|v| plane(wa, wb, v));
+    /// Dots per step.
+    const LANES: usize = 4;
+    const STEP: [f32; LANES] = [0.5, 1.5, 2.5, 3.5];
+    let width = x1 - x0;
+    let padded = width.next_multiple_of(LANES);
+    for y in y0..y1 {
+        let py = y as f32 + 0.5;
+        let from = y * w + x0;
+        // The steps may run past the row's end, into dots they leave as they are (each
+        // lane past the end is masked off), but not past the buffers' end.
+        let end = from + padded;
+        if end > depth.len() || out.iter().any(|o| o.len() < end) {
+            // The last dots of the canvas: one at a time.
+            if from + width > depth.len() || out.iter().any(|o| o.len() < from + width) {
+                return;
+            }
+            for (x, i) in (x0..x1).zip(from..) {
+                let px = x as f32 + 0.5;
+                let (la, lb) = (plane_at(wa, px, py), plane_at(wb, px, py));
+                let zi = plane_at(z, px, py);
+                let nearer = inside(la, lb) & (zi > depth[i]);
+                depth[i] = if nearer { zi } else { depth[i] };
+                for j in 0..N {
+                    let v = plane_at(planes[j], px, py);
+                    out[j][i] = if nearer { v } else { out[j][i] };
+                }
+            }
+            continue;
+        }
+        // The parts of each plane that do not change along the row.
+        let row = |(kx, ky, k0): (f32, f32, f32)| (kx, ky * py, k0);
+        let (ra, rb, rz) = (row(wa), row(wb), row(z));
+        let rv = planes.map(row);
+        let mut i = from;
+        let mut x = x0;
+        while i < end {
+            let xs = STEP.map(|s| x as f32 + s);
+            let at = |(kx, ky, k0): (f32, f32, f32)| xs.map(|px| kx * px + ky + k0);
+            let (la, lb, lz) = (at(ra), at(rb), at(rz));
+            let d: &mut [f32; LANES] = (&mut depth[i..i + LANES]).try_into().expect("four");
+            let mut nearer = [false; LANES];
+            for l in 0..LANES {
+                let valid = x + l < x1;
+                nearer[l] = valid & inside(la[l], lb[l]) & (lz[l] > d[l]);
+                d[l] = if nearer[l] { lz[l] } else { d[l] };
+            }
+            for j in 0..N {
+                let v = at(rv[j]);
+                let o: &mut [f32; LANES] = (&mut out[j][i..i + LANES]).try_into().expect("four");
+                for l in 0..LANES {
+                    o[l] = if nearer[l] { v[l] } else { o[l] };
+                }
+            }
+            i += LANES;
+            x += LANES;
+        }
+    }
+}
+
+/// Whether a dot with barycentric weights `la`, `lb` (and `1 - la - lb`) lies inside its
+/// triangle, within a small tolerance.
+#[inline(always)]
+fn inside(la: f32, lb: f32) -> bool {
+    const EPS: f32 = -1e-5;
+    (la >= EPS) & (lb >= EPS) & (1.0 - la - lb >= EPS)
+}
+
+/// The plane through the values `v` at a triangle's corners, as `(kx, ky, k0)`, from the
+/// linear functions `wa`, `wb` giving the weights of its first two corners.
+#[inline(always)]
+fn plane(wa: (f32, f32, f32), wb: (f32, f32, f32), v: [f32; 3]) -> (f32, f32, f32) {
+    let (ax, ay, a0) = wa;
+    let (bx, by, b0) = wb;
+    let [va, vb, vc] = v;
+    (
+        ax * (va - vc) + bx * (vb - vc),
+        ay * (va - vc) + by * (vb - vc),
+        a0 * (va - vc) + b0 * (vb - vc) + vc,
+    )
+}
+
+/// A plane `(kx, ky, k0)` evaluated at `(x, y)`: `(kx * x + ky * y) + k0`.
+#[inline(always)]
+pub(super) fn plane_at((kx, ky, k0): (f32, f32, f32), x: f32, y: f32) -> f32 {
+    kx * x + ky * y + k0
 }

@@ -32,6 +32,7 @@ use depth::DotMask;
 use features::build_edges;
 use fill::LIGHT;
 use lines::LineDot;
+pub(crate) use project::finite_bounds as finite_bounds_of;
 use project::{classify, detect_orientation, project_all};
 
 /// No second triangle on this edge (a mesh border).
@@ -119,6 +120,10 @@ pub struct Renderer {
     walk_ends: Vec<u32>,
     /// Per vertex, [`dot_span`] of its projection (this frame).
     dot_spans: Vec<[u32; 4]>,
+    /// Per dot, the shade (and displacement) of the nearest triangle the shaded style drew
+    /// there; read only where the depth buffer is finite.
+    dot_shade: Vec<f32>,
+    dot_heat: Vec<f32>,
 }
 
 impl Renderer {
@@ -254,6 +259,7 @@ impl Renderer {
         };
         if style == Style::Shaded {
             self.compute_shading(scene);
+            self.compute_heat(scene);
             self.fill_shaded(scene, canvas);
         } else {
             // The lines are gathered first, so the depth buffer only needs the surfaces

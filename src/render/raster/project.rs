@@ -53,7 +53,7 @@ pub(super) fn tri_positions(positions: &[Vec3], tri: [u32; 3]) -> Option<[Vec3; 
 }
 
 /// Bounds of the finite points; zero when there are none.
-pub(super) fn finite_bounds(points: &[Vec3]) -> (Vec3, Vec3) {
+pub(crate) fn finite_bounds(points: &[Vec3]) -> (Vec3, Vec3) {
     let (lo, hi) = points.iter().filter(|p| p.is_finite()).fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),

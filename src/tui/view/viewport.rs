@@ -9,7 +9,8 @@ use ratatui::widgets::{Block, Borders, Widget};
 use super::cells::CellGridView;
 use super::theme::Theme;
 use crate::render::{
-    muscle_overlays, Camera, CellGrid, DotCanvas, Overlay, Palette, Renderer, Scene,
+    muscle_overlays, Camera, CellGrid, DisplacementLegend, DotCanvas, Overlay, Palette, Renderer,
+    Scene,
 };
 use crate::tui::app::{App, Row};
 
@@ -87,6 +88,27 @@ pub fn draw(app: &App, cache: &mut RenderCache, theme: &Theme, area: Rect, buf: 
         plain: theme.face(),
     }
     .render(inner, buf);
+    if app.view.show_displacement && inner.height > 2 {
+        // The colour scale, on the viewport's last row.
+        let mesh = app.doc.scene.mesh();
+        let legend = DisplacementLegend::of(&Scene::new(mesh, &mesh.positions));
+        let row = Rect {
+            y: inner.bottom() - 1,
+            height: 1,
+            ..inner
+        };
+        for x in row.left()..row.right() {
+            if let Some(cell) = buf.cell_mut((x, row.y)) {
+                cell.reset();
+            }
+        }
+        CellGridView {
+            grid: &legend.row(usize::from(row.width), app.view.colors),
+            colors: app.view.colors,
+            plain: theme.face(),
+        }
+        .render(row, buf);
+    }
 }
 
 /// Renders the face into the cache's cell grid.
