@@ -9,14 +9,14 @@ use grimace::facs::combo::parse_combo;
 use grimace::facs::AuTable;
 use grimace::model::{Activations, BoundRig, Mesh, Rig};
 
-struct Face {
-    mesh: Mesh,
-    rig: Rig,
-    table: AuTable,
-    bound: BoundRig,
+pub(crate) struct Face {
+    pub(crate) mesh: Mesh,
+    pub(crate) rig: Rig,
+    pub(crate) table: AuTable,
+    pub(crate) bound: BoundRig,
 }
 
-fn face() -> Face {
+pub(crate) fn face() -> Face {
     let mesh = generate();
     let rig = rigs::default_rig(&mesh).expect("default rig places");
     let bound = BoundRig::bind(&rig, &mesh).expect("default rig binds");
@@ -28,30 +28,30 @@ fn face() -> Face {
     }
 }
 
-const MM: f32 = MM_PER_UNIT as f32;
+pub(crate) const MM: f32 = MM_PER_UNIT as f32;
 
 impl Face {
-    fn combo(&self, text: &str) -> Vec<Vec3> {
+    pub(crate) fn combo(&self, text: &str) -> Vec<Vec3> {
         let combo = parse_combo(text).expect("combination parses");
         let act = self.table.evaluate(&combo, &self.rig).expect("evaluates");
         self.deform(&act)
     }
 
-    fn deform(&self, act: &Activations) -> Vec<Vec3> {
+    pub(crate) fn deform(&self, act: &Activations) -> Vec<Vec3> {
         let mut out = Vec::new();
         self.bound.deform(act, &mut out).expect("valid activations");
         assert!(out.iter().all(|p| p.is_finite()));
         out
     }
 
-    fn group(&self, name: &str) -> &[u32] {
+    pub(crate) fn group(&self, name: &str) -> &[u32] {
         self.mesh
             .groups
             .get(name)
             .unwrap_or_else(|| panic!("no group {name}"))
     }
 
-    fn vertex(&self, name: &str) -> usize {
+    pub(crate) fn vertex(&self, name: &str) -> usize {
         match self.group(name) {
             [v] => *v as usize,
             _ => panic!("{name} is not a landmark"),
@@ -59,14 +59,14 @@ impl Face {
     }
 
     /// Displacement of a landmark in mm.
-    fn moved(&self, pose: &[Vec3], name: &str) -> Vec3 {
+    pub(crate) fn moved(&self, pose: &[Vec3], name: &str) -> Vec3 {
         let v = self.vertex(name);
         (pose[v] - self.mesh.positions[v]) * MM
     }
 
     /// Mean displacement (mm) of a group's members, optionally only those with `x > 0`
     /// (the subject's left) or `x < 0`.
-    fn region(&self, pose: &[Vec3], name: &str, side: Option<bool>) -> Vec3 {
+    pub(crate) fn region(&self, pose: &[Vec3], name: &str, side: Option<bool>) -> Vec3 {
         let members: Vec<usize> = self
             .group(name)
             .iter()
@@ -123,7 +123,7 @@ impl Face {
     }
 
     /// Triangles whose front-facing normal turned by more than 90 degrees.
-    fn flips(&self, pose: &[Vec3]) -> usize {
+    pub(crate) fn flips(&self, pose: &[Vec3]) -> usize {
         let normal = |p: &[Vec3], t: &[u32; 3]| {
             let [a, b, c] = t.map(|v| p[v as usize]);
             (b - a).cross(c - a)
@@ -372,13 +372,13 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
     golden(
         "AU10 upper lip centre",
         f.moved(&p, "upper_lip_centre"),
-        [0.0, 6.02, -1.80],
+        [0.0, 4.54, 1.90],
         0.3,
     );
     golden(
         "AU10 upper lip (left)",
         f.region(&p, "upper_lip", Some(true)),
-        [1.94, 6.82, -2.11],
+        [2.32, 6.45, -0.51],
         0.3,
     );
     golden(
@@ -398,7 +398,7 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
     golden(
         "AU9 upper lip centre",
         f.moved(&p, "upper_lip_centre"),
-        [0.0, 3.24, -0.97],
+        [0.0, 2.34, 1.28],
         0.3,
     );
     // AU16: the lower lip's middle drops; the upper lip stays
@@ -406,13 +406,13 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
     golden(
         "AU16 lower lip centre",
         f.moved(&p, "lower_lip_centre"),
-        [0.0, -5.58, -2.14],
+        [0.0, -4.63, 1.55],
         0.3,
     );
     golden(
         "AU16 lower lip (left)",
         f.region(&p, "lower_lip", Some(true)),
-        [0.05, -5.38, -2.38],
+        [0.29, -5.26, -1.26],
         0.3,
     );
     golden(
@@ -500,13 +500,13 @@ fn brow_lowerer_draws_the_brows_down_and_together() {
     golden(
         "AU4 brow inner",
         f.moved(&p, "left_brow_inner"),
-        [-5.35, -4.42, -1.95],
+        [-4.57, -4.84, -0.30],
         0.3,
     );
     golden(
         "AU4 brow (left)",
         f.region(&p, "left_brow", Some(true)),
-        [-2.91, -1.54, -0.09],
+        [-2.50, -1.69, 0.67],
         0.3,
     );
     // one-sided: the left brow only

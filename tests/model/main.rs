@@ -23,3 +23,4 @@ mod openface_proptest;
 mod presets_builtin;
 mod presets_table;
 mod properties;
+mod skin;

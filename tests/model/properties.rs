@@ -11,7 +11,7 @@ use grimace::model::field::{
 };
 use grimace::model::{
     Activations, BoundRig, Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig,
-    Sheet, Side, Sphincter, RIG_VERSION,
+    Sheet, Side, Skin, Sphincter, RIG_VERSION,
 };
 use proptest::prelude::*;
 
@@ -24,7 +24,9 @@ fn dome() -> Mesh {
     dome_of(STEPS, STEP)
 }
 
-/// A dome-shaped grid over x, y in -4..=4 with `steps` vertices a side.
+/// A dome-shaped grid over x, y in -4..=4 with `steps` vertices a side, its cells split
+/// along diagonals that mirror across x = 0 (the skin rules read triangles, so a mirrored
+/// mesh needs a mirrored triangulation to deform symmetrically).
 fn dome_of(steps: usize, step: f32) -> Mesh {
     let mut positions = Vec::with_capacity(steps * steps);
     for j in 0..steps {
@@ -39,8 +41,13 @@ fn dome_of(steps: usize, step: f32) -> Mesh {
         for i in 0..steps - 1 {
             let v = (j * steps + i) as u32;
             let s = steps as u32;
-            triangles.push([v, v + 1, v + s + 1]);
-            triangles.push([v, v + s + 1, v + s]);
+            if 2 * i + 1 < steps {
+                triangles.push([v, v + 1, v + s + 1]);
+                triangles.push([v, v + s + 1, v + s]);
+            } else {
+                triangles.push([v, v + 1, v + s]);
+                triangles.push([v + 1, v + s + 1, v + s]);
+            }
         }
     }
     Mesh::new(positions, triangles).expect("valid dome")
@@ -410,9 +417,10 @@ proptest! {
     #[test]
     fn deform_equals_pure_displacements_summed_then_the_jaw(act in activations()) {
         // An independent evaluation: each muscle's pure function at each rest vertex,
-        // summed (Sum mode), then eqs. 16-19 written out here.
+        // summed (Sum mode), then eqs. 16-19 written out here (the paper's deformation,
+        // without the skin rules).
         let rig = symmetric_rig(Combine::Sum);
-        let bound = BoundRig::bind(&rig, &dome()).expect("binds");
+        let bound = BoundRig::bind_with(&rig, &dome(), Skin::PAPER).expect("binds");
         let out = deformed(&bound, &act);
         let jaw = rig.jaw.as_ref().expect("jaw");
         let theta = (act.jaw as f64 * jaw.degrees_per_unit as f64).to_radians();
