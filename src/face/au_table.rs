@@ -2,7 +2,7 @@
 //! EMFACS emotion prototypes as AU combinations.
 //!
 //! Each AU is recorded at its strongest natural intensity (FACS E); combinations scale it
-//! with intensity letters (A 0.2 ... E 1.0). The activations were tuned by looking at the
+//! with intensity letters (A 0.15 ... E 1.0, FACS's unequal bands: `facs::combo`). The activations were tuned by looking at the
 //! rendered face (`docs/gallery.md`); `docs/au.md` says which AUs are approximate and why.
 
 use std::collections::BTreeMap;
@@ -121,7 +121,17 @@ const AUS: &[AuSpec] = &[
         ],
         0.0,
     ),
-    au(24, &[("Orbicularis_Oris", 0.8), ("Mentalis", 0.5)], 0.0),
+    // pressed, not pushed: the marginal sphincter presses the red together on the mouth
+    // line, the mentalis pushes the lower lip up from the chin
+    au(
+        24,
+        &[
+            ("Orbicularis_Oris_Marginal", 0.4),
+            ("Mentalis", 0.4),
+            ("Orbicularis_Oris", 0.2),
+        ],
+        0.0,
+    ),
     au(25, &[("Depressor_Labii_Inferioris", 0.6)], 0.8),
     // the stretched lips draw the corners in round the opening (a light sphincter)
     au(26, &[("Orbicularis_Oris", 0.4)], 2.5),

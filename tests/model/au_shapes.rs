@@ -438,47 +438,48 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
         0.3,
     );
     // no lip AU pushes the lower lip through the upper one
-    // AU18, 23 and 24 differ in shape: 18 draws the corners in and pushes the lips forward,
-    // 23 thins both lips toward the mouth line with the corners nearly still, 24 presses the
-    // lower lip up from the chin
+    // AU18, 23 and 24 differ in shape (see also
+    // `lip_pucker_tightener_and_presser_differ_in_shape`): 18 draws the corners in and pushes
+    // the lips forward, 23 thins both lips toward the mouth line with the corners nearly
+    // still, 24 presses the lips together and the lower lip up from the chin
     let p = f.combo("18");
     golden(
         "AU18 corner",
         f.moved(&p, "left_mouth_corner"),
-        [-4.30, 0.0, 0.79],
+        [-4.30, 0.0, 1.32],
         0.3,
     );
     golden(
         "AU18 upper lip centre",
         f.moved(&p, "upper_lip_centre"),
-        [0.0, 0.0, 2.23],
+        [0.0, 0.0, 3.72],
         0.2,
     );
     let p = f.combo("23");
     golden(
         "AU23 corner",
         f.moved(&p, "left_mouth_corner"),
-        [-1.08, 0.0, 0.25],
+        [-1.08, 0.0, 0.38],
         0.3,
     );
     golden(
         "AU23 upper lip (left)",
         f.region(&p, "upper_lip", Some(true)),
-        [-0.30, -1.38, 0.46],
+        [-0.30, -1.38, 0.68],
         0.3,
     );
     golden(
         "AU23 lower lip (left)",
         f.region(&p, "lower_lip", Some(true)),
-        [-0.27, 1.69, 0.42],
+        [-0.27, 1.69, 0.61],
         0.3,
     );
     let p = f.combo("24");
-    golden("AU24 chin", f.moved(&p, "chin"), [0.0, 5.43, 1.90], 0.3);
+    golden("AU24 chin", f.moved(&p, "chin"), [0.0, 4.34, 1.52], 0.3);
     golden(
         "AU24 lower lip centre",
         f.moved(&p, "lower_lip_centre"),
-        [0.0, 0.56, 1.87],
+        [0.0, 0.53, 1.23],
         0.2,
     );
     for au in ["9", "10", "16", "17", "18", "23", "24"] {
@@ -516,4 +517,95 @@ fn brow_lowerer_draws_the_brows_down_and_together() {
         right.length() < 0.5,
         "L4 moves the right brow head {right} mm"
     );
+}
+
+impl Face {
+    /// Height (mm) of the red of both lips at the middle: from the upper vermilion's top to
+    /// the lower vermilion's bottom within 2 mm of the midline, less the gap between the lips.
+    fn red_height(&self, pose: &[Vec3]) -> f32 {
+        let near = |v: &&u32| self.mesh.positions[**v as usize].x.abs() < 2.0 / MM;
+        let top = self
+            .group("upper_lip")
+            .iter()
+            .filter(near)
+            .map(|&v| pose[v as usize].y)
+            .fold(f32::NEG_INFINITY, f32::max);
+        let bottom = self
+            .group("lower_lip")
+            .iter()
+            .filter(near)
+            .map(|&v| pose[v as usize].y)
+            .fold(f32::INFINITY, f32::min);
+        (top - bottom) * MM - self.mouth_gap(pose).max(0.0)
+    }
+
+    /// Mean forward travel (mm, toward the viewer) of the red of both lips.
+    fn lips_forward(&self, pose: &[Vec3]) -> f32 {
+        let lips: Vec<u32> = [self.group("upper_lip"), self.group("lower_lip")].concat();
+        let sum: f32 = lips
+            .iter()
+            .map(|&v| pose[v as usize].z - self.mesh.positions[v as usize].z)
+            .sum();
+        sum * MM / lips.len() as f32
+    }
+}
+
+/// AU18 (pucker), AU23 (tightener) and AU24 (presser) differ in shape, not only strength:
+/// the forward push of the lips, how far the corners travel in, and the red's height.
+#[test]
+fn lip_pucker_tightener_and_presser_differ_in_shape() {
+    let f = face();
+    let rest_red = f.red_height(&f.mesh.positions);
+    let shape = |au: &str| {
+        let p = f.combo(au);
+        let inward = -f.moved(&p, "left_mouth_corner").x;
+        let forward = f.lips_forward(&p);
+        let red = f.red_height(&p) - rest_red;
+        let chin = f.moved(&p, "chin").y;
+        println!(
+            "AU{au}: lips forward {forward:.2} mm, corner in {inward:.2} mm, red height \
+             {red:+.2} mm (rest {rest_red:.2}), chin up {chin:.2} mm"
+        );
+        (forward, inward, red, chin)
+    };
+    let (f18, in18, red18, _) = shape("18");
+    let (f23, in23, red23, chin23) = shape("23");
+    let (f24, in24, red24, chin24) = shape("24");
+    // 18 pushes the lips forward and draws the corners in the most; the red keeps its height
+    assert!(
+        f18 > 1.5 * f23 && f18 > 1.5 * f24,
+        "pucker forward {f18}, {f23}, {f24}"
+    );
+    assert!(in18 > 3.0 * in23.max(in24), "pucker corners {in18}");
+    assert!(red18.abs() < 1.0, "pucker red {red18}");
+    // 23 thins the red toward the mouth line with the corners nearly still, the chin still
+    assert!(
+        red23 < -3.0 && in23 < 1.5,
+        "tightener red {red23}, corners {in23}"
+    );
+    assert!(chin23.abs() < 0.5, "tightener chin {chin23}");
+    // 24 presses the lips together from below: the red flattened, the chin pushed up (the
+    // bulge below the lower lip), the corners hardly moving
+    assert!(
+        red24 < -3.0 && chin24 > 3.0,
+        "presser red {red24}, chin {chin24}"
+    );
+    assert!(in24 < in23, "presser corners {in24}");
+}
+
+/// Contempt (`R12A+R14A`, both at trace intensity) visibly moves the right mouth corner: at
+/// least 1.5 mm in the front view, a few braille dots at 120x40.
+#[test]
+fn contempt_moves_the_right_corner_visibly() {
+    let f = face();
+    let p = f.combo("R12A+R14A");
+    let right = f.moved(&p, "right_mouth_corner");
+    let left = f.moved(&p, "left_mouth_corner");
+    let front = Vec3::new(right.x, right.y, 0.0).length();
+    println!("R12A+R14A: right corner {right} mm ({front:.2} mm in the front view)");
+    assert!(
+        front >= 1.5,
+        "right corner moves {front} mm in the front view"
+    );
+    assert!(left.length() < 0.3, "the left corner moves {left} mm");
 }
