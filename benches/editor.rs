@@ -3,6 +3,8 @@
 //! counting writer) at 200x60 and 80x24, a selection move (the face's picture is reused), and
 //! a fine move in rig mode at 200x60 (the zone overlay drawn), start to first frame (load the built-in face, bind the rig, draw once).
 //!
+//! The landmark picker: a cursor step, a turn, and a pick with its undo (`pick_*`).
+//!
 //! Run: `cargo bench --bench editor -- --warm-up-time 1 --measurement-time 3`
 
 use std::io::{self, Write};
@@ -108,5 +110,46 @@ fn frames(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, frames);
+/// The landmark picker on the default face at 120x40: a cursor step (snap to the nearest
+/// visible vertex), a turn (projection and visibility again), and a pick after the minimal
+/// set with its undo (the proposals carried through the warp, twice).
+fn picker(c: &mut Criterion) {
+    use grimace::tui::pick::{PickAction, PickApp, MINIMAL};
+    let mesh = grimace::io::builtin::default_mesh();
+    let preset = grimace::io::builtin::landmarks("face")
+        .expect("the default face's landmarks")
+        .vertices(&mesh);
+    let mut app = PickApp::new(
+        mesh,
+        "face.obj".into(),
+        "face.landmarks.ron".into(),
+        (120, 40),
+        grimace::render::CellMode::Braille,
+    );
+    let mut flip = 1;
+    c.bench_function("pick_cursor_step_120x40", |b| {
+        b.iter(|| {
+            flip = -flip;
+            app.update(PickAction::Move(flip, 0))
+        })
+    });
+    c.bench_function("pick_turn_120x40", |b| {
+        b.iter(|| {
+            flip = -flip;
+            app.update(PickAction::Turn(15.0 * f32::from(flip), 0.0))
+        })
+    });
+    for &l in &MINIMAL {
+        app.snapped = Some(preset[l]);
+        app.update(PickAction::Confirm);
+    }
+    c.bench_function("pick_confirm_and_undo_warp", |b| {
+        b.iter(|| {
+            app.update(PickAction::Confirm);
+            app.update(PickAction::Undo)
+        })
+    });
+}
+
+criterion_group!(benches, frames, picker);
 criterion_main!(benches);

@@ -1,6 +1,8 @@
 //! `grimace fit-rig MESH.obj --landmarks FILE --out NAME.rig.ron`: carries a rig (the built-in
 //! default rig unless `--template` names another) to a mesh from its 68 landmarks, and
-//! writes it as an ordinary rig file that names the mesh.
+//! writes it as an ordinary rig file that names the mesh. With `--pick` the landmarks are
+//! picked first in the terminal ([`super::landmarks`]) and saved (to `--landmarks FILE`, or
+//! `MESH.landmarks.ron` beside the mesh), then the rig is fitted from them.
 //!
 //! The mesh is used as it is, in its own units and orientation. The command prints how the
 //! faces were aligned and which parts of the mesh it took for skin, for still parts and for
@@ -25,9 +27,16 @@ pub struct FitRigArgs {
     #[arg(value_name = "MESH.obj")]
     pub mesh: PathBuf,
     /// The mesh's 68 iBUG landmarks: a *.landmarks.ron file, or `mediapipe` for a MediaPipe
-    /// face mesh (468 or 478 vertices, numbered like MediaPipe's landmarks).
-    #[arg(long, value_name = "FILE|mediapipe")]
-    pub landmarks: String,
+    /// face mesh (468 or 478 vertices, numbered like MediaPipe's landmarks). With --pick, the
+    /// file the picked landmarks are saved to (default: MESH.landmarks.ron beside the mesh).
+    #[arg(long, value_name = "FILE|mediapipe", required_unless_present = "pick")]
+    pub landmarks: Option<String>,
+    /// Pick the landmarks in the terminal first, then fit.
+    #[arg(long)]
+    pub pick: bool,
+    /// Braille, half-block or ASCII cells for --pick.
+    #[command(flatten)]
+    pub cells: super::CellsArgs,
     /// The rig file to write.
     #[arg(long, value_name = "NAME.rig.ron")]
     pub out: PathBuf,
@@ -66,7 +75,31 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
             )));
         }
     }
-    let (landmarks, landmark_file) = target_landmarks(args, &mesh)?;
+    let landmark_arg = match (&args.landmarks, args.pick) {
+        (Some(l), true) if l == "mediapipe" => {
+            return Err(anyhow!(
+                "--pick saves the picked landmarks to a file: give --landmarks FILE, not mediapipe"
+            ))
+        }
+        (Some(l), false) => l.clone(),
+        (given, true) => {
+            let file = given
+                .as_ref()
+                .map_or_else(|| beside(&args.mesh), PathBuf::from);
+            // The template and the output folder are checked before the picking starts.
+            rig_file::load_rig_ref(&args.template, None)?;
+            mesh_reference(&args.mesh, &args.out)?;
+            let saved = super::landmarks::pick_landmarks(&args.mesh, &file, args.cells.mode())?;
+            if !saved {
+                return Err(anyhow!(
+                    "no landmarks were saved (:w saves them in the picker); no rig was fitted"
+                ));
+            }
+            file.to_string_lossy().into_owned()
+        }
+        (None, false) => return Err(anyhow!("give --landmarks FILE or --pick")),
+    };
+    let (landmarks, landmark_file) = target_landmarks(&landmark_arg, args, &mesh)?;
     let template = rig_file::load_rig_ref(&args.template, None)?;
     let template_points = template_landmarks(args, &template)?;
     let mesh_path = mesh_reference(&args.mesh, &args.out)?;
@@ -93,14 +126,18 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
 }
 
 /// The mesh's landmarks and the file to name in messages about them.
-fn target_landmarks(args: &FitRigArgs, mesh: &Mesh) -> anyhow::Result<(Landmarks, PathBuf)> {
-    if args.landmarks == "mediapipe" {
+fn target_landmarks(
+    given: &str,
+    args: &FitRigArgs,
+    mesh: &Mesh,
+) -> anyhow::Result<(Landmarks, PathBuf)> {
+    if given == "mediapipe" {
         let landmarks = Landmarks::mediapipe(mesh)
             .map_err(|e| anyhow!(LoadError::new(&args.mesh, e.to_string())))?;
         check_against(&landmarks, mesh, &args.mesh, None)?;
         return Ok((landmarks, args.mesh.clone()));
     }
-    let path = PathBuf::from(&args.landmarks);
+    let path = PathBuf::from(given);
     let text = read_text(&path, MAX_FILE_BYTES)?;
     let landmarks = parse_landmarks(&text, &path)?;
     check_against(&landmarks, mesh, &path, Some(&text))?;

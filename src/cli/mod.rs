@@ -20,6 +20,7 @@ pub mod fit_au;
 pub mod fit_rig;
 pub mod gen_face;
 pub mod import_waters;
+pub mod landmarks;
 pub mod list;
 pub mod play;
 pub mod render;
@@ -120,8 +121,11 @@ pub enum Command {
     /// Draw one state of the face as braille or ASCII text, SVG or PNG (or every AU and
     /// expression of a table with --all).
     Render(render::RenderArgs),
-    /// Fit a rig to your own mesh from its 68 landmarks.
+    /// Fit a rig to your own mesh from its 68 landmarks (or pick them first with --pick).
     FitRig(fit_rig::FitRigArgs),
+    /// Pick a mesh's 68 landmarks in the terminal and save them as a landmark file.
+    #[command(after_help = landmarks::AFTER_HELP)]
+    Landmarks(landmarks::LandmarksArgs),
     /// Fit AU entries to target shapes of a rig's mesh (blendshapes, scans).
     FitAu(fit_au::FitAuArgs),
     /// Write a shell completion script (bash, zsh, fish, elvish, powershell) to stdout.
@@ -147,6 +151,7 @@ pub fn main() -> ExitCode {
             Command::Completions(args) => completions::run(&args),
             Command::FitRig(args) => finish("fit-rig", fit_rig::run(&args)),
             Command::FitAu(args) => finish("fit-au", fit_au::run(&args)),
+            Command::Landmarks(args) => finish("landmarks", landmarks::run(&args)),
         },
     }
 }

@@ -28,7 +28,7 @@ use thiserror::Error;
 use super::rigs::{self, round3, rounded};
 use super::surface::smoothstep;
 use super::topology;
-use crate::fit::warp::Warp;
+use crate::fit::propose::carry;
 use crate::model::{Convergence, Frame, Jaw, Mesh, Muscle, MuscleKind, Sheet, Side, Sphincter};
 
 /// Jaw rotation in degrees per unit of jaw activation on the classic face. The paper's 1
@@ -245,7 +245,7 @@ pub fn found_ibug(mesh: &Mesh) -> Result<[u32; 9], ClassicError> {
 /// All 68 iBUG landmarks of the classic face as its vertex numbers, carried over from a
 /// template face (`template` with its 68 landmark vertices `template_marks`): the template is
 /// aligned and warped onto the classic face by the points of [`found_ibug`] (a similarity
-/// and a thin-plate spline, [`Warp`]), every template landmark is carried through the warp
+/// and a thin-plate spline, [`carry`]), every template landmark is carried through the warp
 /// and snapped to the nearest classic vertex. The found points are kept exactly; the lids
 /// and inner lips snap to their own margin, so a point never lands on the wrong side of the
 /// closed mouth slit or an eye.
@@ -257,10 +257,16 @@ pub fn ibug_landmarks(
     let marks = find_landmarks(mesh)?;
     let found = found_ibug(mesh)?;
     let p = &mesh.positions;
-    let t = |i: usize| template.positions[template_marks[i] as usize];
-    let from: Vec<Vec3> = FOUND_IBUG.iter().map(|&i| t(i)).collect();
-    let to: Vec<Vec3> = found.iter().map(|&v| p[v as usize]).collect();
-    let warp = Warp::fit(&from, &to).ok_or(ClassicError::Warp)?;
+    let t: Vec<Vec3> = template_marks
+        .iter()
+        .map(|&v| template.positions[v as usize])
+        .collect();
+    let known: Vec<(usize, Vec3)> = FOUND_IBUG
+        .iter()
+        .zip(&found)
+        .map(|(&i, &v)| (i, p[v as usize]))
+        .collect();
+    let carried = carry(&t, &known).ok_or(ClassicError::Warp)?;
     let all: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
     let with_corners = |o: &Opening, margin: &[u32]| {
         let mut v = margin.to_vec();
@@ -285,7 +291,7 @@ pub fn ibug_landmarks(
         .map(|i| match FOUND_IBUG.iter().position(|&f| f == i) {
             Some(k) => found[k],
             None => {
-                let q = warp.apply_f32(t(i));
+                let q = carried[i];
                 let candidates = margin(i);
                 candidates
                     .iter()

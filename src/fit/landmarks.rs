@@ -56,6 +56,78 @@ pub fn mirror(i: usize) -> usize {
     }
 }
 
+/// What each landmark marks, in words (the subject's left and right).
+pub const NAMES: [&str; COUNT] = [
+    "jaw line, right, at the ear",
+    "jaw line, right, below the ear",
+    "jaw line, right, upper",
+    "jaw line, right, above the corner",
+    "jaw corner, right",
+    "jaw line, right, below the corner",
+    "jaw line, right, lower",
+    "jaw line, right, beside the chin",
+    "chin, lowest point",
+    "jaw line, left, beside the chin",
+    "jaw line, left, lower",
+    "jaw line, left, below the corner",
+    "jaw corner, left",
+    "jaw line, left, above the corner",
+    "jaw line, left, upper",
+    "jaw line, left, below the ear",
+    "jaw line, left, at the ear",
+    "right brow, outer end",
+    "right brow, outer middle",
+    "right brow, middle",
+    "right brow, inner middle",
+    "right brow, inner end",
+    "left brow, inner end",
+    "left brow, inner middle",
+    "left brow, middle",
+    "left brow, outer middle",
+    "left brow, outer end",
+    "nose bridge, top (between the eyes)",
+    "nose bridge, upper middle",
+    "nose bridge, lower middle",
+    "nose tip",
+    "right nostril, outer edge",
+    "right nostril, inner",
+    "below the nose tip (columella)",
+    "left nostril, inner",
+    "left nostril, outer edge",
+    "right eye, outer corner",
+    "right eye, upper lid, outer",
+    "right eye, upper lid, inner",
+    "right eye, inner corner",
+    "right eye, lower lid, inner",
+    "right eye, lower lid, outer",
+    "left eye, inner corner",
+    "left eye, upper lid, inner",
+    "left eye, upper lid, outer",
+    "left eye, outer corner",
+    "left eye, lower lid, outer",
+    "left eye, lower lid, inner",
+    "mouth corner, right (outer lip line)",
+    "upper lip, right, outer line",
+    "upper lip, right of the middle, outer line",
+    "upper lip, middle, outer line",
+    "upper lip, left of the middle, outer line",
+    "upper lip, left, outer line",
+    "mouth corner, left (outer lip line)",
+    "lower lip, left, outer line",
+    "lower lip, left of the middle, outer line",
+    "lower lip, middle, outer line",
+    "lower lip, right of the middle, outer line",
+    "lower lip, right, outer line",
+    "mouth corner, right (inner lip line)",
+    "upper lip, right, inner line",
+    "upper lip, middle, inner line",
+    "upper lip, left, inner line",
+    "mouth corner, left (inner lip line)",
+    "lower lip, left, inner line",
+    "lower lip, middle, inner line",
+    "lower lip, right, inner line",
+];
+
 /// MediaPipe face-mesh vertex for each of the 68 landmarks: vertex `i` of a MediaPipe mesh
 /// is face-mesh landmark `i`, so such meshes need no landmark file.
 pub const MEDIAPIPE: [u32; COUNT] = [
@@ -304,6 +376,23 @@ mod tests {
         assert_eq!(mirror(55), 59);
         assert_eq!(mirror(61), 63);
         assert_eq!(mirror(67), 65);
+    }
+
+    #[test]
+    fn names_follow_the_mirror() {
+        for i in 0..COUNT {
+            let (a, b) = (NAMES[i], NAMES[mirror(i)]);
+            if mirror(i) == i {
+                assert!(!a.contains("left") && !a.contains("right"), "{i}: {a}");
+            } else {
+                assert_eq!(
+                    a.replace("left", "right"),
+                    b.replace("left", "right"),
+                    "{i}"
+                );
+                assert_ne!(a, b, "{i}");
+            }
+        }
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //!
 //! - [`landmarks`]: the 68-point iBUG scheme, the face's own frame, MediaPipe's numbering;
 //! - [`warp`]: the similarity and thin-plate spline from one face to another;
+//! - [`propose`]: landmarks proposed from some of them (a warp, a mirror plane);
 //! - [`parts`]: which parts of a mesh are skin, still, or turn with the jaw;
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh;
@@ -15,6 +16,7 @@ pub mod jaw;
 pub mod landmarks;
 pub mod nearest;
 pub mod parts;
+pub mod propose;
 pub mod regions;
 pub mod solve;
 pub mod transport;

@@ -15,6 +15,7 @@ pub mod livelink;
 pub mod lock;
 pub mod obj;
 pub mod openface;
+pub mod pick_recovery;
 pub mod printable;
 pub mod recovery;
 pub mod rig_file;

@@ -7,6 +7,8 @@ use super::action::Action;
 use super::app::{App, Mode, ViewPreset};
 use super::rig::RigAction;
 
+pub mod pick;
+
 /// One key binding in normal mode.
 #[derive(Debug, Clone)]
 pub struct Binding {

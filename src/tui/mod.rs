@@ -9,6 +9,7 @@ pub mod command;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;
+pub mod pick;
 pub mod play;
 pub mod rig;
 pub mod scene;

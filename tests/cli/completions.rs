@@ -20,7 +20,7 @@ fn completions(shell: &str) -> String {
 }
 
 /// Every subcommand, as `grimace --help` lists them (without `help`).
-const SUBCOMMANDS: [&str; 11] = [
+const SUBCOMMANDS: [&str; 12] = [
     "edit",
     "gen-face",
     "import-waters",
@@ -30,6 +30,7 @@ const SUBCOMMANDS: [&str; 11] = [
     "play",
     "render",
     "fit-rig",
+    "landmarks",
     "fit-au",
     "completions",
 ];

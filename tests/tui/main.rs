@@ -3,10 +3,14 @@
 //!
 //! One test binary with a module per former test file (fewer binaries to link).
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod bytes;
 mod colors;
 mod e2e;
 mod editing;
+mod picker;
 mod pty;
 mod rig_mode;
 mod screens;
