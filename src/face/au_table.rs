@@ -151,7 +151,7 @@ const AUS: &[AuSpec] = &[
 /// The EMFACS emotion prototypes (see `docs/au.md` for sources and intensity choices).
 pub const EXPRESSIONS: &[(&str, &str)] = &[
     ("happiness", "6C+12D"),
-    ("sadness", "1D+4C+15C"),
+    ("sadness", "1E+4C+15C"),
     ("surprise", "1D+2D+5B+26C"),
     ("fear", "1C+2C+4C+5D+7C+20C+26B"),
     ("anger", "4D+5C+7C+23D"),
