@@ -473,16 +473,14 @@ impl BoundRig {
     /// positions before the bound, then the scaled displacements.
     fn bound_areas(&self, out: &mut [Vec3]) {
         SCRATCH.with_borrow_mut(|(_, scales)| {
-            let count = self.guard.vertices.len();
-            if scales.len() < count {
-                scales.resize(count, 1.0);
+            let triangles = self.guard.triangles.len();
+            if scales.len() < triangles {
+                scales.resize(triangles, 1.0);
             }
-            let positions: &[Vec3] = out;
-            for (g, scale) in scales[..count].iter_mut().enumerate() {
-                *scale = self.guard.scale(g, &self.rest, |v| positions[v]);
-            }
-            for (&v, &scale) in self.guard.vertices.iter().zip(&scales[..count]) {
+            self.guard.triangle_scales(None, &self.rest, out, scales);
+            for (g, &v) in self.guard.vertices.iter().enumerate() {
                 let v = v as usize;
+                let scale = self.guard.vertex_scale(g, scales);
                 out[v] = self.scaled(v, out[v], scale);
             }
         });
@@ -529,18 +527,23 @@ impl BoundRig {
         turn: Option<JawTurn>,
         out: &mut [Vec3],
     ) {
-        SCRATCH.with_borrow_mut(|(before, _)| {
+        SCRATCH.with_borrow_mut(|(before, scales)| {
             if before.len() < self.rest.len() {
                 before.resize(self.rest.len(), Vec3::ZERO);
+            }
+            if scales.len() < self.guard.triangles.len() {
+                scales.resize(self.guard.triangles.len(), 1.0);
             }
             for &v in &self.guard.recompute[which] {
                 before[v as usize] = self.unbounded(v as usize, muscles, average, turn);
             }
-            let before: &[Vec3] = before;
+            let rescale = &self.guard.rescale[which];
+            self.guard
+                .triangle_scales(Some(rescale), &self.rest, before, scales);
             for &v in &self.guard.settle[which] {
                 let v = v as usize;
                 let g = self.guard.index_of(v) as usize;
-                let scale = self.guard.scale(g, &self.rest, |u| before[u]);
+                let scale = self.guard.vertex_scale(g, scales);
                 out[v] = self.scaled(v, before[v], scale);
             }
         });

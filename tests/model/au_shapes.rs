@@ -615,13 +615,20 @@ fn contempt_moves_the_right_corner_visibly() {
 #[test]
 fn sadness_slants_the_brows() {
     let f = face();
-    let act = f.table.expression_activations("sadness", &f.rig).expect("sadness");
+    let act = f
+        .table
+        .expression_activations("sadness", &f.rig)
+        .expect("sadness");
     let p = f.deform(&act);
     let inner = f.moved(&p, "left_brow_inner");
     let outer = f.moved(&p, "left_brow_outer");
     println!("sadness: head of the left brow {inner} mm, tail {outer} mm");
     assert!(inner.y > 2.5, "the head of the brow rises {} mm", inner.y);
-    assert!(inner.x < -1.0, "the head of the brow moves in {} mm", -inner.x);
+    assert!(
+        inner.x < -1.0,
+        "the head of the brow moves in {} mm",
+        -inner.x
+    );
     assert!(outer.y < 1.0, "the tail of the brow rises {} mm", outer.y);
     assert!(inner.y - outer.y > 2.0, "the brow hardly slants");
 }

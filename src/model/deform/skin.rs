@@ -185,7 +185,7 @@ impl Ord for Ordered {
 }
 
 /// Most rest vertices a patch fit visits (the nearest ones).
-const PATCH_VERTICES: usize = 256;
+const PATCH_VERTICES: usize = 128;
 
 /// The outward rest normals: area-weighted vertex normals, turned round when the mesh's
 /// triangles face into the head (their normals point toward the centroid on the whole).
@@ -385,10 +385,8 @@ fn solve<const N: usize>(mut m: [[f64; N]; N], mut r: [f64; N]) -> Option<[f64; 
 pub(super) struct Guard {
     /// The checked triangles.
     pub triangles: Vec<[u32; 3]>,
-    /// Unit rest normal of each checked triangle.
-    normals: Vec<Vec3>,
-    /// Twice the rest area of each checked triangle, times the bound.
-    floors: Vec<f32>,
+    /// Each checked triangle's rest shape, prepared for [`Guard::triangle_scale`].
+    shapes: Vec<TriangleShape>,
     /// The vertices of the checked triangles, sorted.
     pub vertices: Vec<u32>,
     /// Per mesh vertex: its index in `vertices`, or [`NO_ROW`].
@@ -400,6 +398,8 @@ pub(super) struct Guard {
     pub settle: Vec<Vec<u32>>,
     /// Per muscle, then the jaw: the vertices whose positions those scales read.
     pub recompute: Vec<Vec<u32>>,
+    /// Per muscle, then the jaw: the checked triangles of the `settle` vertices.
+    pub rescale: Vec<Vec<u32>>,
 }
 
 impl Guard {
@@ -427,8 +427,14 @@ impl Guard {
                 continue;
             }
             guard.triangles.push(*t);
-            guard.normals.push((n / a0).as_vec3());
-            guard.floors.push((min_area as f64 * a0) as f32);
+            let unit = n / a0;
+            guard.shapes.push(TriangleShape {
+                across_e1: unit.cross(e1).as_vec3(),
+                across_e2: e2.cross(unit).as_vec3(),
+                normal: unit.as_vec3(),
+                a0: a0 as f32,
+                floor: (min_area as f64 * a0) as f32,
+            });
         }
         let n = rest.len();
         let mut count = vec![0u32; n];
@@ -483,10 +489,16 @@ impl Guard {
             settle.sort_unstable();
             // every vertex of every checked triangle of those vertices
             let mut recompute = Vec::new();
+            let mut rescale = Vec::new();
             let second = k32 + moved.len() as u32;
+            let third = second + moved.len() as u32;
             for &v in &settle {
                 let g = guard.index[v as usize] as usize;
                 for &t in guard.triangles_of(g) {
+                    if tri_stamp[t as usize] != third {
+                        tri_stamp[t as usize] = third;
+                        rescale.push(t);
+                    }
                     for &w in &guard.triangles[t as usize] {
                         if stamp[w as usize] != second {
                             stamp[w as usize] = second;
@@ -496,8 +508,10 @@ impl Guard {
                 }
             }
             recompute.sort_unstable();
+            rescale.sort_unstable();
             guard.settle.push(settle);
             guard.recompute.push(recompute);
+            guard.rescale.push(rescale);
         }
         guard
     }
@@ -517,45 +531,82 @@ impl Guard {
         &self.tri_list[self.tri_start[g] as usize..self.tri_start[g + 1] as usize]
     }
 
-    /// The scale of guarded vertex `g`'s displacement: the mean over its checked triangles
-    /// of the largest scale in 0..1 that keeps the triangle at its floor, with `at(v)` the
-    /// position of vertex `v` before the bound. (The smallest instead of the mean scales
-    /// neighbouring vertices so differently that other triangles collapse.)
+    /// The scale of each checked triangle `t` (`scales[t]`, for the triangles listed, or all
+    /// of them) from the positions `at` before the bound: the largest scale in 0..1 of its
+    /// vertices' displacements that keeps it at its floor.
     #[inline]
-    pub(super) fn scale(&self, g: usize, rest: &[Vec3], at: impl Fn(usize) -> Vec3) -> f32 {
-        let mut scale = 0.0f32;
-        let tris = self.triangles_of(g);
-        for &t in tris {
-            let t = t as usize;
+    pub(super) fn triangle_scales(
+        &self,
+        which: Option<&[u32]>,
+        rest: &[Vec3],
+        at: &[Vec3],
+        scales: &mut [f32],
+    ) {
+        let one = |t: usize| {
             let [i0, i1, i2] = self.triangles[t].map(|i| i as usize);
-            let s = keep_area(
-                [rest[i0], rest[i1], rest[i2]],
-                [at(i0), at(i1), at(i2)],
-                self.normals[t],
-                self.floors[t],
-            );
-            scale += s;
+            let p0 = at[i0] - rest[i0];
+            let d1 = at[i1] - rest[i1] - p0;
+            let d2 = at[i2] - rest[i2] - p0;
+            self.shapes[t].scale(d1, d2)
+        };
+        match which {
+            Some(list) => {
+                for &t in list {
+                    scales[t as usize] = one(t as usize);
+                }
+            }
+            None => {
+                for (t, s) in scales[..self.triangles.len()].iter_mut().enumerate() {
+                    *s = one(t);
+                }
+            }
         }
-        scale / tris.len() as f32
+    }
+
+    /// The scale of guarded vertex `g`'s displacement: the mean of its checked triangles'
+    /// scales. (The smallest instead of the mean scales neighbouring vertices so differently
+    /// that other triangles collapse.)
+    #[inline]
+    pub(super) fn vertex_scale(&self, g: usize, triangle_scales: &[f32]) -> f32 {
+        let tris = self.triangles_of(g);
+        let mut sum = 0.0f32;
+        for &t in tris {
+            sum += triangle_scales[t as usize];
+        }
+        sum / tris.len() as f32
     }
 }
 
-/// The largest `k` in 0..1 such that the triangle `rest + k (moved - rest)` keeps twice its
-/// area projected on `normal` at `floor` or above (1 when the moved triangle already does).
-#[inline]
-fn keep_area(rest: [Vec3; 3], moved: [Vec3; 3], normal: Vec3, floor: f32) -> f32 {
-    let e1 = rest[1] - rest[0];
-    let e2 = rest[2] - rest[0];
-    let d1 = (moved[1] - moved[0]) - e1;
-    let d2 = (moved[2] - moved[0]) - e2;
-    let a0 = normal.dot(e1.cross(e2));
-    let a1 = normal.dot(e1.cross(d2) + d1.cross(e2));
-    let a2 = normal.dot(d1.cross(d2));
-    if a0 + a1 + a2 >= floor {
-        return 1.0;
+/// A checked triangle's rest shape: with `e1`, `e2` its rest edges from its first vertex and
+/// `n` its unit normal, twice its projected area after displacements differing by `d1`,
+/// `d2` from the first vertex's is `a0 + d2 . (n x e1) + d1 . (e2 x n) + n . (d1 x d2)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct TriangleShape {
+    across_e1: Vec3,
+    across_e2: Vec3,
+    normal: Vec3,
+    a0: f32,
+    floor: f32,
+}
+
+impl TriangleShape {
+    /// The largest `k` in 0..1 such that the displacements scaled by `k` keep twice the
+    /// projected area at the floor or above (1 when the unscaled ones already do).
+    #[inline]
+    fn scale(&self, d1: Vec3, d2: Vec3) -> f32 {
+        let a1 = d2.dot(self.across_e1) + d1.dot(self.across_e2);
+        let a2 = self.normal.dot(d1.cross(d2));
+        if self.a0 + a1 + a2 >= self.floor {
+            return 1.0;
+        }
+        smaller_root(a2, a1, self.a0 - self.floor)
     }
-    // g(k) = a2 k^2 + a1 k + (a0 - floor): positive at 0, negative at 1, one root between
-    let (a, b, c) = (a2 as f64, a1 as f64, (a0 - floor) as f64);
+}
+
+/// The root in 0..1 of `a k^2 + b k + c` (positive at 0, negative at 1); 0 when there is
+/// none (only by rounding).
+fn smaller_root(a: f32, b: f32, c: f32) -> f32 {
+    let (a, b, c) = (a as f64, b as f64, c as f64);
     let root = if a.abs() <= 1e-12 * (b.abs() + c.abs()) {
         -c / b
     } else {
@@ -576,6 +627,22 @@ fn keep_area(rest: [Vec3; 3], moved: [Vec3; 3], normal: Vec3, floor: f32) -> f32
     } else {
         0.0
     }
+}
+
+/// The largest `k` in 0..1 such that the triangle `rest + k (moved - rest)` keeps twice its
+/// area projected on `normal` at `floor` or above (1 when the moved triangle already does).
+#[cfg(test)]
+fn keep_area(rest: [Vec3; 3], moved: [Vec3; 3], normal: Vec3, floor: f32) -> f32 {
+    let (e1, e2) = (rest[1] - rest[0], rest[2] - rest[0]);
+    let shape = TriangleShape {
+        across_e1: normal.cross(e1),
+        across_e2: e2.cross(normal),
+        normal,
+        a0: normal.dot(e1.cross(e2)),
+        floor,
+    };
+    let p0 = moved[0] - rest[0];
+    shape.scale(moved[1] - rest[1] - p0, moved[2] - rest[2] - p0)
 }
 
 #[cfg(test)]
