@@ -217,14 +217,14 @@ thread_local! {
 }
 
 impl BoundRig {
-    /// Checks the rig against the mesh and precomputes every muscle's field, with the skin
-    /// kept on the face by [`Skin::DEFAULT`].
+    /// Checks the rig against the mesh and precomputes every muscle's field: the paper's
+    /// deformation, linear in the activations ([`Skin::PAPER`]).
     pub fn bind(rig: &Rig, mesh: &Mesh) -> Result<BoundRig, BindError> {
-        BoundRig::bind_with(rig, mesh, Skin::DEFAULT)
+        BoundRig::bind_with(rig, mesh, Skin::PAPER)
     }
 
-    /// [`BoundRig::bind`] with the given skin rules ([`Skin::PAPER`]: the paper's equations
-    /// alone).
+    /// [`BoundRig::bind`] with skin rules that keep displaced skin on the face
+    /// ([`Skin::DEFAULT`]: what the editor, `grimace play` and `grimace render` use).
     pub fn bind_with(rig: &Rig, mesh: &Mesh, skin: Skin) -> Result<BoundRig, BindError> {
         skin.check().map_err(BindError::Skin)?;
         mesh.validate()?;

@@ -209,7 +209,7 @@ fn large_meshes_deform_in_parallel_identically() {
     for combine in [Combine::Sum, Combine::Average] {
         let mut rig = symmetric_rig(combine);
         rig.jaw = None;
-        let bound = BoundRig::bind(&rig, &mesh).expect("binds");
+        let bound = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("binds");
         let target = Activations {
             muscles: vec![1.0, 0.5, 2.0, 0.0, 0.3, 1.7, 0.9],
             jaw: 0.0,
@@ -348,7 +348,7 @@ proptest! {
     #[test]
     fn mirrored_activations_give_a_mirrored_mesh(act in activations(), c in combine()) {
         let rig = symmetric_rig(c);
-        let bound = BoundRig::bind(&rig, &dome()).expect("binds");
+        let bound = BoundRig::bind_with(&rig, &dome(), Skin::DEFAULT).expect("binds");
         let mut swapped = act.clone();
         for m in 0..rig.muscles.len() {
             let partner = rig.mirror_of(m).unwrap_or(m);
@@ -391,7 +391,7 @@ proptest! {
     fn update_muscle_equals_a_full_deform(
         before in activations(), m in 0usize..7, value in 0.0f32..=2.0, c in combine(),
     ) {
-        let bound = BoundRig::bind(&symmetric_rig(c), &dome()).expect("binds");
+        let bound = BoundRig::bind_with(&symmetric_rig(c), &dome(), Skin::DEFAULT).expect("binds");
         let mut out = deformed(&bound, &before);
         let mut after = before.clone();
         after.muscles[m] = value;
@@ -404,7 +404,7 @@ proptest! {
 
     #[test]
     fn update_jaw_equals_a_full_deform(before in activations(), jaw in 0.0f32..=4.0, c in combine()) {
-        let bound = BoundRig::bind(&symmetric_rig(c), &dome()).expect("binds");
+        let bound = BoundRig::bind_with(&symmetric_rig(c), &dome(), Skin::DEFAULT).expect("binds");
         let mut out = deformed(&bound, &before);
         let after = Activations { jaw, ..before.clone() };
         bound.update_jaw(&after, &mut out).expect("in range");

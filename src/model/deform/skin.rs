@@ -50,7 +50,7 @@ impl Skin {
         patch: 0.05,
     };
 
-    /// What [`super::BoundRig::bind`] uses: 85 % of the sink removed, every triangle keeps at
+    /// What the editor, `grimace play` and `grimace render` bind with: 85 % of the sink removed, every triangle keeps at
     /// least 20 % of its rest area, patches of 5 % of the face's diagonal (about 14 mm on
     /// the default face).
     pub const DEFAULT: Skin = Skin {
