@@ -207,7 +207,7 @@ fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activat
     let paper = BoundRig::bind_with(rig, mesh, Skin::PAPER).expect("bench rig binds");
     let bind_paper = start.elapsed().as_secs_f64();
     let start = std::time::Instant::now();
-    let bound = BoundRig::bind(rig, mesh).expect("bench rig binds");
+    let bound = BoundRig::bind_with(rig, mesh, Skin::DEFAULT).expect("bench rig binds");
     let bind_skin = start.elapsed().as_secs_f64();
     eprintln!(
         "{label}: bind {:.1} ms without the skin rules, {:.1} ms with them ({} guarded triangles)",
@@ -324,7 +324,7 @@ fn default_face(c: &mut Criterion) {
     let act = table
         .expression_activations("happiness", &rig)
         .expect("happiness evaluates");
-    let skin = BoundRig::bind(&rig, &mesh).expect("binds");
+    let skin = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("binds");
     let paper = BoundRig::bind_with(&rig, &mesh, Skin::PAPER).expect("binds");
     let mut out = Vec::new();
     let m = rig.muscle_index("L_Zygomatic_Major").expect("zygomatic");
