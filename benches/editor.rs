@@ -1,7 +1,9 @@
 //! The editor's frame: one fine-step key press (update, incremental deformation, render of
 //! the face, the ratatui buffer diff written through the real crossterm backend into a
 //! counting writer) at 200x60 and 80x24, a selection move (the face's picture is reused), and
-//! a fine move in rig mode at 200x60 (the zone overlay drawn), start to first frame (load the built-in face, bind the rig, draw once).
+//! a fine move in rig mode at 200x60 (the zone overlay drawn), the same in mirror mode, binding
+//! one muscle again against binding the whole rig, start to first frame (load the built-in
+//! face, bind the rig, draw once).
 //!
 //! The landmark picker: a cursor step, a turn, and a pick with its undo (`pick_*`).
 //!
@@ -81,8 +83,9 @@ fn frames(c: &mut Criterion) {
             })
         });
     }
-    // Rig mode: a fine move of the selected muscle's attachment (the rig checked and bound
-    // again, the face deformed with the muscle held, drawn with the zone overlay).
+    // Rig mode: a fine move of the selected muscle's attachment (the moved muscle checked
+    // and its field bound again, the face deformed with the muscle held, drawn with the zone
+    // overlay).
     let mut term = terminal(200, 60);
     let mut rig_app = app(200, 60);
     let mut cache = Default::default();
@@ -99,6 +102,32 @@ fn frames(c: &mut Criterion) {
             };
             update(&mut rig_app, Action::Rig(action));
             grimace::tui::draw(&mut term, &rig_app, &mut cache).unwrap();
+        })
+    });
+    // The same in mirror mode: the partner moves too, two muscles bound again.
+    update(&mut rig_app, Action::ToggleMirror);
+    c.bench_function("rig_mirror_move_frame_200x60", |b| {
+        b.iter(|| {
+            flip = -flip;
+            let action = RigAction::Move {
+                right: flip,
+                up: 0,
+                coarse: false,
+            };
+            update(&mut rig_app, Action::Rig(action));
+            grimace::tui::draw(&mut term, &rig_app, &mut cache).unwrap();
+        })
+    });
+    // What a rig-mode move binds: the zygomatic alone again, against the whole rig.
+    let mut bound = grimace::model::BoundRig::bind(rig_app.rig(), rig_app.doc.scene.mesh())
+        .expect("the rig binds");
+    let kind = rig_app.rig().muscles[0].kind.clone();
+    c.bench_function("rebind_one_muscle", |b| {
+        b.iter(|| bound.rebind_muscle(0, kind.clone()).expect("rebinds"))
+    });
+    c.bench_function("bind_whole_rig", |b| {
+        b.iter(|| {
+            grimace::model::BoundRig::bind(rig_app.rig(), rig_app.doc.scene.mesh()).expect("binds")
         })
     });
     c.bench_function("start_to_first_frame_200x60", |b| {

@@ -14,6 +14,9 @@
 //!
 //! Winding: every triangle is counter-clockwise seen from outside the face, so its
 //! right-hand normal points out of the skin (toward the viewer on the front of the face).
+//!
+//! After the skin come the two eyeballs ([`EYEBALL`]), closed and separate pieces: the
+//! subject's left eye, then its mirror. Appending them keeps every skin vertex's number.
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -82,6 +85,7 @@ pub fn generate() -> Mesh {
     let mut builder = Builder::new(&layout);
     builder.place_vertices();
     builder.build_triangles();
+    builder.add_eyeballs();
     let mut mesh = Mesh {
         positions: builder.positions,
         triangles: builder.triangles,
@@ -336,6 +340,26 @@ impl<'a> Builder<'a> {
         index
     }
 
+    /// Appends both eyeballs after the skin: the subject's left, then its exact mirror (x
+    /// negated, triangles turned round so they still face out).
+    fn add_eyeballs(&mut self) {
+        let points = EYEBALL.points();
+        for sign in [1.0, -1.0] {
+            let first = self.positions.len() as u32;
+            for ([x, y, z], _) in &points {
+                self.positions.push(Vec3::new(
+                    (sign * units(*x)) as f32,
+                    y_units(*y) as f32,
+                    units(*z) as f32,
+                ));
+            }
+            for [a, b, c] in EYEBALL.triangles(first) {
+                self.triangles
+                    .push(if sign > 0.0 { [a, b, c] } else { [a, c, b] });
+            }
+        }
+    }
+
     fn build_triangles(&mut self) {
         let columns = self.layout.thetas.len();
         for j in 0..self.layout.rows.len() - 1 {
@@ -354,6 +378,139 @@ impl<'a> Builder<'a> {
                 }
             }
         }
+    }
+}
+
+/// The eyeballs (millimetres, like the skin; the subject's left eye, the right one is its
+/// mirror). Each is a closed surface of revolution about an axis straight out of the face:
+/// the sclera a sphere, the iris a disc a little sunk behind the limbus, the pupil a shallow
+/// cup in the iris. The steps at the limbus and at the pupil's rim are creases, so the line
+/// styles draw the iris and the pupil as circles; [`Tissue`] names the parts for shading.
+///
+/// Sizes are adult means: the globe about 24 mm across, the visible iris (the cornea's
+/// diameter) 11.5 mm, a pupil of 4 mm in room light. The centre lies 31 mm from the midline
+/// (an interpupillary distance of 62 mm) and 2.5 mm above the corner line, so the upper lid
+/// covers the top 1.5 mm of the iris and the lower lid its bottom 1 mm. It sits as far
+/// forward as the lids allow: the outer half of the lower lid margin, where the skin turns
+/// back toward the temple, lies about 1 mm in front of it (0.4 mm when AU5 draws the upper
+/// lid back), so no lid, open, closing or raised, lets the globe through.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Eyeball {
+    /// Centre of the subject's left eyeball: x from the midline, y above the nasion, z (mm).
+    pub centre: [f64; 3],
+    /// Radius of the sclera's sphere.
+    pub radius: f64,
+    /// Radius of the iris (where the sclera meets it, the limbus).
+    pub iris_radius: f64,
+    /// Radius of the pupil.
+    pub pupil_radius: f64,
+    /// How far the iris lies behind the limbus.
+    pub iris_recess: f64,
+    /// How far the pupil's floor lies behind the iris.
+    pub pupil_depth: f64,
+    /// Vertices round each ring.
+    pub segments: usize,
+}
+
+/// The default face's eyeballs.
+pub const EYEBALL: Eyeball = Eyeball {
+    centre: [31.0, EYE_LINE_Y + 2.5, -32.0],
+    radius: 12.0,
+    iris_radius: 5.75,
+    pupil_radius: 2.0,
+    iris_recess: 0.6,
+    pupil_depth: 1.0,
+    segments: 24,
+};
+
+/// What part of the eye a ring of an eyeball's profile belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tissue {
+    /// The white of the eye, up to and including the limbus.
+    Sclera,
+    /// The iris, from the foot of the limbus to the pupil's rim.
+    Iris,
+    /// The pupil's floor.
+    Pupil,
+}
+
+impl Eyeball {
+    /// The rings of the profile from the back pole to the front centre, as `(distance from the
+    /// axis, height along the axis from the centre, tissue)` in millimetres. The first and
+    /// last have distance 0 (the poles, one vertex each).
+    pub fn profile(&self) -> Vec<(f64, f64, Tissue)> {
+        let r = self.radius;
+        let limbus = (self.iris_radius / r).asin();
+        let mut rings = vec![(0.0, -r, Tissue::Sclera)];
+        // the back is never seen (it lies inside the head): few rings there
+        for degrees in [135.0f64, 100.0, 80.0, 64.0, 50.0, 39.0] {
+            let a = degrees.to_radians();
+            rings.push((r * a.sin(), r * a.cos(), Tissue::Sclera));
+        }
+        let front = r * limbus.cos();
+        rings.push((self.iris_radius, front, Tissue::Sclera));
+        let iris = front - self.iris_recess;
+        rings.push((self.iris_radius - 0.3, iris, Tissue::Iris));
+        rings.push((
+            0.5 * (self.iris_radius + self.pupil_radius),
+            iris + 0.05,
+            Tissue::Iris,
+        ));
+        rings.push((self.pupil_radius, iris + 0.1, Tissue::Iris));
+        let floor = iris + 0.1 - self.pupil_depth;
+        rings.push((self.pupil_radius - 0.25, floor, Tissue::Pupil));
+        rings.push((0.0, floor, Tissue::Pupil));
+        rings
+    }
+
+    /// Vertices of one eyeball.
+    pub fn vertex_count(&self) -> usize {
+        let rings = self.profile().len();
+        2 + (rings - 2) * self.segments
+    }
+
+    /// The left eyeball's vertices (mm) in order: the back pole, each ring round from +x
+    /// counter-clockwise seen from the front, the front centre; with the tissue of each.
+    pub fn points(&self) -> Vec<([f64; 3], Tissue)> {
+        let [cx, cy, cz] = self.centre;
+        let mut out = Vec::with_capacity(self.vertex_count());
+        for (rho, z, tissue) in self.profile() {
+            if rho == 0.0 {
+                out.push(([cx, cy, cz + z], tissue));
+                continue;
+            }
+            for k in 0..self.segments {
+                let a = 2.0 * PI * k as f64 / self.segments as f64;
+                out.push(([cx + rho * a.cos(), cy + rho * a.sin(), cz + z], tissue));
+            }
+        }
+        out
+    }
+
+    /// The triangles of one eyeball on vertices numbered from `first` as [`Eyeball::points`]
+    /// lists them, counter-clockwise seen from outside.
+    pub fn triangles(&self, first: u32) -> Vec<[u32; 3]> {
+        let n = self.segments as u32;
+        let rings = self.profile().len() as u32 - 2;
+        let back = first;
+        let ring = |r: u32, k: u32| first + 1 + r * n + k % n;
+        let front = first + 1 + rings * n;
+        let mut out = Vec::with_capacity(2 * (rings as usize) * self.segments);
+        for k in 0..n {
+            out.push([back, ring(0, k + 1), ring(0, k)]);
+        }
+        for r in 0..rings - 1 {
+            for k in 0..n {
+                let (a, b) = (ring(r, k), ring(r, k + 1));
+                let (c, d) = (ring(r + 1, k + 1), ring(r + 1, k));
+                out.push([a, b, c]);
+                out.push([a, c, d]);
+            }
+        }
+        for k in 0..n {
+            out.push([front, ring(rings - 1, k), ring(rings - 1, k + 1)]);
+        }
+        out
     }
 }
 

@@ -6,7 +6,9 @@
 //! `forehead_centre`, and per side `*_inner_eye_corner`, `*_outer_eye_corner`,
 //! `*_upper_lid_centre`, `*_lower_lid_centre`, `*_mouth_corner`, `*_brow_inner`,
 //! `*_brow_centre`, `*_brow_outer`, `*_cheekbone`, `*_alare`, `*_forehead`. Regions:
-//! `upper_lip`, `lower_lip`, `*_upper_lid`, `*_lower_lid`, `*_brow`.
+//! `upper_lip`, `lower_lip`, `*_upper_lid`, `*_lower_lid`, `*_brow`. The eyeballs (the
+//! pieces after the skin): `*_eyeball` (all of it), and within it `*_iris` and `*_pupil`.
+//! Every other group holds skin vertices only.
 //!
 //! The groups are recomputed from the mesh's positions and slit structure, so they follow
 //! the generator; [`find_groups_in`] finds them again in a mesh read back from a file.
@@ -16,16 +18,18 @@ use std::collections::BTreeMap;
 use glam::{Vec2, Vec3};
 
 use super::anthropometry::*;
-use super::generator::{Slit, Slits};
+use super::generator::{Slit, Slits, Tissue, EYEBALL};
 use super::surface;
-use crate::model::Mesh;
+use crate::model::{Mask, Mesh, Rig};
 
 /// Finds every named group of the default face.
 pub fn find_groups(mesh: &Mesh, slits: &Slits) -> BTreeMap<String, Vec<u32>> {
     let mut groups = BTreeMap::new();
+    let skin = &mesh.positions[..skin_len(mesh)];
     slit_groups(slits, &mut groups);
-    landmark_groups(&mesh.positions, &mut groups);
-    region_groups(&mesh.positions, &groups.clone(), &mut groups);
+    landmark_groups(skin, &mut groups);
+    region_groups(skin, &groups.clone(), &mut groups);
+    eyeball_groups(mesh, skin.len(), &mut groups);
     for members in groups.values_mut() {
         members.sort_unstable();
         members.dedup();
@@ -38,6 +42,75 @@ pub fn find_groups(mesh: &Mesh, slits: &Slits) -> BTreeMap<String, Vec<u32>> {
 /// boundary edges that are not on the outer rim.
 pub fn find_groups_in(mesh: &Mesh) -> BTreeMap<String, Vec<u32>> {
     find_groups(mesh, &recover_slits(mesh))
+}
+
+/// The number of skin vertices: the skin is the piece that holds vertex 0, and everything
+/// after it (the eyeballs) was appended.
+pub fn skin_len(mesh: &Mesh) -> usize {
+    let component = crate::fit::parts::components(mesh);
+    component
+        .iter()
+        .position(|&c| c != component[0])
+        .unwrap_or(component.len())
+}
+
+/// The vertices that never move: both eyeballs.
+pub fn still_vertices(mesh: &Mesh) -> Vec<u32> {
+    let mut still: Vec<u32> = ["left_eyeball", "right_eyeball"]
+        .iter()
+        .filter_map(|name| mesh.groups.get(*name))
+        .flatten()
+        .copied()
+        .collect();
+    still.sort_unstable();
+    still.dedup();
+    still
+}
+
+/// Keeps the still vertices ([`still_vertices`]) out of every muscle of `rig`: one mask of
+/// weight 0 on them naming all its muscles, replacing an earlier one on the same vertices.
+/// The jaw's weights leave them out already (they lie far above the mouth).
+pub fn hold_still(mesh: &Mesh, rig: &mut Rig) {
+    let weights: Vec<(u32, f32)> = still_vertices(mesh).into_iter().map(|v| (v, 0.0)).collect();
+    if weights.is_empty() {
+        return;
+    }
+    rig.masks.retain(|m| m.weights != weights);
+    rig.masks.push(Mask {
+        muscles: rig.muscles.iter().map(|m| m.name.clone()).collect(),
+        gain: 1.0,
+        weights,
+    });
+}
+
+/// `*_eyeball`, `*_iris` and `*_pupil` for every piece after the skin, told apart by where
+/// its vertices lie on [`EYEBALL`]'s profile.
+fn eyeball_groups(mesh: &Mesh, skin_len: usize, groups: &mut BTreeMap<String, Vec<u32>>) {
+    let profile = EYEBALL.profile();
+    let [cx, cy, cz] = EYEBALL.centre;
+    for (i, p) in mesh.positions.iter().enumerate().skip(skin_len) {
+        let side = if p.x > 0.0 { "left" } else { "right" };
+        let x = f64::from(p.x.abs()) * MM_PER_UNIT - cx;
+        let y = f64::from(p.y) * MM_PER_UNIT + Y_ORIGIN_MM - cy;
+        let z = f64::from(p.z) * MM_PER_UNIT - cz;
+        let rho = x.hypot(y);
+        let tissue = profile
+            .iter()
+            .min_by(|a, b| {
+                let da = (a.0 - rho).hypot(a.1 - z);
+                let db = (b.0 - rho).hypot(b.1 - z);
+                da.total_cmp(&db)
+            })
+            .map_or(Tissue::Sclera, |ring| ring.2);
+        let i = i as u32;
+        groups.entry(format!("{side}_eyeball")).or_default().push(i);
+        let part = match tissue {
+            Tissue::Sclera => continue,
+            Tissue::Iris => "iris",
+            Tissue::Pupil => "pupil",
+        };
+        groups.entry(format!("{side}_{part}")).or_default().push(i);
+    }
 }
 
 fn slit_groups(slits: &Slits, groups: &mut BTreeMap<String, Vec<u32>>) {

@@ -256,14 +256,16 @@ pub fn paper_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
     muscles.extend(place.frontalis_sheets()?);
     muscles.push(place.orbicularis_oris()?);
     muscles.extend(place.orbicularis_oculi()?);
-    Ok(Rig {
+    let mut rig = Rig {
         masks: Vec::new(),
         version: RIG_VERSION,
         mesh: FACE_PATH.into(),
         combine: Default::default(),
         muscles,
         jaw: Some(place.jaw()?),
-    })
+    };
+    super::groups::hold_still(mesh, &mut rig);
+    Ok(rig)
 }
 
 /// Places the default rig: the paper's rig plus the muscles it lacks for the AUs face
@@ -302,6 +304,7 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
             rig.masks.push(mask);
         }
     }
+    super::groups::hold_still(mesh, &mut rig);
     Ok(rig)
 }
 

@@ -54,6 +54,15 @@ pub fn paper_rig() -> Rig {
     load_rig(PAPER_RIG, "paper.rig.ron").unwrap_or_else(|e| panic!("embedded rig: {e}"))
 }
 
+/// Keeps the eyeballs of the built-in face still under `rig`, whatever muscles it has: rigs
+/// written before the face had eyeballs carry no mask for them, and a rig file may add
+/// muscles the saved mask does not name. Meshes other than `builtin:face` are left alone.
+pub fn hold_eyes_still(mesh_name: &str, mesh: &Mesh, rig: &mut Rig) {
+    if mesh_name == "face" {
+        crate::face::groups::hold_still(mesh, rig);
+    }
+}
+
 /// The default AU table, for the default rig.
 ///
 /// # Panics

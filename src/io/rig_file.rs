@@ -130,11 +130,14 @@ pub fn load_rig_with(
     builtin: BuiltinMeshes,
 ) -> Result<LoadedRig, LoadError> {
     let text = read_text(path, MAX_FILE_BYTES)?;
-    let (rig, notice) = parse_rig_with(&text, path, builtin)?;
+    let (mut rig, notice) = parse_rig_with(&text, path, builtin)?;
     let (mesh, mesh_path) = match mesh_override {
         Some(file) => (obj::read_obj(file)?, Some(file.to_path_buf())),
         None => load_named_mesh(&rig, &text, path, builtin)?,
     };
+    if let (None, MeshRef::Builtin(name)) = (mesh_override, mesh_ref(path, &rig.mesh)) {
+        builtin::hold_eyes_still(&name, &mesh, &mut rig);
+    }
     if let Err(issue) = check_rig_mesh(&rig, &mesh) {
         return Err(locate(path, &text, &issue));
     }

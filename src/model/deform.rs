@@ -904,3 +904,5 @@ fn check_reach(rig: &Rig, rest: &[Vec3], fields: &[Field]) -> Result<(), BindErr
 
 #[cfg(test)]
 mod tests;
+
+mod rebind;

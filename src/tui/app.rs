@@ -345,6 +345,15 @@ pub struct Snapshot {
     pub loaded: Option<AuKey>,
 }
 
+/// One entry of the editor's history.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Step {
+    /// Activations and the table as they were.
+    State(Snapshot),
+    /// A rig change: the muscles' or the jaw's parameters as they were (rig mode).
+    Rig(super::rig::RigUndo),
+}
+
 /// A file's identity when it was loaded or saved: used to notice changes made by others.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FileStamp {
@@ -404,10 +413,11 @@ pub struct Selection {
 /// The way back: undo and redo stacks, and the count of edits.
 #[derive(Debug, Clone, Default)]
 pub struct History {
-    /// States to go back to.
-    pub undo: Vec<Snapshot>,
-    /// States undone.
-    pub redo: Vec<Snapshot>,
+    /// Edits to go back over, the last made last: activation and table edits and rig
+    /// changes in one list, so undo takes them back in the order they were made.
+    pub undo: Vec<Step>,
+    /// Edits undone, the last undone last.
+    pub redo: Vec<Step>,
     /// The row last adjusted by a step: consecutive steps on one row undo together.
     pub last_step: Option<Row>,
     /// Counts edits; the event loop writes the recovery file when it moves.

@@ -7,13 +7,13 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{Mat3, Vec3};
+use glam::{Mat3, Quat, Vec3};
 
 use super::action::{Action, Effect};
-use super::app::{App, FileStamp, Input, InputKind, Mode, Row};
+use super::app::{App, FileStamp, Input, InputKind, Mode, Row, Step};
 use crate::io::rig_file::{check_rig, rig_to_ron};
 use crate::model::muscle::mirror_x;
-use crate::model::{Activations, MuscleKind, Rig};
+use crate::model::{Activations, Jaw, MuscleKind, Rig};
 
 /// Fine step of a point or a length, as a fraction of the face's height.
 pub const FINE_FRACTION: f32 = 0.005;
@@ -26,8 +26,9 @@ pub const UNSAVED_RIG: &str =
 /// Step of the held activation (`<` and `>`).
 pub const HELD_STEP: f32 = 0.25;
 
-/// What rig mode knows: whether it is on, the rig's file, the selected point and parameter,
-/// the held activation and the rig's own undo history.
+/// What rig mode knows: whether it is on, the rig's file, the selected point and parameter
+/// and the held activation. Its changes are undone with the rest of the editor's edits
+/// ([`crate::tui::app::History`]), each kept as a [`RigUndo`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct RigEdit {
     /// Rig mode is on.
@@ -44,10 +45,6 @@ pub struct RigEdit {
     pub param: usize,
     /// The activation the selected muscle is held at.
     pub held: f32,
-    /// Rigs to go back to.
-    pub undo: Vec<Rig>,
-    /// Rigs undone.
-    pub redo: Vec<Rig>,
     /// What the face shows: the row held, its activation and the scene generation after
     /// deforming, so a change made elsewhere is noticed and the hold applied again.
     shown: Option<(Row, f32, u64)>,
@@ -63,8 +60,6 @@ impl Default for RigEdit {
             point: 0,
             param: 0,
             held: 1.0,
-            undo: Vec::new(),
-            redo: Vec::new(),
             shown: None,
         }
     }
@@ -104,7 +99,7 @@ pub enum RigAction {
         /// Coarse steps.
         coarse: bool,
     },
-    /// Change the selected parameter by steps.
+    /// Change the selected parameter by steps (an angle turns counter-clockwise on screen).
     Param {
         /// Steps (negative: down).
         by: i8,
@@ -113,10 +108,6 @@ pub enum RigAction {
     },
     /// Change the held activation by steps of [`HELD_STEP`].
     Held(i8),
-    /// Undo the last rig change.
-    Undo,
-    /// Redo the last undone rig change.
-    Redo,
     /// The rig file was written.
     Saved {
         /// Where.
@@ -131,6 +122,71 @@ pub enum RigAction {
         /// Why.
         error: String,
     },
+}
+
+/// The jaw's pose: what rig mode changes of the jaw (its weights stay).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JawPose {
+    /// The point the jaw turns about.
+    pub pivot: Vec3,
+    /// The axis it turns about.
+    pub axis: Vec3,
+    /// Degrees per unit of jaw activation.
+    pub degrees_per_unit: f32,
+}
+
+impl JawPose {
+    fn of(jaw: &Jaw) -> JawPose {
+        JawPose {
+            pivot: jaw.pivot,
+            axis: jaw.axis,
+            degrees_per_unit: jaw.degrees_per_unit,
+        }
+    }
+}
+
+/// Parts of a rig, as rig mode changes them and undo puts them back.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RigParts {
+    /// Muscles' kinds with their parameters, by index (a muscle and its mirror partner).
+    Muscles(Vec<(usize, MuscleKind)>),
+    /// The jaw's pose.
+    Jaw(JawPose),
+    /// A whole rig (one put back from a recovery file).
+    Whole(Box<Rig>),
+}
+
+impl RigParts {
+    /// The same parts as they are in `rig` now.
+    fn current(&self, rig: &Rig) -> RigParts {
+        match self {
+            RigParts::Muscles(list) => RigParts::Muscles(
+                list.iter()
+                    .filter_map(|(i, _)| Some((*i, rig.muscles.get(*i)?.kind.clone())))
+                    .collect(),
+            ),
+            RigParts::Jaw(pose) => RigParts::Jaw(rig.jaw.as_ref().map_or(*pose, JawPose::of)),
+            RigParts::Whole(_) => RigParts::Whole(Box::new(rig.clone())),
+        }
+    }
+
+    /// Puts the parts into the scene's rig, binding again only what they touch.
+    fn apply(self, scene: &mut super::scene::Scene) -> Result<(), String> {
+        match self {
+            RigParts::Muscles(list) => scene.rebind_muscles(list),
+            RigParts::Jaw(p) => scene.rebind_jaw(p.pivot, p.axis, p.degrees_per_unit),
+            RigParts::Whole(rig) => scene.set_rig(*rig),
+        }
+    }
+}
+
+/// A rig change as the editor's history keeps it: what changed, and the parts to put back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigUndo {
+    /// What the change was to, for the message line (`L_Zygomatic_Major attachment`).
+    pub what: String,
+    /// The parts as they were before the change.
+    pub parts: RigParts,
 }
 
 /// The points of a muscle kind (or the jaw, `None`), in `Tab` order.
@@ -148,14 +204,22 @@ pub fn point_names(kind: Option<&MuscleKind>) -> &'static [&'static str] {
     }
 }
 
-/// How a parameter steps: by lengths scaled to the face, or by fixed amounts.
+/// How a parameter steps: by lengths scaled to the face, by fixed amounts, or by turning.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Unit {
     /// A length: steps are fractions of the face's height.
     Length,
     /// A plain number with its fine and coarse steps.
     Fixed(f32, f32),
+    /// A direction turned about the view axis by fine and coarse steps in degrees; its
+    /// value is its angle in the view plane, counter-clockwise from the screen's right.
+    Angle(f32, f32),
 }
+
+/// Name of the sphincter's frame parameter.
+const FRAME_ANGLE: &str = "frame angle";
+/// Name of the jaw's axis parameter.
+const AXIS_ANGLE: &str = "axis angle";
 
 /// The parameters of a muscle kind (or the jaw, `None`), in `p` order.
 fn params(kind: Option<&MuscleKind>) -> &'static [(&'static str, Unit)] {
@@ -169,9 +233,13 @@ fn params(kind: Option<&MuscleKind>) -> &'static [(&'static str, Unit)] {
             ("semi-major", Unit::Length),
             ("semi-minor", Unit::Length),
             ("bulge", Unit::Fixed(1.0, 5.0)),
+            (FRAME_ANGLE, Unit::Angle(1.0, 5.0)),
         ],
         Some(MuscleKind::Sheet(_)) => &[("length", Unit::Length), ("width", Unit::Length)],
-        None => &[("degrees per unit", Unit::Fixed(0.1, 0.5))],
+        None => &[
+            ("degrees per unit", Unit::Fixed(0.1, 0.5)),
+            (AXIS_ANGLE, Unit::Angle(1.0, 5.0)),
+        ],
     }
 }
 
@@ -194,13 +262,13 @@ fn point_mut(kind: &mut MuscleKind, i: usize) -> Option<&mut Vec3> {
 
 /// The point `i` of a muscle kind (or the jaw's pivot for `None`), as stored.
 pub fn point(rig: &Rig, row: Row, i: usize) -> Option<Vec3> {
-    let mut rig = rig.clone();
     match row {
-        Row::Muscle(m) => point_mut(&mut rig.muscles.get_mut(m)?.kind, i).copied(),
-        Row::Jaw => rig.jaw.map(|j| j.pivot).filter(|_| i == 0),
+        Row::Muscle(m) => point_mut(&mut rig.muscles.get(m)?.kind.clone(), i).copied(),
+        Row::Jaw => rig.jaw.as_ref().map(|j| j.pivot).filter(|_| i == 0),
     }
 }
 
+/// The numeric (length or fixed) parameter `i` of a muscle kind.
 fn param_mut(kind: &mut MuscleKind, i: usize) -> Option<&mut f32> {
     match kind {
         MuscleKind::Linear(m) => [&mut m.zone, &mut m.falloff_start, &mut m.falloff_end]
@@ -218,44 +286,58 @@ fn param_mut(kind: &mut MuscleKind, i: usize) -> Option<&mut f32> {
 enum Change {
     /// Move point `i` by a vector.
     Move(usize, Vec3),
-    /// Add to parameter `i`.
+    /// Add to the numeric parameter `i`.
     Param(usize, f32),
+    /// Turn the direction parameter (a sphincter's frame, the jaw's axis) about `axis` by
+    /// `radians` (right-hand rule).
+    Turn {
+        /// The unit axis of the turn.
+        axis: Vec3,
+        /// The angle.
+        radians: f32,
+    },
 }
 
 impl Change {
-    /// The same change on the mirror partner: moves reflected across x = 0.
+    /// The same change on the mirror partner: moves reflected across x = 0, turns reflected
+    /// too (the reflected axis, the opposite sense).
     fn mirrored(self) -> Change {
         match self {
             Change::Move(i, by) => Change::Move(i, mirror_x(by)),
+            Change::Turn { axis, radians } => Change::Turn {
+                axis: mirror_x(axis),
+                radians: -radians,
+            },
             other => other,
         }
     }
-}
 
-/// Applies a change to row `row` of `rig`; false if the row has no such point or parameter.
-fn apply_change(rig: &mut Rig, row: Row, change: Change) -> bool {
-    match row {
-        Row::Muscle(m) => {
-            let Some(muscle) = rig.muscles.get_mut(m) else {
-                return false;
-            };
-            match change {
-                Change::Move(i, by) => point_mut(&mut muscle.kind, i).map(|p| *p += by),
-                Change::Param(i, by) => param_mut(&mut muscle.kind, i).map(|v| *v += by),
+    /// Applies the change to a muscle kind; false if it has no such point or parameter.
+    fn to_kind(self, kind: &mut MuscleKind) -> bool {
+        match (self, kind) {
+            (Change::Move(i, by), kind) => point_mut(kind, i).map(|p| *p += by).is_some(),
+            (Change::Param(i, by), kind) => param_mut(kind, i).map(|v| *v += by).is_some(),
+            (Change::Turn { axis, radians }, MuscleKind::Sphincter(m)) => {
+                let turn = Quat::from_axis_angle(axis, radians);
+                m.frame.x = turn * m.frame.x;
+                m.frame.y = turn * m.frame.y;
+                true
             }
-            .is_some()
+            (Change::Turn { .. }, _) => false,
         }
-        Row::Jaw => match (&mut rig.jaw, change) {
-            (Some(jaw), Change::Move(0, by)) => {
-                jaw.pivot += by;
-                true
+    }
+
+    /// Applies the change to the jaw's pose; false if it has no such point or parameter.
+    fn to_jaw(self, pose: &mut JawPose) -> bool {
+        match self {
+            Change::Move(0, by) => pose.pivot += by,
+            Change::Param(0, by) => pose.degrees_per_unit += by,
+            Change::Turn { axis, radians } => {
+                pose.axis = Quat::from_axis_angle(axis, radians) * pose.axis;
             }
-            (Some(jaw), Change::Param(0, by)) => {
-                jaw.degrees_per_unit += by;
-                true
-            }
-            _ => false,
-        },
+            _ => return false,
+        }
+        true
     }
 }
 
@@ -280,6 +362,21 @@ pub fn view_axes(app: &App) -> (Vec3, Vec3) {
     (back * Vec3::X, back * Vec3::Y)
 }
 
+/// The direction out of the screen toward the viewer, in mesh coordinates: the axis that
+/// angle parameters turn about.
+fn view_out(app: &App) -> Vec3 {
+    let (right, up) = view_axes(app);
+    right.cross(up)
+}
+
+/// The angle of `d` in the view plane in degrees, counter-clockwise from the screen's
+/// right; `None` when `d` points (nearly) along the view.
+pub fn view_angle(app: &App, d: Vec3) -> Option<f32> {
+    let (right, up) = view_axes(app);
+    let (x, y) = (d.dot(right), d.dot(up));
+    (x.hypot(y) > 1e-3 * d.length()).then(|| y.atan2(x).to_degrees())
+}
+
 /// Applies one rig-mode action. Pure: saving comes back as [`Effect::SaveRig`].
 pub fn update(app: &mut App, action: RigAction, fx: &mut Vec<Effect>) {
     match action {
@@ -293,12 +390,13 @@ pub fn update(app: &mut App, action: RigAction, fx: &mut Vec<Effect>) {
         }
         RigAction::NextPoint => {
             let n = point_names(kind_of(app.rig(), app.selected_row())).len();
-            app.rig_edit.point = (app.rig_edit.point + 1) % n.max(1);
+            // From the point shown (a muscle with fewer points shows its last one).
+            app.rig_edit.point = (app.rig_edit.point.min(n.saturating_sub(1)) + 1) % n.max(1);
             app.info(describe(app));
         }
         RigAction::NextParam => {
             let n = params(kind_of(app.rig(), app.selected_row())).len();
-            app.rig_edit.param = (app.rig_edit.param + 1) % n.max(1);
+            app.rig_edit.param = (app.rig_edit.param.min(n.saturating_sub(1)) + 1) % n.max(1);
             app.info(describe(app));
         }
         RigAction::Move { right, up, coarse } => {
@@ -310,32 +408,36 @@ pub fn update(app: &mut App, action: RigAction, fx: &mut Vec<Effect>) {
                 };
             let (r, u) = view_axes(app);
             let by = (r * f32::from(right) + u * f32::from(up)) * step;
-            let n = point_names(kind_of(app.rig(), app.selected_row())).len();
-            let change = Change::Move(app.rig_edit.point.min(n.saturating_sub(1)), by);
-            edit(app, change, fx);
+            let points = point_names(kind_of(app.rig(), app.selected_row()));
+            let i = app.rig_edit.point.min(points.len().saturating_sub(1));
+            edit(app, Change::Move(i, by), points.get(i).copied(), fx);
         }
         RigAction::Param { by, coarse } => {
             let list = params(kind_of(app.rig(), app.selected_row()));
             let i = app.rig_edit.param.min(list.len().saturating_sub(1));
-            let step = match list.get(i).map(|p| p.1) {
-                Some(Unit::Length) => {
-                    face_size(app)
-                        * if coarse {
-                            COARSE_FRACTION
-                        } else {
-                            FINE_FRACTION
-                        }
+            let Some(&(name, unit)) = list.get(i) else {
+                return;
+            };
+            let pick = |fine: f32, coarse_step: f32| if coarse { coarse_step } else { fine };
+            let change = match unit {
+                Unit::Length => Change::Param(
+                    i,
+                    f32::from(by) * face_size(app) * pick(FINE_FRACTION, COARSE_FRACTION),
+                ),
+                Unit::Fixed(fine, coarse_step) => {
+                    Change::Param(i, f32::from(by) * pick(fine, coarse_step))
                 }
-                Some(Unit::Fixed(fine, coarse_step)) => {
-                    if coarse {
-                        coarse_step
-                    } else {
-                        fine
+                Unit::Angle(fine, coarse_step) => {
+                    if let Some(reason) = cannot_turn(app) {
+                        return app.error(reason);
+                    }
+                    Change::Turn {
+                        axis: view_out(app),
+                        radians: (f32::from(by) * pick(fine, coarse_step)).to_radians(),
                     }
                 }
-                None => return,
             };
-            edit(app, Change::Param(i, f32::from(by) * step), fx);
+            edit(app, change, Some(name), fx);
         }
         RigAction::Held(by) => {
             let (lo, hi) = app.range(app.selected_row());
@@ -343,8 +445,6 @@ pub fn update(app: &mut App, action: RigAction, fx: &mut Vec<Effect>) {
             app.rig_edit.held = held;
             app.info(format!("held at {held:.2}"));
         }
-        RigAction::Undo => back(app, true, fx),
-        RigAction::Redo => back(app, false, fx),
         RigAction::Saved { path, stamp } => {
             app.info(format!("saved the rig to {}", path.display()));
             app.rig_edit.path = Some(path);
@@ -365,62 +465,97 @@ pub fn update(app: &mut App, action: RigAction, fx: &mut Vec<Effect>) {
     sync(app);
 }
 
+/// Why the selected direction cannot be turned in this view, if it cannot: the jaw's axis
+/// pointing along the view would not move.
+fn cannot_turn(app: &App) -> Option<String> {
+    let axis = match app.selected_row() {
+        Row::Jaw => app.rig().jaw.as_ref()?.axis,
+        Row::Muscle(_) => return None,
+    };
+    view_angle(app, axis).is_none().then(|| {
+        "the jaw's axis points along the view, so turning it about the view changes nothing: \
+         turn the view first (e.g. 1 for the front)"
+            .to_string()
+    })
+}
+
 /// Applies a change (and its mirror on the partner in mirror mode) if the model accepts the
-/// result; otherwise says why on the status line and keeps the rig as it was.
-fn edit(app: &mut App, change: Change, fx: &mut Vec<Effect>) {
+/// result, binding again only the muscles changed (or the jaw); otherwise says why on the
+/// status line and keeps the rig as it was. The change joins the editor's undo history.
+fn edit(app: &mut App, change: Change, part: Option<&str>, fx: &mut Vec<Effect>) {
     let row = app.selected_row();
-    let mut rig = app.rig().clone();
-    if !apply_change(&mut rig, row, change) {
-        return app.error(format!("{} has nothing to change there", app.row_name(row)));
-    }
     let partner = app.partner(row).filter(|_| app.selection.mirror);
-    if let Some(p) = partner {
-        apply_change(&mut rig, p, change.mirrored());
-    }
-    if let Err(reason) = check_rig(&rig)
-        .map_err(|issue| issue.to_string())
-        .and_then(|()| app.doc.scene.check_rig(&rig))
-    {
+    let nothing = || format!("{} has nothing to change there", app.row_name(row));
+    let (before, after) = match row {
+        Row::Muscle(m) => {
+            let rig = app.rig();
+            let Some(muscle) = rig.muscles.get(m) else {
+                return app.error(nothing());
+            };
+            let mut before = vec![(m, muscle.kind.clone())];
+            if let Some(Row::Muscle(p)) = partner {
+                if let Some(other) = rig.muscles.get(p) {
+                    before.push((p, other.kind.clone()));
+                }
+            }
+            let mut after = before.clone();
+            if !change.to_kind(&mut after[0].1) {
+                return app.error(nothing());
+            }
+            if let Some((_, kind)) = after.get_mut(1) {
+                change.mirrored().to_kind(kind);
+            }
+            (RigParts::Muscles(before), RigParts::Muscles(after))
+        }
+        Row::Jaw => {
+            let Some(jaw) = &app.rig().jaw else {
+                return app.error("the rig has no jaw");
+            };
+            let before = JawPose::of(jaw);
+            let mut after = before;
+            if !change.to_jaw(&mut after) {
+                return app.error(nothing());
+            }
+            (RigParts::Jaw(before), RigParts::Jaw(after))
+        }
+    };
+    let first = app.rig_edit.saved.is_none().then(|| app.rig().clone());
+    if let Err(reason) = after.apply(&mut app.doc.scene) {
         return app.error(format!("refused: {reason}"));
     }
-    let before = app.rig().clone();
-    if let Err(reason) = app.doc.scene.set_rig(rig) {
-        return app.error(format!("refused: {reason}"));
+    if let Some(rig) = first {
+        app.rig_edit.saved = Some(rig);
     }
-    app.rig_edit.saved.get_or_insert_with(|| before.clone());
-    app.rig_edit.undo.push(before);
-    app.rig_edit.redo.clear();
+    let also = partner.map_or(String::new(), |p| format!(" (and {})", app.row_name(p)));
+    let what = format!("{} {}{also}", app.row_name(row), part.unwrap_or("-"));
+    app.history.undo.push(Step::Rig(RigUndo {
+        what,
+        parts: before,
+    }));
+    app.history.redo.clear();
+    app.history.last_step = None;
     app.rig_edit.shown = None;
     app.history.edits += 1;
     fx.push(Effect::RecoveryDue);
-    let also = partner.map_or(String::new(), |p| format!(" (and {})", app.row_name(p)));
     app.info(format!("{}{also}", describe(app)));
 }
 
-fn back(app: &mut App, undo: bool, fx: &mut Vec<Effect>) {
-    let (from, to) = if undo {
-        (&mut app.rig_edit.undo, "undo")
-    } else {
-        (&mut app.rig_edit.redo, "redo")
-    };
-    let Some(rig) = from.pop() else {
-        return app.info(format!("nothing to {to} in the rig"));
-    };
-    let current = app.rig().clone();
-    match app.doc.scene.set_rig(rig) {
-        Ok(()) => {
-            if undo {
-                app.rig_edit.redo.push(current);
-            } else {
-                app.rig_edit.undo.push(current);
-            }
-            app.rig_edit.shown = None;
-            app.history.edits += 1;
-            fx.push(Effect::RecoveryDue);
-            app.info(format!("{to}: {}", describe(app)));
-        }
-        Err(reason) => app.error(format!("cannot {to}: {reason}")),
+/// Puts back the parts of a rig change (undo or redo), returning the change that takes them
+/// back again; a change the model now refuses comes back unchanged with the reason.
+pub fn put_back(app: &mut App, change: RigUndo) -> Result<RigUndo, (RigUndo, String)> {
+    let current = change.parts.current(app.rig());
+    if let Err(reason) = change.parts.clone().apply(&mut app.doc.scene) {
+        return Err((change, reason));
     }
+    app.rig_edit.shown = None;
+    if !app.rig_edit.on {
+        let activations = app.doc.activations.clone();
+        app.doc.scene.deform(&activations);
+    }
+    Ok(RigUndo {
+        what: change.what,
+        parts: current,
+    })
 }
 
 /// Puts back a rig found in a recovery file, as an unsaved (and undoable) change of the rig
@@ -430,9 +565,16 @@ pub fn recover(app: &mut App, rig: Rig) {
     match app.doc.scene.set_rig(rig) {
         Ok(()) => {
             app.rig_edit.saved.get_or_insert_with(|| before.clone());
-            app.rig_edit.undo.push(before);
-            app.rig_edit.redo.clear();
+            app.history.undo.push(Step::Rig(RigUndo {
+                what: "the recovered rig".into(),
+                parts: RigParts::Whole(Box::new(before)),
+            }));
+            app.history.redo.clear();
             app.rig_edit.shown = None;
+            if !app.rig_edit.on {
+                let activations = app.doc.activations.clone();
+                app.doc.scene.deform(&activations);
+            }
         }
         Err(reason) => app.warn(format!("the recovered rig is left out: {reason}")),
     }
@@ -479,6 +621,30 @@ pub fn held_activations(app: &App, row: Row, held: f32) -> Activations {
     activations
 }
 
+/// The value of parameter `i` of `row`, as shown on the message line.
+fn param_value(app: &App, row: Row, i: usize) -> Option<String> {
+    let rig = app.rig();
+    let angle = |d: Vec3| {
+        Some(view_angle(app, d).map_or("along the view".to_string(), |a| format!("{a:.1} deg")))
+    };
+    match row {
+        Row::Muscle(m) => {
+            let mut kind = rig.muscles.get(m)?.kind.clone();
+            match (&kind, params(Some(&kind)).get(i)?.1) {
+                (MuscleKind::Sphincter(s), Unit::Angle(..)) => angle(s.frame.axis_x()),
+                _ => param_mut(&mut kind, i).map(|v| format!("{v:.4}")),
+            }
+        }
+        Row::Jaw => {
+            let jaw = rig.jaw.as_ref()?;
+            match i {
+                0 => Some(format!("{:.4}", jaw.degrees_per_unit)),
+                _ => angle(jaw.axis),
+            }
+        }
+    }
+}
+
 /// The selected muscle, point and parameter with their values, for the message line.
 pub fn describe(app: &App) -> String {
     let row = app.selected_row();
@@ -490,18 +656,8 @@ pub fn describe(app: &App) -> String {
     });
     let list = params(kind);
     let ki = app.rig_edit.param.min(list.len().saturating_sub(1));
-    let value = {
-        let mut rig = app.rig().clone();
-        match row {
-            Row::Muscle(m) => rig
-                .muscles
-                .get_mut(m)
-                .and_then(|m| param_mut(&mut m.kind, ki).copied()),
-            Row::Jaw => rig.jaw.map(|j| j.degrees_per_unit),
-        }
-    };
-    let param = match (list.get(ki), value) {
-        (Some((name, _)), Some(v)) => format!("  {name} {v:.4}"),
+    let param = match (list.get(ki), param_value(app, row, ki)) {
+        (Some((name, _)), Some(v)) => format!("  {name} {v}"),
         _ => String::new(),
     };
     format!(
@@ -620,9 +776,9 @@ mod tests {
         assert_eq!(after.attachment.y, before.attachment.y);
         assert_eq!(after.insertion, before.insertion);
         assert!(app.rig_edit.dirty(app.rig()));
-        run(&mut app, Action::Rig(RigAction::Undo));
+        run(&mut app, Action::Undo);
         assert_eq!(linear(&app, i), before);
-        run(&mut app, Action::Rig(RigAction::Redo));
+        run(&mut app, Action::Redo);
         assert_eq!(linear(&app, i), after);
     }
 
@@ -705,8 +861,225 @@ mod tests {
         out.clear();
         crate::tui::view::rig::zone_overlays(&app, &mut out);
         let jaw = app.rig().jaw.as_ref().unwrap();
-        // One coloured mark per weighted vertex, plus the pivot's.
-        assert_eq!(out.len(), jaw.weights.len() + 1);
+        // One coloured mark per weighted vertex, the axis line and the pivot's mark.
+        assert_eq!(out.len(), jaw.weights.len() + 2);
+    }
+
+    fn select(app: &mut App, name: &str) -> usize {
+        let i = app.rig().muscle_index(name).expect("the muscle");
+        run(app, Action::SelectRow(Row::Muscle(i)));
+        assert_eq!(app.selected_row(), Row::Muscle(i));
+        i
+    }
+
+    fn param(app: &mut App, by: i8, coarse: bool) {
+        run(app, Action::Rig(RigAction::Param { by, coarse }));
+    }
+
+    fn sphincter(app: &App, i: usize) -> crate::model::Sphincter {
+        match &app.rig().muscles[i].kind {
+            MuscleKind::Sphincter(s) => s.clone(),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// The default face in an editor, rig mode on.
+    fn default_app() -> App {
+        let (rig, mesh, table) = crate::cli::edit::default_face().expect("the built-in face");
+        let scene = crate::tui::scene::Scene::new(rig, mesh).expect("binds");
+        let mut app = App::new(scene, table, None);
+        run(&mut app, Action::Rig(RigAction::Toggle));
+        app
+    }
+
+    /// The rig as bound from scratch deforms the held face exactly as the rebound one.
+    fn assert_bound_as_from_scratch(app: &App) {
+        let scratch = crate::model::BoundRig::bind(app.rig(), app.doc.scene.mesh()).unwrap();
+        let activations = held_activations(app, app.selected_row(), app.rig_edit.held);
+        let mut out = Vec::new();
+        scratch.deform(&activations, &mut out).unwrap();
+        let bits = |p: &[Vec3]| -> Vec<[u32; 3]> {
+            p.iter().map(|v| v.to_array().map(f32::to_bits)).collect()
+        };
+        assert_eq!(bits(app.doc.scene.positions()), bits(&out));
+    }
+
+    #[test]
+    fn the_sphincter_frame_turns_about_the_view_and_mirrors_and_undoes() {
+        let mut app = default_app();
+        let l = select(&mut app, "L_Orbicularis_Oculi");
+        let r = app.rig().mirror_of(l).expect("the eyes are a pair");
+        let (l0, r0) = (sphincter(&app, l), sphincter(&app, r));
+        run(&mut app, Action::ToggleMirror);
+        run(&mut app, Action::Rig(RigAction::NextParam));
+        run(&mut app, Action::Rig(RigAction::NextParam));
+        run(&mut app, Action::Rig(RigAction::NextParam));
+        assert!(describe(&app).contains("frame angle"), "{}", describe(&app));
+        let angle_l = view_angle(&app, l0.frame.axis_x()).unwrap();
+        let angle_r = view_angle(&app, r0.frame.axis_x()).unwrap();
+        param(&mut app, 1, true);
+        let (l1, r1) = (sphincter(&app, l), sphincter(&app, r));
+        // Counter-clockwise on screen by 5 degrees; the partner clockwise by as much.
+        let turned_l = view_angle(&app, l1.frame.axis_x()).unwrap();
+        let turned_r = view_angle(&app, r1.frame.axis_x()).unwrap();
+        assert!(
+            (turned_l - angle_l - 5.0).abs() < 1e-3,
+            "{angle_l} -> {turned_l}"
+        );
+        assert!(
+            (turned_r - angle_r + 5.0).abs() < 1e-3,
+            "{angle_r} -> {turned_r}"
+        );
+        assert!(app.message.as_ref().unwrap().text.contains("deg"));
+        // The frame stays a frame: the ellipse keeps its plane's normal facing the viewer.
+        assert!(l1.frame.check().is_ok());
+        assert_eq!((l1.centre, l1.semi_major), (l0.centre, l0.semi_major));
+        assert_bound_as_from_scratch(&app);
+        run(&mut app, Action::Undo);
+        assert_eq!((sphincter(&app, l), sphincter(&app, r)), (l0, r0));
+        assert_bound_as_from_scratch(&app);
+        run(&mut app, Action::Redo);
+        assert_eq!((sphincter(&app, l), sphincter(&app, r)), (l1, r1));
+    }
+
+    #[test]
+    fn the_jaw_pivot_axis_and_degrees_change_and_undo_in_order() {
+        let mut app = rig_app();
+        run(&mut app, Action::SelectRow(Row::Jaw));
+        let jaw0 = app.rig().jaw.clone().unwrap();
+        // The side view looks along the axis: turning it is refused with the reason.
+        run(&mut app, Action::Preset(crate::tui::app::ViewPreset::Side));
+        run(&mut app, Action::Rig(RigAction::NextParam));
+        assert!(
+            describe(&app).contains("axis angle along the view"),
+            "{}",
+            describe(&app)
+        );
+        param(&mut app, 1, false);
+        assert_eq!(app.rig().jaw.as_ref(), Some(&jaw0));
+        assert!(app
+            .message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("along the view"));
+        assert!(app.history.undo.is_empty());
+        run(&mut app, Action::Preset(crate::tui::app::ViewPreset::Front));
+        run(
+            &mut app,
+            Action::Rig(RigAction::Move {
+                right: 0,
+                up: 1,
+                coarse: false,
+            }),
+        );
+        let step = face_size(&app) * FINE_FRACTION;
+        let jaw1 = app.rig().jaw.clone().unwrap();
+        assert!((jaw1.pivot.y - jaw0.pivot.y - step).abs() < 1e-6);
+        run(&mut app, Action::Rig(RigAction::NextParam));
+        param(&mut app, 1, false); // degrees per unit, by 0.1
+        let jaw2 = app.rig().jaw.clone().unwrap();
+        assert!((jaw2.degrees_per_unit - jaw0.degrees_per_unit - 0.1).abs() < 1e-6);
+        run(&mut app, Action::Rig(RigAction::NextParam));
+        assert!(
+            describe(&app).contains("axis angle 0.0 deg"),
+            "{}",
+            describe(&app)
+        );
+        param(&mut app, -2, false); // the axis, 2 degrees clockwise in the front view
+        let jaw3 = app.rig().jaw.clone().unwrap();
+        let tilt = jaw3.axis.y.atan2(jaw3.axis.x).to_degrees();
+        assert!((tilt + 2.0).abs() < 1e-4, "{tilt}");
+        assert_eq!(jaw3.weights, jaw0.weights);
+        assert_bound_as_from_scratch(&app);
+        // Undo goes back through the three jaw changes in the order made.
+        for want in [&jaw2, &jaw1, &jaw0] {
+            run(&mut app, Action::Undo);
+            assert_eq!(app.rig().jaw.as_ref(), Some(want));
+        }
+        assert_bound_as_from_scratch(&app);
+    }
+
+    #[test]
+    fn one_history_undoes_rig_and_activation_edits_in_the_order_made() {
+        let mut app = rig_app();
+        let Row::Muscle(i) = app.selected_row() else {
+            panic!()
+        };
+        let rig0 = app.rig().clone();
+        let act0 = app.doc.activations.clone();
+        run(&mut app, Action::StepCoarse(1)); // an activation edit of the selected muscle
+        let act1 = app.doc.activations.clone();
+        assert_ne!(act1, act0);
+        run(
+            &mut app,
+            Action::Rig(RigAction::Move {
+                right: 1,
+                up: 0,
+                coarse: false,
+            }),
+        );
+        let rig1 = app.rig().clone();
+        run(&mut app, Action::StepCoarse(1)); // a second activation edit, after the rig's
+        let act2 = app.doc.activations.clone();
+        assert_ne!(act2, act1);
+        run(&mut app, Action::Undo);
+        assert_eq!((app.rig(), &app.doc.activations), (&rig1, &act1));
+        run(&mut app, Action::Undo);
+        assert_eq!((app.rig(), &app.doc.activations), (&rig0, &act1));
+        let text = &app.message.as_ref().unwrap().text;
+        assert!(
+            text.starts_with(&format!(
+                "undone the rig change to {} attachment",
+                app.row_name(Row::Muscle(i))
+            )),
+            "{text}"
+        );
+        run(&mut app, Action::Undo);
+        assert_eq!((app.rig(), &app.doc.activations), (&rig0, &act0));
+        run(&mut app, Action::Undo);
+        assert_eq!(app.message.as_ref().unwrap().text, "nothing to undo");
+        for (rig, act) in [(&rig0, &act1), (&rig1, &act1), (&rig1, &act2)] {
+            run(&mut app, Action::Redo);
+            assert_eq!((app.rig(), &app.doc.activations), (rig, act));
+        }
+        // Leaving rig mode and undoing a rig change shows the face with the rig as it was.
+        run(&mut app, Action::Undo);
+        run(&mut app, Action::Undo);
+        run(&mut app, Action::Rig(RigAction::Toggle));
+        run(&mut app, Action::Undo);
+        assert_eq!(app.rig(), &rig0);
+        let scratch = crate::model::BoundRig::bind(&rig0, app.doc.scene.mesh()).unwrap();
+        let mut out = Vec::new();
+        scratch.deform(&app.doc.activations, &mut out).unwrap();
+        assert_eq!(app.doc.scene.positions(), out.as_slice());
+    }
+
+    #[test]
+    fn every_kind_of_change_rebinds_as_binding_from_scratch() {
+        let mut app = default_app();
+        run(&mut app, Action::ToggleMirror);
+        for name in [
+            "L_Zygomatic_Major",
+            "L_Orbicularis_Oculi",
+            "L_Frontalis_Sheet",
+        ] {
+            select(&mut app, name);
+            for _ in 0..4 {
+                run(&mut app, Action::Rig(RigAction::NextPoint));
+                run(
+                    &mut app,
+                    Action::Rig(RigAction::Move {
+                        right: 1,
+                        up: -1,
+                        coarse: false,
+                    }),
+                );
+                run(&mut app, Action::Rig(RigAction::NextParam));
+                param(&mut app, 1, false);
+                assert_bound_as_from_scratch(&app);
+            }
+        }
     }
 
     #[test]

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 
-use crate::model::{Activations, BoundRig, Mesh, Rig, Skin};
+use crate::model::{Activations, BoundRig, Mesh, MuscleKind, Rig, Skin};
 
 /// The face being edited: bound rig, rest mesh and the deformed positions for the current
 /// activations.
@@ -69,6 +69,32 @@ impl Scene {
         self.bound =
             BoundRig::bind_with(&rig, &self.mesh, Skin::DEFAULT).map_err(|e| e.to_string())?;
         self.positions.clone_from(&self.mesh.positions);
+        self.generation += 1;
+        Ok(())
+    }
+
+    /// Gives muscles new parameters (rig mode's edit of a muscle and its partner), binding
+    /// only their fields again; when the model refuses, the rig stays as it was and the
+    /// reason is returned. The positions are those of the old rig until the next deform.
+    pub fn rebind_muscles(&mut self, changes: Vec<(usize, MuscleKind)>) -> Result<(), String> {
+        self.bound
+            .rebind_muscles(changes)
+            .map_err(|e| e.to_string())?;
+        self.generation += 1;
+        Ok(())
+    }
+
+    /// Gives the jaw a new pivot, axis and degrees per unit, like
+    /// [`Scene::rebind_muscles`].
+    pub fn rebind_jaw(
+        &mut self,
+        pivot: Vec3,
+        axis: Vec3,
+        degrees_per_unit: f32,
+    ) -> Result<(), String> {
+        self.bound
+            .rebind_jaw(pivot, axis, degrees_per_unit)
+            .map_err(|e| e.to_string())?;
         self.generation += 1;
         Ok(())
     }

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests (`mod common;` in each test file).
 #![allow(dead_code)]
 
+pub mod pty;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -182,7 +182,9 @@ fn a_version_1_rig_on_the_built_in_face_is_mirrored_on_load() {
         act.jaw = if m % 4 == 0 { 2.0 } else { 0.0 };
         let got = pose(&old.rig, &mesh, &act);
         let want = pose(&current, &mesh, &act);
-        for (v, (g, w)) in got.iter().zip(&want).enumerate() {
+        // the skin (the eyeballs came later: the old rig has no mask keeping them still)
+        let skin = grimace::face::groups::skin_len(&mesh);
+        for (v, (g, w)) in got.iter().zip(&want).enumerate().take(skin) {
             assert!(
                 (*g - *w).length() < 1e-6,
                 "{} vertex {v}: {g} vs {w}",

@@ -70,7 +70,14 @@ fn normals_point_out_of_the_face() {
     // the head's vertical axis lies about one head depth behind the face
     let axis_z = -units(85.0) as f32;
     let mut inward = 0;
-    for (t, n) in mesh.triangles.iter().zip(&normals) {
+    // the skin's triangles (each eyeball is a closed sphere, facing every way)
+    let skin = groups::skin_len(&mesh) as u32;
+    for (t, n) in mesh
+        .triangles
+        .iter()
+        .zip(&normals)
+        .filter(|(t, _)| t.iter().all(|&v| v < skin))
+    {
         let centre = t.iter().map(|&v| mesh.positions[v as usize]).sum::<Vec3>() / 3.0;
         let outward = Vec3::new(centre.x, 0.0, centre.z - axis_z).normalize();
         if n.dot(outward) <= 0.0 {

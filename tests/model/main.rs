@@ -9,6 +9,7 @@ mod common;
 mod au_shapes;
 mod classic_face;
 mod convention;
+mod eyeballs;
 mod face_gallery;
 mod face_mesh;
 mod face_rig;

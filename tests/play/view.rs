@@ -1,154 +1,27 @@
-//! `grimace play` in its terminal view, driven through a pseudo-terminal: it draws the face,
-//! answers the keys, and leaves the terminal as it found it.
+//! `grimace play` in its terminal view, driven through a pseudo-terminal (`common::pty`): it
+//! draws the face, answers the keys, and leaves the terminal as it found it.
 
+use crate::common::pty::{Launch, Term};
 use crate::play_common;
 
-use std::io::{Read, Write};
 use std::path::Path;
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
-
-use portable_pty::{native_pty_system, CommandBuilder, PtySize};
+use std::time::Duration;
 
 const COLS: u16 = 100;
 const ROWS: u16 = 30;
 
-/// A running `grimace play` in a pseudo-terminal, its screen parsed by vt100.
-struct Session {
-    child: Box<dyn portable_pty::Child + Send + Sync>,
-    writer: Box<dyn Write + Send>,
-    output: mpsc::Receiver<Vec<u8>>,
-    parser: vt100::Parser,
+/// `grimace play --rig R --table T ARGS` in `dir`, with a small rig and table written there.
+fn play(dir: &Path, args: &[&str]) -> Launch {
+    let (rig, table) = play_common::write_fixture(dir);
+    Launch::grimace(dir)
+        .args(&["play", "--rig", rig.to_str().unwrap()])
+        .args(&["--table", table.to_str().unwrap()])
+        .args(args)
+        .size(COLS, ROWS)
 }
 
-impl Session {
-    fn start(dir: &Path, args: &[&str]) -> Session {
-        Session::start_with(dir, args, None)
-    }
-
-    /// Like [`Session::start`], with `input` piped into standard input by a shell.
-    fn start_piped(dir: &Path, input: &str, args: &[&str]) -> Session {
-        Session::start_with(dir, args, Some(input))
-    }
-
-    fn start_with(dir: &Path, args: &[&str], input: Option<&str>) -> Session {
-        let (rig, table) = play_common::write_fixture(dir);
-        let pty = native_pty_system()
-            .openpty(PtySize {
-                rows: ROWS,
-                cols: COLS,
-                pixel_width: 0,
-                pixel_height: 0,
-            })
-            .unwrap();
-        let mut play = vec![
-            env!("CARGO_BIN_EXE_grimace").to_string(),
-            "play".into(),
-            "--rig".into(),
-            rig.display().to_string(),
-            "--table".into(),
-            table.display().to_string(),
-        ];
-        play.extend(args.iter().map(|a| a.to_string()));
-        let mut command = match input {
-            None => {
-                let mut command = CommandBuilder::new(&play[0]);
-                command.args(&play[1..]);
-                command
-            }
-            Some(input) => {
-                let file = dir.join("piped-input");
-                std::fs::write(&file, input).unwrap();
-                let quoted: Vec<String> = play.iter().map(|a| format!("'{a}'")).collect();
-                let mut command = CommandBuilder::new("sh");
-                command.arg("-c");
-                command.arg(format!("cat '{}' | {}", file.display(), quoted.join(" ")));
-                command
-            }
-        };
-        command.env("TERM", "xterm-256color");
-        command.cwd(dir);
-        let child = pty.slave.spawn_command(command).unwrap();
-        drop(pty.slave);
-        let mut reader = pty.master.try_clone_reader().unwrap();
-        let writer = pty.master.take_writer().unwrap();
-        let (sender, output) = mpsc::channel();
-        std::thread::spawn(move || {
-            let mut buffer = [0u8; 8192];
-            while let Ok(n) = reader.read(&mut buffer) {
-                if n == 0 || sender.send(buffer[..n].to_vec()).is_err() {
-                    break;
-                }
-            }
-        });
-        // Keep the master open for the session's life.
-        std::mem::forget(pty.master);
-        Session {
-            child,
-            writer,
-            output,
-            parser: vt100::Parser::new(ROWS, COLS, 0),
-        }
-    }
-
-    /// Reads output until `done(screen)` holds or `secs` pass; returns whether it held.
-    fn wait_for(&mut self, secs: f64, done: impl Fn(&str) -> bool) -> bool {
-        let deadline = Instant::now() + Duration::from_secs_f64(secs);
-        loop {
-            if done(&self.parser.screen().contents()) {
-                return true;
-            }
-            let left = deadline.saturating_duration_since(Instant::now());
-            if left.is_zero() {
-                return false;
-            }
-            if let Ok(bytes) = self
-                .output
-                .recv_timeout(left.min(Duration::from_millis(50)))
-            {
-                self.parser.process(&bytes);
-            }
-        }
-    }
-
-    fn screen(&self) -> String {
-        self.parser.screen().contents()
-    }
-
-    fn key(&mut self, text: &str) {
-        self.writer.write_all(text.as_bytes()).unwrap();
-        self.writer.flush().unwrap();
-    }
-
-    /// Waits for the process to end; its exit code.
-    fn finish(&mut self, secs: f64) -> u32 {
-        let deadline = Instant::now() + Duration::from_secs_f64(secs);
-        loop {
-            while let Ok(bytes) = self.output.try_recv() {
-                self.parser.process(&bytes);
-            }
-            if let Some(status) = self.child.try_wait().unwrap() {
-                // Drain what it printed last.
-                std::thread::sleep(Duration::from_millis(100));
-                while let Ok(bytes) = self.output.try_recv() {
-                    self.parser.process(&bytes);
-                }
-                return status.exit_code();
-            }
-            if Instant::now() > deadline {
-                let _ = self.child.kill();
-                panic!("grimace play did not exit; screen:\n{}", self.screen());
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-}
-
-/// Saves the screen for a look (`GRIMACE_CAPTURE=DIR`), e.g. with screen2png.
-fn capture(session: &Session, name: &str) {
-    if let Some(dir) = std::env::var_os("GRIMACE_CAPTURE") {
-        std::fs::write(Path::new(&dir).join(name), session.screen()).unwrap();
-    }
+fn start(dir: &Path, args: &[&str]) -> Term {
+    play(dir, args).start()
 }
 
 fn has_braille(screen: &str) -> bool {
@@ -157,10 +30,11 @@ fn has_braille(screen: &str) -> bool {
         .any(|c| ('\u{2801}'..='\u{28ff}').contains(&c))
 }
 
+/// Long enough that a loaded machine cannot reach its end before a test's keys arrive.
 const TIMELINE: &str = r#"Timeline(
     version: 1,
     frame_rate: 30.0,
-    keyframes: [(time: 0.0), (time: 1.0, aus: "12"), (time: 2.0, aus: "26")],
+    keyframes: [(time: 0.0), (time: 1.0, aus: "12"), (time: 60.0, aus: "26")],
 )"#;
 
 #[test]
@@ -168,36 +42,23 @@ fn plays_a_timeline_pauses_steps_and_quits_cleanly() {
     let dir = tempfile::tempdir().unwrap();
     let timeline = dir.path().join("t.timeline.ron");
     std::fs::write(&timeline, TIMELINE).unwrap();
-    let mut session = Session::start(dir.path(), &[timeline.to_str().unwrap(), "--stats"]);
-    assert!(
-        session.wait_for(10.0, |s| has_braille(s) && s.contains("playing")),
-        "no face drawn:\n{}",
-        session.screen()
-    );
-    capture(&session, "play_view_playing.txt");
-    session.key(" ");
-    assert!(
-        session.wait_for(5.0, |s| s.contains("paused")),
-        "{}",
-        session.screen()
-    );
-    session.key("+");
-    assert!(
-        session.wait_for(5.0, |s| s.contains("x2.00")),
-        "{}",
-        session.screen()
-    );
+    let mut session = start(dir.path(), &[timeline.to_str().unwrap(), "--stats"]);
+    session.wait_screen("a face drawn, playing", |s| {
+        has_braille(s) && s.contains("playing")
+    });
+    session.capture("play_view_playing.txt");
+    session.send(" ");
+    session.wait_screen("paused", |s| s.contains("paused"));
+    session.send("+");
+    session.wait_screen("speed x2.00", |s| s.contains("x2.00"));
     let before = session.screen();
-    session.key("n");
-    assert!(
-        session.wait_for(5.0, |s| s != before),
-        "step changed nothing"
-    );
-    session.key("q");
-    let code = session.finish(10.0);
+    session.send("n");
+    session.wait_screen("a step changing the screen", |s| s != before);
+    session.send("q");
+    let code = session.wait_exit().exit_code();
     assert_eq!(code, 0, "{}", session.screen());
     assert!(
-        !session.parser.screen().alternate_screen(),
+        !session.with_screen(|s| s.alternate_screen()),
         "the terminal must leave the alternate screen"
     );
     let screen = session.screen();
@@ -209,21 +70,20 @@ fn plays_a_timeline_pauses_steps_and_quits_cleanly() {
 #[test]
 fn piped_input_that_ends_keeps_the_view_open() {
     let dir = tempfile::tempdir().unwrap();
-    let mut session = Session::start_piped(dir.path(), "{\"AU12\": 5}\n", &["--stdin"]);
-    assert!(
-        session.wait_for(10.0, |s| s.contains(" end ")
-            && s.contains("frames 1  shown 1")),
-        "{}",
-        session.screen()
-    );
+    let mut session = play(dir.path(), &["--stdin"])
+        .stdin("{\"AU12\": 5}\n")
+        .start();
+    session.wait_screen("the end of the input, one frame shown", |s| {
+        s.contains(" end ") && s.contains("frames 1  shown 1")
+    });
     std::thread::sleep(Duration::from_millis(300));
     assert!(
-        session.child.try_wait().unwrap().is_none(),
+        session.try_wait().is_none(),
         "the view closed by itself:\n{}",
         session.screen()
     );
-    session.key("q");
-    assert_eq!(session.finish(10.0), 0, "{}", session.screen());
+    session.send("q");
+    assert_eq!(session.wait_exit().exit_code(), 0, "{}", session.screen());
     assert!(
         session.screen().contains("played 1 frames"),
         "{}",
@@ -240,15 +100,11 @@ fn reaches_the_end_of_a_file_and_says_so() {
         "timestamp, success, AU12_r\n0.0, 1, 5\n0.04, 0, 0\n0.08, 1, 2\nbad\n",
     )
     .unwrap();
-    let mut session = Session::start(dir.path(), &[csv.to_str().unwrap()]);
-    assert!(
-        session.wait_for(10.0, |s| s.contains(" end ")),
-        "{}",
-        session.screen()
-    );
-    capture(&session, "play_view_end.txt");
-    session.key("q");
-    assert_eq!(session.finish(10.0), 0);
+    let mut session = start(dir.path(), &[csv.to_str().unwrap()]);
+    session.wait_screen("the end of the file", |s| s.contains(" end "));
+    session.capture("play_view_end.txt");
+    session.send("q");
+    assert_eq!(session.wait_exit().exit_code(), 0);
     let screen = session.screen();
     assert!(screen.contains("played 2 frames, skipped 2"), "{screen}");
     assert!(
@@ -262,11 +118,11 @@ fn frame_limit_ends_the_view_by_itself() {
     let dir = tempfile::tempdir().unwrap();
     let timeline = dir.path().join("t.timeline.ron");
     std::fs::write(&timeline, TIMELINE).unwrap();
-    let mut session = Session::start(
+    let mut session = start(
         dir.path(),
         &[timeline.to_str().unwrap(), "--frames", "10", "--speed", "4"],
     );
-    assert_eq!(session.finish(20.0), 0);
+    assert_eq!(session.wait_exit().exit_code(), 0);
     assert!(
         session.screen().contains("played 10 frames"),
         "{}",
@@ -277,40 +133,25 @@ fn frame_limit_ends_the_view_by_itself() {
 #[test]
 fn live_udp_frames_show_on_arrival() {
     let dir = tempfile::tempdir().unwrap();
-    let mut session = Session::start(dir.path(), &["--udp", "127.0.0.1:0"]);
+    let mut session = start(dir.path(), &["--udp", "127.0.0.1:0"]);
     // The address is printed before the view opens; the vt100 screen keeps it in the main
     // screen, so read it from the raw output instead.
-    let mut raw = Vec::new();
-    let deadline = Instant::now() + Duration::from_secs(10);
-    let address = loop {
-        if let Ok(bytes) = session.output.recv_timeout(Duration::from_millis(50)) {
-            raw.extend_from_slice(&bytes);
-            session.parser.process(&bytes);
-        }
-        let text = String::from_utf8_lossy(&raw);
-        if let Some(rest) = text.split("listening on udp ").nth(1) {
-            if let Some(end) = rest.find(['\r', '\n']) {
-                break rest[..end].to_string();
-            }
-        }
-        assert!(Instant::now() < deadline, "no address printed");
+    let address = |output: &str| {
+        let rest = output.split("listening on udp ").nth(1)?;
+        rest.find(['\r', '\n']).map(|end| rest[..end].to_string())
     };
-    assert!(
-        session.wait_for(10.0, |s| s.contains("playing")),
-        "{}",
-        session.screen()
-    );
+    session.wait_until("the address printed", |t| address(&t.output()).is_some());
+    let address = address(&session.output()).unwrap();
+    session.wait_screen("playing", |s| s.contains("playing"));
     let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
     socket
         .send_to(b"{\"AU12\": 5, \"AU26\": 2.5}", &address)
         .unwrap();
-    assert!(
-        session.wait_for(10.0, |s| s.contains("AU12   5.00") && s.contains("jaw")),
-        "{}",
-        session.screen()
-    );
-    session.key("q");
-    assert_eq!(session.finish(10.0), 0);
+    session.wait_screen("the frame sent shown", |s| {
+        s.contains("AU12   5.00") && s.contains("jaw")
+    });
+    session.send("q");
+    assert_eq!(session.wait_exit().exit_code(), 0);
     assert!(
         session.screen().contains("played 1 frames, skipped 0"),
         "{}",
@@ -323,14 +164,11 @@ fn ascii_view_draws_without_braille() {
     let dir = tempfile::tempdir().unwrap();
     let timeline = dir.path().join("t.timeline.ron");
     std::fs::write(&timeline, TIMELINE).unwrap();
-    let mut session = Session::start(dir.path(), &[timeline.to_str().unwrap(), "--ascii"]);
-    assert!(
-        session.wait_for(10.0, |s| s.contains("playing")
-            && s.contains(['/', '\\', '|', '_'])),
-        "{}",
-        session.screen()
-    );
+    let mut session = start(dir.path(), &[timeline.to_str().unwrap(), "--ascii"]);
+    session.wait_screen("an ASCII face, playing", |s| {
+        s.contains("playing") && s.contains(['/', '\\', '|', '_'])
+    });
     assert!(!has_braille(&session.screen()), "{}", session.screen());
-    session.key("q");
-    assert_eq!(session.finish(10.0), 0);
+    session.send("q");
+    assert_eq!(session.wait_exit().exit_code(), 0);
 }

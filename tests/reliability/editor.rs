@@ -1,164 +1,11 @@
-//! The editor against other editors and the system, in a pseudo-terminal: a second editor
-//! on the same table, a recovery made after the table changed on disk, and a file-size limit.
-//!
-//! The pseudo-terminal helper is the one of `tui_e2e.rs`, cut to what these tests use.
-#![allow(dead_code)]
+//! The editor against other editors and the system, in a pseudo-terminal (`common::pty`):
+//! a second editor on the same table, a recovery made after the table changed on disk, and a
+//! file-size limit.
 
-use std::io::{Read, Write};
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use portable_pty::{native_pty_system, Child, CommandBuilder, MasterPty, PtySize};
-
-const TIMEOUT: Duration = Duration::from_secs(10);
-
-struct Editor {
-    child: Box<dyn Child + Send + Sync>,
-    writer: Box<dyn Write + Send>,
-    parser: Arc<Mutex<vt100::Parser>>,
-    bytes: Arc<Mutex<usize>>,
-    master: Box<dyn MasterPty + Send>,
-    /// Stops the reader thread, which holds a copy of the master end.
-    stop_reading: Arc<AtomicBool>,
-    reader: Option<JoinHandle<()>>,
-}
-
-impl Editor {
-    fn start(state_dir: &Path, args: &[&str], cols: u16, rows: u16) -> Editor {
-        Editor::start_command(env!("CARGO_BIN_EXE_grimace"), args, state_dir, cols, rows)
-    }
-
-    fn start_command(
-        program: &str,
-        args: &[&str],
-        state_dir: &Path,
-        cols: u16,
-        rows: u16,
-    ) -> Editor {
-        let pair = native_pty_system()
-            .openpty(PtySize {
-                rows,
-                cols,
-                pixel_width: 0,
-                pixel_height: 0,
-            })
-            .expect("a pseudo-terminal");
-        let mut cmd = CommandBuilder::new(program);
-        cmd.args(args);
-        cmd.env("XDG_STATE_HOME", state_dir);
-        cmd.env("TERM", "xterm-256color");
-        cmd.env_remove("NO_COLOR");
-        let child = pair.slave.spawn_command(cmd).expect("grimace starts");
-        drop(pair.slave);
-        let mut reader = pair.master.try_clone_reader().unwrap();
-        let writer = pair.master.take_writer().unwrap();
-        let master_fd = pair.master.as_raw_fd().expect("a unix pseudo-terminal");
-        let parser = Arc::new(Mutex::new(vt100::Parser::new(rows, cols, 0)));
-        let bytes = Arc::new(Mutex::new(0usize));
-        let stop_reading = Arc::new(AtomicBool::new(false));
-        let (p, b, stop) = (
-            Arc::clone(&parser),
-            Arc::clone(&bytes),
-            Arc::clone(&stop_reading),
-        );
-        let reader = std::thread::spawn(move || {
-            let mut buf = [0u8; 8192];
-            // Wait with a timeout so the thread can be told to let go of the master end.
-            while !stop.load(Ordering::SeqCst) {
-                if !readable(master_fd, 50) {
-                    continue;
-                }
-                match reader.read(&mut buf) {
-                    Ok(0) | Err(_) => break,
-                    Ok(n) => {
-                        p.lock().unwrap().process(&buf[..n]);
-                        *b.lock().unwrap() += n;
-                    }
-                }
-            }
-        });
-        Editor {
-            child,
-            writer,
-            parser,
-            bytes,
-            master: pair.master,
-            stop_reading,
-            reader: Some(reader),
-        }
-    }
-
-    fn send(&mut self, keys: &str) {
-        self.writer.write_all(keys.as_bytes()).unwrap();
-        self.writer.flush().unwrap();
-    }
-
-    fn screen(&self) -> String {
-        self.parser.lock().unwrap().screen().contents()
-    }
-
-    /// Waits until the screen contains `needle`; fails with the screen after the timeout.
-    fn wait_for(&self, needle: &str) -> String {
-        let start = Instant::now();
-        loop {
-            let screen = self.screen();
-            if screen.contains(needle) {
-                return screen;
-            }
-            if start.elapsed() > TIMEOUT {
-                panic!("`{needle}` did not appear within {TIMEOUT:?}; the screen:\n{screen}");
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-
-    fn wait_exit(&mut self) -> portable_pty::ExitStatus {
-        let start = Instant::now();
-        loop {
-            if let Some(status) = self.child.try_wait().unwrap() {
-                return status;
-            }
-            if start.elapsed() > TIMEOUT {
-                let _ = self.child.kill();
-                panic!("grimace did not exit; the screen:\n{}", self.screen());
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-
-    /// Waits until the editor has left the alternate screen (the terminal is restored).
-    fn wait_restored(&self) {
-        let start = Instant::now();
-        while self.parser.lock().unwrap().screen().alternate_screen() {
-            if start.elapsed() > TIMEOUT {
-                panic!(
-                    "the terminal was not restored; the screen:\n{}",
-                    self.screen()
-                );
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-
-    fn hang_up(&mut self) {
-        // portable-pty's killer sends SIGHUP on unix, like a dropped SSH connection.
-        self.child.clone_killer().kill().unwrap();
-    }
-}
-
-/// Whether `fd` has something to read within `timeout_ms`.
-fn readable(fd: i32, timeout_ms: i32) -> bool {
-    let mut pfd = libc::pollfd {
-        fd,
-        events: libc::POLLIN,
-        revents: 0,
-    };
-    // SAFETY: one valid pollfd, count 1.
-    unsafe { libc::poll(&mut pfd, 1, timeout_ms) > 0 }
-}
+use crate::common::pty::{Launch, Term, TIMEOUT};
 
 /// Waits until `path` exists (the recovery file is written a second after an edit).
 fn wait_for_file(path: &Path) {
@@ -173,14 +20,6 @@ fn wait_for_file(path: &Path) {
     }
 }
 
-/// Kills an editor without giving it a chance to clean up, like a crash or `kill -9`.
-fn kill_hard(ed: &mut Editor) {
-    let pid = ed.child.process_id().expect("a process id") as i32;
-    // SAFETY: signalling the editor process this test started.
-    unsafe { libc::kill(pid, libc::SIGKILL) };
-    ed.wait_exit();
-}
-
 /// A second editor on a table says it is open elsewhere and leaves the first editor's
 /// recovery file alone, so a crash of the first editor still loses nothing.
 #[test]
@@ -189,14 +28,14 @@ fn a_second_editor_never_touches_the_first_ones_recovery_file() {
     let file = dir.path().join("shared.au.ron");
     let arg = file.to_str().unwrap();
     let recovery = dir.path().join(".shared.au.ron.recover");
-    let mut first = Editor::start(dir.path(), &["edit", arg], 200, 30);
+    let mut first = Term::grimace(dir.path(), &["edit", arg], 200, 30);
     first.wait_for("new table");
     first.send("LL");
     first.wait_for("0.50");
     wait_for_file(&recovery);
     let kept = std::fs::read(&recovery).unwrap();
 
-    let mut second = Editor::start(dir.path(), &["edit", arg], 200, 30);
+    let mut second = Term::grimace(dir.path(), &["edit", arg], 200, 30);
     let screen = second.wait_for("already open in another grimace");
     assert!(!screen.contains("Recover"), "{screen}");
     // `n` would have discarded the first editor's state; here it is no answer to anything.
@@ -212,8 +51,8 @@ fn a_second_editor_never_touches_the_first_ones_recovery_file() {
         "the recovery file changed"
     );
 
-    kill_hard(&mut first);
-    let mut third = Editor::start(dir.path(), &["edit", arg], 200, 30);
+    first.kill_hard();
+    let mut third = Term::grimace(dir.path(), &["edit", arg], 200, 30);
     third.wait_for("Recover");
     third.send("y");
     let screen = third.wait_for("recovered");
@@ -228,13 +67,13 @@ fn a_second_editor_never_touches_the_first_ones_recovery_file() {
 fn a_recovery_file_whose_owner_runs_is_left_alone() {
     let dir = tempfile::tempdir().unwrap();
     let recovery = dir.path().join("grimace/builtin.recover");
-    let mut first = Editor::start(dir.path(), &[], 200, 30);
+    let mut first = Term::grimace(dir.path(), &[], 200, 30);
     first.wait_for("Zygomatic");
     first.send("LLL");
     first.wait_for("0.75");
     wait_for_file(&recovery);
     let kept = std::fs::read(&recovery).unwrap();
-    let mut second = Editor::start(dir.path(), &[], 200, 30);
+    let mut second = Term::grimace(dir.path(), &[], 200, 30);
     let screen = second.wait_for("that is still running");
     assert!(!screen.contains("Recover"), "{screen}");
     second.send(":q!\r");
@@ -258,7 +97,10 @@ fn a_file_size_limit_is_a_write_error_not_a_crash() {
         env!("CARGO_BIN_EXE_grimace"),
         file.display()
     );
-    let mut ed = Editor::start_command("sh", &["-c", &script], dir.path(), 200, 30);
+    let mut ed = Launch::program("sh", dir.path())
+        .args(&["-c", &script])
+        .size(200, 30)
+        .start();
     ed.wait_for("no lock file");
     ed.send("L:record 12\r");
     ed.wait_for("recorded AU 12");
@@ -289,12 +131,12 @@ fn recovered_edits_ask_before_replacing_a_table_changed_on_disk() {
     let table = "(version: 1, rig: \"builtin:default\", aus: {}, expressions: {})\n";
     for changed in [true, false] {
         std::fs::write(&file, table).unwrap();
-        let mut first = Editor::start(dir.path(), &["edit", arg], 200, 30);
+        let mut first = Term::grimace(dir.path(), &["edit", arg], 200, 30);
         first.wait_for("Zygomatic");
         first.send("L:record 12\r");
         first.wait_for("recorded AU 12");
         wait_for_file(&recovery);
-        kill_hard(&mut first);
+        first.kill_hard();
         let theirs = table.replace(
             "aus: {}",
             "aus: {\"1\": (name: \"Theirs\", muscles: {}, jaw: 0.0)}",
@@ -302,7 +144,7 @@ fn recovered_edits_ask_before_replacing_a_table_changed_on_disk() {
         if changed {
             std::fs::write(&file, &theirs).unwrap();
         }
-        let mut second = Editor::start(dir.path(), &["edit", arg], 200, 30);
+        let mut second = Term::grimace(dir.path(), &["edit", arg], 200, 30);
         second.wait_for("Recover");
         second.send("y");
         second.wait_for("recovered");
@@ -335,10 +177,10 @@ fn a_table_opened_through_a_link_is_locked_and_saved_as_its_target() {
     std::fs::write(&target, table).unwrap();
     let link = dir.path().join("link.au.ron");
     std::os::unix::fs::symlink("real/t.au.ron", &link).unwrap();
-    let mut ed = Editor::start(dir.path(), &["edit", link.to_str().unwrap()], 200, 30);
+    let mut ed = Term::grimace(dir.path(), &["edit", link.to_str().unwrap()], 200, 30);
     ed.wait_for("Zygomatic");
     assert!(dir.path().join("real/.t.au.ron.lock").exists());
-    let mut other = Editor::start(dir.path(), &["edit", target.to_str().unwrap()], 200, 30);
+    let mut other = Term::grimace(dir.path(), &["edit", target.to_str().unwrap()], 200, 30);
     other.wait_for("already open in another grimace");
     other.send(":q!\r");
     assert!(other.wait_exit().success());

@@ -10,5 +10,6 @@ mod cells;
 mod classic;
 mod default_face;
 mod defaults;
+mod eyes;
 mod files;
 mod geometry;

@@ -10,7 +10,7 @@ use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 use ratatui::Terminal;
 
-use super::pty::Editor;
+use crate::common::pty::Launch;
 
 fn shaded_app(colors: ColorMode) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
@@ -100,10 +100,14 @@ fn the_status_line_names_the_colour_mode_detected_or_chosen() {
     for (flags, env, shown) in cases {
         let mut args = vec!["edit", "new.au.ron"];
         args.extend_from_slice(flags);
-        let mut ed = Editor::start(dir.path(), &args, env, 120, 30);
+        let mut launch = Launch::grimace(dir.path()).args(&args).size(120, 30);
+        for (key, value) in env.iter() {
+            launch = launch.env(key, value);
+        }
+        let mut ed = launch.start();
         ed.wait_for(shown);
         ed.send(":q!\r");
-        assert!(ed.wait_exit());
+        assert!(ed.wait_exit().success());
     }
 }
 

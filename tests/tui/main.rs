@@ -11,7 +11,6 @@ mod colors;
 mod e2e;
 mod editing;
 mod picker;
-mod pty;
 mod rig_mode;
 mod screens;
 mod startup;

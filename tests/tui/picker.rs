@@ -15,7 +15,7 @@ use grimace::tui::keymap::pick::dispatch;
 use grimace::tui::pick::PickApp;
 
 use crate::common;
-use crate::e2e::Editor;
+use crate::common::pty::Term;
 
 const COLS: u16 = 120;
 const ROWS: u16 = 40;
@@ -112,7 +112,7 @@ fn heading(app: &PickApp) -> String {
 
 /// Picks `count` landmarks in the picking order, each with the preset's vertex, typing the
 /// planned keys into `ed` and waiting for each step to show.
-fn pick(ed: &mut Editor, app: &mut PickApp, preset: &[u32], count: usize) {
+fn pick(ed: &mut Term, app: &mut PickApp, preset: &[u32], count: usize) {
     for _ in 0..count {
         let l = app.current.expect("a landmark to pick");
         let keys = keys_for(app, preset[l]);
@@ -129,7 +129,7 @@ fn picking_the_default_face_by_keys_gives_the_preset_landmarks_back() {
     let preset = preset();
     let mut app = planner(&mesh, &out);
     let (m, o) = (mesh.to_str().unwrap(), out.to_str().unwrap());
-    let mut ed = Editor::start(dir.path(), &["landmarks", m, "--out", o], COLS, ROWS);
+    let mut ed = Term::grimace(dir.path(), &["landmarks", m, "--out", o], COLS, ROWS);
     ed.wait_for("Landmark 45: ");
     // A skip and its undo on the way.
     ed.send(&press(&mut app, '\t'));
@@ -163,7 +163,7 @@ fn a_hangup_mid_pick_loses_no_point_and_the_next_start_offers_them() {
     let preset = preset();
     let mut app = planner(&mesh, &out);
     let (m, o) = (mesh.to_str().unwrap(), out.to_str().unwrap());
-    let mut ed = Editor::start(dir.path(), &["landmarks", m, "--out", o], COLS, ROWS);
+    let mut ed = Term::grimace(dir.path(), &["landmarks", m, "--out", o], COLS, ROWS);
     ed.wait_for("Landmark 45: ");
     pick(&mut ed, &mut app, &preset, 3);
     ed.hang_up();
@@ -178,7 +178,7 @@ fn a_hangup_mid_pick_loses_no_point_and_the_next_start_offers_them() {
         assert_eq!(kept.picks[l], Some(preset[l]), "landmark {l}");
     }
 
-    let mut ed = Editor::start(dir.path(), &["landmarks", m, "--out", o], COLS, ROWS);
+    let mut ed = Term::grimace(dir.path(), &["landmarks", m, "--out", o], COLS, ROWS);
     ed.wait_for("Take them back? (y/n)");
     ed.send("y");
     let screen = ed.wait_for("recovered 3 picks");
@@ -235,7 +235,7 @@ fn fit_rig_pick_saves_the_landmarks_then_writes_a_rig() {
     let preset = preset();
     let mut app = planner(&mesh, &landmarks);
     let (m, r) = (mesh.to_str().unwrap(), rig.to_str().unwrap());
-    let mut ed = Editor::start(
+    let mut ed = Term::grimace(
         dir.path(),
         &["fit-rig", m, "--pick", "--out", r],
         COLS,
@@ -256,7 +256,7 @@ fn fit_rig_pick_saves_the_landmarks_then_writes_a_rig() {
     let other = dir.path().join("other.rig.ron");
     let fresh = dir.path().join("new.landmarks.ron");
     let (o, f) = (other.to_str().unwrap(), fresh.to_str().unwrap());
-    let mut ed = Editor::start(
+    let mut ed = Term::grimace(
         dir.path(),
         &["fit-rig", m, "--pick", "--landmarks", f, "--out", o],
         COLS,

@@ -1,12 +1,14 @@
-//! Rig mode in the real binary: move the zygomatic's attachment, save the rig under a new
-//! name (the built-in rig has no file), reload it and find the new numbers.
+//! Rig mode in the real binary: move the zygomatic's attachment, turn the jaw's axis and an
+//! eye's frame (mirror mode turning its partner), undo rig and activation edits in the order
+//! made, save the rig under a new name (the built-in rig has no file), reload it and find the
+//! new numbers.
 
 use std::path::Path;
 
 use grimace::io::rig_file::{load_rig, load_rig_ref};
 use grimace::model::MuscleKind;
 
-use super::e2e::Editor;
+use crate::common::pty::Term;
 
 fn attachment(rig: &grimace::model::Rig, name: &str) -> glam::Vec3 {
     let i = rig.muscle_index(name).expect("the muscle");
@@ -27,7 +29,7 @@ fn move_a_zygomatic_attachment_save_and_reload() {
     let coarse = (hi - lo).y * grimace::tui::rig::COARSE_FRACTION;
     let fine = (hi - lo).y * grimace::tui::rig::FINE_FRACTION;
 
-    let mut ed = Editor::start(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
+    let mut ed = Term::grimace(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
     ed.wait_for("new table");
     ed.send("R");
     ed.wait_for("L_Zygomatic_Major held at 1.00: attachment");
@@ -60,7 +62,7 @@ fn move_a_zygomatic_attachment_save_and_reload() {
     );
 
     // Reloaded in the editor, rig mode shows the new numbers.
-    let mut ed = Editor::start(
+    let mut ed = Term::grimace(
         dir.path(),
         &[
             "edit",
@@ -90,7 +92,7 @@ fn a_hangup_mid_edit_keeps_the_rig_and_the_next_launch_recovers_it() {
     let expected = before + glam::Vec3::new(0.0, -coarse, 0.0);
     let shown = format!("({:.4}, {:.4}, {:.4})", expected.x, expected.y, expected.z);
 
-    let mut ed = Editor::start(dir.path(), &["edit", arg], 200, 60);
+    let mut ed = Term::grimace(dir.path(), &["edit", arg], 200, 60);
     ed.wait_for("new table");
     ed.send("R");
     ed.wait_for("held at 1.00");
@@ -103,7 +105,7 @@ fn a_hangup_mid_edit_keeps_the_rig_and_the_next_launch_recovers_it() {
     let text = std::fs::read_to_string(&recovery).expect("a recovery file");
     assert!(text.contains("L_Zygomatic_Major"), "the rig is kept");
 
-    let mut ed = Editor::start(dir.path(), &["edit", arg], 200, 60);
+    let mut ed = Term::grimace(dir.path(), &["edit", arg], 200, 60);
     ed.wait_for("recover");
     ed.send("y");
     let screen = ed.wait_for("recovered");
@@ -120,5 +122,123 @@ fn a_hangup_mid_edit_keeps_the_rig_and_the_next_launch_recovers_it() {
         before.x, before.y, before.z
     ));
     ed.send(":q!\r");
+    assert!(ed.wait_exit().success());
+}
+
+#[test]
+fn turn_the_jaw_axis_then_undo_an_activation_and_the_turn_in_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("t.au.ron");
+    let rig_file = dir.path().join("jaw.rig.ron");
+    let builtin = load_rig_ref(Path::new("builtin:default"), None).unwrap();
+    let jaw = builtin.rig.jaw.clone().expect("the default rig has a jaw");
+    assert_eq!(jaw.axis, glam::Vec3::X, "the default jaw turns about x");
+
+    let mut ed = Term::grimace(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
+    ed.wait_for("new table");
+    ed.send("/jaw\r");
+    ed.wait_for("found jaw");
+    ed.send("R");
+    ed.wait_for("jaw held at 1.00: pivot");
+    ed.send("p");
+    ed.wait_for("axis angle 0.0 deg");
+    ed.send("L"); // five degrees counter-clockwise on screen
+    ed.wait_for("axis angle 5.0 deg");
+    // An activation edit after the rig change, outside rig mode.
+    ed.send("R");
+    ed.wait_for("rig mode off");
+    ed.send("l");
+    ed.send("u");
+    ed.wait_for("undone (1 more to undo)");
+    ed.send("u");
+    ed.wait_for("undone the rig change to jaw axis angle (0 more to undo)");
+    ed.send("u");
+    ed.wait_for("nothing to undo");
+    ed.send("U");
+    ed.wait_for("redone the rig change to jaw axis angle (1 more to redo)");
+    ed.send("R");
+    ed.wait_for("axis angle 5.0 deg");
+    ed.send(&format!(":w {}\r", rig_file.display()));
+    ed.wait_for("saved the rig");
+    ed.send(":q!\r");
+    assert!(ed.wait_exit().success());
+    ed.wait_restored();
+
+    let saved = load_rig(&rig_file).expect("the saved rig loads").rig;
+    let axis = saved.jaw.expect("a jaw").axis;
+    let want = glam::Vec3::new(5f32.to_radians().cos(), 5f32.to_radians().sin(), 0.0);
+    assert!((axis - want).abs().max_element() < 1e-5, "{axis} vs {want}");
+}
+
+/// The keys that select a muscle of the built-in rig from the top of the list (a name search
+/// would stop first at the longer names that contain it).
+fn select_keys(name: &str) -> String {
+    let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
+    let i = rig.muscle_index(name).expect("the muscle");
+    let scene = grimace::tui::scene::Scene::new(rig, mesh).expect("binds");
+    let app = grimace::tui::app::App::new(scene, table, None);
+    let rows = &app.selection.rows;
+    let at = rows
+        .iter()
+        .position(|r| *r == grimace::tui::app::Row::Muscle(i))
+        .expect("listed");
+    format!("g{}", "j".repeat(at))
+}
+
+#[test]
+fn turn_an_eye_frame_in_mirror_mode_save_and_reload() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("t.au.ron");
+    let rig_file = dir.path().join("eyes.rig.ron");
+
+    let mut ed = Term::grimace(dir.path(), &["edit", table.to_str().unwrap()], 200, 60);
+    ed.wait_for("new table");
+    ed.send(&select_keys("L_Orbicularis_Oculi"));
+    ed.send("R");
+    ed.wait_for("L_Orbicularis_Oculi held at 1.00: centre");
+    ed.send("m");
+    ed.send("ppp");
+    ed.wait_for("frame angle 0.0 deg");
+    ed.send("H"); // five degrees clockwise; the right eye turns the other way
+    ed.wait_for("frame angle -5.0 deg (and R_Orbicularis_Oculi)");
+    ed.send(&format!(":w {}\r", rig_file.display()));
+    ed.wait_for("saved the rig");
+    ed.send(":q\r");
+    assert!(ed.wait_exit().success());
+    ed.wait_restored();
+
+    let saved = load_rig(&rig_file).expect("the saved rig loads").rig;
+    let frame = |name: &str| match &saved.muscles[saved.muscle_index(name).unwrap()].kind {
+        MuscleKind::Sphincter(s) => s.frame,
+        other => panic!("{other:?}"),
+    };
+    let (l, r) = (frame("L_Orbicularis_Oculi"), frame("R_Orbicularis_Oculi"));
+    let a = (-5f32).to_radians();
+    let want = glam::Vec3::new(a.cos(), a.sin(), 0.0);
+    assert!((l.axis_x() - want).abs().max_element() < 1e-5, "{l:?}");
+    let mirrored = l.mirrored_x();
+    assert!(
+        (r.axis_x() - mirrored.axis_x()).abs().max_element() < 1e-5
+            && (r.axis_y() - mirrored.axis_y()).abs().max_element() < 1e-5,
+        "{r:?} mirrors {l:?}"
+    );
+
+    // Reloaded, rig mode shows the turned frame.
+    let mut ed = Term::grimace(
+        dir.path(),
+        &[
+            "edit",
+            "--rig",
+            rig_file.to_str().unwrap(),
+            dir.path().join("u.au.ron").to_str().unwrap(),
+        ],
+        200,
+        60,
+    );
+    ed.wait_for("new table");
+    ed.send(&select_keys("R_Orbicularis_Oculi"));
+    ed.send("Rppp");
+    ed.wait_for("frame angle 5.0 deg");
+    ed.send(":q\r");
     assert!(ed.wait_exit().success());
 }

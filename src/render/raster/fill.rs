@@ -4,6 +4,7 @@ use glam::Vec3;
 
 use super::depth::{ceil_nonneg, corner_weights, floor_end};
 use super::Renderer;
+use crate::model::Mesh;
 use crate::render::canvas::{DotCanvas, Layer, Rgb};
 use crate::render::scene::Scene;
 
@@ -56,6 +57,9 @@ impl Renderer {
         for shade in &mut self.vertex_shade {
             *shade = AMBIENT + (1.0 - AMBIENT) * shade.max(0.0);
         }
+        for (shade, tone) in self.vertex_shade.iter_mut().zip(&self.vertex_tone) {
+            *shade *= tone;
+        }
     }
 
     /// Right-hand face normals, length twice the area, of the front-facing triangles (zero
@@ -106,6 +110,31 @@ impl Renderer {
             }
         }
         normalize_or_zero_all(&mut self.normals);
+    }
+}
+
+/// The tone of a vertex group's material by its name: irises are mid grey, pupils nearly
+/// black, everything else as lit.
+const TONES: [(&str, f32); 2] = [("pupil", 0.12), ("iris", 0.45)];
+
+/// Per-vertex tones from the mesh's named groups ([`TONES`]; the first name that matches
+/// wins), or nothing when no group names a dark material.
+pub(super) fn vertex_tones(mesh: &Mesh, out: &mut Vec<f32>) {
+    out.clear();
+    for (word, tone) in TONES.iter().rev() {
+        for (name, members) in &mesh.groups {
+            if !name.to_ascii_lowercase().contains(word) {
+                continue;
+            }
+            if out.is_empty() {
+                out.resize(mesh.positions.len(), 1.0);
+            }
+            for &v in members {
+                if let Some(t) = out.get_mut(v as usize) {
+                    *t = *tone;
+                }
+            }
+        }
     }
 }
 

@@ -95,6 +95,8 @@ pub struct Renderer {
     facing: Vec<bool>,
     normals: Vec<Vec3>,
     vertex_shade: Vec<f32>,
+    /// Per vertex, how dark its material is in the shaded style (empty: all 1.0).
+    vertex_tone: Vec<f32>,
     vertex_heat: Vec<f32>,
     rest_projected: Vec<Vec3>,
     rest_facing: Vec<bool>,
@@ -132,6 +134,7 @@ impl Renderer {
         self.triangles.extend_from_slice(&mesh.triangles);
         self.edges = build_edges(&mesh.triangles, mesh.positions.len());
         self.auto_sign = detect_orientation(mesh);
+        fill::vertex_tones(mesh, &mut self.vertex_tone);
     }
 
     /// The winding the renderer detected for its mesh: `Outward` or `Inward`.

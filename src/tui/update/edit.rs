@@ -1,10 +1,11 @@
 //! Activations: steps, exact values and mirror partners, whole states, and undo and redo.
 
 use super::*;
+use crate::tui::app::Step;
 
 /// Remembers the state before an edit, for undo.
 pub(crate) fn begin_edit(app: &mut App) {
-    app.history.undo.push(app.snapshot());
+    app.history.undo.push(Step::State(app.snapshot()));
     app.history.redo.clear();
 }
 
@@ -33,7 +34,8 @@ pub(crate) fn step(app: &mut App, by: f32, fx: &mut Vec<Effect>) {
         ));
         return;
     }
-    let coalesce = app.history.last_step == Some(row) && !app.history.undo.is_empty();
+    let coalesce = app.history.last_step == Some(row)
+        && matches!(app.history.undo.last(), Some(Step::State(_)));
     if !coalesce {
         begin_edit(app);
     }
@@ -128,26 +130,63 @@ pub(crate) fn restore(app: &mut App, snapshot: crate::tui::app::Snapshot) {
     app.selection.table_selected = app.selection.table_selected.min(items.saturating_sub(1));
 }
 
+/// Takes back the last edit, of activations, the table or the rig, whichever came last.
 pub(crate) fn undo(app: &mut App, fx: &mut Vec<Effect>) {
-    match app.history.undo.pop() {
-        Some(snapshot) => {
-            app.history.redo.push(app.snapshot());
-            restore(app, snapshot);
-            app.info(format!("undone ({} more to undo)", app.history.undo.len()));
-            edited(app, fx);
-        }
-        None => app.error("nothing to undo"),
-    }
+    back(app, true, fx)
 }
 
+/// Makes the last undone edit again.
 pub(crate) fn redo(app: &mut App, fx: &mut Vec<Effect>) {
-    match app.history.redo.pop() {
-        Some(snapshot) => {
-            app.history.undo.push(app.snapshot());
+    back(app, false, fx)
+}
+
+/// Moves one step from the undo list to the redo list (`undo`) or back, saying what moved.
+fn back(app: &mut App, undo: bool, fx: &mut Vec<Effect>) {
+    let (done, word) = if undo {
+        ("undone", "undo")
+    } else {
+        ("redone", "redo")
+    };
+    let popped = if undo {
+        app.history.undo.pop()
+    } else {
+        app.history.redo.pop()
+    };
+    let step = match popped {
+        None => return app.error(format!("nothing to {word}")),
+        Some(Step::State(snapshot)) => {
+            let current = Step::State(app.snapshot());
             restore(app, snapshot);
-            app.info(format!("redone ({} more to redo)", app.history.redo.len()));
-            edited(app, fx);
+            current
         }
-        None => app.error("nothing to redo"),
-    }
+        Some(Step::Rig(change)) => match crate::tui::rig::put_back(app, change) {
+            Ok(inverse) => Step::Rig(inverse),
+            Err((change, reason)) => {
+                let list = if undo {
+                    &mut app.history.undo
+                } else {
+                    &mut app.history.redo
+                };
+                list.push(Step::Rig(change));
+                return app.error(format!("cannot {word} the rig change: {reason}"));
+            }
+        },
+    };
+    let what = match &step {
+        Step::Rig(change) => format!(" the rig change to {}", change.what),
+        Step::State(_) => String::new(),
+    };
+    let (to, left) = if undo {
+        (&mut app.history.redo, app.history.undo.len())
+    } else {
+        (&mut app.history.undo, app.history.redo.len())
+    };
+    to.push(step);
+    let shown = if app.rig_edit.on && !what.is_empty() {
+        format!("; {}", crate::tui::rig::describe(app))
+    } else {
+        String::new()
+    };
+    app.info(format!("{done}{what} ({left} more to {word}){shown}"));
+    edited(app, fx);
 }

@@ -1,7 +1,8 @@
 //! Rig mode's overlay: the selected muscle's zone of influence over the face. A linear
 //! muscle shows its cone and its falloff start and end as arcs about the attachment; a
-//! sphincter its ellipse; a sheet its zone (length by width from the attachment line); the jaw
-//! its weights as colour. The selected point is marked.
+//! sphincter its ellipse in its frame, with the major axis; a sheet its zone (length by width
+//! from the attachment line); the jaw its weights as colour and its axis as a line through the
+//! pivot. The selected point is marked.
 
 use glam::Vec3;
 
@@ -14,6 +15,10 @@ use crate::tui::rig::{point, point_names};
 const ZONE: Rgb = Rgb(40, 230, 40);
 /// Colour of the falloff arcs.
 const FALLOFF: Rgb = Rgb(120, 180, 255);
+/// Colour of the jaw's axis and a sphincter's major axis.
+const AXIS: Rgb = Rgb(255, 200, 60);
+/// Half the length of the jaw's axis line, as a fraction of the face's height.
+const AXIS_HALF: f32 = 0.35;
 /// Arcs are drawn as this many segments per 90 degrees.
 const ARC_STEPS: usize = 12;
 
@@ -55,6 +60,9 @@ fn zone_of(rig: &Rig, rest: &[Vec3], row: Row, out: &mut Vec<Overlay>) {
         Row::Jaw => {
             // Each weighted vertex, coloured from blue (barely moves) to red (turns fully).
             if let Some(jaw) = &rig.jaw {
+                let (lo, hi) = bounds(rest);
+                let half = jaw.axis.normalize_or_zero() * ((hi - lo).y * AXIS_HALF);
+                out.push(segment(jaw.pivot - half, jaw.pivot + half, AXIS));
                 for &(v, w) in &jaw.weights {
                     if let Some(&at) = rest.get(v as usize) {
                         out.push(Overlay {
@@ -98,15 +106,19 @@ fn zone_of(rig: &Rig, rest: &[Vec3], row: Row, out: &mut Vec<Overlay>) {
                 }
             }
         }
-        MuscleKind::Sphincter(m) => out.push(Overlay {
-            shape: Shape::Ellipse {
-                centre: m.centre,
-                semi_x: m.frame.axis_x() * m.semi_major,
-                semi_y: m.frame.axis_y() * m.semi_minor,
-            },
-            color: ZONE,
-            selected: false,
-        }),
+        MuscleKind::Sphincter(m) => {
+            let major = m.frame.axis_x() * m.semi_major;
+            out.push(Overlay {
+                shape: Shape::Ellipse {
+                    centre: m.centre,
+                    semi_x: major,
+                    semi_y: m.frame.axis_y() * m.semi_minor,
+                },
+                color: ZONE,
+                selected: false,
+            });
+            out.push(segment(m.centre - major, m.centre + major, AXIS));
+        }
         MuscleKind::Sheet(m) => {
             let a = (m.attachment[0] + m.attachment[1]) * 0.5;
             let i = (m.insertion[0] + m.insertion[1]) * 0.5;
@@ -123,4 +135,11 @@ fn zone_of(rig: &Rig, rest: &[Vec3], row: Row, out: &mut Vec<Overlay>) {
             });
         }
     }
+}
+
+/// The smallest box holding `points` (zero for none).
+fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
+    let mut it = points.iter().copied();
+    let first = it.next().unwrap_or(Vec3::ZERO);
+    it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)))
 }

@@ -1,0 +1,305 @@
+//! Binding again after a change of one or two muscles' parameters, or of the jaw's pose,
+//! without recomputing the fields of the muscles that did not change.
+//!
+//! The result is the [`BoundRig`] that [`BoundRig::bind`] gives for the changed rig, bit for
+//! bit, and a change it refuses leaves the bound rig as it was, with the error that `bind`
+//! would report for the changed rig.
+
+use glam::Vec3;
+
+use super::{bind_jaw, check_budget, check_reach, BindError, BoundRig, MAX_INFLUENCES};
+use crate::model::field::{validate_muscle, Field};
+use crate::model::muscle::{Muscle, MuscleKind};
+use crate::model::Rig;
+
+impl BoundRig {
+    /// Gives muscle `index` new parameters (its kind and geometry; its name, side and
+    /// partner stay) and recomputes its field alone: the same as binding the changed rig, at
+    /// the cost of one muscle's field and the per-vertex layout.
+    pub fn rebind_muscle(&mut self, index: usize, kind: MuscleKind) -> Result<(), BindError> {
+        self.rebind_muscles(vec![(index, kind)])
+    }
+
+    /// [`BoundRig::rebind_muscle`] for several muscles at once (a muscle and its mirror
+    /// partner), laying the fields out once. An index past the last muscle is refused as
+    /// an invalid parameter of no muscle.
+    pub fn rebind_muscles(&mut self, changes: Vec<(usize, MuscleKind)>) -> Result<(), BindError> {
+        let count = self.rest.len();
+        if let Some(&(index, _)) = changes.iter().find(|(i, _)| *i >= self.fields.len()) {
+            return Err(BindError::InvalidParameter {
+                muscle: format!("#{index}"),
+                parameter: "index",
+                message: format!("is past the rig's {} muscles", self.fields.len()),
+            });
+        }
+        // `bind` checks every muscle in order and reports the first bad one.
+        let mut sorted = changes;
+        sorted.sort_by_key(|(index, _)| *index);
+        for (index, kind) in &sorted {
+            let muscle = Muscle {
+                kind: kind.clone(),
+                ..self.rig.muscles[*index].clone()
+            };
+            validate_muscle(&muscle)?;
+        }
+        // Only a rig large enough for the influence budget to matter pays for counting it.
+        if self.fields.len().saturating_mul(count) > MAX_INFLUENCES {
+            let mut rig = self.rig.clone();
+            for (index, kind) in &sorted {
+                rig.muscles[*index].kind = kind.clone();
+            }
+            check_budget(&rig, &self.rest)?;
+        }
+        let mut old = Vec::with_capacity(sorted.len());
+        for (index, kind) in &sorted {
+            let field = Field::of(kind, &self.rest);
+            let field = match mask_scale(&self.rig, *index, count) {
+                Some(scale) => field.scaled(&scale),
+                None => field,
+            };
+            old.push(std::mem::replace(&mut self.fields[*index], field));
+        }
+        if let Err(error) = check_reach(&self.rig, &self.rest, &self.fields) {
+            for ((index, _), field) in sorted.iter().zip(old) {
+                self.fields[*index] = field;
+            }
+            return Err(error);
+        }
+        for (index, kind) in sorted {
+            self.rig.muscles[index].kind = kind;
+        }
+        self.rebuild_rows()
+    }
+
+    /// Gives the jaw a new pivot, axis and degrees per unit (its weights stay): the same as
+    /// binding the changed rig, without touching any muscle's field. A rig without a jaw
+    /// refuses it.
+    pub fn rebind_jaw(
+        &mut self,
+        pivot: Vec3,
+        axis: Vec3,
+        degrees_per_unit: f32,
+    ) -> Result<(), BindError> {
+        let Some(jaw) = self.rig.jaw.as_mut() else {
+            return Err(BindError::JawParameter {
+                parameter: "jaw",
+                value: "none (the rig has no jaw)".into(),
+            });
+        };
+        let before = (jaw.pivot, jaw.axis, jaw.degrees_per_unit);
+        (jaw.pivot, jaw.axis, jaw.degrees_per_unit) = (pivot, axis, degrees_per_unit);
+        match bind_jaw(&self.rig, self.rest.len()) {
+            Ok(Some(mut bound)) => {
+                // The weights did not change, so neither did the rows of their vertices.
+                if let Some(old) = &mut self.jaw {
+                    bound.rows = std::mem::take(&mut old.rows);
+                }
+                self.jaw = Some(bound);
+                Ok(())
+            }
+            Ok(None) => unreachable!("the rig has a jaw"),
+            Err(error) => {
+                if let Some(jaw) = self.rig.jaw.as_mut() {
+                    (jaw.pivot, jaw.axis, jaw.degrees_per_unit) = before;
+                }
+                Err(error)
+            }
+        }
+    }
+
+    /// Lays the fields out per vertex again, from scratch.
+    fn rebuild_rows(&mut self) -> Result<(), BindError> {
+        self.row_vertex.clear();
+        self.row_start.clear();
+        self.entries.clear();
+        self.muscle_rows.clear();
+        self.row_jaw_weight.clear();
+        self.build_rows()
+    }
+}
+
+/// The product of the weights of the masks naming muscle `index` (one per vertex), or `None`
+/// when no mask names it: `mask_scales(rig, count)[index]`, in the same order of products,
+/// for one muscle of a rig whose masks were checked when it was bound.
+fn mask_scale(rig: &Rig, index: usize, count: usize) -> Option<Vec<f32>> {
+    let name = &rig.muscles[index].name;
+    let mut scale: Option<Vec<f32>> = None;
+    for mask in &rig.masks {
+        for _ in mask.muscles.iter().filter(|n| *n == name) {
+            let scale = scale.get_or_insert_with(|| vec![1.0; count]);
+            if mask.gain != 1.0 {
+                scale.iter_mut().for_each(|s| *s *= mask.gain);
+            }
+            for &(vertex, weight) in &mask.weights {
+                scale[vertex as usize] *= weight;
+            }
+        }
+    }
+    scale
+}
+
+#[cfg(test)]
+mod tests {
+    //! A rebound rig equals the rig bound from scratch, bit for bit, on the default face.
+
+    use super::*;
+    use crate::model::Activations;
+
+    fn default_face() -> (Rig, crate::model::Mesh) {
+        let loaded =
+            crate::io::rig_file::load_rig_ref(std::path::Path::new("builtin:default"), None)
+                .expect("the built-in rig");
+        (loaded.rig, loaded.mesh)
+    }
+
+    fn bits(points: &[Vec3]) -> Vec<[u32; 3]> {
+        points
+            .iter()
+            .map(|p| p.to_array().map(f32::to_bits))
+            .collect()
+    }
+
+    /// Every muscle at 0.7 and the jaw at 1.5: all fields and the jaw take part.
+    fn deformed(bound: &BoundRig) -> Vec<[u32; 3]> {
+        let act = Activations {
+            muscles: vec![0.7; bound.muscle_count()],
+            jaw: 1.5,
+        };
+        let mut out = Vec::new();
+        bound.deform(&act, &mut out).expect("in range");
+        bits(&out)
+    }
+
+    fn moved(kind: &MuscleKind, by: Vec3) -> MuscleKind {
+        let mut kind = kind.clone();
+        match &mut kind {
+            MuscleKind::Linear(m) => {
+                m.attachment += by;
+                m.zone += 3.0;
+            }
+            MuscleKind::Sphincter(m) => {
+                m.centre += by;
+                m.semi_minor *= 0.9;
+                m.frame.x = Vec3::new(1.0, 0.2, 0.0);
+            }
+            MuscleKind::Sheet(m) => {
+                m.insertion[0] += by;
+                m.width *= 1.1;
+            }
+        }
+        kind
+    }
+
+    #[test]
+    fn rebinding_each_muscle_equals_binding_the_changed_rig() {
+        let (rig, mesh) = default_face();
+        let by = Vec3::new(0.004, -0.003, 0.001);
+        let mut kinds_seen = [false; 3];
+        for index in 0..rig.muscles.len() {
+            let kind = moved(&rig.muscles[index].kind, by);
+            kinds_seen[match kind {
+                MuscleKind::Linear(_) => 0,
+                MuscleKind::Sphincter(_) => 1,
+                MuscleKind::Sheet(_) => 2,
+            }] = true;
+            let mut changed = rig.clone();
+            changed.muscles[index].kind = kind.clone();
+            let want = BoundRig::bind(&changed, &mesh).expect("the changed rig binds");
+            let mut got = BoundRig::bind(&rig, &mesh).expect("binds");
+            got.rebind_muscle(index, kind).expect("rebinds");
+            assert!(got == want, "muscle {}", rig.muscles[index].name);
+            assert_eq!(deformed(&got), deformed(&want));
+        }
+        assert_eq!(kinds_seen, [true; 3], "every kind is exercised");
+    }
+
+    #[test]
+    fn a_masked_muscle_and_its_partner_rebind_together() {
+        let (rig, mesh) = default_face();
+        let masked = rig
+            .masks
+            .iter()
+            .flat_map(|m| &m.muscles)
+            .find_map(|name| rig.muscle_index(name))
+            .expect("the default rig masks a muscle");
+        let partner = rig
+            .mirror_of(masked)
+            .expect("the masked muscle has a partner");
+        let by = Vec3::new(0.01, 0.0, 0.0);
+        let a = moved(&rig.muscles[masked].kind, by);
+        let b = moved(&rig.muscles[partner].kind, -by);
+        let mut changed = rig.clone();
+        changed.muscles[masked].kind = a.clone();
+        changed.muscles[partner].kind = b.clone();
+        let want = BoundRig::bind(&changed, &mesh).expect("binds");
+        let mut got = BoundRig::bind(&rig, &mesh).expect("binds");
+        got.rebind_muscles(vec![(partner, b), (masked, a)])
+            .expect("rebinds");
+        assert!(got == want);
+        assert_eq!(deformed(&got), deformed(&want));
+    }
+
+    #[test]
+    fn a_refused_change_leaves_the_bound_rig_as_it_was_with_binds_error() {
+        let (rig, mesh) = default_face();
+        let original = BoundRig::bind(&rig, &mesh).expect("binds");
+        let index = rig
+            .muscles
+            .iter()
+            .position(|m| matches!(m.kind, MuscleKind::Linear(_)))
+            .expect("a linear muscle");
+        let mut kind = rig.muscles[index].kind.clone();
+        if let MuscleKind::Linear(m) = &mut kind {
+            m.zone = 95.0;
+        }
+        let mut changed = rig.clone();
+        changed.muscles[index].kind = kind.clone();
+        let want = BoundRig::bind(&changed, &mesh).expect_err("a zone of 95 is refused");
+        let mut got = original.clone();
+        assert_eq!(got.rebind_muscle(index, kind), Err(want));
+        assert!(got == original);
+        // A muscle that reaches too far is refused by the reach check, also unchanged.
+        let mut far = rig.muscles[index].kind.clone();
+        if let MuscleKind::Linear(m) = &mut far {
+            m.attachment *= 1e33;
+            m.insertion = m.attachment + Vec3::Z;
+            m.falloff_end = 1e38;
+        }
+        let mut changed = rig.clone();
+        changed.muscles[index].kind = far.clone();
+        let want = BoundRig::bind(&changed, &mesh).map(|_| ());
+        assert_eq!(got.rebind_muscle(index, far), want);
+        assert!(got == original);
+        assert!(got
+            .rebind_muscle(rig.muscles.len(), rig.muscles[0].kind.clone())
+            .is_err());
+        assert!(got == original);
+    }
+
+    #[test]
+    fn rebinding_the_jaw_equals_binding_the_changed_rig() {
+        let (rig, mesh) = default_face();
+        let jaw = rig.jaw.clone().expect("the default rig has a jaw");
+        let pivot = jaw.pivot + Vec3::new(0.0, 0.01, -0.02);
+        let axis = Vec3::new(0.98, 0.17, 0.0);
+        let mut changed = rig.clone();
+        if let Some(j) = changed.jaw.as_mut() {
+            (j.pivot, j.axis, j.degrees_per_unit) = (pivot, axis, 2.5);
+        }
+        let want = BoundRig::bind(&changed, &mesh).expect("binds");
+        let mut got = BoundRig::bind(&rig, &mesh).expect("binds");
+        got.rebind_jaw(pivot, axis, 2.5).expect("rebinds");
+        assert!(got == want);
+        assert_eq!(deformed(&got), deformed(&want));
+        // A zero axis is refused and nothing changes.
+        let before = got.clone();
+        assert!(matches!(
+            got.rebind_jaw(pivot, Vec3::ZERO, 1.0),
+            Err(BindError::JawParameter {
+                parameter: "axis",
+                ..
+            })
+        ));
+        assert!(got == before);
+    }
+}

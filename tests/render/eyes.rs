@@ -1,0 +1,161 @@
+//! The default face's eyes: the iris and pupil read in every style.
+
+use crate::common;
+
+use glam::{Vec2, Vec3};
+use grimace::face::anthropometry::{units, y_units};
+use grimace::face::generator::EYEBALL;
+use grimace::face::groups::skin_len;
+use grimace::face::rigs::skin_under;
+use grimace::io::builtin;
+use grimace::model::Mesh;
+use grimace::render::{Camera, CellMode, DotCanvas, Projection, Renderer, Scene, Style};
+
+const COLS: usize = 200;
+const ROWS: usize = 60;
+
+/// The face without its eyeballs: the skin vertices and the triangles on them.
+fn skin_only(mesh: &Mesh) -> Mesh {
+    let n = skin_len(mesh);
+    let triangles = mesh
+        .triangles
+        .iter()
+        .filter(|t| t.iter().all(|&v| (v as usize) < n))
+        .copied()
+        .collect();
+    Mesh::new(mesh.positions[..n].to_vec(), triangles).expect("the skin is a valid mesh")
+}
+
+/// A point on the front of an eye at `rho` mm from its axis, at angle `a`, at the depth of
+/// the limbus (`sign` 1 for the subject's left eye).
+fn on_eye(sign: f32, rho: f64, a: f64) -> Vec3 {
+    let [cx, cy, cz] = EYEBALL.centre;
+    let front = (EYEBALL.radius.powi(2) - EYEBALL.iris_radius.powi(2)).sqrt();
+    Vec3::new(
+        sign * units(cx + rho * a.cos()) as f32,
+        y_units(cy + rho * a.sin()) as f32,
+        units(cz + front) as f32,
+    )
+}
+
+/// Whether the open eye shows the point: no skin lies over it, nor 1.5 mm above or below it
+/// (so a lid margin's own line does not count).
+fn in_the_opening(skin: &Mesh, p: Vec3) -> bool {
+    let d = units(1.5) as f32;
+    [-d, 0.0, d]
+        .iter()
+        .all(|dy| skin_under(skin, p.x, p.y + dy).is_none())
+}
+
+fn render(mesh: &Mesh, style: Style) -> (DotCanvas, Projection) {
+    let mut canvas = CellMode::Braille.canvas(COLS, ROWS);
+    let scene = Scene::new(mesh, &mesh.positions);
+    let camera = Camera::front();
+    Renderer::new(mesh).render(&scene, &camera, style, &mut canvas);
+    let proj = camera.fit_points(
+        &mesh.positions,
+        canvas.width(),
+        canvas.height(),
+        canvas.dot_aspect,
+    );
+    (canvas, proj)
+}
+
+#[test]
+fn the_iris_is_a_circle_line_inside_the_open_eye() {
+    let mesh = builtin::default_mesh();
+    let skin = skin_only(&mesh);
+    let (canvas, proj) = render(&mesh, Style::Lines);
+    let (bare, bare_proj) = render(&skin, Style::Lines);
+    for sign in [1.0f32, -1.0] {
+        let mut shown = 0;
+        let mut drawn = 0;
+        let mut drawn_bare = 0;
+        for k in 0..48 {
+            let a = std::f64::consts::TAU * f64::from(k) / 48.0;
+            let p = on_eye(sign, EYEBALL.iris_radius, a);
+            if !in_the_opening(&skin, p) {
+                continue;
+            }
+            shown += 1;
+            if common::lit_near(&canvas, proj.project(p).truncate(), 1.0) {
+                drawn += 1;
+            }
+            if common::lit_near(&bare, bare_proj.project(p).truncate(), 1.0) {
+                drawn_bare += 1;
+            }
+        }
+        // the sides of the iris show between the lids; its top and bottom are under them
+        assert!(shown >= 12, "only {shown} points of the iris's rim show");
+        assert!(
+            drawn * 10 >= shown * 9,
+            "eye {sign}: {drawn} of {shown} points of the iris's rim are drawn"
+        );
+        assert!(
+            drawn_bare * 4 < shown,
+            "eye {sign}: without eyeballs {drawn_bare} of {shown} are drawn too"
+        );
+        // the pupil's rim is drawn as well
+        let pupil = (0..16)
+            .map(|k| {
+                on_eye(
+                    sign,
+                    EYEBALL.pupil_radius,
+                    std::f64::consts::TAU * k as f64 / 16.0,
+                )
+            })
+            .filter(|p| common::lit_near(&canvas, proj.project(*p).truncate(), 1.0))
+            .count();
+        assert!(
+            pupil >= 14,
+            "eye {sign}: {pupil} of 16 points of the pupil's rim drawn"
+        );
+    }
+}
+
+/// The share of lit dots over the front-view points of an eye between `inner` and `outer`
+/// mm from its axis, where the eye is open.
+fn ink(canvas: &DotCanvas, proj: &Projection, skin: &Mesh, inner: f64, outer: f64) -> f64 {
+    let (mut lit, mut all) = (0usize, 0usize);
+    let mut seen = std::collections::BTreeSet::new();
+    for sign in [1.0f32, -1.0] {
+        for i in 0..=40 {
+            for k in 0..96 {
+                let rho = inner + (outer - inner) * f64::from(i) / 40.0;
+                let p = on_eye(sign, rho, std::f64::consts::TAU * f64::from(k) / 96.0);
+                if skin_under(skin, p.x, p.y).is_some() {
+                    continue;
+                }
+                let d: Vec2 = proj.project(p).truncate();
+                let (x, y) = (d.x as usize, d.y as usize);
+                if seen.insert((x, y)) {
+                    all += 1;
+                    lit += usize::from(canvas.is_on(x, y));
+                }
+            }
+        }
+    }
+    assert!(all >= 20, "only {all} dots between {inner} and {outer} mm");
+    lit as f64 / all as f64
+}
+
+#[test]
+fn shaded_the_iris_is_darker_than_the_white_and_the_pupil_darkest() {
+    let mesh = builtin::default_mesh();
+    let skin = skin_only(&mesh);
+    let (canvas, proj) = render(&mesh, Style::Shaded);
+    let sclera = ink(&canvas, &proj, &skin, EYEBALL.iris_radius + 1.0, 10.0);
+    let iris = ink(
+        &canvas,
+        &proj,
+        &skin,
+        EYEBALL.pupil_radius + 0.7,
+        EYEBALL.iris_radius - 0.7,
+    );
+    let pupil = ink(&canvas, &proj, &skin, 0.0, EYEBALL.pupil_radius - 0.5);
+    assert!(
+        iris < 0.7 * sclera,
+        "iris {iris:.2} of its dots lit, the white {sclera:.2}"
+    );
+    assert!(pupil < 0.5 * iris, "pupil {pupil:.2}, iris {iris:.2}");
+}
