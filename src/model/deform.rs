@@ -208,6 +208,8 @@ pub struct BoundRig {
     vertex_row: Vec<u32>,
     /// Per vertex: its jaw weight (empty without a guard).
     vertex_jaw: Vec<f32>,
+    /// The mesh, kept when the skin rules are on so a rebind can fit them again.
+    skin_mesh: Option<Mesh>,
 }
 
 thread_local! {
@@ -265,6 +267,7 @@ impl BoundRig {
             guard: Guard::default(),
             vertex_row: Vec::new(),
             vertex_jaw: Vec::new(),
+            skin_mesh: None,
         };
         bound.build_rows()?;
         bound.build_skin(mesh);
@@ -273,8 +276,15 @@ impl BoundRig {
 
     /// Fits the rest surface around every moved vertex and finds the triangles to check.
     fn build_skin(&mut self, mesh: &Mesh) {
+        self.patches.clear();
+        self.guard = Guard::default();
+        self.vertex_row.clear();
+        self.vertex_jaw.clear();
         if self.skin.is_paper() {
             return;
+        }
+        if self.skin_mesh.is_none() {
+            self.skin_mesh = Some(mesh.clone());
         }
         let n = self.rest.len();
         let (lo, hi) = mesh.bounds();
@@ -325,6 +335,14 @@ impl BoundRig {
             for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
                 self.vertex_jaw[v as usize] = w;
             }
+        }
+    }
+
+    /// Fits the skin rules again after the fields or the jaw changed (a rebind).
+    fn rebuild_skin(&mut self) {
+        if let Some(mesh) = self.skin_mesh.take() {
+            self.build_skin(&mesh);
+            self.skin_mesh = Some(mesh);
         }
     }
 
