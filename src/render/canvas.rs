@@ -111,8 +111,6 @@ pub struct DotCanvas {
     color: Vec<Rgb>,
     layer: Vec<Layer>,
     depth: Vec<f32>,
-    /// The dots a faint line (the rest-pose ghost) passed over, lit or not.
-    ghost: Vec<bool>,
     /// The faint line's colour, once one was drawn since the last clear.
     ghost_color: Option<Rgb>,
     /// The rectangle (x0, y0, x1, y1), exclusive ends, outside which nothing has been drawn
@@ -153,9 +151,7 @@ impl DotCanvas {
         self.color.resize(n, Rgb::default());
         self.layer.resize(n, Layer::Empty);
         self.depth.resize(n, f32::NEG_INFINITY);
-        self.ghost.resize(n, false);
         self.on.fill(false);
-        self.ghost.fill(false);
         self.ghost_color = None;
         self.depth.fill(f32::NEG_INFINITY);
         self.dirty = CLEAN;
@@ -171,12 +167,6 @@ impl DotCanvas {
                 let row = y * self.width;
                 self.on[row + x0..row + x1].fill(false);
                 self.depth[row + x0..row + x1].fill(f32::NEG_INFINITY);
-            }
-            if self.ghost_color.is_some() {
-                for y in y0..y1 {
-                    let row = y * self.width;
-                    self.ghost[row + x0..row + x1].fill(false);
-                }
             }
         }
         self.ghost_color = None;
@@ -214,9 +204,14 @@ impl DotCanvas {
         let on = self.on[i];
         let d = &mut self.dirty;
         *d = (d.0.min(x), d.1.min(y), d.2.max(x + 1), d.3.max(y + 1));
+        if !pen.overwrite && self.depth[i] != f32::NEG_INFINITY {
+            // A faint line (the ghost) stays behind any surface drawn: it shows where the
+            // face was, not through the face that is.
+            return false;
+        }
         if !pen.overwrite {
-            // A faint line is remembered under what covers it, for the cells' background.
-            self.ghost[i] = true;
+            // The cells give the faint line's colour to the background of cells it shares
+            // with live dots.
             self.ghost_color = Some(pen.color);
         }
         if !on || (pen.overwrite && self.layer[i] <= pen.layer) {
@@ -260,12 +255,6 @@ impl DotCanvas {
     pub fn depth(&self, x: usize, y: usize) -> f32 {
         self.index(x, y)
             .map_or(f32::NEG_INFINITY, |i| self.depth[i])
-    }
-
-    /// Whether a faint line (the rest-pose ghost) passed over the dot at (x, y), whether or
-    /// not something else covers it there.
-    pub fn is_ghost(&self, x: usize, y: usize) -> bool {
-        self.index(x, y).is_some_and(|i| self.ghost[i])
     }
 
     /// The colour of the faint lines drawn since the last clear, if any.
@@ -327,11 +316,6 @@ impl DotCanvas {
             &mut self.color,
             &mut self.layer,
         )
-    }
-
-    /// Raw read access to the faint lines' dots, row-major.
-    pub(crate) fn ghost_dots(&self) -> &[bool] {
-        &self.ghost
     }
 
     /// Raw read access: on, colour and layer slices, row-major.

@@ -259,13 +259,15 @@ impl CellGrid {
         let (on, color, layer) = canvas.buffers();
         let cw = canvas.width();
         let cols = self.width;
-        // Where the rest-pose ghost lies under live dots, it shows as the cell's background.
-        // Dimmer than the ghost's own dots; none where the terminal would only show black.
+        // A cell has one colour, so the rest-pose ghost's own dots in a cell with live dots
+        // would take the live colour and read as moved skin. They are left out of the
+        // pattern and the cell gets the ghost's dim colour as its background instead: the
+        // live lines stay exact, and only cells where the rest pose differs are marked.
+        // None where the terminal would only show black.
         let ghost_bg = canvas
             .ghost_color()
             .and_then(|c| reduce(c.mix(Rgb(0, 0, 0), GHOST_UNDER_DIM), colors))
-            .filter(|&c| c != Rgb(0, 0, 0))
-            .map(|c| (canvas.ghost_dots(), c));
+            .filter(|&c| c != Rgb(0, 0, 0));
         for row in r0..r1 {
             let mut col = c0;
             while col < c1 {
@@ -273,11 +275,16 @@ impl CellGrid {
                     col += 4;
                     continue;
                 }
-                let (bits, fg, top) = gather_2x4(on, color, layer, cw, col * 2, row * 4);
+                let (mut bits, fg, top) = gather_2x4(on, color, layer, cw, col * 2, row * 4);
+                let mut bg = None;
+                if top > Layer::Ghost {
+                    let ghost = ghost_2x4(on, layer, cw, col * 2, row * 4);
+                    if ghost != 0 {
+                        bits &= !ghost;
+                        bg = ghost_bg;
+                    }
+                }
                 if bits != 0 {
-                    let bg = ghost_bg.and_then(|(ghost, c)| {
-                        (top > Layer::Ghost && any_2x4(ghost, cw, col * 2, row * 4)).then_some(c)
-                    });
                     let ch = if mode == CellMode::Braille {
                         braille_char(bits)
                     } else {
@@ -308,10 +315,19 @@ fn dark_2x4_run(on: &[bool], width: usize, x: usize, y: usize) -> bool {
 /// How much darker than the ghost's colour the background under live dots is.
 pub const GHOST_UNDER_DIM: f32 = 0.35;
 
-/// Whether any of the 2x4 dots from (x, y) is set.
+/// The braille bits of the 2x4 dots from (x, y) lit by the ghost alone.
 #[inline]
-fn any_2x4(dots: &[bool], width: usize, x: usize, y: usize) -> bool {
-    (y..y + 4).any(|row| dots[row * width + x] | dots[row * width + x + 1])
+fn ghost_2x4(on: &[bool], layer: &[Layer], width: usize, x: usize, y: usize) -> u8 {
+    let mut bits = 0;
+    for dy in 0..4 {
+        for dx in 0..2 {
+            let i = (y + dy) * width + x + dx;
+            if on[i] && layer[i] == Layer::Ghost {
+                bits |= braille_bit(dx, dy);
+            }
+        }
+    }
+    bits
 }
 
 /// The 2x4 dot pattern of a cell in braille bit order, and the colour and layer of its

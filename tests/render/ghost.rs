@@ -1,5 +1,6 @@
-//! The rest-pose ghost stays visible under the live lines: where it lies under live dots,
-//! braille and ASCII cells get its dim colour as their background.
+//! The rest-pose ghost stays visible under the live lines: where its own dots share a cell
+//! with live dots, they are left out of the cell's pattern and the cell gets the ghost's dim
+//! colour as its background; where the rest pose and the live pose agree, nothing is marked.
 
 use grimace::io::builtin;
 use grimace::model::BoundRig;
@@ -30,17 +31,18 @@ fn grid(ghost: bool, style: Style, colors: ColorMode, smile: bool) -> CellGrid {
 }
 
 #[test]
-fn the_ghost_shows_as_a_dim_background_under_live_lines() {
+fn the_ghost_shows_as_a_dim_background_where_the_face_moved() {
     let ghost = Palette::default().ghost.mix(Rgb(0, 0, 0), GHOST_UNDER_DIM);
     for style in [Style::Lines, Style::Shaded] {
-        for smile in [false, true] {
+        let marked = |smile: bool| {
             let on = grid(true, style, ColorMode::TrueColor, smile);
-            let under: Vec<_> = on.cells.iter().filter(|c| c.bg.is_some()).collect();
-            assert!(
-                under.len() > 40,
-                "{style} smile {smile}: {} cells with the ghost under live dots",
-                under.len()
-            );
+            let live = on.cells.iter().filter(|c| c.ch != ' ').count();
+            let under: Vec<_> = on
+                .cells
+                .iter()
+                .filter(|c| c.bg.is_some())
+                .cloned()
+                .collect();
             for cell in &under {
                 assert_eq!(cell.bg, Some(ghost));
                 assert_ne!(cell.fg, Some(Palette::default().ghost), "live dots on top");
@@ -50,8 +52,42 @@ fn the_ghost_shows_as_a_dim_background_under_live_lines() {
                 off.cells.iter().all(|c| c.bg.is_none()),
                 "no ghost, no background"
             );
+            (under.len(), live)
+        };
+        let ((rest, live), (smile, _)) = (marked(false), marked(true));
+        println!("{style}: {rest} of {live} cells marked at rest, {smile} smiling");
+        // At rest only the shaded face's outline, where the silhouette runs through cells
+        // half covered, is marked; a moved face adds the cells it left.
+        assert!(
+            rest * 5 < live,
+            "{style}: {rest} of {live} cells marked where nothing moved"
+        );
+        assert!(
+            smile >= rest,
+            "{style}: {smile} cells marked in a smile, {rest} at rest"
+        );
+        if style == Style::Lines {
+            // The lines of the rest pose and of the live pose are the same lines at rest.
+            assert!(rest <= 2, "lines: {rest} cells marked at rest");
+            assert!(smile > 5, "lines: only {smile} cells marked in a smile");
         }
     }
-    let plain = grid(true, Style::Lines, ColorMode::None, false);
+    let plain = grid(true, Style::Lines, ColorMode::None, true);
     assert!(plain.cells.iter().all(|c| c.bg.is_none() && c.fg.is_none()));
+}
+
+/// The live pattern of a cell is exactly the live pose's: the ghost adds no dots to it.
+#[test]
+fn the_ghost_adds_no_dots_to_the_live_lines() {
+    let with = grid(true, Style::Lines, ColorMode::TrueColor, true);
+    let without = grid(false, Style::Lines, ColorMode::TrueColor, true);
+    let mut differ = 0;
+    for (a, b) in with.cells.iter().zip(&without.cells) {
+        if b.ch != ' ' {
+            assert_eq!(a.ch, b.ch, "a cell with live dots changed its pattern");
+        } else if a.ch != ' ' {
+            differ += 1;
+        }
+    }
+    assert!(differ > 10, "the ghost drew only {differ} cells of its own");
 }
