@@ -160,6 +160,20 @@ impl View {
         }
     }
 
+    /// The cells the face is drawn in. The shaded style draws braille as half blocks where
+    /// the terminal has 256 colours or more: a braille cell has one colour for its eight
+    /// dots, so a shaded face in braille is dots of one grey per cell and its eyes and mouth
+    /// are lost, while half blocks give every dot of a 1x2 cell its own grey. With 16
+    /// colours or none, the dots' density is all there is, so braille stays.
+    pub fn drawn_cells(&self) -> CellMode {
+        let rich = matches!(self.colors, ColorMode::Ansi256 | ColorMode::TrueColor);
+        if self.style == Style::Shaded && self.cells == CellMode::Braille && rich {
+            CellMode::HalfBlock
+        } else {
+            self.cells
+        }
+    }
+
     /// Puts the camera at a preset (zoom and pan back to the start).
     pub fn preset(&mut self, preset: ViewPreset) {
         self.yaw = match preset {

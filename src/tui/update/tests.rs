@@ -647,3 +647,27 @@ fn expr_still_refuses_aus_the_builtin_table_cannot_give() {
     assert!(error(&app).contains('6'), "{}", error(&app));
     assert!(app.doc.table.expressions.is_empty());
 }
+
+#[test]
+fn shaded_braille_is_drawn_in_half_blocks_where_colours_allow() {
+    use crate::render::ColorMode;
+    let mut view = crate::tui::app::View::new(CellMode::Braille);
+    for (style, colors, drawn) in [
+        (Style::Shaded, ColorMode::TrueColor, CellMode::HalfBlock),
+        (Style::Shaded, ColorMode::Ansi256, CellMode::HalfBlock),
+        (Style::Shaded, ColorMode::Ansi16, CellMode::Braille),
+        (Style::Shaded, ColorMode::None, CellMode::Braille),
+        (Style::Lines, ColorMode::TrueColor, CellMode::Braille),
+    ] {
+        view.style = style;
+        view.colors = colors;
+        assert_eq!(view.drawn_cells(), drawn, "{style:?} in {colors:?}");
+    }
+    view.cells = CellMode::Ascii;
+    view.style = Style::Shaded;
+    assert_eq!(
+        view.drawn_cells(),
+        CellMode::Ascii,
+        "ASCII is kept as asked"
+    );
+}

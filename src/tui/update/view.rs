@@ -30,7 +30,16 @@ pub(crate) fn apply(app: &mut App, action: Action) {
         Action::Preset(preset) => app.view.preset(preset),
         Action::CycleStyle => {
             app.view.style = app.view.style.next();
-            app.info(format!("style: {}", app.view.style.name()));
+            let drawn = app.view.drawn_cells();
+            if drawn == app.view.cells {
+                app.info(format!("style: {}", app.view.style.name()));
+            } else {
+                app.info(format!(
+                    "style: {} (in {} cells)",
+                    app.view.style.name(),
+                    crate::tui::app::cells_name(drawn)
+                ));
+            }
         }
         Action::CycleCells => {
             app.view.cells = crate::tui::app::next_cells(app.view.cells);

@@ -24,7 +24,7 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
     let view = format!(
         "| {} {} {} ",
         app.view.style.name(),
-        crate::tui::app::cells_name(app.view.cells),
+        crate::tui::app::cells_name(app.view.drawn_cells()),
         colors_label(app.view.colors)
     );
     let used = left.chars().count() + file.chars().count() + view.chars().count();

@@ -123,7 +123,7 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
     let mesh = app.doc.scene.mesh();
     let renderer = renderer.get_or_insert_with(|| Renderer::new(mesh));
     let canvas = canvas.get_or_insert_with(|| DotCanvas::new(0, 0));
-    let mode = app.view.cells;
+    let mode = app.view.drawn_cells();
     mode.prepare(canvas, usize::from(inner.width), usize::from(inner.height));
     overlays.clear();
     let palette = Palette::default();
