@@ -20,7 +20,7 @@ use glam::Vec3;
 use grimace::model::field::muscle_displacement;
 use grimace::model::{
     Activations, BoundRig, Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig,
-    Sheet, Side, Sphincter, RIG_VERSION,
+    Sheet, Side, Skin, Sphincter, RIG_VERSION,
 };
 
 fn golden_dir() -> PathBuf {
@@ -203,9 +203,21 @@ fn naive(rest: &[Vec3], rig: &Rig, act: &Activations, out: &mut Vec<Vec3>) {
 }
 
 fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activations) {
-    let bound = BoundRig::bind(rig, mesh).expect("bench rig binds");
+    let start = std::time::Instant::now();
+    let paper = BoundRig::bind_with(rig, mesh, Skin::PAPER).expect("bench rig binds");
+    let bind_paper = start.elapsed().as_secs_f64();
+    let start = std::time::Instant::now();
+    let bound = BoundRig::bind_with(rig, mesh, Skin::DEFAULT).expect("bench rig binds");
+    let bind_skin = start.elapsed().as_secs_f64();
+    eprintln!(
+        "{label}: bind {:.1} ms without the skin rules, {:.1} ms with them ({} guarded triangles)",
+        bind_paper * 1e3,
+        bind_skin * 1e3,
+        bound.guarded_triangles()
+    );
     let mut out = Vec::new();
-    bound.deform(act, &mut out).expect("in range");
+    // the naive baseline computes the paper's equations: compare it with those
+    paper.deform(act, &mut out).expect("in range");
     // The two paths agree before anything is timed.
     let mut check = Vec::new();
     naive(&mesh.positions, rig, act, &mut check);
@@ -215,6 +227,9 @@ fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activat
         .map(|(a, b)| (*a - *b).abs().max_element())
         .fold(0.0f32, f32::max);
     assert!(worst < 1e-4, "{label}: deform and naive differ by {worst}");
+    let paper_min = min_time(200, || {
+        paper.deform(black_box(act), &mut out).expect("in range")
+    });
     let active: usize = (0..bound.muscle_count())
         .filter(|&m| act.muscles[m] != 0.0)
         .map(|m| bound.field(m).map_or(0, |f| f.len()))
@@ -249,10 +264,12 @@ fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activat
         naive(&mesh.positions, rig, black_box(act), &mut check)
     });
     eprintln!(
-        "{label}: min deform {:.3} us ({:.2} ns per pair), on one thread {:.3} us ({:.2} ns per \
-         pair), min naive {:.3} us, ratio {:.0}x ({:.0}x on one thread)",
+        "{label}: min deform {:.3} us ({:.2} ns per pair; {:.3} us without the skin rules), on \
+         one thread {:.3} us ({:.2} ns per pair), min naive {:.3} us, ratio {:.0}x ({:.0}x on \
+         one thread)",
         deform_min * 1e6,
         deform_min * 1e9 / bound.pair_count() as f64,
+        paper_min * 1e6,
         single_min * 1e6,
         single_min * 1e9 / bound.pair_count() as f64,
         naive_min * 1e6,
@@ -262,6 +279,9 @@ fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activat
     let mut group = c.benchmark_group(label);
     group.bench_function("deform", |b| {
         b.iter(|| bound.deform(black_box(act), &mut out).expect("in range"))
+    });
+    group.bench_function("deform_paper", |b| {
+        b.iter(|| paper.deform(black_box(act), &mut out).expect("in range"))
     });
     group.bench_function("deform_1_thread", |b| {
         single.install(|| b.iter(|| bound.deform(black_box(act), &mut out).expect("in range")))
@@ -292,7 +312,49 @@ fn min_time(runs: usize, mut f: impl FnMut()) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The default face deformed to "happiness", with and without the skin rules (the editor's
+/// case; needs no shared data).
+fn default_face(c: &mut Criterion) {
+    use grimace::io::builtin;
+    let (mesh, rig, table) = (
+        builtin::default_mesh(),
+        builtin::default_rig(),
+        builtin::default_table(),
+    );
+    let act = table
+        .expression_activations("happiness", &rig)
+        .expect("happiness evaluates");
+    let skin = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("binds");
+    let paper = BoundRig::bind_with(&rig, &mesh, Skin::PAPER).expect("binds");
+    let mut out = Vec::new();
+    let m = rig.muscle_index("L_Zygomatic_Major").expect("zygomatic");
+    let mut group = c.benchmark_group("default_face");
+    group.bench_function("deform", |b| {
+        b.iter(|| skin.deform(black_box(&act), &mut out).expect("in range"))
+    });
+    group.bench_function("deform_paper", |b| {
+        b.iter(|| paper.deform(black_box(&act), &mut out).expect("in range"))
+    });
+    skin.deform(&act, &mut out).expect("in range");
+    group.bench_function("update_muscle_zygomatic", |b| {
+        b.iter(|| {
+            skin.update_muscle(black_box(&act), m, &mut out)
+                .expect("in range")
+        })
+    });
+    paper.deform(&act, &mut out).expect("in range");
+    group.bench_function("update_muscle_zygomatic_paper", |b| {
+        b.iter(|| {
+            paper
+                .update_muscle(black_box(&act), m, &mut out)
+                .expect("in range")
+        })
+    });
+    group.finish();
+}
+
 fn benches(c: &mut Criterion) {
+    default_face(c);
     let Some((face, linear)) = classic() else {
         eprintln!(
             "skipping the deform benchmark: classic face not found in {} (set GRIMACE_SHARED)",

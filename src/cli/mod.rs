@@ -51,6 +51,10 @@ pub struct EditorOptions {
     /// Braille, half-block or ASCII cells.
     #[command(flatten)]
     pub cells: CellsArgs,
+    /// Colours: auto (from NO_COLOR, TERM, COLORTERM and the terminal's name), truecolor,
+    /// 256, 16 or none.
+    #[arg(long, value_name = "MODE", default_value = "auto", value_parser = edit::parse_colors)]
+    pub colors: edit::ColorsChoice,
 }
 
 impl EditorOptions {
@@ -61,7 +65,7 @@ impl EditorOptions {
             rig: self.rig.clone(),
             mesh: self.mesh.clone(),
             cells: self.cells,
-            colors: edit::ColorsChoice(None),
+            colors: self.colors,
         }
     }
 }
@@ -222,6 +226,15 @@ mod tests {
             Some(std::path::Path::new("my.rig.ron"))
         );
         assert!(args.file.is_none());
+        let cli = Cli::try_parse_from(["grimace", "--colors", "256"]).unwrap();
+        assert_eq!(
+            cli.editor.to_edit_args().colors,
+            edit::ColorsChoice(Some(crate::render::ColorMode::Ansi256))
+        );
+        assert_eq!(
+            Cli::try_parse_from(["grimace"]).unwrap().editor.colors,
+            edit::ColorsChoice(None)
+        );
     }
 
     #[test]

@@ -11,7 +11,7 @@ use rayon::prelude::*;
 
 use super::export::{self, SourceArgs, Sources, StateArgs};
 use crate::io::atomic::{replace_unsynced, write_atomic_no_backup};
-use crate::model::{Activations, BoundRig, Mesh};
+use crate::model::{Activations, BoundRig, Mesh, Skin};
 use crate::render::{
     muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, DisplacementLegend,
     Overlay, Palette, Renderer, Scene, Style,
@@ -287,7 +287,9 @@ fn deform(bound: &BoundRig, act: &Activations) -> anyhow::Result<Vec<Vec3>> {
 /// Runs `grimace render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let sources = export::load_sources(&args.source)?;
-    let bound = export::bind(&sources.rig)?;
+    let rig = &sources.rig;
+    let bound = BoundRig::bind_with(&rig.rig, &rig.mesh, Skin::DEFAULT)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", rig.path.display()))?;
     let look = Look::new(args, &sources)?;
     if args.all {
         return render_all(args, &sources, &bound, &look);

@@ -2,7 +2,7 @@
 //! EMFACS emotion prototypes as AU combinations.
 //!
 //! Each AU is recorded at its strongest natural intensity (FACS E); combinations scale it
-//! with intensity letters (A 0.2 ... E 1.0). The activations were tuned by looking at the
+//! with intensity letters (A 0.15 ... E 1.0, FACS's unequal bands: `facs::combo`). The activations were tuned by looking at the
 //! rendered face (`docs/gallery.md`); `docs/au.md` says which AUs are approximate and why.
 
 use std::collections::BTreeMap;
@@ -121,7 +121,17 @@ const AUS: &[AuSpec] = &[
         ],
         0.0,
     ),
-    au(24, &[("Orbicularis_Oris", 0.8), ("Mentalis", 0.5)], 0.0),
+    // pressed, not pushed: the marginal sphincter presses the red together on the mouth
+    // line, the mentalis pushes the lower lip up from the chin
+    au(
+        24,
+        &[
+            ("Orbicularis_Oris_Marginal", 0.4),
+            ("Mentalis", 0.4),
+            ("Orbicularis_Oris", 0.2),
+        ],
+        0.0,
+    ),
     au(25, &[("Depressor_Labii_Inferioris", 0.6)], 0.8),
     // the stretched lips draw the corners in round the opening (a light sphincter)
     au(26, &[("Orbicularis_Oris", 0.4)], 2.5),
@@ -141,7 +151,7 @@ const AUS: &[AuSpec] = &[
 /// The EMFACS emotion prototypes (see `docs/au.md` for sources and intensity choices).
 pub const EXPRESSIONS: &[(&str, &str)] = &[
     ("happiness", "6C+12D"),
-    ("sadness", "1D+4C+15C"),
+    ("sadness", "1E+4C+15C"),
     ("surprise", "1D+2D+5B+26C"),
     ("fear", "1C+2C+4C+5D+7C+20C+26B"),
     ("anger", "4D+5C+7C+23D"),

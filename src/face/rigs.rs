@@ -289,6 +289,15 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
         }
     }
     place.eyelids(&mut rig)?;
+    // a stronger bulge than the paper's (Z 6, not 10): the lips push forward 3.8 mm at 2.0,
+    // AU18's pucker
+    for muscle in &mut rig.muscles {
+        if let (true, MuscleKind::Sphincter(s)) =
+            (muscle.name == "Orbicularis_Oris", &mut muscle.kind)
+        {
+            s.bulge = 6.0;
+        }
+    }
     for (name, upper, own_half) in LIP_MASKED {
         for side in ["L", "R"] {
             let mask = place.lip_mask(&rig, &format!("{side}_{name}"), upper, own_half)?;

@@ -7,12 +7,21 @@
 //! term      = [ "L" | "R" ] number [ intensity ]
 //! number    = digit { digit }                  (a FACS AU number, 1-99)
 //! intensity = letter | "@" scale
-//! letter    = "A" | "B" | "C" | "D" | "E"      (scale 0.2, 0.4, 0.6, 0.8, 1.0)
+//! letter    = "A" | "B" | "C" | "D" | "E"      (scale 0.15, 0.3, 0.5, 0.75, 1.0)
 //! scale     = digit { digit } [ "." { digit } ] | "." digit { digit }   (finite, 0 or more)
 //! ```
 //!
 //! Side and intensity letters may also be written in lower case. A term without an intensity
 //! has scale 1.0, the AU as recorded.
+//!
+//! The letters are FACS's intensity scale (Ekman, Friesen & Hager 2002): A trace, B slight,
+//! C marked or pronounced, D severe or extreme, E maximum. The manual draws the scale with
+//! unequal intervals, the middle ones wider: most of the range of appearance falls in C and
+//! D, while A (just visible) and E (as far as the face goes) are narrow. Here the range of an
+//! AU recorded at its maximum (1.0) is divided the same way, starting where the action
+//! becomes visible (0.1): A 0.1-0.2, B 0.2-0.4, C 0.4-0.65, D 0.65-0.9, E 0.9-1.0. Each
+//! letter scales by its band's middle, rounded (A 0.15, B 0.3, C 0.5, D 0.75), and E by the
+//! maximum itself, 1.0, so an AU written without a letter equals its E.
 
 use std::fmt;
 use std::str::FromStr;
@@ -44,13 +53,14 @@ impl Intensity {
     }
 }
 
-/// The scale of a FACS intensity letter: A 0.2, B 0.4, C 0.6, D 0.8, E 1.0.
+/// The scale of a FACS intensity letter: A 0.15, B 0.3, C 0.5, D 0.75, E 1.0, the middles of
+/// FACS's unequal bands (module documentation).
 pub fn letter_factor(letter: char) -> Option<f32> {
     match letter.to_ascii_uppercase() {
-        'A' => Some(0.2),
-        'B' => Some(0.4),
-        'C' => Some(0.6),
-        'D' => Some(0.8),
+        'A' => Some(0.15),
+        'B' => Some(0.3),
+        'C' => Some(0.5),
+        'D' => Some(0.75),
         'E' => Some(1.0),
         _ => None,
     }
@@ -265,20 +275,20 @@ mod tests {
         let keys: Vec<String> = c.terms.iter().map(|t| t.key.to_string()).collect();
         assert_eq!(keys, ["1", "2", "5", "26"]);
         assert_eq!(c.terms[2].intensity, Intensity::Letter('B'));
-        assert_eq!(c.terms[2].intensity.factor(), 0.4);
+        assert_eq!(c.terms[2].intensity.factor(), 0.3);
         assert_eq!(c.terms[0].intensity.factor(), 1.0);
 
         let c = parse_combo("R12A+R14A").unwrap();
         assert_eq!(c.terms[0].key, key("R12"));
         assert_eq!(c.terms[1].key, key("R14"));
-        assert_eq!(c.terms[1].intensity.factor(), 0.2);
+        assert_eq!(c.terms[1].intensity.factor(), 0.15);
 
         let c = parse_combo("6+12@0.5").unwrap();
         assert_eq!(c.terms[1].intensity, Intensity::Scale(0.5));
     }
 
     #[test]
-    fn letters_scale_by_fifths() {
+    fn letters_follow_the_unequal_facs_bands() {
         let factors: Vec<f32> = "ABCDE"
             .chars()
             .map(|c| {
@@ -287,7 +297,10 @@ mod tests {
                     .factor()
             })
             .collect();
-        assert_eq!(factors, [0.2, 0.4, 0.6, 0.8, 1.0]);
+        assert_eq!(factors, [0.15, 0.3, 0.5, 0.75, 1.0]);
+        // the steps widen toward the middle of the scale: C and D span more than A and B
+        let steps: Vec<f32> = factors.windows(2).map(|w| w[1] - w[0]).collect();
+        assert!(steps[0] < steps[1] && steps[1] < steps[2], "{steps:?}");
         assert_eq!(parse_combo("l12c").unwrap().terms[0].key, key("L12"));
     }
 

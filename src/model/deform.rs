@@ -8,6 +8,7 @@
 //! of influenced `(vertex, muscle)` pairs plus one copy of the rest positions; it allocates
 //! nothing once the output buffer has the mesh's size.
 
+use std::cell::RefCell;
 use std::collections::BTreeSet;
 
 use glam::Vec3;
@@ -17,7 +18,13 @@ use thiserror::Error;
 use super::activations::{ActivationError, Activations, MUSCLE_RANGE};
 use super::field::{validate_muscle, Field};
 use super::mesh::{Mesh, MeshError};
+use super::muscle::MuscleKind;
 use super::rig::{Combine, Rig};
+
+mod skin;
+
+pub use skin::Skin;
+use skin::{Adjacency, Guard, Patch};
 
 /// Meshes with at least this many vertices are deformed in parallel chunks.
 pub const PARALLEL_MIN_VERTICES: usize = 32_768;
@@ -107,6 +114,9 @@ pub enum BindError {
         /// The mesh's vertex count.
         vertices: usize,
     },
+    /// The skin rules are out of range.
+    #[error("{0}")]
+    Skin(String),
     /// A muscle would move vertices to astronomically large coordinates.
     #[error("muscle `{muscle}` moves vertex {vertex} beyond any usable coordinate")]
     OutOfReach {
@@ -186,11 +196,39 @@ pub struct BoundRig {
     /// Per CSR row: the jaw weight of its vertex (0 when not a jaw vertex).
     row_jaw_weight: Vec<f32>,
     jaw: Option<BoundJaw>,
+    /// The rules that keep the skin on the face.
+    skin: Skin,
+    /// Per CSR row: the rest surface around its vertex (empty when nothing slides).
+    patches: Vec<Patch>,
+    /// Per CSR row: where its sphincter entries start (empty when nothing slides).
+    row_split: Vec<u32>,
+    /// The triangles checked against the area bound.
+    guard: Guard,
+    /// Per vertex: its CSR row or [`NO_ROW`] (empty without a guard).
+    vertex_row: Vec<u32>,
+    /// Per vertex: its jaw weight (empty without a guard).
+    vertex_jaw: Vec<f32>,
+    /// The mesh, kept when the skin rules are on so a rebind can fit them again.
+    skin_mesh: Option<Mesh>,
+}
+
+thread_local! {
+    /// Per thread: positions before the area bound (partial updates) and the scales of the
+    /// guarded vertices, kept so that a deformation allocates nothing once they are sized.
+    static SCRATCH: RefCell<(Vec<Vec3>, Vec<f32>)> = const { RefCell::new((Vec::new(), Vec::new())) };
 }
 
 impl BoundRig {
-    /// Checks the rig against the mesh and precomputes every muscle's field.
+    /// Checks the rig against the mesh and precomputes every muscle's field: the paper's
+    /// deformation, linear in the activations ([`Skin::PAPER`]).
     pub fn bind(rig: &Rig, mesh: &Mesh) -> Result<BoundRig, BindError> {
+        BoundRig::bind_with(rig, mesh, Skin::PAPER)
+    }
+
+    /// [`BoundRig::bind`] with skin rules that keep displaced skin on the face
+    /// ([`Skin::DEFAULT`]: what the editor, `grimace play` and `grimace render` use).
+    pub fn bind_with(rig: &Rig, mesh: &Mesh, skin: Skin) -> Result<BoundRig, BindError> {
+        skin.check().map_err(BindError::Skin)?;
         mesh.validate()?;
         validate_names(rig)?;
         for muscle in &rig.muscles {
@@ -223,9 +261,99 @@ impl BoundRig {
             muscle_rows: Vec::new(),
             row_jaw_weight: Vec::new(),
             jaw,
+            skin,
+            patches: Vec::new(),
+            row_split: Vec::new(),
+            guard: Guard::default(),
+            vertex_row: Vec::new(),
+            vertex_jaw: Vec::new(),
+            skin_mesh: None,
         };
         bound.build_rows()?;
+        bound.build_skin(mesh);
         Ok(bound)
+    }
+
+    /// Fits the rest surface around every moved vertex and finds the triangles to check.
+    fn build_skin(&mut self, mesh: &Mesh) {
+        self.patches.clear();
+        self.guard = Guard::default();
+        self.vertex_row.clear();
+        self.vertex_jaw.clear();
+        if self.skin.is_paper() {
+            return;
+        }
+        if self.skin_mesh.is_none() {
+            self.skin_mesh = Some(mesh.clone());
+        }
+        let n = self.rest.len();
+        let (lo, hi) = mesh.bounds();
+        let radius = (hi - lo).length() * self.skin.patch;
+        if self.skin.slide > 0.0 {
+            let adjacency = Adjacency::of(mesh);
+            let normals = skin::outward_normals(mesh);
+            self.patches = skin::fit_patches(mesh, &adjacency, &normals, &self.row_vertex, radius);
+        }
+        if self.skin.min_area <= 0.0 {
+            return;
+        }
+        // how far each vertex can move at any activation in range
+        let max = *MUSCLE_RANGE.end();
+        let mut reach = vec![0.0f32; n];
+        for field in &self.fields {
+            for (&v, d) in field.vertices.iter().zip(&field.displacements) {
+                reach[v as usize] += max * d.length();
+            }
+        }
+        // the slide adds at most twice the displacement's length times its fraction
+        reach
+            .iter_mut()
+            .for_each(|r| *r *= 1.0 + 2.0 * self.skin.slide);
+        let mut jaw_moved: Vec<u32> = Vec::new();
+        if let Some(jaw) = &self.jaw {
+            let angle = (4.0 * jaw.radians_per_unit.abs()).min(std::f64::consts::PI);
+            let chord = 2.0 * (angle / 2.0).sin();
+            for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
+                let r = &mut reach[v as usize];
+                let far = (self.rest[v as usize] - jaw.pivot).length() + *r;
+                *r += w * (chord as f32) * far;
+            }
+            jaw_moved = jaw.vertices.clone();
+        }
+        let mut moved: Vec<&[u32]> = self.fields.iter().map(|f| &f.vertices[..]).collect();
+        moved.push(&jaw_moved);
+        self.guard = Guard::new(mesh, self.skin.min_area, &reach, &moved);
+        if self.guard.is_empty() {
+            return;
+        }
+        self.vertex_row = vec![NO_ROW; n];
+        for (row, &v) in self.row_vertex.iter().enumerate() {
+            self.vertex_row[v as usize] = row as u32;
+        }
+        self.vertex_jaw = vec![0.0; n];
+        if let Some(jaw) = &self.jaw {
+            for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
+                self.vertex_jaw[v as usize] = w;
+            }
+        }
+    }
+
+    /// Fits the skin rules again after the fields or the jaw changed (a rebind).
+    fn rebuild_skin(&mut self) {
+        if let Some(mesh) = self.skin_mesh.take() {
+            self.build_skin(&mesh);
+            self.skin_mesh = Some(mesh);
+        }
+    }
+
+    /// The skin rules this rig was bound with.
+    pub fn skin(&self) -> Skin {
+        self.skin
+    }
+
+    /// Number of triangles checked against the area bound.
+    pub fn guarded_triangles(&self) -> usize {
+        self.guard.triangles.len()
     }
 
     /// Lays the fields out per vertex (CSR), entries of a row in muscle order.
@@ -256,20 +384,35 @@ impl BoundRig {
             };
             total as usize
         ];
-        for (m, field) in self.fields.iter().enumerate() {
-            let mut rows = Vec::with_capacity(field.len());
-            for (&v, &d) in field.vertices.iter().zip(&field.displacements) {
-                let row = row_of[v as usize];
-                let slot = fill[row as usize] as usize;
-                fill[row as usize] += 1;
-                self.entries[slot] = Entry {
-                    displacement: d,
-                    muscle: m as u32,
-                };
-                rows.push(row);
+        // With the slide, each row holds the muscles that slide (linear, sheet) before the
+        // sphincters (which pull in the face's plane by construction), split at `row_split`.
+        let slides = self.skin.slide > 0.0;
+        let sphincter =
+            |m: usize| slides && matches!(self.rig.muscles[m].kind, MuscleKind::Sphincter(_));
+        let mut muscle_rows = vec![Vec::new(); self.fields.len()];
+        for late in [false, true] {
+            for (m, field) in self.fields.iter().enumerate() {
+                if sphincter(m) != late {
+                    continue;
+                }
+                let mut rows = Vec::with_capacity(field.len());
+                for (&v, &d) in field.vertices.iter().zip(&field.displacements) {
+                    let row = row_of[v as usize];
+                    let slot = fill[row as usize] as usize;
+                    fill[row as usize] += 1;
+                    self.entries[slot] = Entry {
+                        displacement: d,
+                        muscle: m as u32,
+                    };
+                    rows.push(row);
+                }
+                muscle_rows[m] = rows;
             }
-            self.muscle_rows.push(rows);
+            if slides && !late {
+                self.row_split = fill.clone();
+            }
         }
+        self.muscle_rows = muscle_rows;
         self.row_jaw_weight = vec![0.0; self.row_vertex.len()];
         if let Some(jaw) = &mut self.jaw {
             jaw.rows = jaw.vertices.iter().map(|&v| row_of[v as usize]).collect();
@@ -338,7 +481,90 @@ impl BoundRig {
                 *p = turn.apply(*p, w);
             }
         }
+        if !self.guard.is_empty() {
+            self.bound_areas(out);
+        }
         Ok(())
+    }
+
+    /// The area bound over a whole deformation: every guarded vertex's scale from the
+    /// positions before the bound, then the scaled displacements.
+    fn bound_areas(&self, out: &mut [Vec3]) {
+        SCRATCH.with_borrow_mut(|(_, scales)| {
+            let triangles = self.guard.triangles.len();
+            if scales.len() < triangles {
+                scales.resize(triangles, 1.0);
+            }
+            self.guard.triangle_scales(None, &self.rest, out, scales);
+            for (g, &v) in self.guard.vertices.iter().enumerate() {
+                let v = v as usize;
+                let scale = self.guard.vertex_scale(g, scales);
+                out[v] = self.scaled(v, out[v], scale);
+            }
+        });
+    }
+
+    /// The vertex `v` at `p` before the area bound, its displacement scaled by `scale`
+    /// (kept bit for bit when the scale is 1).
+    #[inline]
+    fn scaled(&self, v: usize, p: Vec3, scale: f32) -> Vec3 {
+        if scale >= 1.0 {
+            p
+        } else {
+            let rest = self.rest[v];
+            rest + (p - rest) * scale
+        }
+    }
+
+    /// The position of vertex `v` before the area bound, from rest: the muscles, the slide,
+    /// the jaw (the same arithmetic as [`BoundRig::deform`]).
+    #[inline]
+    fn unbounded(&self, v: usize, muscles: &[f32], average: bool, turn: Option<JawTurn>) -> Vec3 {
+        let row = self.vertex_row[v];
+        let mut p = if row == NO_ROW {
+            self.rest[v]
+        } else if average {
+            self.row_position::<true>(row as usize, v, muscles)
+        } else {
+            self.row_position::<false>(row as usize, v, muscles)
+        };
+        let w = self.vertex_jaw[v];
+        if let Some(turn) = turn.filter(|_| w > 0.0) {
+            p = turn.apply(p, w);
+        }
+        p
+    }
+
+    /// Rewrites the vertices whose area-bound scale may have changed with a change of
+    /// muscle `which` (the jaw when it is the muscle count), from rest.
+    fn settle(
+        &self,
+        which: usize,
+        muscles: &[f32],
+        average: bool,
+        turn: Option<JawTurn>,
+        out: &mut [Vec3],
+    ) {
+        SCRATCH.with_borrow_mut(|(before, scales)| {
+            if before.len() < self.rest.len() {
+                before.resize(self.rest.len(), Vec3::ZERO);
+            }
+            if scales.len() < self.guard.triangles.len() {
+                scales.resize(self.guard.triangles.len(), 1.0);
+            }
+            for &v in &self.guard.recompute[which] {
+                before[v as usize] = self.unbounded(v as usize, muscles, average, turn);
+            }
+            let rescale = &self.guard.rescale[which];
+            self.guard
+                .triangle_scales(Some(rescale), &self.rest, before, scales);
+            for &v in &self.guard.settle[which] {
+                let v = v as usize;
+                let g = self.guard.index_of(v) as usize;
+                let scale = self.guard.vertex_scale(g, scales);
+                out[v] = self.scaled(v, before[v], scale);
+            }
+        });
     }
 
     /// Writes the post-muscle positions of the vertices `start..start + out.len()` into `out`:
@@ -387,9 +613,13 @@ impl BoundRig {
         };
         let average = self.rig.combine == Combine::Average;
         let turn = self.jaw.as_ref().and(self.jaw_turn(act.jaw));
+        let guarded = !self.guard.is_empty();
         for &row in rows {
             let row = row as usize;
             let v = self.row_vertex[row];
+            if guarded && self.guard.index_of(v as usize) != NO_ROW {
+                continue;
+            }
             let mut p = if average {
                 self.row_position::<true>(row, v as usize, &act.muscles)
             } else {
@@ -400,6 +630,9 @@ impl BoundRig {
                 p = turn.apply(p, w);
             }
             out[v as usize] = p;
+        }
+        if guarded {
+            self.settle(muscle, &act.muscles, average, turn, out);
         }
         Ok(())
     }
@@ -421,8 +654,12 @@ impl BoundRig {
         };
         let average = self.rig.combine == Combine::Average;
         let turn = self.jaw_turn(act.jaw);
+        let guarded = !self.guard.is_empty();
         for ((&v, &w), &row) in jaw.vertices.iter().zip(&jaw.weights).zip(&jaw.rows) {
             let v = v as usize;
+            if guarded && self.guard.index_of(v) != NO_ROW {
+                continue;
+            }
             let mut p = if row == NO_ROW {
                 self.rest[v]
             } else if average {
@@ -435,6 +672,9 @@ impl BoundRig {
             }
             out[v] = p;
         }
+        if guarded {
+            self.settle(self.fields.len(), &act.muscles, average, turn, out);
+        }
         Ok(())
     }
 
@@ -445,19 +685,38 @@ impl BoundRig {
     /// average mode also counts the active muscles.
     #[inline(always)]
     fn row_position<const AVERAGE: bool>(&self, row: usize, v: usize, muscles: &[f32]) -> Vec3 {
-        let span = self.row_start[row] as usize..self.row_start[row + 1] as usize;
-        let mut sum = Vec3::ZERO;
+        let (start, end) = (
+            self.row_start[row] as usize,
+            self.row_start[row + 1] as usize,
+        );
         let mut active = 0u32;
-        for e in &self.entries[span] {
-            let a = muscles[e.muscle as usize];
-            sum += e.displacement * a;
-            if AVERAGE {
-                active += u32::from(a != 0.0);
+        let mut add = |span: std::ops::Range<usize>| {
+            let mut sum = Vec3::ZERO;
+            for e in &self.entries[span] {
+                let a = muscles[e.muscle as usize];
+                sum += e.displacement * a;
+                if AVERAGE {
+                    active += u32::from(a != 0.0);
+                }
             }
-        }
-        if AVERAGE && active > 1 {
-            sum /= active as f32;
-        }
+            sum
+        };
+        let sum = if let Some(patch) = self.patches.get(row) {
+            // the sliding muscles' displacement slides, the sphincters' is added after
+            let split = self.row_split[row] as usize;
+            let (mut slides, mut rest) = (add(start..split), add(split..end));
+            if AVERAGE && active > 1 {
+                slides /= active as f32;
+                rest /= active as f32;
+            }
+            patch.slide(slides, self.skin.slide) + rest
+        } else {
+            let mut sum = add(start..end);
+            if AVERAGE && active > 1 {
+                sum /= active as f32;
+            }
+            sum
+        };
         // Where nothing moved a coordinate, keep the rest value bit for bit (adding a zero
         // would turn a rest coordinate of -0.0 into +0.0).
         let rest = self.rest[v];

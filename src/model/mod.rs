@@ -11,7 +11,7 @@ pub mod muscle;
 pub mod rig;
 
 pub use activations::{ActivationError, Activations, JAW_RANGE, MUSCLE_RANGE};
-pub use deform::{deform, BindError, BoundRig};
+pub use deform::{deform, BindError, BoundRig, Skin};
 pub use field::Field;
 pub use jaw::Jaw;
 pub use mesh::{Mesh, MeshError};

@@ -7,19 +7,19 @@ use grimace::face::anthropometry::MM_PER_UNIT;
 use grimace::face::{au_table, generate, rigs};
 use grimace::facs::combo::parse_combo;
 use grimace::facs::AuTable;
-use grimace::model::{Activations, BoundRig, Mesh, Rig};
+use grimace::model::{Activations, BoundRig, Mesh, Rig, Skin};
 
-struct Face {
-    mesh: Mesh,
-    rig: Rig,
-    table: AuTable,
-    bound: BoundRig,
+pub(crate) struct Face {
+    pub(crate) mesh: Mesh,
+    pub(crate) rig: Rig,
+    pub(crate) table: AuTable,
+    pub(crate) bound: BoundRig,
 }
 
-fn face() -> Face {
+pub(crate) fn face() -> Face {
     let mesh = generate();
     let rig = rigs::default_rig(&mesh).expect("default rig places");
-    let bound = BoundRig::bind(&rig, &mesh).expect("default rig binds");
+    let bound = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("default rig binds");
     Face {
         mesh,
         rig,
@@ -28,30 +28,30 @@ fn face() -> Face {
     }
 }
 
-const MM: f32 = MM_PER_UNIT as f32;
+pub(crate) const MM: f32 = MM_PER_UNIT as f32;
 
 impl Face {
-    fn combo(&self, text: &str) -> Vec<Vec3> {
+    pub(crate) fn combo(&self, text: &str) -> Vec<Vec3> {
         let combo = parse_combo(text).expect("combination parses");
         let act = self.table.evaluate(&combo, &self.rig).expect("evaluates");
         self.deform(&act)
     }
 
-    fn deform(&self, act: &Activations) -> Vec<Vec3> {
+    pub(crate) fn deform(&self, act: &Activations) -> Vec<Vec3> {
         let mut out = Vec::new();
         self.bound.deform(act, &mut out).expect("valid activations");
         assert!(out.iter().all(|p| p.is_finite()));
         out
     }
 
-    fn group(&self, name: &str) -> &[u32] {
+    pub(crate) fn group(&self, name: &str) -> &[u32] {
         self.mesh
             .groups
             .get(name)
             .unwrap_or_else(|| panic!("no group {name}"))
     }
 
-    fn vertex(&self, name: &str) -> usize {
+    pub(crate) fn vertex(&self, name: &str) -> usize {
         match self.group(name) {
             [v] => *v as usize,
             _ => panic!("{name} is not a landmark"),
@@ -59,14 +59,14 @@ impl Face {
     }
 
     /// Displacement of a landmark in mm.
-    fn moved(&self, pose: &[Vec3], name: &str) -> Vec3 {
+    pub(crate) fn moved(&self, pose: &[Vec3], name: &str) -> Vec3 {
         let v = self.vertex(name);
         (pose[v] - self.mesh.positions[v]) * MM
     }
 
     /// Mean displacement (mm) of a group's members, optionally only those with `x > 0`
     /// (the subject's left) or `x < 0`.
-    fn region(&self, pose: &[Vec3], name: &str, side: Option<bool>) -> Vec3 {
+    pub(crate) fn region(&self, pose: &[Vec3], name: &str, side: Option<bool>) -> Vec3 {
         let members: Vec<usize> = self
             .group(name)
             .iter()
@@ -123,7 +123,7 @@ impl Face {
     }
 
     /// Triangles whose front-facing normal turned by more than 90 degrees.
-    fn flips(&self, pose: &[Vec3]) -> usize {
+    pub(crate) fn flips(&self, pose: &[Vec3]) -> usize {
         let normal = |p: &[Vec3], t: &[u32; 3]| {
             let [a, b, c] = t.map(|v| p[v as usize]);
             (b - a).cross(c - a)
@@ -372,13 +372,13 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
     golden(
         "AU10 upper lip centre",
         f.moved(&p, "upper_lip_centre"),
-        [0.0, 6.02, -1.80],
+        [0.0, 4.54, 1.90],
         0.3,
     );
     golden(
         "AU10 upper lip (left)",
         f.region(&p, "upper_lip", Some(true)),
-        [1.94, 6.82, -2.11],
+        [2.32, 6.45, -0.51],
         0.3,
     );
     golden(
@@ -398,7 +398,7 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
     golden(
         "AU9 upper lip centre",
         f.moved(&p, "upper_lip_centre"),
-        [0.0, 3.24, -0.97],
+        [0.0, 2.34, 1.28],
         0.3,
     );
     // AU16: the lower lip's middle drops; the upper lip stays
@@ -406,13 +406,13 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
     golden(
         "AU16 lower lip centre",
         f.moved(&p, "lower_lip_centre"),
-        [0.0, -5.58, -2.14],
+        [0.0, -4.63, 1.55],
         0.3,
     );
     golden(
         "AU16 lower lip (left)",
         f.region(&p, "lower_lip", Some(true)),
-        [0.05, -5.38, -2.38],
+        [0.29, -5.26, -1.26],
         0.3,
     );
     golden(
@@ -438,47 +438,48 @@ fn the_lip_aus_move_the_middle_of_their_lip() {
         0.3,
     );
     // no lip AU pushes the lower lip through the upper one
-    // AU18, 23 and 24 differ in shape: 18 draws the corners in and pushes the lips forward,
-    // 23 thins both lips toward the mouth line with the corners nearly still, 24 presses the
-    // lower lip up from the chin
+    // AU18, 23 and 24 differ in shape (see also
+    // `lip_pucker_tightener_and_presser_differ_in_shape`): 18 draws the corners in and pushes
+    // the lips forward, 23 thins both lips toward the mouth line with the corners nearly
+    // still, 24 presses the lips together and the lower lip up from the chin
     let p = f.combo("18");
     golden(
         "AU18 corner",
         f.moved(&p, "left_mouth_corner"),
-        [-4.30, 0.0, 0.79],
+        [-4.30, 0.0, 1.32],
         0.3,
     );
     golden(
         "AU18 upper lip centre",
         f.moved(&p, "upper_lip_centre"),
-        [0.0, 0.0, 2.23],
+        [0.0, 0.0, 3.72],
         0.2,
     );
     let p = f.combo("23");
     golden(
         "AU23 corner",
         f.moved(&p, "left_mouth_corner"),
-        [-1.08, 0.0, 0.25],
+        [-1.08, 0.0, 0.38],
         0.3,
     );
     golden(
         "AU23 upper lip (left)",
         f.region(&p, "upper_lip", Some(true)),
-        [-0.30, -1.38, 0.46],
+        [-0.30, -1.38, 0.68],
         0.3,
     );
     golden(
         "AU23 lower lip (left)",
         f.region(&p, "lower_lip", Some(true)),
-        [-0.27, 1.69, 0.42],
+        [-0.27, 1.69, 0.61],
         0.3,
     );
     let p = f.combo("24");
-    golden("AU24 chin", f.moved(&p, "chin"), [0.0, 5.43, 1.90], 0.3);
+    golden("AU24 chin", f.moved(&p, "chin"), [0.0, 4.34, 1.52], 0.3);
     golden(
         "AU24 lower lip centre",
         f.moved(&p, "lower_lip_centre"),
-        [0.0, 0.56, 1.87],
+        [0.0, 0.53, 1.23],
         0.2,
     );
     for au in ["9", "10", "16", "17", "18", "23", "24"] {
@@ -500,13 +501,13 @@ fn brow_lowerer_draws_the_brows_down_and_together() {
     golden(
         "AU4 brow inner",
         f.moved(&p, "left_brow_inner"),
-        [-5.35, -4.42, -1.95],
+        [-4.57, -4.84, -0.30],
         0.3,
     );
     golden(
         "AU4 brow (left)",
         f.region(&p, "left_brow", Some(true)),
-        [-2.91, -1.54, -0.09],
+        [-2.50, -1.69, 0.67],
         0.3,
     );
     // one-sided: the left brow only
@@ -516,4 +517,118 @@ fn brow_lowerer_draws_the_brows_down_and_together() {
         right.length() < 0.5,
         "L4 moves the right brow head {right} mm"
     );
+}
+
+impl Face {
+    /// Height (mm) of the red of both lips at the middle: from the upper vermilion's top to
+    /// the lower vermilion's bottom within 2 mm of the midline, less the gap between the lips.
+    fn red_height(&self, pose: &[Vec3]) -> f32 {
+        let near = |v: &&u32| self.mesh.positions[**v as usize].x.abs() < 2.0 / MM;
+        let top = self
+            .group("upper_lip")
+            .iter()
+            .filter(near)
+            .map(|&v| pose[v as usize].y)
+            .fold(f32::NEG_INFINITY, f32::max);
+        let bottom = self
+            .group("lower_lip")
+            .iter()
+            .filter(near)
+            .map(|&v| pose[v as usize].y)
+            .fold(f32::INFINITY, f32::min);
+        (top - bottom) * MM - self.mouth_gap(pose).max(0.0)
+    }
+
+    /// Mean forward travel (mm, toward the viewer) of the red of both lips.
+    fn lips_forward(&self, pose: &[Vec3]) -> f32 {
+        let lips: Vec<u32> = [self.group("upper_lip"), self.group("lower_lip")].concat();
+        let sum: f32 = lips
+            .iter()
+            .map(|&v| pose[v as usize].z - self.mesh.positions[v as usize].z)
+            .sum();
+        sum * MM / lips.len() as f32
+    }
+}
+
+/// AU18 (pucker), AU23 (tightener) and AU24 (presser) differ in shape, not only strength:
+/// the forward push of the lips, how far the corners travel in, and the red's height.
+#[test]
+fn lip_pucker_tightener_and_presser_differ_in_shape() {
+    let f = face();
+    let rest_red = f.red_height(&f.mesh.positions);
+    let shape = |au: &str| {
+        let p = f.combo(au);
+        let inward = -f.moved(&p, "left_mouth_corner").x;
+        let forward = f.lips_forward(&p);
+        let red = f.red_height(&p) - rest_red;
+        let chin = f.moved(&p, "chin").y;
+        println!(
+            "AU{au}: lips forward {forward:.2} mm, corner in {inward:.2} mm, red height \
+             {red:+.2} mm (rest {rest_red:.2}), chin up {chin:.2} mm"
+        );
+        (forward, inward, red, chin)
+    };
+    let (f18, in18, red18, _) = shape("18");
+    let (f23, in23, red23, chin23) = shape("23");
+    let (f24, in24, red24, chin24) = shape("24");
+    // 18 pushes the lips forward and draws the corners in the most; the red keeps its height
+    assert!(
+        f18 > 1.5 * f23 && f18 > 1.5 * f24,
+        "pucker forward {f18}, {f23}, {f24}"
+    );
+    assert!(in18 > 3.0 * in23.max(in24), "pucker corners {in18}");
+    assert!(red18.abs() < 1.0, "pucker red {red18}");
+    // 23 thins the red toward the mouth line with the corners nearly still, the chin still
+    assert!(
+        red23 < -3.0 && in23 < 1.5,
+        "tightener red {red23}, corners {in23}"
+    );
+    assert!(chin23.abs() < 0.5, "tightener chin {chin23}");
+    // 24 presses the lips together from below: the red flattened, the chin pushed up (the
+    // bulge below the lower lip), the corners hardly moving
+    assert!(
+        red24 < -3.0 && chin24 > 3.0,
+        "presser red {red24}, chin {chin24}"
+    );
+    assert!(in24 < in23, "presser corners {in24}");
+}
+
+/// Contempt (`R12A+R14A`, both at trace intensity) visibly moves the right mouth corner: at
+/// least 1.5 mm in the front view, a few braille dots at 120x40.
+#[test]
+fn contempt_moves_the_right_corner_visibly() {
+    let f = face();
+    let p = f.combo("R12A+R14A");
+    let right = f.moved(&p, "right_mouth_corner");
+    let left = f.moved(&p, "left_mouth_corner");
+    let front = Vec3::new(right.x, right.y, 0.0).length();
+    println!("R12A+R14A: right corner {right} mm ({front:.2} mm in the front view)");
+    assert!(
+        front >= 1.5,
+        "right corner moves {front} mm in the front view"
+    );
+    assert!(left.length() < 0.3, "the left corner moves {left} mm");
+}
+
+/// Sadness shows the oblique brows of AU1+4: the head of the brow up and toward the
+/// midline, the tail of the brow not up, so the brow slants down toward the temple.
+#[test]
+fn sadness_slants_the_brows() {
+    let f = face();
+    let act = f
+        .table
+        .expression_activations("sadness", &f.rig)
+        .expect("sadness");
+    let p = f.deform(&act);
+    let inner = f.moved(&p, "left_brow_inner");
+    let outer = f.moved(&p, "left_brow_outer");
+    println!("sadness: head of the left brow {inner} mm, tail {outer} mm");
+    assert!(inner.y > 2.5, "the head of the brow rises {} mm", inner.y);
+    assert!(
+        inner.x < -1.0,
+        "the head of the brow moves in {} mm",
+        -inner.x
+    );
+    assert!(outer.y < 1.0, "the tail of the brow rises {} mm", outer.y);
+    assert!(inner.y - outer.y > 2.0, "the brow hardly slants");
 }

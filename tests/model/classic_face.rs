@@ -13,7 +13,7 @@ use glam::Vec3;
 use grimace::face::classic::{self, Landmarks};
 use grimace::io::rig_file;
 use grimace::io::waters::{self, ImportOptions, Imported};
-use grimace::model::{Activations, BoundRig, MuscleKind, Side};
+use grimace::model::{Activations, BoundRig, MuscleKind, Side, Skin};
 
 /// The classic face with the extras, bound, and its landmarks.
 struct Face {
@@ -29,7 +29,8 @@ fn face() -> Option<Face> {
         ..Default::default()
     };
     let imported = waters::import_dir(&shared.join("waters-geoface"), &options).unwrap();
-    let bound = BoundRig::bind(&imported.rig, &imported.mesh).unwrap();
+    // the paper's deformation: these tests check its equations on the classic face
+    let bound = BoundRig::bind_with(&imported.rig, &imported.mesh, Skin::PAPER).unwrap();
     let marks = classic::find_landmarks(&imported.mesh).unwrap();
     Some(Face {
         imported,

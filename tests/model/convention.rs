@@ -161,7 +161,14 @@ fn a_version_1_rig_on_the_built_in_face_is_mirrored_on_load() {
     let notice = old.notice.as_deref().expect("the conversion is reported");
     assert!(notice.contains("rig version 1 converted"), "{notice}");
     assert_eq!(old.rig.version, RIG_VERSION);
-    let current = builtin::default_rig();
+    let mut current = builtin::default_rig();
+    // the mouth sphincter's bulge has changed since that file was written (a stronger pucker);
+    // the conversion is about positions, so compare with the bulge the file has
+    for (now, then) in current.muscles.iter_mut().zip(&old.rig.muscles) {
+        if let (MuscleKind::Sphincter(a), MuscleKind::Sphincter(b)) = (&mut now.kind, &then.kind) {
+            a.bulge = b.bulge;
+        }
+    }
     let mesh = builtin::default_mesh();
     assert_eq!(old.mesh.positions, mesh.positions);
     let names = |r: &grimace::model::Rig| -> Vec<String> {

@@ -63,21 +63,21 @@ fn r() -> Rig {
 fn evaluate_scales_adds_and_clamps() {
     let t = table();
     let a = t.evaluate(&parse_combo("6+12C").unwrap(), &r()).unwrap();
-    assert_eq!(a.muscles, vec![1.5 * 0.6, 1.5 * 0.6, 1.0, 0.0]);
+    assert_eq!(a.muscles, vec![1.5 * 0.5, 1.5 * 0.5, 1.0, 0.0]);
     assert_eq!(a.jaw, 0.0);
 
     // 12 at full plus R12 at 1.0: zr = 1.5 + 0.8 = 2.3, clamped to 2.
     let a = t.evaluate(&parse_combo("12+R12").unwrap(), &r()).unwrap();
     assert_eq!(a.muscles, vec![1.5, 2.0, 0.0, 0.0]);
 
-    // Jaw 3.0 * 2 = 6, clamped to 4; B = 0.4 -> 1.2.
+    // Jaw 3.0 * 2 = 6, clamped to 4; B = 0.3 -> 0.9.
     assert_eq!(
         t.evaluate(&parse_combo("26@2").unwrap(), &r()).unwrap().jaw,
         4.0
     );
     assert_eq!(
         t.evaluate(&parse_combo("26B").unwrap(), &r()).unwrap().jaw,
-        3.0 * 0.4
+        3.0 * 0.3
     );
 
     // Scale 0 leaves the rest state.
@@ -218,7 +218,7 @@ fn rename_rewrites_expressions_and_remove_protects_them() {
     t.check().unwrap();
 
     let a = t.expression_activations("happy", &r()).unwrap();
-    assert_eq!(a.muscles, vec![1.5 * 0.4, 1.5 * 0.4, 1.0, 0.0]);
+    assert_eq!(a.muscles, vec![1.5 * 0.3, 1.5 * 0.3, 1.0, 0.0]);
     assert_eq!(
         t.expression_activations("sad", &r()),
         Err(TableError::NoSuchExpression("sad".into()))

@@ -24,3 +24,4 @@ mod openface_proptest;
 mod presets_builtin;
 mod presets_table;
 mod properties;
+mod skin;

@@ -11,7 +11,7 @@ use grimace::model::field::{
 };
 use grimace::model::{
     Activations, BoundRig, Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig,
-    Sheet, Side, Sphincter, RIG_VERSION,
+    Sheet, Side, Skin, Sphincter, RIG_VERSION,
 };
 use proptest::prelude::*;
 
@@ -24,7 +24,9 @@ fn dome() -> Mesh {
     dome_of(STEPS, STEP)
 }
 
-/// A dome-shaped grid over x, y in -4..=4 with `steps` vertices a side.
+/// A dome-shaped grid over x, y in -4..=4 with `steps` vertices a side, its cells split
+/// along diagonals that mirror across x = 0 (the skin rules read triangles, so a mirrored
+/// mesh needs a mirrored triangulation to deform symmetrically).
 fn dome_of(steps: usize, step: f32) -> Mesh {
     let mut positions = Vec::with_capacity(steps * steps);
     for j in 0..steps {
@@ -39,8 +41,13 @@ fn dome_of(steps: usize, step: f32) -> Mesh {
         for i in 0..steps - 1 {
             let v = (j * steps + i) as u32;
             let s = steps as u32;
-            triangles.push([v, v + 1, v + s + 1]);
-            triangles.push([v, v + s + 1, v + s]);
+            if 2 * i + 1 < steps {
+                triangles.push([v, v + 1, v + s + 1]);
+                triangles.push([v, v + s + 1, v + s]);
+            } else {
+                triangles.push([v, v + 1, v + s]);
+                triangles.push([v + 1, v + s + 1, v + s]);
+            }
         }
     }
     Mesh::new(positions, triangles).expect("valid dome")
@@ -202,7 +209,7 @@ fn large_meshes_deform_in_parallel_identically() {
     for combine in [Combine::Sum, Combine::Average] {
         let mut rig = symmetric_rig(combine);
         rig.jaw = None;
-        let bound = BoundRig::bind(&rig, &mesh).expect("binds");
+        let bound = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("binds");
         let target = Activations {
             muscles: vec![1.0, 0.5, 2.0, 0.0, 0.3, 1.7, 0.9],
             jaw: 0.0,
@@ -341,7 +348,7 @@ proptest! {
     #[test]
     fn mirrored_activations_give_a_mirrored_mesh(act in activations(), c in combine()) {
         let rig = symmetric_rig(c);
-        let bound = BoundRig::bind(&rig, &dome()).expect("binds");
+        let bound = BoundRig::bind_with(&rig, &dome(), Skin::DEFAULT).expect("binds");
         let mut swapped = act.clone();
         for m in 0..rig.muscles.len() {
             let partner = rig.mirror_of(m).unwrap_or(m);
@@ -384,7 +391,7 @@ proptest! {
     fn update_muscle_equals_a_full_deform(
         before in activations(), m in 0usize..7, value in 0.0f32..=2.0, c in combine(),
     ) {
-        let bound = BoundRig::bind(&symmetric_rig(c), &dome()).expect("binds");
+        let bound = BoundRig::bind_with(&symmetric_rig(c), &dome(), Skin::DEFAULT).expect("binds");
         let mut out = deformed(&bound, &before);
         let mut after = before.clone();
         after.muscles[m] = value;
@@ -397,7 +404,7 @@ proptest! {
 
     #[test]
     fn update_jaw_equals_a_full_deform(before in activations(), jaw in 0.0f32..=4.0, c in combine()) {
-        let bound = BoundRig::bind(&symmetric_rig(c), &dome()).expect("binds");
+        let bound = BoundRig::bind_with(&symmetric_rig(c), &dome(), Skin::DEFAULT).expect("binds");
         let mut out = deformed(&bound, &before);
         let after = Activations { jaw, ..before.clone() };
         bound.update_jaw(&after, &mut out).expect("in range");
@@ -410,9 +417,10 @@ proptest! {
     #[test]
     fn deform_equals_pure_displacements_summed_then_the_jaw(act in activations()) {
         // An independent evaluation: each muscle's pure function at each rest vertex,
-        // summed (Sum mode), then eqs. 16-19 written out here.
+        // summed (Sum mode), then eqs. 16-19 written out here (the paper's deformation,
+        // without the skin rules).
         let rig = symmetric_rig(Combine::Sum);
-        let bound = BoundRig::bind(&rig, &dome()).expect("binds");
+        let bound = BoundRig::bind_with(&rig, &dome(), Skin::PAPER).expect("binds");
         let out = deformed(&bound, &act);
         let jaw = rig.jaw.as_ref().expect("jaw");
         let theta = (act.jaw as f64 * jaw.degrees_per_unit as f64).to_radians();

@@ -95,6 +95,7 @@ impl BoundRig {
                     bound.rows = std::mem::take(&mut old.rows);
                 }
                 self.jaw = Some(bound);
+                self.rebuild_skin();
                 Ok(())
             }
             Ok(None) => unreachable!("the rig has a jaw"),
@@ -114,7 +115,10 @@ impl BoundRig {
         self.entries.clear();
         self.muscle_rows.clear();
         self.row_jaw_weight.clear();
-        self.build_rows()
+        self.row_split.clear();
+        self.build_rows()?;
+        self.rebuild_skin();
+        Ok(())
     }
 }
 

@@ -127,20 +127,21 @@ fn jaw_turns_the_post_muscle_position() {
 #[test]
 fn sum_and_average_combine() {
     // Two identical muscles at 1.0 and 0.5: vertex 0 moves by -0.5 z per unit;
-    // sum: -0.75; average over the two active muscles: -0.375.
+    // sum: -0.75; average over the two active muscles: -0.375 (the paper's arithmetic,
+    // without the skin rules).
     let mut r = rig(vec![linear("a"), linear("b")], None);
     let act = Activations {
         muscles: vec![1.0, 0.5],
         jaw: 0.0,
     };
     let mut out = Vec::new();
-    BoundRig::bind(&r, &mesh())
+    BoundRig::bind_with(&r, &mesh(), Skin::PAPER)
         .unwrap()
         .deform(&act, &mut out)
         .unwrap();
     assert!((out[0].z - (0.5 - 0.75)).abs() < 1e-6);
     r.combine = Combine::Average;
-    let bound = BoundRig::bind(&r, &mesh()).unwrap();
+    let bound = BoundRig::bind_with(&r, &mesh(), Skin::PAPER).unwrap();
     bound.deform(&act, &mut out).unwrap();
     assert!((out[0].z - (0.5 - 0.375)).abs() < 1e-6);
     // One active muscle: average equals sum (nothing to divide by).
@@ -303,15 +304,20 @@ fn deform_does_not_reallocate() {
 #[test]
 fn inactive_muscles_keep_rest_coordinates_bit_for_bit() {
     // Vertex 0 sits at x = -0.0 on the axis of both muscles; muscle "a" is off and "b"
-    // pulls along z only, so x must stay -0.0 (not become +0.0).
+    // pulls along z only, so x must stay -0.0 (not become +0.0). The skin rules may move a
+    // vertex off its muscles' lines, so this is the paper's deformation; with them, zero
+    // activation still gives the rest mesh bit for bit.
     let mesh = Mesh::new(
         vec![Vec3::new(-0.0, 0.0, 0.5), Vec3::X * 9.0, Vec3::Y * 9.0],
         vec![[0, 1, 2]],
     )
     .unwrap();
     let r = rig(vec![linear("a"), linear("b")], None);
-    let bound = BoundRig::bind(&r, &mesh).unwrap();
+    let skinned = BoundRig::bind(&r, &mesh).unwrap();
     let mut out = Vec::new();
+    skinned.deform(&Activations::zero(&r), &mut out).unwrap();
+    assert_eq!(out[0].x.to_bits(), (-0.0f32).to_bits());
+    let bound = BoundRig::bind_with(&r, &mesh, Skin::PAPER).unwrap();
     for muscles in [vec![0.0, 0.0], vec![0.0, 1.0]] {
         bound
             .deform(&Activations { muscles, jaw: 0.0 }, &mut out)
@@ -319,6 +325,32 @@ fn inactive_muscles_keep_rest_coordinates_bit_for_bit() {
         assert_eq!(out[0].x.to_bits(), (-0.0f32).to_bits());
     }
     assert_eq!(out[0].z, 0.0);
+}
+
+#[test]
+fn bind_refuses_skin_rules_out_of_range() {
+    let r = rig(vec![linear("a")], None);
+    for skin in [
+        Skin {
+            slide: 1.5,
+            ..Skin::DEFAULT
+        },
+        Skin {
+            min_area: 1.0,
+            ..Skin::DEFAULT
+        },
+        Skin {
+            patch: 0.0,
+            ..Skin::DEFAULT
+        },
+        Skin {
+            slide: f32::NAN,
+            ..Skin::DEFAULT
+        },
+    ] {
+        let err = BoundRig::bind_with(&r, &mesh(), skin).unwrap_err();
+        assert!(matches!(err, BindError::Skin(_)), "{err}");
+    }
 }
 
 #[test]

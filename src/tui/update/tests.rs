@@ -396,10 +396,10 @@ fn expressions_need_a_valid_combination() {
     assert_eq!(app.doc.table.expressions["smile"], "12C");
     assert!(app.dirty());
     command(&mut app, "expr smile");
-    assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.5).abs() < 1e-6);
     command(&mut app, "zero");
     command(&mut app, "combo 12B");
-    assert!((muscle(&app, "R_Zygomatic_Major") - 0.4).abs() < 1e-6);
+    assert!((muscle(&app, "R_Zygomatic_Major") - 0.3).abs() < 1e-6);
     command(&mut app, "combo 12+");
     assert!(error(&app).starts_with("`12+`"), "{}", error(&app));
     // An AU an expression uses cannot be deleted.
@@ -408,7 +408,7 @@ fn expressions_need_a_valid_combination() {
     // Expressions are listed after the AUs; Enter loads, d deletes.
     run(&mut app, &[Action::SwitchFocus, Action::SelectLast]);
     update(&mut app, Action::Activate);
-    assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.5).abs() < 1e-6);
     update(&mut app, Action::DeleteSelected);
     assert!(app.doc.table.expressions.is_empty());
     update(&mut app, Action::StartExpression);

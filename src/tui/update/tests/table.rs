@@ -88,9 +88,9 @@ fn load_delete_rename_and_add() {
     assert!(error(&app).contains("intensity must be between 0 and 2"));
     command(&mut app, "zero");
     command(&mut app, "add 12C");
-    assert!((muscle(&app, "L_Zygomatic_Major") - 0.6).abs() < 1e-6);
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.5).abs() < 1e-6);
     command(&mut app, "add 12A 0.5");
-    assert!((muscle(&app, "L_Zygomatic_Major") - 0.7).abs() < 1e-6);
+    assert!((muscle(&app, "L_Zygomatic_Major") - 0.575).abs() < 1e-6);
     command(&mut app, "add 12Z");
     assert!(error(&app).starts_with("`12Z`"), "{}", error(&app));
     command(&mut app, "rename 12 Smile wide");

@@ -1,0 +1,697 @@
+//! Keeping the skin on the face: two rules applied after the muscles (they go beyond the
+//! paper; `docs/model.md` describes them).
+//!
+//! - **Slide.** Waters' linear muscle pulls a vertex straight toward a bone attachment deep
+//!   inside the head, so skin that travels far (a mouth corner at AU12, AU14, AU20) also
+//!   sinks behind the rest surface. Each moved vertex gets, at bind time, the shape of the
+//!   rest surface around it: its outward normal and a quadratic height field fitted to the
+//!   rest vertices within a patch radius. After the muscles, the part of the displacement
+//!   that ends below that surface (measured where the vertex has travelled to along the
+//!   surface) is mostly removed, so the skin slides along the face instead of into it.
+//!   Displacement out of the surface (a pout, a bulge) is kept.
+//! - **Area bound.** After the jaw, each triangle whose area projected on its rest normal
+//!   falls below a fraction of its rest area gets the scale of its displacements that would
+//!   keep that fraction, and each vertex's displacement is scaled by the mean of its
+//!   triangles' scales. One pass: it lifts the floor and removes many flips of extreme
+//!   poses, without promising the fraction. Only triangles that could shrink that far at
+//!   some activation in range are checked (found at bind time).
+//!
+//! Both rules are per-vertex or per-triangle functions of the positions before them, so a
+//! partial update (`update_muscle`, `update_jaw`) recomputes the same numbers in the same
+//! order as a full deformation and stays bit-identical to it.
+
+use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
+
+use glam::{DVec3, Vec3};
+
+use super::NO_ROW;
+use crate::model::mesh::Mesh;
+
+/// How displaced skin is kept on the face, beyond the paper's equations.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Skin {
+    /// Fraction of a vertex's sink below the rest surface that is removed: 0 keeps the
+    /// paper's displacement, 1 keeps the vertex on the fitted rest surface.
+    pub slide: f32,
+    /// Smallest fraction of its rest area (projected on its rest normal) a triangle keeps;
+    /// 0 bounds nothing.
+    pub min_area: f32,
+    /// Radius of the patch of rest surface fitted around each vertex, as a fraction of the
+    /// diagonal of the mesh's bounding box.
+    pub patch: f32,
+}
+
+impl Skin {
+    /// The paper's deformation: no slide, no area bound.
+    pub const PAPER: Skin = Skin {
+        slide: 0.0,
+        min_area: 0.0,
+        patch: 0.05,
+    };
+
+    /// What the editor, `grimace play` and `grimace render` bind with: 85 % of the sink removed, every triangle keeps at
+    /// least 20 % of its rest area, patches of 5 % of the face's diagonal (about 14 mm on
+    /// the default face).
+    pub const DEFAULT: Skin = Skin {
+        slide: 0.85,
+        min_area: 0.2,
+        patch: 0.05,
+    };
+
+    /// True when both rules are off.
+    pub fn is_paper(&self) -> bool {
+        self.slide == 0.0 && self.min_area == 0.0
+    }
+
+    /// Checks the values: slide and min_area in 0..1 (min_area below 1), patch above 0.
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.slide.is_finite() && (0.0..=1.0).contains(&self.slide)) {
+            return Err(format!("skin slide {} is outside 0.0 to 1.0", self.slide));
+        }
+        if !(self.min_area.is_finite() && (0.0..1.0).contains(&self.min_area)) {
+            return Err(format!(
+                "skin min_area {} is outside 0.0 to below 1.0",
+                self.min_area
+            ));
+        }
+        if !(self.patch.is_finite() && self.patch > 0.0 && self.patch <= 1.0) {
+            return Err(format!(
+                "skin patch {} must be above 0.0 and at most 1.0",
+                self.patch
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Default for Skin {
+    fn default() -> Skin {
+        Skin::DEFAULT
+    }
+}
+
+/// The rest surface around one vertex: an outward normal, two tangents and the quadratic
+/// height `d x + e y + a x^2 + b x y + c y^2` along the normal at tangent offset `(x, y)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Patch {
+    normal: Vec3,
+    u: Vec3,
+    v: Vec3,
+    d: f32,
+    e: f32,
+    a: f32,
+    b: f32,
+    c: f32,
+    radius: f32,
+}
+
+impl Patch {
+    /// The displacement `s` with `slide` of its sink below the patch removed.
+    #[inline(always)]
+    pub(super) fn slide(&self, s: Vec3, slide: f32) -> Vec3 {
+        let sn = s.dot(self.normal);
+        let x = s.dot(self.u);
+        let y = s.dot(self.v);
+        let r2 = x * x + y * y;
+        let mut h = self.a * x * x + self.b * x * y + self.c * y * y;
+        if r2 > self.radius * self.radius {
+            // beyond the fitted patch the height grows linearly from its value at the rim
+            h *= self.radius / r2.sqrt();
+        }
+        h += self.d * x + self.e * y;
+        // no steeper than 45 degrees from the tangent plane
+        let r = r2.sqrt();
+        let h = h.clamp(-r, r);
+        let depth = h - sn;
+        if depth > 0.0 {
+            s + self.normal * (depth * slide)
+        } else {
+            s
+        }
+    }
+}
+
+/// Vertex neighbours of a mesh (CSR).
+pub(super) struct Adjacency {
+    start: Vec<u32>,
+    list: Vec<u32>,
+}
+
+impl Adjacency {
+    pub(super) fn of(mesh: &Mesh) -> Adjacency {
+        let n = mesh.positions.len();
+        let edges = mesh.edges();
+        let mut count = vec![0u32; n + 1];
+        for [a, b] in &edges {
+            count[*a as usize + 1] += 1;
+            count[*b as usize + 1] += 1;
+        }
+        for i in 0..n {
+            count[i + 1] += count[i];
+        }
+        let mut fill = count.clone();
+        let mut list = vec![0u32; count[n] as usize];
+        for [a, b] in &edges {
+            list[fill[*a as usize] as usize] = *b;
+            fill[*a as usize] += 1;
+            list[fill[*b as usize] as usize] = *a;
+            fill[*b as usize] += 1;
+        }
+        Adjacency { start: count, list }
+    }
+
+    fn of_vertex(&self, v: usize) -> &[u32] {
+        &self.list[self.start[v] as usize..self.start[v + 1] as usize]
+    }
+}
+
+/// A distance ordered totally (never NaN here: rest positions are finite).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Ordered(f64);
+
+impl Eq for Ordered {}
+
+impl PartialOrd for Ordered {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Ordered {
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+/// Most rest vertices a patch fit visits (the nearest ones).
+const PATCH_VERTICES: usize = 128;
+
+/// The outward rest normals: area-weighted vertex normals, turned round when the mesh's
+/// triangles face into the head (their normals point toward the centroid on the whole).
+pub(super) fn outward_normals(mesh: &Mesh) -> Vec<Vec3> {
+    let rest = &mesh.positions;
+    let mut normals = mesh.vertex_normals(rest);
+    let centroid = rest.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / rest.len().max(1) as f64;
+    let mut outward = 0.0f64;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| rest[i as usize].as_dvec3());
+        outward += (b - a).cross(c - a).dot((a + b + c) / 3.0 - centroid);
+    }
+    if outward < 0.0 {
+        normals.iter_mut().for_each(|n| *n = -*n);
+    }
+    normals
+}
+
+/// Fits the rest surface around each vertex of `vertices` (a patch of `radius`): the
+/// normal is the mean of the outward normals in the patch (weighted toward the vertex), so
+/// neighbouring vertices agree on it; the height along it is fitted as
+/// `d x + e y + a x^2 + b x y + c y^2` through the vertex.
+pub(super) fn fit_patches(
+    mesh: &Mesh,
+    adjacency: &Adjacency,
+    normals: &[Vec3],
+    vertices: &[u32],
+    radius: f32,
+) -> Vec<Patch> {
+    let rest = &mesh.positions;
+    let mut seen = vec![u32::MAX; rest.len()];
+    let mut queue = BinaryHeap::new();
+    let mut near: Vec<(usize, f64)> = Vec::new();
+    let r = radius as f64;
+    vertices
+        .iter()
+        .enumerate()
+        .map(|(stamp, &v)| {
+            let v = v as usize;
+            let p = rest[v].as_dvec3();
+            near.clear();
+            queue.clear();
+            // nearest first (ties by vertex number), so that mirrored vertices of a
+            // symmetric mesh gather mirrored patches
+            queue.push(Reverse((Ordered(0.0), v)));
+            seen[v] = stamp as u32;
+            while let Some(Reverse((Ordered(d), q))) = queue.pop() {
+                near.push((q, d));
+                if near.len() >= PATCH_VERTICES {
+                    break;
+                }
+                for &w in adjacency.of_vertex(q) {
+                    let w = w as usize;
+                    let d = (rest[w].as_dvec3() - p).length();
+                    if seen[w] != stamp as u32 && d <= r {
+                        seen[w] = stamp as u32;
+                        queue.push(Reverse((Ordered(d), w)));
+                    }
+                }
+            }
+            // the fitted extent: the patch radius, or less where the nearest vertices end
+            let reach = near.last().map_or(0.0, |&(_, d)| d).min(r).max(r * 0.25);
+            let radius = reach as f32;
+            let weight = |d: f64| (1.0 - d / (reach * 1.01)).max(0.0);
+            let outward = near
+                .iter()
+                .map(|&(q, d)| normals[q].as_dvec3() * weight(d))
+                .sum::<DVec3>()
+                .normalize_or_zero();
+            let n = plane_normal(rest, &near, weight, outward);
+            let flat = Patch {
+                normal: n.as_vec3(),
+                u: Vec3::ZERO,
+                v: Vec3::ZERO,
+                d: 0.0,
+                e: 0.0,
+                a: 0.0,
+                b: 0.0,
+                c: 0.0,
+                radius,
+            };
+            if n == DVec3::ZERO {
+                return flat;
+            }
+            let u = n.any_orthonormal_vector();
+            let w = n.cross(u);
+            let mut m = [[0.0f64; 5]; 5];
+            let mut rhs = [0.0f64; 5];
+            for &(q, _) in &near[1..] {
+                let d = rest[q].as_dvec3() - p;
+                let (x, y, z) = (d.dot(u), d.dot(w), d.dot(n));
+                let row = [x, y, x * x, x * y, y * y];
+                for i in 0..5 {
+                    for j in 0..5 {
+                        m[i][j] += row[i] * row[j];
+                    }
+                    rhs[i] += row[i] * z;
+                }
+            }
+            let fit = solve(m, rhs).unwrap_or([0.0; 5]);
+            Patch {
+                u: u.as_vec3(),
+                v: w.as_vec3(),
+                d: fit[0] as f32,
+                e: fit[1] as f32,
+                a: fit[2] as f32,
+                b: fit[3] as f32,
+                c: fit[4] as f32,
+                ..flat
+            }
+        })
+        .collect()
+}
+
+/// The normal of the plane fitted to the patch's points (weighted principal axes, the
+/// smallest one), turned to agree with `outward`; `outward` itself when the points span no
+/// plane. It depends on the points only, not on how the mesh is triangulated, so mirrored
+/// vertices of a mirrored set of points get mirrored normals.
+fn plane_normal(
+    rest: &[Vec3],
+    near: &[(usize, f64)],
+    weight: impl Fn(f64) -> f64,
+    outward: DVec3,
+) -> DVec3 {
+    if outward == DVec3::ZERO || near.len() < 3 {
+        return outward;
+    }
+    let total: f64 = near.iter().map(|&(_, d)| weight(d)).sum();
+    if total <= 0.0 {
+        return outward;
+    }
+    let centre = near
+        .iter()
+        .map(|&(q, d)| rest[q].as_dvec3() * weight(d))
+        .sum::<DVec3>()
+        / total;
+    let mut c = glam::DMat3::ZERO;
+    for &(q, d) in near {
+        let r = rest[q].as_dvec3() - centre;
+        let w = weight(d);
+        c += glam::DMat3::from_cols(r * (r.x * w), r * (r.y * w), r * (r.z * w));
+    }
+    // power iteration on trace(C) I - C converges to C's smallest axis
+    let trace = c.x_axis.x + c.y_axis.y + c.z_axis.z;
+    let flipped = glam::DMat3::from_diagonal(DVec3::splat(trace)) - c;
+    let mut n = outward;
+    for _ in 0..64 {
+        n = (flipped * n).normalize_or_zero();
+        if n == DVec3::ZERO {
+            return outward;
+        }
+    }
+    if n.dot(outward) < 0.0 {
+        -n
+    } else {
+        n
+    }
+}
+
+/// Solves a small linear system by Gaussian elimination with partial pivoting; `None` when
+/// it is (nearly) singular.
+fn solve<const N: usize>(mut m: [[f64; N]; N], mut r: [f64; N]) -> Option<[f64; N]> {
+    let scale = m.iter().flatten().fold(0.0f64, |s, x| s.max(x.abs()));
+    if scale == 0.0 || !scale.is_finite() {
+        return None;
+    }
+    for col in 0..N {
+        let pivot = (col..N).max_by(|&a, &b| m[a][col].abs().total_cmp(&m[b][col].abs()))?;
+        if m[pivot][col].abs() <= 1e-12 * scale {
+            return None;
+        }
+        m.swap(col, pivot);
+        r.swap(col, pivot);
+        let (top, below) = m.split_at_mut(col + 1);
+        let pivot_row = &top[col];
+        for (offset, row) in below.iter_mut().enumerate() {
+            let f = row[col] / pivot_row[col];
+            for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                *x -= f * p;
+            }
+            r[col + 1 + offset] -= f * r[col];
+        }
+    }
+    let mut out = [0.0; N];
+    for row in (0..N).rev() {
+        let mut acc = r[row];
+        for k in row + 1..N {
+            acc -= m[row][k] * out[k];
+        }
+        out[row] = acc / m[row][row];
+    }
+    out.iter().all(|x| x.is_finite()).then_some(out)
+}
+
+/// The triangles that could shrink below the bound, and what a partial update touches.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub(super) struct Guard {
+    /// The checked triangles.
+    pub triangles: Vec<[u32; 3]>,
+    /// Each checked triangle's rest shape, prepared for [`Guard::triangle_scale`].
+    shapes: Vec<TriangleShape>,
+    /// The vertices of the checked triangles, sorted.
+    pub vertices: Vec<u32>,
+    /// Per mesh vertex: its index in `vertices`, or [`NO_ROW`].
+    index: Vec<u32>,
+    /// CSR from a guarded vertex to its checked triangles.
+    tri_start: Vec<u32>,
+    tri_list: Vec<u32>,
+    /// Per muscle, then the jaw: the guarded vertices whose scale may change.
+    pub settle: Vec<Vec<u32>>,
+    /// Per muscle, then the jaw: the vertices whose positions those scales read.
+    pub recompute: Vec<Vec<u32>>,
+    /// Per muscle, then the jaw: the checked triangles of the `settle` vertices.
+    pub rescale: Vec<Vec<u32>>,
+}
+
+impl Guard {
+    /// Finds the triangles that can shrink below `min_area` of their rest area when each
+    /// vertex moves at most `reach[v]`; `moved[k]` lists what muscle `k` (the last entry:
+    /// the jaw) moves.
+    pub(super) fn new(mesh: &Mesh, min_area: f32, reach: &[f32], moved: &[&[u32]]) -> Guard {
+        let rest = &mesh.positions;
+        let mut guard = Guard::default();
+        if min_area <= 0.0 {
+            return guard;
+        }
+        for t in &mesh.triangles {
+            let [p0, p1, p2] = t.map(|i| rest[i as usize].as_dvec3());
+            let [b0, b1, b2] = t.map(|i| reach[i as usize] as f64);
+            let (e1, e2) = (p1 - p0, p2 - p0);
+            let n = e1.cross(e2);
+            let a0 = n.length();
+            if a0 == 0.0 || !a0.is_finite() {
+                continue;
+            }
+            let (d1, d2) = (b1 + b0, b2 + b0);
+            let worst = a0 - e1.length() * d2 - d1 * e2.length() - d1 * d2;
+            if worst >= min_area as f64 * a0 {
+                continue;
+            }
+            guard.triangles.push(*t);
+            let unit = n / a0;
+            guard.shapes.push(TriangleShape {
+                across_e1: unit.cross(e1).as_vec3(),
+                across_e2: e2.cross(unit).as_vec3(),
+                normal: unit.as_vec3(),
+                a0: a0 as f32,
+                floor: (min_area as f64 * a0) as f32,
+            });
+        }
+        let n = rest.len();
+        let mut count = vec![0u32; n];
+        for t in &guard.triangles {
+            for &v in t {
+                count[v as usize] += 1;
+            }
+        }
+        guard.index = vec![NO_ROW; n];
+        guard.tri_start.push(0);
+        for (v, &c) in count.iter().enumerate() {
+            if c > 0 {
+                guard.index[v] = guard.vertices.len() as u32;
+                guard.vertices.push(v as u32);
+                let last = *guard.tri_start.last().unwrap_or(&0);
+                guard.tri_start.push(last + c);
+            }
+        }
+        let mut fill: Vec<u32> = guard.tri_start[..guard.vertices.len()].to_vec();
+        guard.tri_list = vec![0; *guard.tri_start.last().unwrap_or(&0) as usize];
+        for (k, t) in guard.triangles.iter().enumerate() {
+            for &v in t {
+                let g = guard.index[v as usize] as usize;
+                guard.tri_list[fill[g] as usize] = k as u32;
+                fill[g] += 1;
+            }
+        }
+        let mut stamp = vec![u32::MAX; n];
+        let mut tri_stamp = vec![u32::MAX; guard.triangles.len()];
+        for (k, vertices) in moved.iter().enumerate() {
+            let k32 = k as u32;
+            // checked triangles with a moved vertex; their vertices' scales may change
+            let mut settle = Vec::new();
+            for &v in vertices.iter() {
+                let g = guard.index[v as usize];
+                if g == NO_ROW {
+                    continue;
+                }
+                for &t in guard.triangles_of(g as usize) {
+                    if tri_stamp[t as usize] == k32 {
+                        continue;
+                    }
+                    tri_stamp[t as usize] = k32;
+                    for &w in &guard.triangles[t as usize] {
+                        if stamp[w as usize] != k32 {
+                            stamp[w as usize] = k32;
+                            settle.push(w);
+                        }
+                    }
+                }
+            }
+            settle.sort_unstable();
+            // every vertex of every checked triangle of those vertices
+            let mut recompute = Vec::new();
+            let mut rescale = Vec::new();
+            let second = k32 + moved.len() as u32;
+            let third = second + moved.len() as u32;
+            for &v in &settle {
+                let g = guard.index[v as usize] as usize;
+                for &t in guard.triangles_of(g) {
+                    if tri_stamp[t as usize] != third {
+                        tri_stamp[t as usize] = third;
+                        rescale.push(t);
+                    }
+                    for &w in &guard.triangles[t as usize] {
+                        if stamp[w as usize] != second {
+                            stamp[w as usize] = second;
+                            recompute.push(w);
+                        }
+                    }
+                }
+            }
+            recompute.sort_unstable();
+            rescale.sort_unstable();
+            guard.settle.push(settle);
+            guard.recompute.push(recompute);
+            guard.rescale.push(rescale);
+        }
+        guard
+    }
+
+    /// True when no triangle needs checking.
+    pub(super) fn is_empty(&self) -> bool {
+        self.triangles.is_empty()
+    }
+
+    /// The index of mesh vertex `v` among the guarded vertices, or [`NO_ROW`].
+    #[inline]
+    pub(super) fn index_of(&self, v: usize) -> u32 {
+        self.index.get(v).copied().unwrap_or(NO_ROW)
+    }
+
+    fn triangles_of(&self, g: usize) -> &[u32] {
+        &self.tri_list[self.tri_start[g] as usize..self.tri_start[g + 1] as usize]
+    }
+
+    /// The scale of each checked triangle `t` (`scales[t]`, for the triangles listed, or all
+    /// of them) from the positions `at` before the bound: the largest scale in 0..1 of its
+    /// vertices' displacements that keeps it at its floor.
+    #[inline]
+    pub(super) fn triangle_scales(
+        &self,
+        which: Option<&[u32]>,
+        rest: &[Vec3],
+        at: &[Vec3],
+        scales: &mut [f32],
+    ) {
+        let one = |t: usize| {
+            let [i0, i1, i2] = self.triangles[t].map(|i| i as usize);
+            let p0 = at[i0] - rest[i0];
+            let d1 = at[i1] - rest[i1] - p0;
+            let d2 = at[i2] - rest[i2] - p0;
+            self.shapes[t].scale(d1, d2)
+        };
+        match which {
+            Some(list) => {
+                for &t in list {
+                    scales[t as usize] = one(t as usize);
+                }
+            }
+            None => {
+                for (t, s) in scales[..self.triangles.len()].iter_mut().enumerate() {
+                    *s = one(t);
+                }
+            }
+        }
+    }
+
+    /// The scale of guarded vertex `g`'s displacement: the mean of its checked triangles'
+    /// scales. (The smallest instead of the mean scales neighbouring vertices so differently
+    /// that other triangles collapse.)
+    #[inline]
+    pub(super) fn vertex_scale(&self, g: usize, triangle_scales: &[f32]) -> f32 {
+        let tris = self.triangles_of(g);
+        let mut sum = 0.0f32;
+        for &t in tris {
+            sum += triangle_scales[t as usize];
+        }
+        sum / tris.len() as f32
+    }
+}
+
+/// A checked triangle's rest shape: with `e1`, `e2` its rest edges from its first vertex and
+/// `n` its unit normal, twice its projected area after displacements differing by `d1`,
+/// `d2` from the first vertex's is `a0 + d2 . (n x e1) + d1 . (e2 x n) + n . (d1 x d2)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct TriangleShape {
+    across_e1: Vec3,
+    across_e2: Vec3,
+    normal: Vec3,
+    a0: f32,
+    floor: f32,
+}
+
+impl TriangleShape {
+    /// The largest `k` in 0..1 such that the displacements scaled by `k` keep twice the
+    /// projected area at the floor or above (1 when the unscaled ones already do).
+    #[inline]
+    fn scale(&self, d1: Vec3, d2: Vec3) -> f32 {
+        let a1 = d2.dot(self.across_e1) + d1.dot(self.across_e2);
+        let a2 = self.normal.dot(d1.cross(d2));
+        if self.a0 + a1 + a2 >= self.floor {
+            return 1.0;
+        }
+        smaller_root(a2, a1, self.a0 - self.floor)
+    }
+}
+
+/// The root in 0..1 of `a k^2 + b k + c` (positive at 0, negative at 1); 0 when there is
+/// none (only by rounding).
+fn smaller_root(a: f32, b: f32, c: f32) -> f32 {
+    let (a, b, c) = (a as f64, b as f64, c as f64);
+    let root = if a.abs() <= 1e-12 * (b.abs() + c.abs()) {
+        -c / b
+    } else {
+        let disc = (b * b - 4.0 * a * c).max(0.0).sqrt();
+        // the numerically stable pair of roots
+        let q = -0.5 * (b + b.signum() * disc);
+        let (r1, r2) = (q / a, c / q);
+        let inside = |r: f64| r.is_finite() && (0.0..=1.0).contains(&r);
+        match (inside(r1), inside(r2)) {
+            (true, true) => r1.min(r2),
+            (true, false) => r1,
+            (false, true) => r2,
+            (false, false) => 0.0,
+        }
+    };
+    if root.is_finite() {
+        root.clamp(0.0, 1.0) as f32
+    } else {
+        0.0
+    }
+}
+
+/// The largest `k` in 0..1 such that the triangle `rest + k (moved - rest)` keeps twice its
+/// area projected on `normal` at `floor` or above (1 when the moved triangle already does).
+#[cfg(test)]
+fn keep_area(rest: [Vec3; 3], moved: [Vec3; 3], normal: Vec3, floor: f32) -> f32 {
+    let (e1, e2) = (rest[1] - rest[0], rest[2] - rest[0]);
+    let shape = TriangleShape {
+        across_e1: normal.cross(e1),
+        across_e2: e2.cross(normal),
+        normal,
+        a0: normal.dot(e1.cross(e2)),
+        floor,
+    };
+    let p0 = moved[0] - rest[0];
+    shape.scale(moved[1] - rest[1] - p0, moved[2] - rest[2] - p0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keep_area_finds_the_scale_of_the_floor() {
+        let rest = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        // vertex 1 pulled onto vertex 0: the area goes linearly from 1 to 0
+        let moved = [Vec3::ZERO, Vec3::ZERO, Vec3::Y];
+        let k = keep_area(rest, moved, Vec3::Z, 0.3);
+        assert!((k - 0.7).abs() < 1e-6, "{k}");
+        // a triangle that keeps its area keeps its whole displacement
+        let shifted = rest.map(|p| p + Vec3::new(0.4, 0.2, 0.0));
+        assert_eq!(keep_area(rest, shifted, Vec3::Z, 0.3), 1.0);
+        // turned over: the floor is met before it flips
+        let flipped = [Vec3::ZERO, -Vec3::X, Vec3::Y];
+        let k = keep_area(rest, flipped, Vec3::Z, 0.3);
+        assert!((k - 0.35).abs() < 1e-6, "{k}");
+    }
+
+    #[test]
+    fn slide_lifts_a_sinking_displacement_toward_the_patch() {
+        // a flat patch: a displacement straight into it loses `slide` of its depth,
+        // one out of it is kept
+        let patch = Patch {
+            normal: Vec3::Z,
+            u: Vec3::X,
+            v: Vec3::Y,
+            a: 0.0,
+            b: 0.0,
+            c: 0.0,
+            d: 0.0,
+            e: 0.0,
+            radius: 1.0,
+        };
+        let s = patch.slide(Vec3::new(0.5, 0.0, -0.4), 0.75);
+        assert!((s - Vec3::new(0.5, 0.0, -0.1)).length() < 1e-6, "{s}");
+        assert_eq!(patch.slide(Vec3::new(0.5, 0.0, 0.4), 0.75).z, 0.4);
+        // a dome curving away (height -x^2): sliding 0.5 along x may end 0.25 lower
+        let dome = Patch {
+            a: -1.0,
+            c: -1.0,
+            ..patch
+        };
+        let s = dome.slide(Vec3::new(0.5, 0.0, -0.25), 1.0);
+        assert_eq!(s.z, -0.25);
+        let s = dome.slide(Vec3::new(0.5, 0.0, -1.25), 1.0);
+        assert!((s.z + 0.25).abs() < 1e-6, "{s}");
+    }
+}
