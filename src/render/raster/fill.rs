@@ -186,6 +186,29 @@ impl Look<'_> {
         shade: &[f32],
         (on, color, layer): (&mut [bool], &mut [Rgb], &mut [Layer]),
     ) {
+        #[cfg(target_arch = "x86_64")]
+        if self.heat.is_none() {
+            let end = y1.saturating_sub(1) * w + x1;
+            if y0 < y1
+                && x0 < x1
+                && [depth.len(), shade.len(), on.len()]
+                    .iter()
+                    .all(|&n| n >= end)
+                && color.len() >= end
+                && layer.len() >= end
+            {
+                sse::light_rows(
+                    (x0, y0, x1, y1),
+                    w,
+                    self.base,
+                    self.dither,
+                    depth,
+                    shade,
+                    (on, color, layer),
+                );
+            }
+            return;
+        }
         for y in y0..y1 {
             let thresholds = BAYER[y & 3].map(|b| b as f32 + 0.5);
             let (from, to) = (y * w + x0, y * w + x1);
@@ -378,6 +401,14 @@ pub(super) fn shade_triangle_in<const N: usize>(
     const STEP: [f32; LANES] = [0.5, 1.5, 2.5, 3.5];
     let width = x1 - x0;
     let padded = width.next_multiple_of(LANES);
+    // Every row's steps fit in the buffers when the last row's do.
+    let last_end = (y1 - 1) * w + x0 + padded;
+    #[cfg(target_arch = "x86_64")]
+    if last_end <= depth.len() && out.iter().all(|o| o.len() >= last_end) {
+        sse::shade_rows([x0, x1, y0, y1], w, wa, wb, z, planes, depth, out);
+        return;
+    }
+    let _ = last_end;
     for y in y0..y1 {
         let py = y as f32 + 0.5;
         let from = y * w + x0;
@@ -458,4 +489,169 @@ fn plane(wa: (f32, f32, f32), wb: (f32, f32, f32), v: [f32; 3]) -> (f32, f32, f3
 #[inline(always)]
 pub(super) fn plane_at((kx, ky, k0): (f32, f32, f32), x: f32, y: f32) -> f32 {
     kx * x + ky * y + k0
+}
+
+/// The four-dots-at-a-time steps of [`shade_triangle_in`] in SSE2 (always present on
+/// x86-64): the same arithmetic in the same order, so the same bits, with the choice of
+/// each dot's value made by masks, never by a branch or a per-dot store.
+#[cfg(target_arch = "x86_64")]
+mod sse {
+    use std::arch::x86_64::*;
+
+    use super::BAYER;
+    use crate::render::canvas::{Layer, Rgb};
+
+    /// A plane `(kx, ky, k0)`.
+    type Plane = (f32, f32, f32);
+
+    /// Lights the dots of the rectangle `(x0, y0, x1, y1)` without displacement colours,
+    /// four at a time and without a branch per dot: a dot is on where the surface covers
+    /// it (finite depth) and, dithered, its shade beats the threshold; its colour is
+    /// `base` scaled as `scale` does (written for every dot: colour and layer are read
+    /// only where a dot is on).
+    ///
+    /// The caller checks that the rectangle lies inside every buffer.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn light_rows(
+        (x0, y0, x1, y1): (usize, usize, usize, usize),
+        w: usize,
+        base: Rgb,
+        dither: bool,
+        depth: &[f32],
+        shade: &[f32],
+        (on, color, layer): (&mut [bool], &mut [Rgb], &mut [Layer]),
+    ) {
+        let end = (y1 - 1) * w + x1;
+        assert!(depth.len() >= end && shade.len() >= end && on.len() >= end);
+        assert!(color.len() >= end && layer.len() >= end);
+        // SAFETY: SSE and SSE2 are part of x86-64; the loads read `depth` and `shade` at
+        // `i..i + 4` with `i + 4 <= y * w + x1 <= end`.
+        unsafe {
+            let (zero, one) = (_mm_setzero_ps(), _mm_set1_ps(1.0));
+            let empty = _mm_set1_ps(f32::NEG_INFINITY);
+            let channels = [base.0, base.1, base.2].map(|c| _mm_set1_ps(c as f32));
+            let half = _mm_set1_ps(0.5);
+            let sixteen = _mm_set1_ps(16.0);
+            let (dim, bright) = (_mm_set1_ps(0.35), _mm_set1_ps(0.65));
+            for y in y0..y1 {
+                let row = BAYER[y & 3].map(|b| b as f32 + 0.5);
+                let t = |l: usize| row[(x0 + l) & 3];
+                let thresholds = _mm_setr_ps(t(0), t(1), t(2), t(3));
+                let from = y * w + x0;
+                let to = y * w + x1;
+                let mut i = from;
+                while i + 4 <= to {
+                    let s = _mm_loadu_ps(shade.as_ptr().add(i));
+                    let covered = _mm_cmpneq_ps(_mm_loadu_ps(depth.as_ptr().add(i)), empty);
+                    let lit = if dither {
+                        _mm_and_ps(covered, _mm_cmpgt_ps(_mm_mul_ps(s, sixteen), thresholds))
+                    } else {
+                        covered
+                    };
+                    let k = if dither {
+                        _mm_add_ps(dim, _mm_mul_ps(bright, s))
+                    } else {
+                        s
+                    };
+                    // `k.clamp(0.0, 1.0)`, with NaN as 0.0 (the same channel values).
+                    let k = _mm_max_ps(_mm_min_ps(one, k), zero);
+                    let [r, g, b] =
+                        channels.map(|c| _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(c, k), half)));
+                    let [r, g, b]: [[i32; 4]; 3] = [r, g, b].map(|v| std::mem::transmute(v));
+                    let mask = _mm_movemask_ps(lit);
+                    for l in 0..4 {
+                        let is_on = mask >> l & 1 != 0;
+                        on[i + l] = is_on;
+                        layer[i + l] = if is_on { Layer::Mesh } else { Layer::Empty };
+                        color[i + l] = Rgb(r[l] as u8, g[l] as u8, b[l] as u8);
+                    }
+                    i += 4;
+                }
+                for x in (i - from + x0)..x1 {
+                    let i = y * w + x;
+                    let s = shade[i];
+                    let lit = depth[i] != f32::NEG_INFINITY && (!dither || s * 16.0 > row[x & 3]);
+                    on[i] = lit;
+                    layer[i] = if lit { Layer::Mesh } else { Layer::Empty };
+                    color[i] = super::scale(base, if dither { 0.35 + 0.65 * s } else { s });
+                }
+            }
+        }
+    }
+
+    /// Steps over the rows `y0..y1` of the box `[x0, x1, y0, y1]` four dots at a time,
+    /// writing depth and the `N` attributes where a dot is inside and nearer.
+    ///
+    /// The caller checks that every step, including the padding past `x1` of the last
+    /// row, lies inside `depth` and every `out` buffer.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(super) fn shade_rows<const N: usize>(
+        [x0, x1, y0, y1]: [usize; 4],
+        w: usize,
+        wa: Plane,
+        wb: Plane,
+        z: Plane,
+        planes: [Plane; N],
+        depth: &mut [f32],
+        out: [&mut [f32]; N],
+    ) {
+        let padded = (x1 - x0).next_multiple_of(4);
+        assert!((y1 - 1) * w + x0 + padded <= depth.len());
+        for o in &out {
+            assert!((y1 - 1) * w + x0 + padded <= o.len());
+        }
+        // SAFETY: SSE and SSE2 are part of x86-64; every load and store stays inside the
+        // buffers (the asserts above).
+        unsafe {
+            let out_ptr = out.map(|o| o.as_mut_ptr());
+            let depth_ptr = depth.as_mut_ptr();
+            let step = _mm_setr_ps(0.5, 1.5, 2.5, 3.5);
+            let eps = _mm_set1_ps(-1e-5);
+            let one = _mm_set1_ps(1.0);
+            // Dot centres past the box's last column are masked off (exact: below 2^24).
+            let x_end = _mm_set1_ps(x1 as f32);
+            let splat = |(kx, _, k0): Plane| (_mm_set1_ps(kx), _mm_set1_ps(k0));
+            let (ka, kb, kz) = (splat(wa), splat(wb), splat(z));
+            let kv = planes.map(splat);
+            for y in y0..y1 {
+                let py = y as f32 + 0.5;
+                // `(kx * x + ky * y) + k0`, with `ky * y` computed once per row.
+                let row = |p: Plane| _mm_set1_ps(p.1 * py);
+                let (ya, yb, yz) = (row(wa), row(wb), row(z));
+                let yv = planes.map(row);
+                let at = |(kx, k0): (__m128, __m128), ky: __m128, xs: __m128| {
+                    _mm_add_ps(_mm_add_ps(_mm_mul_ps(kx, xs), ky), k0)
+                };
+                let from = y * w + x0;
+                let mut x = x0;
+                let mut i = from;
+                while i < from + padded {
+                    let xs = _mm_add_ps(_mm_set1_ps(x as f32), step);
+                    let la = at(ka, ya, xs);
+                    let lb = at(kb, yb, xs);
+                    let lz = at(kz, yz, xs);
+                    let lc = _mm_sub_ps(_mm_sub_ps(one, la), lb);
+                    let inside = _mm_and_ps(
+                        _mm_and_ps(_mm_cmpge_ps(la, eps), _mm_cmpge_ps(lb, eps)),
+                        _mm_and_ps(_mm_cmpge_ps(lc, eps), _mm_cmplt_ps(xs, x_end)),
+                    );
+                    // `i + 4 <= from + padded <= (y1 - 1) * w + x0 + padded`, which the
+                    // asserts above keep inside `depth` and every `out` buffer.
+                    let d = _mm_loadu_ps(depth_ptr.add(i));
+                    let nearer = _mm_and_ps(inside, _mm_cmpgt_ps(lz, d));
+                    let keep = |new: __m128, old: __m128| {
+                        _mm_or_ps(_mm_and_ps(nearer, new), _mm_andnot_ps(nearer, old))
+                    };
+                    _mm_storeu_ps(depth_ptr.add(i), keep(lz, d));
+                    for j in 0..N {
+                        let o = out_ptr[j].add(i);
+                        _mm_storeu_ps(o, keep(at(kv[j], yv[j], xs), _mm_loadu_ps(o)));
+                    }
+                    i += 4;
+                    x += 4;
+                }
+            }
+        }
+    }
 }

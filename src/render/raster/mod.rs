@@ -35,6 +35,10 @@ use lines::LineDot;
 pub(crate) use project::finite_bounds as finite_bounds_of;
 use project::{classify, detect_orientation, project_all};
 
+/// What a camera fit depends on besides the rest pose: the camera's yaw, pitch, zoom and
+/// pan and the dot aspect (as bits), and the canvas size.
+type FitKey = ([u32; 6], usize, usize);
+
 /// No second triangle on this edge (a mesh border).
 const NONE: u32 = u32::MAX;
 
@@ -124,6 +128,10 @@ pub struct Renderer {
     /// there; read only where the depth buffer is finite.
     dot_shade: Vec<f32>,
     dot_heat: Vec<f32>,
+    /// The last camera fit: the camera and dot aspect (their bits), the canvas size, and
+    /// the projection it gave; and the rest pose it fitted (copied).
+    fit: Option<(FitKey, Projection)>,
+    fit_rest: Vec<Vec3>,
 }
 
 impl Renderer {
@@ -227,7 +235,7 @@ impl Renderer {
         if width == 0 || height == 0 {
             return None;
         }
-        let proj = camera.fit_points(scene.rest_positions(), width, height, dot_aspect);
+        let proj = self.fit(camera, scene.rest_positions(), width, height, dot_aspect);
         let sign = self.sign(scene.orientation);
         self.light_mesh = proj.view.transpose() * LIGHT.normalize();
         self.viewer_mesh = proj.view.transpose() * Vec3::Z;
@@ -241,6 +249,48 @@ impl Renderer {
         // Face normals follow the pose and the facing of this frame.
         self.face_normals_ready = false;
         Some(proj)
+    }
+
+    /// `camera.fit_points(rest, ...)`, reused from the last frame when the camera, the
+    /// canvas and the rest pose (bit for bit) are the same: the editor redraws the same
+    /// view of the same rest pose for every edit.
+    fn fit(
+        &mut self,
+        camera: &Camera,
+        rest: &[Vec3],
+        width: usize,
+        height: usize,
+        dot_aspect: f32,
+    ) -> Projection {
+        // Every field, so that a new one cannot be forgotten here.
+        let Camera {
+            yaw,
+            pitch,
+            zoom,
+            pan,
+        } = *camera;
+        let key: FitKey = (
+            [yaw, pitch, zoom, pan.x, pan.y, dot_aspect].map(f32::to_bits),
+            width,
+            height,
+        );
+        let bits = |v: &Vec3| v.to_array().map(f32::to_bits);
+        if let Some((last, proj)) = self.fit {
+            if last == key
+                && rest.len() == self.fit_rest.len()
+                && rest
+                    .iter()
+                    .zip(&self.fit_rest)
+                    .all(|(p, q)| bits(p) == bits(q))
+            {
+                return proj;
+            }
+        }
+        let proj = camera.fit_points(rest, width, height, dot_aspect);
+        self.fit = Some((key, proj));
+        self.fit_rest.clear();
+        self.fit_rest.extend_from_slice(rest);
+        proj
     }
 
     fn sign(&self, orientation: Orientation) -> f32 {

@@ -376,3 +376,38 @@ fn the_shaded_fill_matches_drawing_dot_by_dot() {
     }
     assert!(compared > 100_000, "{compared} lit dots compared");
 }
+
+/// A renderer kept between frames (its camera fit reused while the camera, canvas and rest
+/// pose stay the same) draws every frame as a new renderer does, when any of them changes.
+#[test]
+fn a_kept_renderer_refits_when_camera_canvas_or_rest_pose_change() {
+    use crate::io::builtin;
+    use crate::render::{Camera, CellMode, Scene, Style};
+    let mesh = builtin::default_mesh();
+    let moved: Vec<Vec3> = mesh.positions.iter().map(|p| *p * 1.5 + Vec3::X).collect();
+    let mut kept = super::Renderer::new(&mesh);
+    let frames = [
+        (Camera::front(), &mesh.positions, 80, 24),
+        (Camera::front(), &mesh.positions, 80, 24),
+        (Camera::three_quarter(), &mesh.positions, 80, 24),
+        (Camera::three_quarter(), &moved, 80, 24),
+        (Camera::three_quarter(), &moved, 57, 31),
+        (Camera::front(), &mesh.positions, 80, 24),
+    ];
+    for (n, (camera, rest, cols, rows)) in frames.into_iter().enumerate() {
+        let scene = Scene::new(&mesh, &mesh.positions).with_rest(rest);
+        let mut a = CellMode::Braille.canvas(cols, rows);
+        let mut b = CellMode::Braille.canvas(cols, rows);
+        kept.render(&scene, &camera, Style::Shaded, &mut a);
+        super::Renderer::new(&mesh).render(&scene, &camera, Style::Shaded, &mut b);
+        let mut lit = 0;
+        for y in 0..a.height() {
+            for x in 0..a.width() {
+                assert_eq!(a.is_on(x, y), b.is_on(x, y), "frame {n}, dot {x},{y}");
+                assert_eq!(a.depth(x, y).to_bits(), b.depth(x, y).to_bits());
+                lit += a.is_on(x, y) as usize;
+            }
+        }
+        assert!(lit > 500, "frame {n}: {lit} dots lit");
+    }
+}
