@@ -5,7 +5,6 @@
 //! ([`super::recovery::recovery_path`]). It is written atomically and removed once the
 //! landmarks are saved.
 
-use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
@@ -102,43 +101,19 @@ pub fn path_for(landmarks: &Path) -> Option<PathBuf> {
 
 /// Writes the state atomically.
 pub fn write(path: &Path, state: &PickRecovery) -> io::Result<()> {
-    let text = ron::ser::to_string_pretty(state, ron::ser::PrettyConfig::new())
-        .map_err(|e| io::Error::other(e.to_string()))?;
-    super::atomic::write_atomic_no_backup(path, text.as_bytes())
+    super::recovery::write_ron(path, state)
 }
 
 /// Reads a recovery file: `Ok(None)` when there is none, a message naming the file (and the
 /// line and column) when it cannot be read.
 pub fn read(path: &Path) -> Result<Option<PickRecovery>, String> {
-    let meta = match fs::metadata(path) {
-        Ok(meta) => meta,
-        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(format!("{}: {e}", path.display())),
-    };
-    if meta.len() > MAX_BYTES {
-        return Err(format!(
-            "{}: too large to be a recovery file",
-            path.display()
-        ));
-    }
-    let text = fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let state: PickRecovery = ron::from_str(&text).map_err(|e| {
-        format!(
-            "{}:{}:{}: {}",
-            path.display(),
-            e.span.start.line,
-            e.span.start.col,
-            e.code
-        )
-    })?;
-    if state.version != PICK_RECOVERY_VERSION {
-        return Err(format!(
-            "{}: picker recovery file version {} is not {PICK_RECOVERY_VERSION}",
-            path.display(),
-            state.version
-        ));
-    }
-    Ok(Some(state))
+    super::recovery::read_ron(
+        path,
+        MAX_BYTES,
+        "picker recovery file",
+        PICK_RECOVERY_VERSION,
+        |s: &PickRecovery| s.version,
+    )
 }
 
 /// Removes a recovery file (no error when it is already gone).
@@ -149,6 +124,7 @@ pub fn remove(path: &Path) -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::fs;
 
     #[test]
     fn picks_round_trip_and_are_checked_against_the_mesh() {

@@ -13,6 +13,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::facs::AuTable;
@@ -137,6 +138,24 @@ fn state_dir() -> Option<PathBuf> {
 
 /// Writes the state atomically, creating the folder if needed.
 pub fn write(path: &Path, state: &RecoveryState) -> io::Result<()> {
+    write_ron(path, state)
+}
+
+/// Reads a recovery file: `Ok(None)` when there is none, an error message naming the file
+/// when it cannot be read.
+pub fn read(path: &Path) -> Result<Option<RecoveryState>, String> {
+    read_ron(
+        path,
+        MAX_RECOVERY_BYTES,
+        "recovery file",
+        RECOVERY_VERSION,
+        |s: &RecoveryState| s.version,
+    )
+}
+
+/// Writes any recovery state as RON, atomically and without a backup, creating the folder
+/// if needed. Shared by the editor's and the picker's recovery files.
+pub(crate) fn write_ron<T: Serialize>(path: &Path, state: &T) -> io::Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         fs::create_dir_all(dir)?;
     }
@@ -145,22 +164,29 @@ pub fn write(path: &Path, state: &RecoveryState) -> io::Result<()> {
     super::atomic::write_atomic_no_backup(path, text.as_bytes())
 }
 
-/// Reads a recovery file: `Ok(None)` when there is none, an error message naming the file
-/// when it cannot be read.
-pub fn read(path: &Path) -> Result<Option<RecoveryState>, String> {
+/// Reads any recovery state written by [`write_ron`]: `Ok(None)` when there is no file; a
+/// message naming the file (with line and column for bad RON) when it is too large, does
+/// not parse, or is not of `version` (`what` names the kind of file in that message).
+pub(crate) fn read_ron<T: DeserializeOwned>(
+    path: &Path,
+    max_bytes: u64,
+    what: &str,
+    version: u32,
+    version_of: impl Fn(&T) -> u32,
+) -> Result<Option<T>, String> {
     let meta = match fs::metadata(path) {
         Ok(meta) => meta,
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
         Err(e) => return Err(format!("{}: {e}", path.display())),
     };
-    if meta.len() > MAX_RECOVERY_BYTES {
+    if meta.len() > max_bytes {
         return Err(format!(
             "{}: too large to be a recovery file",
             path.display()
         ));
     }
     let text = fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let state: RecoveryState = ron::from_str(&text).map_err(|e| {
+    let state: T = ron::from_str(&text).map_err(|e| {
         format!(
             "{}:{}:{}: {}",
             path.display(),
@@ -169,11 +195,11 @@ pub fn read(path: &Path) -> Result<Option<RecoveryState>, String> {
             e.code
         )
     })?;
-    if state.version != RECOVERY_VERSION {
+    let found = version_of(&state);
+    if found != version {
         return Err(format!(
-            "{}: recovery file version {} is not {RECOVERY_VERSION}",
-            path.display(),
-            state.version
+            "{}: {what} version {found} is not {version}",
+            path.display()
         ));
     }
     Ok(Some(state))
