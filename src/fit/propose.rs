@@ -5,10 +5,10 @@
 //! The classic face's landmarks ([`crate::face::classic::ibug_landmarks`]) and the landmark
 //! picker both propose this way; each snaps the carried points to vertices its own way.
 
-use glam::{DVec3, Vec3};
+use glam::{DMat3, DVec3, Vec3};
 
 use super::landmarks::COUNT;
-use super::warp::Warp;
+use super::warp::{outer, symmetric_eigen, Warp};
 
 /// The template's landmarks carried onto a target known at some of them: `template` holds
 /// the template's 68 landmark points, `known` pairs landmark numbers with their points on
@@ -55,22 +55,19 @@ impl MirrorPlane {
         }
         let points: Vec<DVec3> = midline.iter().map(|p| p.as_dvec3()).collect();
         let origin = points.iter().copied().sum::<DVec3>() / points.len() as f64;
-        let mut cov = [[0.0f64; 3]; 3];
-        for p in &points {
-            let d = (*p - origin).to_array();
-            for (r, row) in cov.iter_mut().enumerate() {
-                for (c, v) in row.iter_mut().enumerate() {
-                    *v += d[r] * d[c];
-                }
-            }
-        }
+        let cov = points.iter().fold(DMat3::ZERO, |cov, p| {
+            let d = *p - origin;
+            cov + outer(d, d)
+        });
         let (values, vectors) = symmetric_eigen(cov);
-        // Sorted ascending: the plane needs two clear directions of spread.
-        let spread = values[2].max(0.0);
-        if spread <= 0.0 || values[1] < 1e-6 * spread {
+        // Ascending: the plane needs two clear directions of spread; its normal is the third.
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&i, &j| values[i].total_cmp(&values[j]));
+        let spread = values[order[2]].max(0.0);
+        if spread <= 0.0 || values[order[1]] < 1e-6 * spread {
             return None;
         }
-        let mut normal = vectors[0].normalize_or_zero();
+        let mut normal = vectors.col(order[0]).normalize_or_zero();
         if normal == DVec3::ZERO {
             return None;
         }
@@ -93,52 +90,6 @@ impl MirrorPlane {
         let p = p.as_dvec3();
         (p - 2.0 * (p - self.origin).dot(self.normal) * self.normal).as_vec3()
     }
-}
-
-/// Eigenvalues (ascending) and eigenvectors of a symmetric 3x3 matrix (Jacobi rotations).
-fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([f64; 3], [DVec3; 3]) {
-    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    for _ in 0..64 {
-        let (mut p, mut q, mut largest) = (0, 1, 0.0f64);
-        for (r, c) in [(0, 1), (0, 2), (1, 2)] {
-            if a[r][c].abs() > largest {
-                (p, q, largest) = (r, c, a[r][c].abs());
-            }
-        }
-        let scale = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
-        if largest <= 1e-15 * scale.max(f64::MIN_POSITIVE) {
-            break;
-        }
-        let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-        let t = if theta == 0.0 {
-            1.0
-        } else {
-            theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt())
-        };
-        let c = 1.0 / (t * t + 1.0).sqrt();
-        let s = t * c;
-        for row in &mut a {
-            let (akp, akq) = (row[p], row[q]);
-            row[p] = c * akp - s * akq;
-            row[q] = s * akp + c * akq;
-        }
-        #[allow(clippy::needless_range_loop)]
-        for k in 0..3 {
-            let (apk, aqk) = (a[p][k], a[q][k]);
-            a[p][k] = c * apk - s * aqk;
-            a[q][k] = s * apk + c * aqk;
-        }
-        for row in &mut v {
-            let (vp, vq) = (row[p], row[q]);
-            row[p] = c * vp - s * vq;
-            row[q] = s * vp + c * vq;
-        }
-    }
-    let mut order = [0usize, 1, 2];
-    order.sort_by(|&i, &j| a[i][i].total_cmp(&a[j][j]));
-    let values = order.map(|i| a[i][i]);
-    let vectors = order.map(|i| DVec3::new(v[0][i], v[1][i], v[2][i]));
-    (values, vectors)
 }
 
 #[cfg(test)]
@@ -201,13 +152,5 @@ mod tests {
         let line = [Vec3::ZERO, Vec3::Y, Vec3::Y * 2.0];
         assert!(MirrorPlane::fit(&line, &left).is_none());
         assert!(MirrorPlane::fit(&midline, &[midline[0]]).is_none());
-    }
-
-    #[test]
-    fn eigen_vectors_of_a_diagonal_matrix_are_the_axes() {
-        let (values, vectors) =
-            symmetric_eigen([[3.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]);
-        assert_eq!(values, [1.0, 2.0, 3.0]);
-        assert_eq!(vectors[0].abs(), DVec3::Y);
     }
 }

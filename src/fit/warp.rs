@@ -64,7 +64,8 @@ impl Similarity {
     }
 }
 
-fn outer(a: DVec3, b: DVec3) -> DMat3 {
+/// The outer product `a b^T`.
+pub(crate) fn outer(a: DVec3, b: DVec3) -> DMat3 {
     DMat3::from_cols(a * b.x, a * b.y, a * b.z)
 }
 
@@ -101,7 +102,7 @@ fn svd3(m: DMat3) -> (DMat3, DVec3, DMat3) {
 
 /// Eigenvalues and eigenvectors (columns) of a symmetric 3x3 matrix (cyclic Jacobi).
 #[allow(clippy::needless_range_loop)]
-fn symmetric_eigen(m: DMat3) -> ([f64; 3], DMat3) {
+pub(crate) fn symmetric_eigen(m: DMat3) -> ([f64; 3], DMat3) {
     let mut a = m.to_cols_array_2d();
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     for _ in 0..64 {
@@ -323,6 +324,14 @@ mod tests {
                 )
             })
             .collect()
+    }
+
+    #[test]
+    fn eigen_vectors_of_a_diagonal_matrix_are_the_axes() {
+        let m = DMat3::from_diagonal(DVec3::new(3.0, 1.0, 2.0));
+        let (values, vectors) = symmetric_eigen(m);
+        assert_eq!(values, [3.0, 1.0, 2.0]);
+        assert_eq!(vectors.col(1).abs(), DVec3::Y);
     }
 
     #[test]
