@@ -110,3 +110,57 @@ pub fn lit_near(canvas: &grimace::render::DotCanvas, p: glam::Vec2, r: f32) -> b
         })
     })
 }
+
+/// Writes `text` to `$GRIMACE_RENDER_DUMP/NAME` when that folder is set, to look at renders.
+pub fn dump(name: &str, text: &str) {
+    if let Some(dir) = std::env::var_os("GRIMACE_RENDER_DUMP") {
+        std::fs::write(PathBuf::from(dir).join(name), text).unwrap();
+    }
+}
+
+/// Renders `mesh` at rest in every style, from the front, side and three-quarter views, at
+/// 80x24, 200x60 and 50x38 cells: each braille picture's ink must fill the face (see
+/// [`assert_ink_fills_the_face`]) and is handed to `check` with its projection, style,
+/// view name and a label for messages; each style's front view in ASCII must be ASCII.
+/// Pictures are dumped (see [`dump`]) as `PREFIX-STYLE-VIEW-COLSxROWS.txt`.
+pub fn render_every_view(
+    mesh: &grimace::model::Mesh,
+    prefix: &str,
+    mut check: impl FnMut(
+        &grimace::render::DotCanvas,
+        &grimace::render::Projection,
+        grimace::render::Style,
+        &str,
+        &str,
+    ),
+) {
+    use grimace::render::{render_text, Camera, CellMode, Renderer, Scene, Style};
+    let scene = Scene::new(mesh, &mesh.positions);
+    let mut renderer = Renderer::new(mesh);
+    for (cols, rows) in [(80, 24), (200, 60), (50, 38)] {
+        for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
+            for (view, camera) in [
+                ("front", Camera::front()),
+                ("side", Camera::side()),
+                ("three", Camera::three_quarter()),
+            ] {
+                let what = format!("{style} {view} {cols}x{rows}");
+                let text = render_text(&scene, &camera, style, CellMode::Braille, cols, rows);
+                dump(&format!("{prefix}-{style}-{view}-{cols}x{rows}.txt"), &text);
+                let mut canvas = CellMode::Braille.canvas(cols, rows);
+                renderer.render(&scene, &camera, style, &mut canvas);
+                let proj = camera.fit_points(
+                    &mesh.positions,
+                    canvas.width(),
+                    canvas.height(),
+                    canvas.dot_aspect,
+                );
+                assert_ink_fills_the_face(&canvas, &proj, &mesh.positions, 0.9, &what);
+                check(&canvas, &proj, style, view, &what);
+            }
+            let ascii = render_text(&scene, &Camera::front(), style, CellMode::Ascii, cols, rows);
+            dump(&format!("{prefix}-{style}-ascii-{cols}x{rows}.txt"), &ascii);
+            assert!(ascii.is_ascii());
+        }
+    }
+}

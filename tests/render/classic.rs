@@ -10,8 +10,7 @@ use glam::Vec3;
 use grimace::io::waters::from_classic;
 use grimace::model::Mesh;
 use grimace::render::{
-    render_text, Camera, CellGrid, CellMode, ColorMode, DotCanvas, Orientation, Renderer, Scene,
-    Style,
+    Camera, CellGrid, CellMode, ColorMode, DotCanvas, Orientation, Renderer, Scene, Style,
 };
 
 fn rows(path: PathBuf) -> Vec<Vec<f64>> {
@@ -40,12 +39,6 @@ fn classic_face() -> Option<Mesh> {
     Some(Mesh::new(positions, triangles).expect("classic mesh is valid"))
 }
 
-fn dump(name: &str, text: &str) {
-    if let Some(dir) = std::env::var_os("GRIMACE_RENDER_DUMP") {
-        std::fs::write(PathBuf::from(dir).join(name), text).unwrap();
-    }
-}
-
 #[test]
 fn classic_face_winding_is_detected_as_outward_once_converted() {
     // the classic triangles face into the head; the reflection of the import turns them out
@@ -59,51 +52,26 @@ fn classic_face_winding_is_detected_as_outward_once_converted() {
 #[test]
 fn classic_face_renders_in_every_style_and_size() {
     let Some(mesh) = classic_face() else { return };
-    let scene = Scene::new(&mesh, &mesh.positions);
-    let mut renderer = Renderer::new(&mesh);
-    for (cols, rows) in [(80, 24), (200, 60), (50, 38)] {
-        for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
-            for (view, camera) in [
-                ("front", Camera::front()),
-                ("side", Camera::side()),
-                ("three", Camera::three_quarter()),
-            ] {
-                let what = format!("{style} {view} {cols}x{rows}");
-                let text = render_text(&scene, &camera, style, CellMode::Braille, cols, rows);
-                dump(&format!("classic-{style}-{view}-{cols}x{rows}.txt"), &text);
-                let mut canvas = CellMode::Braille.canvas(cols, rows);
-                renderer.render(&scene, &camera, style, &mut canvas);
-                let proj = camera.fit_points(
-                    &mesh.positions,
-                    canvas.width(),
-                    canvas.height(),
-                    canvas.dot_aspect,
-                );
-                common::assert_ink_fills_the_face(&canvas, &proj, &mesh.positions, 0.9, &what);
-                // The eye openings are mesh borders, drawn by the line styles: from the
-                // front both, turned, the subject's left (x > 0), toward the viewer.
-                if style != Style::Shaded {
-                    let sides: &[f32] = if view == "front" {
-                        &[-1.0, 1.0]
-                    } else {
-                        &[1.0]
-                    };
-                    for &side in sides {
-                        for p in eye_border(&mesh, side) {
-                            let dot = proj.project(p).truncate();
-                            assert!(
-                                common::lit_near(&canvas, dot, 1.5),
-                                "{what}: the eye border at {p} (dot {dot}) is not drawn"
-                            );
-                        }
-                    }
+    common::render_every_view(&mesh, "classic", |canvas, proj, style, view, what| {
+        // The eye openings are mesh borders, drawn by the line styles: from the
+        // front both, turned, the subject's left (x > 0), toward the viewer.
+        if style != Style::Shaded {
+            let sides: &[f32] = if view == "front" {
+                &[-1.0, 1.0]
+            } else {
+                &[1.0]
+            };
+            for &side in sides {
+                for p in eye_border(&mesh, side) {
+                    let dot = proj.project(p).truncate();
+                    assert!(
+                        common::lit_near(canvas, dot, 1.5),
+                        "{what}: the eye border at {p} (dot {dot}) is not drawn"
+                    );
                 }
             }
-            let ascii = render_text(&scene, &Camera::front(), style, CellMode::Ascii, cols, rows);
-            dump(&format!("classic-{style}-ascii-{cols}x{rows}.txt"), &ascii);
-            assert!(ascii.is_ascii());
         }
-    }
+    });
 }
 
 /// Fraction of lit dots inside the bounding box of everything lit.
@@ -152,7 +120,7 @@ fn classic_face_eyes_are_open_holes_on_both_sides_of_the_midline() {
     );
     let mut grid = CellGrid::default();
     grid.fill(&canvas, CellMode::Braille, ColorMode::None);
-    dump("classic-eyes-check.txt", &grimace::render::to_text(&grid));
+    common::dump("classic-eyes-check.txt", &grimace::render::to_text(&grid));
     for side in [-1.0f32, 1.0] {
         let eye = eye_centre(&mesh, side);
         let p = proj.project(eye);

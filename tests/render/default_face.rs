@@ -3,20 +3,12 @@
 
 use crate::common;
 
-use std::path::PathBuf;
-
 use grimace::io::builtin;
 use grimace::model::{Activations, BoundRig};
 use grimace::render::{
     muscle_overlays, render_text, Camera, CellGrid, CellMode, ColorMode, DotCanvas, Orientation,
     Palette, Renderer, Scene, Style,
 };
-
-fn dump(name: &str, text: &str) {
-    if let Some(dir) = std::env::var_os("GRIMACE_RENDER_DUMP") {
-        std::fs::write(PathBuf::from(dir).join(name), text).unwrap();
-    }
-}
 
 #[test]
 fn default_face_winding_is_outward() {
@@ -30,34 +22,9 @@ fn default_face_winding_is_outward() {
 #[test]
 fn default_face_renders_in_every_style_view_and_size() {
     let mesh = builtin::default_mesh();
-    let scene = Scene::new(&mesh, &mesh.positions);
-    let mut renderer = Renderer::new(&mesh);
-    for (cols, rows) in [(80, 24), (200, 60), (50, 38)] {
-        for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
-            for (view, camera) in [
-                ("front", Camera::front()),
-                ("side", Camera::side()),
-                ("three", Camera::three_quarter()),
-            ] {
-                let what = format!("{style} {view} {cols}x{rows}");
-                let text = render_text(&scene, &camera, style, CellMode::Braille, cols, rows);
-                dump(&format!("face-{style}-{view}-{cols}x{rows}.txt"), &text);
-                let mut canvas = CellMode::Braille.canvas(cols, rows);
-                renderer.render(&scene, &camera, style, &mut canvas);
-                let proj = camera.fit_points(
-                    &mesh.positions,
-                    canvas.width(),
-                    canvas.height(),
-                    canvas.dot_aspect,
-                );
-                common::assert_ink_fills_the_face(&canvas, &proj, &mesh.positions, 0.9, &what);
-                features_are_drawn(&mesh, &canvas, &proj, style, view, &what);
-            }
-            let ascii = render_text(&scene, &Camera::front(), style, CellMode::Ascii, cols, rows);
-            dump(&format!("face-{style}-ascii-{cols}x{rows}.txt"), &ascii);
-            assert!(ascii.is_ascii());
-        }
-    }
+    common::render_every_view(&mesh, "face", |canvas, proj, style, view, what| {
+        features_are_drawn(&mesh, canvas, proj, style, view, what);
+    });
 }
 
 /// The face's features show where their vertices land. The eye and mouth corners lie on the
@@ -146,7 +113,7 @@ fn an_open_mouth_changes_the_picture_and_shows_as_colour() {
         80,
         24,
     );
-    dump("face-open-mouth-80x24.txt", &open);
+    common::dump("face-open-mouth-80x24.txt", &open);
     assert_ne!(rest, open);
     let mut canvas = CellMode::HalfBlock.canvas(80, 24);
     let mut renderer = Renderer::new(&mesh);
