@@ -9,9 +9,9 @@ use clap::Args;
 
 use crate::facs::{AuTable, TABLE_VERSION};
 use crate::io::lock::{self, LockOutcome};
-use crate::io::recovery;
 use crate::io::rig_file::load_rig_ref;
 use crate::io::table_file::rig_ref;
+use crate::io::{recovery, reference};
 use crate::model::{Mesh, Rig};
 use crate::tui::app::{App, ColorMode, FileStamp, Mode, Question, Recovered, View};
 use crate::tui::scene::Scene;
@@ -85,7 +85,13 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("builtin.au.ron"));
     let (table, stamp, new_file) = match (&args.file, &loaded) {
-        (_, Some(loaded)) => (loaded.table.clone(), Some(loaded.stamp), false),
+        (_, Some(loaded)) => {
+            // While the editor runs, references are absolute: a save under another name
+            // writes them relative to the new file (see `io::reference`).
+            let mut table = loaded.table.clone();
+            table.rig = reference::absolute(&table_path, &table.rig);
+            (table, Some(loaded.stamp), false)
+        }
         (Some(_), None) => (new_table(args.rig.as_deref()), None, true),
         (None, None) => (builtin_table()?, None, false),
     };
@@ -186,14 +192,13 @@ fn describe_age(written_at: u64) -> String {
     }
 }
 
-/// An empty table for `rig` (the built-in default rig when `None`). A rig file given on the
-/// command line is stored as an absolute path: the table may live in another folder, and
-/// table files resolve relative rig paths against their own folder.
+/// An empty table for `rig` (the built-in default rig when `None`). A rig file is kept as an
+/// absolute path while the editor runs and written relative to the table's folder.
 fn new_table(rig: Option<&Path>) -> AuTable {
     let rig = match rig {
         None => PathBuf::from("builtin:default"),
         Some(path) if crate::io::builtin::builtin_name(path).is_some() => path.to_path_buf(),
-        Some(path) => std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()),
+        Some(path) => reference::real_path(path),
     };
     AuTable {
         version: TABLE_VERSION,
@@ -243,7 +248,11 @@ fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<Face
         Some(rig) => rig.clone(),
         None => rig_ref(table_path, &table.rig).to_path(),
     };
-    let loaded = load_rig_ref(&reference, args.mesh.as_deref()).map_err(|e| e.to_string())?;
+    let mut loaded = load_rig_ref(&reference, args.mesh.as_deref()).map_err(|e| e.to_string())?;
     let file = (!reference.to_string_lossy().starts_with("builtin:")).then_some(reference);
+    if let Some(file) = &file {
+        // Absolute while the editor runs (see `new_table`).
+        loaded.rig.mesh = reference::absolute(file, &loaded.rig.mesh);
+    }
     Ok((loaded.rig, loaded.mesh, loaded.notice, file))
 }

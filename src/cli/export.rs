@@ -14,6 +14,7 @@ use crate::export::{morph_targets, target_states, TargetSet, TargetStates};
 use crate::facs::combo::Combo;
 use crate::facs::{AuKey, AuTable};
 use crate::io::arkit::ArkitMap;
+use crate::io::inputs::Inputs;
 use crate::io::rig_file::{self, LoadedRig};
 use crate::io::table_file;
 use crate::io::{gltf, obj};
@@ -172,6 +173,18 @@ pub fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
     })
 }
 
+impl Sources {
+    /// The files these sources were read from: what no output may replace.
+    pub fn inputs(&self) -> Inputs {
+        let mut inputs = Inputs::new();
+        inputs.add_rig(&self.rig);
+        if let Some(table) = &self.table_path {
+            inputs.add("the AU table", table);
+        }
+        inputs
+    }
+}
+
 /// The built-in table used when neither a rig nor a table is given.
 pub const DEFAULT_TABLE: &str = "builtin:default";
 
@@ -247,6 +260,7 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
         .out
         .as_ref()
         .ok_or_else(|| anyhow!("give --out FILE.obj or --gltf FILE.glb"))?;
+    sources.inputs().check_output(out)?;
     obj::save_obj(out, &sources.rig.mesh, &positions)?;
     Ok(())
 }
@@ -274,6 +288,7 @@ fn export_gltf(args: &ExportArgs, sources: &Sources, path: &std::path::Path) -> 
             silent.join(", ")
         );
     }
+    sources.inputs().check_output(path)?;
     let bound = bind(&sources.rig)?;
     let targets = morph_targets(&bound, &states)?;
     gltf::save_glb(path, &sources.rig.mesh, &targets, mm / 1000.0)?;

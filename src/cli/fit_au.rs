@@ -14,9 +14,10 @@ use clap::Args;
 
 use crate::facs::{AuKey, AuTable};
 use crate::fit::{fit_au, AuFit};
+use crate::io::inputs::Inputs;
 use crate::io::rig_file::{self, LoadedRig};
 use crate::io::shape_map::load_map;
-use crate::io::{builtin, obj, table_file, LoadError};
+use crate::io::{obj, table_file, LoadError};
 use crate::model::BoundRig;
 
 /// Arguments of `grimace fit-au`.
@@ -97,12 +98,29 @@ pub fn run(args: &FitAuArgs) -> anyhow::Result<()> {
     }
     match &args.table {
         Some(path) => {
+            fit_inputs(args, &loaded).check_output(path)?;
             table_file::save_table(path, &table)?;
             let _ = writeln!(report, "wrote {fitted} AU entries to {}", path.display());
         }
         None => report.push_str("(no --table given: nothing written)\n"),
     }
     super::print(&report)
+}
+
+/// The files `fit-au` reads besides the table it adds to: what the table may not replace.
+fn fit_inputs(args: &FitAuArgs, rig: &LoadedRig) -> Inputs {
+    let mut inputs = Inputs::new();
+    inputs.add_rig(rig);
+    if let Some(target) = &args.target {
+        inputs.add("the target shape", target);
+    }
+    if let Some(map) = &args.map {
+        inputs.add("the shape map", map);
+    }
+    if let Some(dir) = &args.dir {
+        inputs.add_folder_files("a target shape of --dir", dir);
+    }
+    inputs
 }
 
 /// The (target file, AU key) pairs to fit.
@@ -128,22 +146,10 @@ fn jobs(args: &FitAuArgs) -> anyhow::Result<Vec<(PathBuf, AuKey)>> {
     }
 }
 
-/// The rig as a new table names it: built in, or relative to the table's folder when the
-/// rig lies in it.
+/// The rig as a new table names it: built in, or relative to the table's real folder (see
+/// [`crate::io::reference`]).
 fn table_rig_reference(loaded: &LoadedRig, table: &Path) -> PathBuf {
-    if builtin::builtin_name(&loaded.path).is_some() {
-        return loaded.path.clone();
-    }
-    let rig = std::fs::canonicalize(&loaded.path).unwrap_or_else(|_| loaded.path.clone());
-    let folder = table
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| PathBuf::from("."));
-    let folder = std::fs::canonicalize(&folder).unwrap_or(folder);
-    rig.strip_prefix(&folder)
-        .map(Path::to_path_buf)
-        .unwrap_or(rig)
+    crate::io::reference::written_reference(table, &loaded.path)
 }
 
 /// The entry's muscles and jaw, largest first, as `NAME=VALUE`.

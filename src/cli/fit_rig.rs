@@ -15,9 +15,10 @@ use anyhow::{anyhow, Context};
 use clap::Args;
 
 use crate::fit::{self, Landmarks, Part, PartOverrides, Template};
+use crate::io::inputs::Inputs;
 use crate::io::landmarks::{check_against, load_landmarks, parse_landmarks};
 use crate::io::rig_file::{self, LoadedRig, MeshRef};
-use crate::io::{builtin, error::read_text, obj, LoadError, MAX_FILE_BYTES};
+use crate::io::{builtin, error::read_text, obj, reference, LoadError, MAX_FILE_BYTES};
 use crate::model::{BoundRig, Mesh};
 
 /// Arguments of `grimace fit-rig`.
@@ -87,8 +88,14 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
                 .as_ref()
                 .map_or_else(|| beside(&args.mesh), PathBuf::from);
             // The template and the output folder are checked before the picking starts.
-            rig_file::load_rig_ref(&args.template, None)?;
+            let template = rig_file::load_rig_ref(&args.template, None)?;
             mesh_reference(&args.mesh, &args.out)?;
+            let mut inputs = Inputs::new();
+            inputs.add("the mesh to rig", &args.mesh);
+            inputs.add_rig(&template);
+            inputs.check_output(&file)?;
+            inputs.add("the landmark file", &file);
+            inputs.check_output(&args.out)?;
             let saved = super::landmarks::pick_landmarks(&args.mesh, &file, args.cells.mode())?;
             if !saved {
                 return Err(anyhow!(
@@ -103,6 +110,14 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     let template = rig_file::load_rig_ref(&args.template, None)?;
     let template_points = template_landmarks(args, &template)?;
     let mesh_path = mesh_reference(&args.mesh, &args.out)?;
+    let mut inputs = Inputs::new();
+    inputs.add("the mesh to rig", &args.mesh);
+    inputs.add("the landmark file", &landmark_file);
+    inputs.add_rig(&template);
+    if let Some(path) = &args.template_landmarks {
+        inputs.add("the template's landmark file", path);
+    }
+    inputs.check_output(&args.out)?;
     let overrides = PartOverrides {
         skin: args.skin.clone(),
         rigid: args.rigid.clone(),
@@ -186,20 +201,16 @@ pub fn beside(mesh: &Path) -> PathBuf {
     mesh.with_file_name(format!("{stem}.landmarks.ron"))
 }
 
-/// The mesh as the new rig names it: relative to the rig file's folder when the mesh lies in
-/// it or below, else absolute.
+/// The mesh as the new rig names it: relative to the rig file's real folder (see
+/// [`crate::io::reference`]).
 fn mesh_reference(mesh: &Path, out: &Path) -> anyhow::Result<PathBuf> {
-    let mesh_abs = std::fs::canonicalize(mesh)
-        .with_context(|| format!("cannot resolve {}", mesh.display()))?;
-    let out_dir = match out.parent().filter(|p| !p.as_os_str().is_empty()) {
-        Some(dir) => std::fs::canonicalize(dir)
-            .with_context(|| format!("the folder of {} does not exist", out.display()))?,
-        None => std::env::current_dir().context("cannot read the current folder")?,
-    };
-    Ok(match mesh_abs.strip_prefix(&out_dir) {
-        Ok(relative) => relative.to_path_buf(),
-        Err(_) => mesh_abs,
-    })
+    std::fs::canonicalize(mesh).with_context(|| format!("cannot resolve {}", mesh.display()))?;
+    if let Some(dir) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        if !dir.is_dir() {
+            return Err(anyhow!("the folder of {} does not exist", out.display()));
+        }
+    }
+    Ok(reference::written_reference(out, mesh))
 }
 
 fn summary(args: &FitRigArgs, mesh: &Mesh, fitted: &fit::Fitted) -> String {

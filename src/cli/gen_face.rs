@@ -48,6 +48,6 @@ fn write(path: &Path, text: &str) -> anyhow::Result<()> {
             .with_context(|| format!("cannot create folder {}", parent.display()))?;
     }
     // Atomic: a full disk or a killed run leaves the previous file, never a truncated one.
-    crate::io::atomic::write_atomic_no_backup(path, text.as_bytes())
+    crate::io::atomic::write_atomic(path, text.as_bytes())
         .map_err(|e| crate::io::SaveError::io(path, &e).into())
 }

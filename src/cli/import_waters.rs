@@ -61,12 +61,17 @@ pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
     let marks = classic::ibug_landmarks(&imported.mesh, &template, &template_marks);
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the folder {}", args.out.display()))?;
+    let mut inputs = crate::io::inputs::Inputs::new();
+    inputs.add_folder_files("a file of the classic data", &args.dir);
     let mesh_path = args.out.join("mesh.obj");
+    for name in ["mesh.obj", "rig.ron", "mesh.landmarks.ron"] {
+        inputs.check_output(&args.out.join(name))?;
+    }
     let text = format!(
         "{ATTRIBUTION}{}",
         obj::write_obj(&imported.mesh, &imported.mesh.positions)
     );
-    atomic::write_atomic_no_backup(&mesh_path, text.as_bytes())
+    atomic::write_atomic(&mesh_path, text.as_bytes())
         .map_err(|e| crate::io::SaveError::io(&mesh_path, &e))?;
     let rig_path = args.out.join("rig.ron");
     rig_file::save_rig(&rig_path, &imported.rig)?;

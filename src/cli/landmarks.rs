@@ -72,6 +72,9 @@ pub fn prepare(
 ) -> anyhow::Result<(PickApp, PickSession)> {
     let mesh = obj::read_obj(mesh_path)?;
     check_mesh(&mesh, mesh_path)?;
+    let mut inputs = crate::io::inputs::Inputs::new();
+    inputs.add("the mesh being picked", mesh_path);
+    inputs.check_output(out)?;
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         if !dir.is_dir() {
             return Err(anyhow!(

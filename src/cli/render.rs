@@ -10,7 +10,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::export::{self, SourceArgs, Sources, StateArgs};
-use crate::io::atomic::{replace_unsynced, write_atomic_no_backup};
+use crate::io::atomic::{replace_unsynced, write_atomic};
 use crate::model::{Activations, BoundRig, Mesh, Skin};
 use crate::render::{
     muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, DisplacementLegend,
@@ -315,6 +315,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         Some(path) => {
             let format = format_of(path)?;
             let size = size(args, format)?;
+            sources.inputs().check_output(path)?;
             // Files never carry colour escapes.
             let bytes = picture(
                 &look,
@@ -325,7 +326,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 size,
                 ColorMode::None,
             )?;
-            write_atomic_no_backup(path, &bytes).map_err(|e| crate::io::SaveError::io(path, &e))?;
+            write_atomic(path, &bytes).map_err(|e| crate::io::SaveError::io(path, &e))?;
         }
     }
     Ok(())
@@ -385,6 +386,10 @@ fn render_all(
             );
         }
         jobs.push(Job { file, act });
+    }
+    let inputs = sources.inputs();
+    for job in &jobs {
+        inputs.check_output(&dir.join(&job.file))?;
     }
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create the folder", dir.display()))?;

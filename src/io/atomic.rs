@@ -32,8 +32,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     write_atomic_steps(path, bytes, Care::Backup, &mut |_| Ok(()))
 }
 
-/// Writes `bytes` to `path` atomically without keeping a backup: for outputs that are
-/// regenerated (exported meshes), where `FILE~` copies would only be clutter.
+/// Writes `bytes` to `path` atomically without keeping a backup: for grimace's own
+/// bookkeeping files (recovery files), never for a file a user names. Every command output
+/// keeps the file it replaces as `FILE~` ([`write_atomic`], [`replace_unsynced`]).
 pub fn write_atomic_no_backup(path: &Path, bytes: &[u8]) -> io::Result<()> {
     write_atomic_steps(path, bytes, Care::NoBackup, &mut |_| Ok(()))
 }
@@ -41,7 +42,8 @@ pub fn write_atomic_no_backup(path: &Path, bytes: &[u8]) -> io::Result<()> {
 /// Replaces `path` by a whole new file without waiting for the disk: a temporary file
 /// renamed over it, so a full disk or a killed process leaves the old file, but no fsync (a
 /// power cut may lose the new version). For many regenerated files at once (`render --all`),
-/// where two fsyncs per file would dominate the run time.
+/// where two fsyncs per file would dominate the run time. A replaced file is kept as
+/// `FILE~`, as [`write_atomic`] keeps it.
 pub fn replace_unsynced(path: &Path, bytes: &[u8]) -> io::Result<()> {
     write_atomic_steps(path, bytes, Care::Unsynced, &mut |_| Ok(()))
 }
@@ -91,7 +93,7 @@ enum Care {
     Backup,
     /// Synced, no backup.
     NoBackup,
-    /// Renamed into place without fsync, no backup.
+    /// Renamed into place without fsync, with the previous version kept as `FILE~`.
     Unsynced,
 }
 
@@ -159,9 +161,9 @@ fn write_and_rename(
         file.sync_all()?;
     }
     drop(file);
-    if care == Care::Backup && path.is_file() {
+    if care != Care::NoBackup && path.is_file() {
         fail(Step::Backup)?;
-        backup(path)?;
+        backup(path, care)?;
     }
     fail(Step::Rename)?;
     fs::rename(temp, path)?;
@@ -173,12 +175,14 @@ fn write_and_rename(
 
 /// Copies the current version to `path~` through its own temporary file, so a crash while
 /// backing up never leaves a half-written backup either.
-fn backup(path: &Path) -> io::Result<()> {
+fn backup(path: &Path, care: Care) -> io::Result<()> {
     let backup = backup_path(path);
     let temp = temp_path(&backup)?;
     let result = (|| {
         fs::copy(path, &temp)?;
-        File::open(&temp)?.sync_all()?;
+        if care != Care::Unsynced {
+            File::open(&temp)?.sync_all()?;
+        }
         fs::rename(&temp, &backup)
     })();
     if result.is_err() {

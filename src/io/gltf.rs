@@ -124,8 +124,7 @@ pub fn write_glb(mesh: &Mesh, targets: &[MorphTarget], metres_per_unit: f32) -> 
     builder.finish()
 }
 
-/// Writes a `.glb` file atomically, without a `FILE~` backup (an output that can be made
-/// again, like grimace's OBJ files).
+/// Writes a `.glb` file atomically, keeping a replaced file as `FILE~`.
 pub fn save_glb(
     path: &Path,
     mesh: &Mesh,
@@ -133,7 +132,7 @@ pub fn save_glb(
     metres_per_unit: f32,
 ) -> Result<(), SaveError> {
     let bytes = write_glb(mesh, targets, metres_per_unit);
-    atomic::write_atomic_no_backup(path, &bytes).map_err(|e| SaveError::io(path, &e))
+    atomic::write_atomic(path, &bytes).map_err(|e| SaveError::io(path, &e))
 }
 
 /// The root being built and its one binary buffer.

@@ -306,10 +306,10 @@ pub fn write_obj(mesh: &Mesh, positions: &[Vec3]) -> String {
     out
 }
 
-/// Writes an OBJ file atomically, without a `FILE~` backup: OBJ files written by grimace are
-/// outputs that can be regenerated (see [`atomic::write_atomic_no_backup`]).
+/// Writes an OBJ file atomically, keeping a replaced file as `FILE~` (it may be a mesh the
+/// user cannot make again; see [`atomic::write_atomic`]).
 pub fn save_obj(path: &Path, mesh: &Mesh, positions: &[Vec3]) -> Result<(), SaveError> {
-    atomic::write_atomic_no_backup(path, write_obj(mesh, positions).as_bytes())
+    atomic::write_atomic(path, write_obj(mesh, positions).as_bytes())
         .map_err(|e| SaveError::io(path, &e))
 }
 

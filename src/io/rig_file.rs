@@ -64,14 +64,13 @@ pub enum MeshRef {
     File(PathBuf),
 }
 
-/// Resolves a rig's `mesh` field: `builtin:NAME`, or a path relative to the rig file's
-/// folder (absolute paths are kept).
+/// Resolves a rig's `mesh` field: `builtin:NAME`, or a path relative to the rig file's real
+/// folder (see [`super::reference`]; absolute paths are kept).
 pub fn mesh_ref(rig_path: &Path, mesh: &Path) -> MeshRef {
     if let Some(name) = mesh.to_str().and_then(|s| s.strip_prefix(BUILTIN_PREFIX)) {
         return MeshRef::Builtin(name.to_string());
     }
-    let folder = rig_path.parent().unwrap_or(Path::new(""));
-    MeshRef::File(folder.join(mesh))
+    MeshRef::File(super::reference::resolve(rig_path, mesh))
 }
 
 /// Loads a rig file and the mesh it names (a file, or a built-in mesh of

@@ -33,13 +33,12 @@ impl RigRef {
 }
 
 /// Resolves a table's `rig` field: `builtin:NAME`, or a path relative to the table file's
-/// folder (absolute paths are kept).
+/// real folder (see [`super::reference`]; absolute paths are kept).
 pub fn rig_ref(table_path: &Path, rig: &Path) -> RigRef {
     if let Some(name) = rig.to_str().and_then(|s| s.strip_prefix(BUILTIN_PREFIX)) {
         return RigRef::Builtin(name.to_string());
     }
-    let folder = table_path.parent().unwrap_or(Path::new(""));
-    RigRef::File(folder.join(rig))
+    RigRef::File(super::reference::resolve(table_path, rig))
 }
 
 /// Loads and checks a table file on its own (its rig is not loaded; see [`load_table_for`]).

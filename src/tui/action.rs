@@ -157,8 +157,9 @@ pub enum Effect {
     Save {
         /// Where.
         path: PathBuf,
-        /// The file's contents.
-        contents: String,
+        /// The table to write. Its rig reference is kept absolute (or built in) in the
+        /// editor and written relative to the file's real folder ([`crate::io::reference`]).
+        table: Box<crate::facs::AuTable>,
         /// What the file should look like now.
         expected: Option<FileStamp>,
         /// Write even if it does not.
@@ -170,8 +171,9 @@ pub enum Effect {
     SaveRig {
         /// Where.
         path: PathBuf,
-        /// The file's contents.
-        contents: String,
+        /// The rig to write. Its mesh reference is kept absolute (or built in) in the editor
+        /// and written relative to the file's real folder ([`crate::io::reference`]).
+        rig: Box<crate::model::Rig>,
         /// What the file should look like now (`None`: it must not exist).
         expected: Option<FileStamp>,
     },

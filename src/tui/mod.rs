@@ -28,8 +28,10 @@ use ratatui::backend::CrosstermBackend;
 use ratatui::layout::{Position, Rect};
 use ratatui::Terminal;
 
+use crate::io::inputs::Inputs;
 use crate::io::lock::Lock;
 use crate::io::recovery::{self, RecoveryState};
+use crate::io::reference;
 use action::{Action, Effect};
 use app::{App, FileStamp, Row};
 
@@ -174,18 +176,37 @@ fn apply(app: &mut App, session: &mut Session, state: &mut LoopState, action: Ac
             match effect {
                 Effect::Save {
                     path,
-                    contents,
+                    table,
                     expected,
                     force,
                     quit_after,
-                } => queue.push(save(&path, &contents, expected, force, quit_after)),
+                } => queue.push(match protected_files(app, true).check_output(&path) {
+                    Err(e) => Action::SaveFailed {
+                        path,
+                        error: e.message,
+                    },
+                    Ok(()) => {
+                        let contents = table_ops::to_ron(&reference::table_for_file(&path, &table));
+                        save(&path, &contents, expected, force, quit_after)
+                    }
+                }),
                 Effect::SaveRig {
                     path,
-                    contents,
+                    rig,
                     expected,
-                } => queue.push(rig::saved_action(save(
-                    &path, &contents, expected, false, false,
-                ))),
+                } => queue.push(rig::saved_action(
+                    match protected_files(app, false).check_output(&path) {
+                        Err(e) => Action::SaveFailed {
+                            path,
+                            error: e.message,
+                        },
+                        Ok(()) => {
+                            let contents =
+                                crate::io::rig_to_ron(&reference::rig_for_file(&path, &rig));
+                            save(&path, &contents, expected, false, false)
+                        }
+                    },
+                )),
                 Effect::RecoveryDue => {
                     if session.recovery.is_some() {
                         state.recovery_due = Some(Instant::now() + RECOVERY_DEBOUNCE);
@@ -211,6 +232,22 @@ fn apply(app: &mut App, session: &mut Session, state: &mut LoopState, action: Ac
             }
         }
     }
+}
+
+/// The files a save must not replace: the mesh and, for a table save, the rig; for a rig
+/// save, the table. (A table save replaces its own file, a rig save its own.)
+fn protected_files(app: &App, saving_table: bool) -> Inputs {
+    let mut inputs = Inputs::new();
+    inputs.add("the mesh of the rig", &app.rig().mesh);
+    if saving_table {
+        inputs.add("the rig the table names", &app.doc.table.rig);
+        if let Some(rig) = &app.rig_edit.path {
+            inputs.add("the rig being edited", rig);
+        }
+    } else if let Some(table) = &app.doc.file {
+        inputs.add("the AU table being edited", table);
+    }
+    inputs
 }
 
 fn write_recovery(app: &mut App, session: &Session) {

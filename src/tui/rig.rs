@@ -5,13 +5,13 @@
 //! State lives in [`RigEdit`], changes in the pure [`update`]; the event loop writes the rig
 //! file for [`Effect::SaveRig`].
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use glam::{Mat3, Quat, Vec3};
 
 use super::action::{Action, Effect};
 use super::app::{App, FileStamp, Input, InputKind, Mode, Row, Step};
-use crate::io::rig_file::{check_rig, rig_to_ron};
+use crate::io::rig_file::check_rig;
 use crate::model::muscle::mirror_x;
 use crate::model::{Activations, Jaw, MuscleKind, Rig};
 
@@ -110,8 +110,10 @@ pub enum RigAction {
     Held(i8),
     /// The rig file was written.
     Saved {
-        /// Where.
+        /// Where, as the user gave it.
         path: PathBuf,
+        /// The file written, absolute: what the table names from now on.
+        file: PathBuf,
         /// Its new stamp.
         stamp: FileStamp,
     },
@@ -445,8 +447,17 @@ pub fn update(app: &mut App, action: RigAction, fx: &mut Vec<Effect>) {
             app.rig_edit.held = held;
             app.info(format!("held at {held:.2}"));
         }
-        RigAction::Saved { path, stamp } => {
-            app.info(format!("saved the rig to {}", path.display()));
+        RigAction::Saved { path, file, stamp } => {
+            if app.doc.table.rig == file {
+                app.info(format!("saved the rig to {}", path.display()));
+            } else {
+                // The table goes with the rig shown: reopened, it must load this rig.
+                app.doc.table.rig = file;
+                app.info(format!(
+                    "saved the rig to {}; the table now names it (:w saves the table)",
+                    path.display()
+                ));
+            }
             app.rig_edit.path = Some(path);
             app.rig_edit.stamp = Some(stamp);
             app.rig_edit.saved = Some(app.rig().clone());
@@ -676,8 +687,7 @@ pub fn save(app: &mut App, to: Option<PathBuf>, fx: &mut Vec<Effect>) {
         app.warn("the built-in rig has no file: type a file name to save it as (e.g. my.rig.ron)");
         return;
     };
-    let mut rig = app.rig().clone();
-    rig.mesh = mesh_for(&rig.mesh, app.rig_edit.path.as_deref(), &path);
+    let rig = app.rig().clone();
     if let Err(issue) = check_rig(&rig) {
         return app.error(format!("the rig is not saved: {issue}"));
     }
@@ -688,32 +698,20 @@ pub fn save(app: &mut App, to: Option<PathBuf>, fx: &mut Vec<Effect>) {
     };
     fx.push(Effect::SaveRig {
         path,
-        contents: rig_to_ron(&rig),
+        rig: Box::new(rig),
         expected,
     });
 }
 
-/// The rig's mesh reference as seen from a rig file at `to`: built-in and absolute
-/// references stay; a relative one is resolved against the rig's old folder and written
-/// relative to the new one when the folder is the same, absolute otherwise.
-fn mesh_for(mesh: &Path, from: Option<&Path>, to: &Path) -> PathBuf {
-    let text = mesh.to_string_lossy();
-    if text.starts_with("builtin:") || mesh.is_absolute() {
-        return mesh.to_path_buf();
-    }
-    let old_dir = from.and_then(Path::parent).unwrap_or(Path::new(""));
-    let new_dir = to.parent().unwrap_or(Path::new(""));
-    if old_dir == new_dir {
-        return mesh.to_path_buf();
-    }
-    let joined = old_dir.join(mesh);
-    std::path::absolute(&joined).unwrap_or(joined)
-}
-
-/// The rig-mode action for the outcome of a rig save.
+/// The rig-mode action for the outcome of a rig save (run by the event loop: it reads
+/// where the file really is).
 pub fn saved_action(outcome: Action) -> Action {
     Action::Rig(match outcome {
-        Action::Saved { path, stamp, .. } => RigAction::Saved { path, stamp },
+        Action::Saved { path, stamp, .. } => RigAction::Saved {
+            file: crate::io::reference::real_path(&path),
+            path,
+            stamp,
+        },
         Action::SaveFailed { path, error } => RigAction::SaveFailed { path, error },
         Action::SaveConflict { path, .. } => RigAction::SaveFailed {
             error: "it changed on disk since it was loaded; save under another name with :w FILE"

@@ -29,7 +29,7 @@ pub(crate) fn save(app: &mut App, to: Option<PathBuf>, quit_after: bool, fx: &mu
     };
     fx.push(Effect::Save {
         path,
-        contents: table_ops::to_ron(&app.doc.table),
+        table: Box::new(app.doc.table.clone()),
         expected,
         force: false,
         quit_after,
@@ -63,7 +63,7 @@ pub(crate) fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<
         ) => add_missing_and_store(app, &name, &combo, &missing, fx),
         (Question::OverwriteFile { path, quit_after }, true) => fx.push(Effect::Save {
             path,
-            contents: table_ops::to_ron(&app.doc.table),
+            table: Box::new(app.doc.table.clone()),
             expected: None,
             force: true,
             quit_after,

@@ -146,7 +146,7 @@ fn save_writes_the_table_and_clears_dirty() {
     let fx = update(&mut app, Action::Save);
     let Some(Effect::Save {
         path,
-        contents,
+        table,
         expected,
         force,
         quit_after,
@@ -157,6 +157,8 @@ fn save_writes_the_table_and_clears_dirty() {
     assert_eq!(path, PathBuf::from("t.au.ron"));
     assert_eq!(expected, Some(FileStamp { len: 1, hash: 1 }));
     assert!(!force && !quit_after);
+    assert_eq!(*table, app.doc.table);
+    let contents = crate::io::table_to_ron(&table);
     let back: AuTable = ron::from_str(&contents).unwrap();
     assert_eq!(back, app.doc.table);
     let stamp = FileStamp::of(contents.as_bytes());
