@@ -11,5 +11,6 @@ mod commands;
 mod editor;
 mod files;
 mod limits;
+mod outputs;
 mod play;
 mod saves;

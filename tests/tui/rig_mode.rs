@@ -44,10 +44,13 @@ fn move_a_zygomatic_attachment_save_and_reload() {
     ed.send(":w\r");
     ed.wait_for("type a file name");
     ed.send(&format!("{}\r", rig_file.display()));
-    ed.wait_for("saved the rig");
-    ed.send(":q\r");
+    // The table goes with the rig: it now names the file, so it has a change to save.
+    ed.wait_for("the table now names it");
+    ed.send(":wq\r");
     assert!(ed.wait_exit().success());
     ed.wait_restored();
+    let written = std::fs::read_to_string(&table).unwrap();
+    assert!(written.contains("rig: \"mine.rig.ron\""), "{written}");
 
     let saved = load_rig(&rig_file).expect("the saved rig loads").rig;
     let after = attachment(&saved, "L_Zygomatic_Major");
@@ -202,8 +205,8 @@ fn turn_an_eye_frame_in_mirror_mode_save_and_reload() {
     ed.send("H"); // five degrees clockwise; the right eye turns the other way
     ed.wait_for("frame angle -5.0 deg (and R_Orbicularis_Oculi)");
     ed.send(&format!(":w {}\r", rig_file.display()));
-    ed.wait_for("saved the rig");
-    ed.send(":q\r");
+    ed.wait_for("the table now names it");
+    ed.send(":q!\r");
     assert!(ed.wait_exit().success());
     ed.wait_restored();
 
@@ -241,4 +244,93 @@ fn turn_an_eye_frame_in_mirror_mode_save_and_reload() {
     ed.wait_for("frame angle 5.0 deg");
     ed.send(":q\r");
     assert!(ed.wait_exit().success());
+}
+
+/// Rig mode's save-as chain on a fitted head: `:w sub/a.rig.ron`, another change, `:w`,
+/// then the table: every file written names the others relative to where it lies, and all
+/// of them load from another working directory.
+#[test]
+fn save_as_chains_write_references_that_load_from_anywhere() {
+    use crate::common::grimace_in;
+    let dir = tempfile::tempdir().unwrap();
+    let root = std::fs::canonicalize(dir.path()).unwrap();
+    for folder in ["meshes", "rigs", "sub"] {
+        std::fs::create_dir_all(root.join(folder)).unwrap();
+    }
+    let ok = |out: std::process::Output| {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    ok(grimace_in(&root, &["export", "--out", "meshes/head.obj"]));
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/default.landmarks.ron"),
+        root.join("meshes/head.landmarks.ron"),
+    )
+    .unwrap();
+    ok(grimace_in(
+        &root,
+        &[
+            "fit-rig",
+            "meshes/head.obj",
+            "--landmarks",
+            "meshes/head.landmarks.ron",
+            "--out",
+            "rigs/head.rig.ron",
+        ],
+    ));
+
+    let mut ed = Term::grimace(
+        &root,
+        &["edit", "--rig", "rigs/head.rig.ron", "t.au.ron"],
+        200,
+        60,
+    );
+    ed.wait_for("new table");
+    ed.send("R");
+    ed.wait_for("held at 1.00: attachment");
+    ed.send("\x1b[1;2C");
+    ed.send(":w sub/a.rig.ron\r");
+    ed.wait_for("the table now names it");
+    // The second save goes to the new file, which lies in another folder than the first.
+    ed.send("\x1b[1;2C");
+    ed.send(":w\r");
+    ed.wait_for("saved the rig to sub/a.rig.ron");
+    // Saving the rig onto the mesh is refused for what it is.
+    ed.send(":w meshes/head.obj\r");
+    ed.wait_for("an input of this command");
+    ed.send("R");
+    ed.wait_for("rig mode off");
+    ed.send(":wq\r");
+    assert!(ed.wait_exit().success());
+    ed.wait_restored();
+
+    let rig = std::fs::read_to_string(root.join("sub/a.rig.ron")).unwrap();
+    assert!(rig.contains("mesh: \"../meshes/head.obj\""), "{rig}");
+    let table = std::fs::read_to_string(root.join("t.au.ron")).unwrap();
+    assert!(table.contains("rig: \"sub/a.rig.ron\""), "{table}");
+    let elsewhere = tempfile::tempdir().unwrap();
+    let out = elsewhere.path().join("x.obj");
+    ok(grimace_in(
+        elsewhere.path(),
+        &[
+            "export",
+            "--table",
+            root.join("t.au.ron").to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    ));
+    ok(grimace_in(
+        elsewhere.path(),
+        &[
+            "export",
+            "--rig",
+            root.join("sub/a.rig.ron").to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    ));
 }

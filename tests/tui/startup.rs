@@ -147,7 +147,7 @@ fn a_saved_table_opens_clean_with_its_stamp() {
     let fx = update(&mut app, Action::Save);
     let Some(Effect::Save {
         path,
-        contents,
+        table,
         expected,
         force,
         quit_after,
@@ -155,6 +155,8 @@ fn a_saved_table_opens_clean_with_its_stamp() {
     else {
         panic!("no save effect")
     };
+    let contents =
+        grimace::io::table_to_ron(&grimace::io::reference::table_for_file(&path, &table));
     let outcome = grimace::tui::save(&path, &contents, expected, force, quit_after);
     assert!(matches!(outcome, Action::Saved { .. }), "{outcome:?}");
     drop(session);
