@@ -19,6 +19,8 @@ use crate::io::rig_file::{self, LoadedRig};
 use crate::io::table_file;
 use crate::io::{gltf, obj};
 use crate::model::{Activations, BoundRig};
+use crate::render::Framing;
+use glam::Quat;
 
 /// Where the rig, mesh and AU table come from.
 #[derive(Debug, Clone, Args)]
@@ -84,6 +86,10 @@ pub struct ExportArgs {
     /// Default: 11.5 for the built-in face (docs/face.md), else 1 (a mesh in millimetres).
     #[arg(long, value_name = "MM", requires = "gltf")]
     pub unit_mm: Option<f32>,
+    /// Keep the mesh's own axes in --gltf: by default a face whose mesh is not y up (a z-up
+    /// scan) gets the node rotation that stands it up in glTF's y-up viewers.
+    #[arg(long, requires = "gltf")]
+    pub keep_axes: bool,
 }
 
 /// The `--targets` values.
@@ -291,7 +297,17 @@ fn export_gltf(args: &ExportArgs, sources: &Sources, path: &std::path::Path) -> 
     sources.inputs().check_output(path)?;
     let bound = bind(&sources.rig)?;
     let targets = morph_targets(&bound, &states)?;
-    gltf::save_glb(path, &sources.rig.mesh, &targets, mm / 1000.0)?;
+    let rotation = if args.keep_axes {
+        Quat::IDENTITY
+    } else {
+        // Face coordinates are glTF's (y up, the face toward +z).
+        Quat::from_mat3(&Framing::of_rig(rig, &sources.rig.mesh).basis)
+    };
+    let placement = gltf::Placement {
+        metres_per_unit: mm / 1000.0,
+        rotation,
+    };
+    gltf::save_glb(path, &sources.rig.mesh, &targets, placement)?;
     Ok(())
 }
 

@@ -14,7 +14,7 @@ use crate::io::atomic::{replace_unsynced, write_atomic};
 use crate::model::{Activations, BoundRig, Mesh, Skin};
 use crate::render::{
     muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, DisplacementLegend,
-    Overlay, Palette, Renderer, Scene, Style,
+    Framing, Overlay, Palette, Renderer, Scene, Style,
 };
 
 /// Preset views.
@@ -139,6 +139,8 @@ const MAX_CELLS: usize = 2000;
 /// Everything about how to draw, shared by every picture of a run.
 struct Look {
     camera: Camera,
+    /// The face's axes and the region the view fits (a bust or body shows its face).
+    framing: Framing,
     /// The style asked for; `None`: each format's own (see [`Look::style_for`]).
     style: Option<Style>,
     mode: CellMode,
@@ -165,6 +167,8 @@ impl Look {
             bail!("--zoom {}: must be a positive number", args.zoom);
         }
         camera.zoom = args.zoom;
+        let framing = Framing::of_rig(&sources.rig.rig, &sources.rig.mesh);
+        camera.basis = framing.basis;
         let mode = args.cells.mode();
         let mut overlays = Vec::new();
         if args.muscles {
@@ -172,6 +176,7 @@ impl Look {
         }
         Ok(Look {
             camera,
+            framing,
             style: args.style,
             mode,
             colors: color_mode(args.color),
@@ -197,6 +202,7 @@ impl Look {
             ..Scene::new(mesh, positions)
                 .with_rest(&mesh.positions)
                 .with_overlays(&self.overlays)
+                .with_framing(&self.framing)
         }
     }
 }

@@ -8,14 +8,15 @@
 //! mesh's `extras.targetNames`, where Blender, three.js and Babylon.js read them, and every
 //! weight starts at 0.
 //!
-//! Positions are written in the mesh's own units, unconverted; the node's uniform `scale`
-//! turns them into glTF's metres (`metres_per_unit`), so the file's numbers stay the ones
-//! `grimace export` writes as OBJ.
+//! Positions are written in the mesh's own units and axes, unconverted; the node's uniform
+//! `scale` turns them into glTF's metres (`metres_per_unit`), and its `rotation` stands a
+//! face whose mesh is not y up (a z-up scan or Blender export) upright in glTF's y-up viewers,
+//! so the file's numbers stay the ones `grimace export` writes as OBJ.
 
 use std::path::Path;
 
 use ::gltf::json::{self, validation::Checked::Valid, validation::USize64};
-use glam::Vec3;
+use glam::{Quat, Vec3};
 use serde_json::json;
 
 use super::atomic;
@@ -38,9 +39,28 @@ pub const MOVE_EPSILON: f32 = 1e-7;
 /// The generator string written to `asset.generator`.
 const GENERATOR: &str = concat!("grimace ", env!("CARGO_PKG_VERSION"));
 
-/// Builds the binary glTF for a mesh and its targets. `metres_per_unit` becomes the node's
-/// scale. Every target must have one position per vertex.
-pub fn write_glb(mesh: &Mesh, targets: &[MorphTarget], metres_per_unit: f32) -> Vec<u8> {
+/// Where the mesh's node puts the mesh in glTF's world (metres, y up, facing +z).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// The node's uniform scale.
+    pub metres_per_unit: f32,
+    /// The node's rotation (identity: the mesh's own axes are kept).
+    pub rotation: Quat,
+}
+
+impl Placement {
+    /// Scaled, in the mesh's own axes.
+    pub fn scaled(metres_per_unit: f32) -> Placement {
+        Placement {
+            metres_per_unit,
+            rotation: Quat::IDENTITY,
+        }
+    }
+}
+
+/// Builds the binary glTF for a mesh and its targets, placed by `placement` (the node's scale
+/// and rotation). Every target must have one position per vertex.
+pub fn write_glb(mesh: &Mesh, targets: &[MorphTarget], placement: Placement) -> Vec<u8> {
     let mut builder = Builder::default();
     let rest_normals = unit_or_up(&mesh.vertex_normals(&mesh.positions));
 
@@ -111,7 +131,9 @@ pub fn write_glb(mesh: &Mesh, targets: &[MorphTarget], metres_per_unit: f32) -> 
     let node = builder.root.push(json::Node {
         mesh: Some(mesh_index),
         name: Some("face".into()),
-        scale: Some([metres_per_unit; 3]),
+        scale: Some([placement.metres_per_unit; 3]),
+        rotation: (placement.rotation != Quat::IDENTITY)
+            .then(|| json::scene::UnitQuaternion(placement.rotation.normalize().to_array())),
         ..Default::default()
     });
     let scene = builder.root.push(json::Scene {
@@ -129,9 +151,9 @@ pub fn save_glb(
     path: &Path,
     mesh: &Mesh,
     targets: &[MorphTarget],
-    metres_per_unit: f32,
+    placement: Placement,
 ) -> Result<(), SaveError> {
-    let bytes = write_glb(mesh, targets, metres_per_unit);
+    let bytes = write_glb(mesh, targets, placement);
     atomic::write_atomic(path, &bytes).map_err(|e| SaveError::io(path, &e))
 }
 

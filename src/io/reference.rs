@@ -38,15 +38,18 @@ pub fn resolve(file: &Path, reference: &Path) -> PathBuf {
     if reference.is_absolute() || builtin_name(reference).is_some() {
         return reference.to_path_buf();
     }
-    let real = real_folder(file).join(reference);
-    if real.exists() {
-        return real;
+    // Folders on the way are resolved by the system itself (a `..` after a linked folder
+    // goes up from where the folder really is); only a link to the file itself moves it.
+    let beside = file.parent().unwrap_or(Path::new("")).join(reference);
+    let target = save_target(file).unwrap_or_else(|_| file.to_path_buf());
+    if target == file {
+        return beside;
     }
-    let beside_link = file.parent().unwrap_or(Path::new("")).join(reference);
-    if beside_link.exists() {
-        beside_link
-    } else {
+    let real = target.parent().unwrap_or(Path::new("")).join(reference);
+    if real.exists() || !beside.exists() {
         real
+    } else {
+        beside
     }
 }
 

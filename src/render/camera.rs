@@ -27,6 +27,11 @@ pub struct Camera {
     /// Camera shift in mesh units, x to the screen's right, y up: positive x moves the view
     /// right, so the mesh moves left on screen.
     pub pan: Vec2,
+    /// Mesh to face coordinates (a rotation; rows: across toward the subject's left, up, out
+    /// of the face), applied before `yaw` and `pitch`, so the front view faces the face
+    /// whichever way the mesh stands ([`super::Framing`]). The identity for a mesh in
+    /// glTF's axes.
+    pub basis: Mat3,
 }
 
 impl Default for Camera {
@@ -43,6 +48,7 @@ impl Camera {
             pitch: 0.0,
             zoom: 1.0,
             pan: Vec2::ZERO,
+            basis: Mat3::IDENTITY,
         }
     }
 
@@ -68,9 +74,15 @@ impl Camera {
     ///
     /// A pure rotation (determinant +1): mesh x is screen right in the front view, so the
     /// subject's left (positive x) is on the viewer's right. Positive yaw turns the subject
-    /// about +y by `-yaw`, which brings positive x toward the viewer.
+    /// about +y by `-yaw`, which brings positive x toward the viewer. Both turn about the
+    /// face's axes ([`Camera::basis`]).
     pub fn view_matrix(&self) -> Mat3 {
-        Mat3::from_rotation_x(self.pitch) * Mat3::from_rotation_y(-self.yaw)
+        Mat3::from_rotation_x(self.pitch) * Mat3::from_rotation_y(-self.yaw) * self.basis
+    }
+
+    /// The camera's angles, zoom and pan as in `self`, turned about `basis`.
+    pub fn with_basis(self, basis: Mat3) -> Camera {
+        Camera { basis, ..self }
     }
 
     /// The unit vector, in mesh coordinates, pointing from the subject toward the viewer.

@@ -79,6 +79,7 @@
 pub mod camera;
 pub mod canvas;
 pub mod cells;
+pub mod framing;
 pub mod legend;
 pub mod png;
 pub mod raster;
@@ -92,6 +93,7 @@ pub use cells::{
     nearest_ansi256, reduce, to_ansi, to_text, Cell, CellGrid, CellMode, ColorMode, ANSI16,
     GHOST_UNDER_DIM,
 };
+pub use framing::Framing;
 pub use legend::DisplacementLegend;
 pub use raster::{render, LitTriangle, Renderer, Run};
 pub use scene::{

@@ -222,6 +222,9 @@ pub struct Scene<'a> {
     /// The rest pose, for the ghost, the displacement colours and a framing that does not
     /// move as the face deforms. `None` uses `mesh.positions`.
     pub rest: Option<&'a [Vec3]>,
+    /// The points the view is fitted to (the face region of a bigger mesh, see
+    /// [`super::Framing`]); `None` fits the whole rest pose.
+    pub focus: Option<&'a [Vec3]>,
     /// Shapes drawn on top.
     pub overlays: &'a [Overlay],
     /// Draw the rest pose's outline faintly where the mesh leaves dots dark.
@@ -251,6 +254,7 @@ impl<'a> Scene<'a> {
             mesh,
             positions,
             rest: None,
+            focus: None,
             overlays: &[],
             ghost: false,
             displacement: false,
@@ -278,6 +282,19 @@ impl<'a> Scene<'a> {
     /// The rest positions: `rest` if given, else the mesh's own.
     pub fn rest_positions(&self) -> &'a [Vec3] {
         self.rest.unwrap_or(&self.mesh.positions)
+    }
+
+    /// The points the view is fitted to: the focus, else the rest pose.
+    pub fn framed_points(&self) -> &'a [Vec3] {
+        self.focus.unwrap_or_else(|| self.rest_positions())
+    }
+
+    /// The same scene fitted to `framing`'s face region (unchanged when it has none).
+    pub fn with_framing(self, framing: &'a super::Framing) -> Scene<'a> {
+        Scene {
+            focus: framing.focus.as_deref().or(self.focus),
+            ..self
+        }
     }
 }
 

@@ -27,7 +27,9 @@ use crate::model::{Activations, Mesh, Rig};
 use crate::play::player::PlayState;
 use crate::play::skips::Skips;
 use crate::play::{Frame, Message, Player};
-use crate::render::{Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Scene, Style};
+use crate::render::{
+    Camera, CellGrid, CellMode, ColorMode, DotCanvas, Framing, Renderer, Scene, Style,
+};
 
 /// The shortest time between two drawn frames: the view shows at most about 64 frames a
 /// second (a little above 60, so a 60 fps source is not thinned by timer jitter).
@@ -37,6 +39,7 @@ const MIN_FRAME_INTERVAL: Duration = Duration::from_micros(15_625);
 struct Face {
     mesh: Mesh,
     bound: BoundRig,
+    framing: Framing,
     renderer: Renderer,
     positions: Vec<glam::Vec3>,
     canvas: DotCanvas,
@@ -54,11 +57,14 @@ impl Face {
         }
         let (cols, rows) = (usize::from(area.width), usize::from(area.height));
         self.mode.prepare(&mut self.canvas, cols, rows);
-        let mut scene = Scene::new(&self.mesh, &self.positions).with_rest(self.bound.rest());
+        let mut scene = Scene::new(&self.mesh, &self.positions)
+            .with_rest(self.bound.rest())
+            .with_framing(&self.framing);
         // Lines coloured by how far they moved make the motion readable at a glance.
         scene.displacement = self.colors != ColorMode::None;
+        let camera = Camera::front().with_basis(self.framing.basis);
         self.renderer
-            .render(&scene, &Camera::front(), Style::Lines, &mut self.canvas);
+            .render(&scene, &camera, Style::Lines, &mut self.canvas);
         self.grid.fill(&self.canvas, self.mode, self.colors);
         CellGridView {
             grid: &self.grid,
@@ -123,6 +129,7 @@ pub fn run(
         .context("cannot place the rig on its mesh")?;
     let rest = bound.rest().to_vec();
     let mut face = Face {
+        framing: Framing::of_rig(rig, &mesh),
         renderer: Renderer::new(&mesh),
         mesh,
         bound,

@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-use glam::{Mat3, Quat, Vec3};
+use glam::{Quat, Vec3};
 
 use super::action::{Action, Effect};
 use super::app::{App, FileStamp, Input, InputKind, Mode, Row, Step};
@@ -352,15 +352,12 @@ fn kind_of(rig: &Rig, row: Row) -> Option<&MuscleKind> {
 
 /// The face's height: the scale of point and length steps.
 fn face_size(app: &App) -> f32 {
-    let (lo, hi) = app.doc.scene.mesh().bounds();
-    (hi - lo).y.max(f32::EPSILON)
+    app.doc.scene.framing().height(app.doc.scene.mesh())
 }
 
 /// The screen's right and up directions in mesh coordinates, for the current view.
 pub fn view_axes(app: &App) -> (Vec3, Vec3) {
-    let view = Mat3::from_rotation_x(app.view.pitch.to_radians())
-        * Mat3::from_rotation_y(-app.view.yaw.to_radians());
-    let back = view.transpose();
+    let back = super::view::viewport::camera(app).view_matrix().transpose();
     (back * Vec3::X, back * Vec3::Y)
 }
 

@@ -6,6 +6,7 @@
 use glam::Vec3;
 
 use crate::model::{Activations, BoundRig, Mesh, MuscleKind, Rig, Skin};
+use crate::render::Framing;
 
 /// The face being edited: bound rig, rest mesh and the deformed positions for the current
 /// activations.
@@ -15,6 +16,7 @@ pub struct Scene {
     mesh: Mesh,
     positions: Vec<Vec3>,
     generation: u64,
+    framing: Framing,
 }
 
 impl Scene {
@@ -23,17 +25,25 @@ impl Scene {
         let bound = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT)
             .map_err(|e| format!("the rig does not fit its mesh: {e}"))?;
         let positions = mesh.positions.clone();
+        // Once, from the rig as loaded: rig-mode edits do not move the view.
+        let framing = Framing::of_rig(&rig, &mesh);
         Ok(Scene {
             bound,
             mesh,
             positions,
             generation: 0,
+            framing,
         })
     }
 
     /// The rig.
     pub fn rig(&self) -> &Rig {
         self.bound.rig()
+    }
+
+    /// How the face is shown: its axes and the region views fit.
+    pub fn framing(&self) -> &Framing {
+        &self.framing
     }
 
     /// The rest mesh.

@@ -528,6 +528,7 @@ fn degenerate_input_does_not_panic() {
             pitch: 1e30,
             zoom: 1e9,
             pan: Vec2::new(f32::INFINITY, 3.0),
+            basis: glam::Mat3::from_cols_array(&[f32::NAN; 9]),
         };
         draw(&mesh, &mesh.positions, &wild, style, 40, 40);
         let huge = Camera {
@@ -571,7 +572,7 @@ proptest! {
         let n = positions.len() as u32;
         let triangles: Vec<[u32; 3]> = tris.iter().map(|&(a, b, c)| [a % n, b % n, c % n]).collect();
         let mesh = Mesh { positions, triangles, groups: Default::default() };
-        let camera = Camera { yaw, pitch, zoom, pan: Vec2::ZERO };
+        let camera = Camera { yaw, pitch, zoom, ..Camera::front() };
         for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
             let scene = Scene { ghost: true, displacement: true, contours: 3, ..Scene::new(&mesh, &mesh.positions) };
             let mut canvas = DotCanvas::new(w, h);

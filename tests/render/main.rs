@@ -13,5 +13,6 @@ mod default_face;
 mod defaults;
 mod eyes;
 mod files;
+mod framing;
 mod geometry;
 mod ghost;

@@ -37,7 +37,7 @@ use project::{classify, detect_orientation, project_all};
 
 /// What a camera fit depends on besides the rest pose: the camera's yaw, pitch, zoom and
 /// pan and the dot aspect (as bits), and the canvas size.
-type FitKey = ([u32; 6], usize, usize);
+type FitKey = ([u32; 15], usize, usize);
 
 /// No second triangle on this edge (a mesh border).
 const NONE: u32 = u32::MAX;
@@ -235,7 +235,7 @@ impl Renderer {
         if width == 0 || height == 0 {
             return None;
         }
-        let proj = self.fit(camera, scene.rest_positions(), width, height, dot_aspect);
+        let proj = self.fit(camera, scene.framed_points(), width, height, dot_aspect);
         let sign = self.sign(scene.orientation);
         self.light_mesh = proj.view.transpose() * LIGHT.normalize();
         self.viewer_mesh = proj.view.transpose() * Vec3::Z;
@@ -268,9 +268,15 @@ impl Renderer {
             pitch,
             zoom,
             pan,
+            basis,
         } = *camera;
+        let b = basis.to_cols_array();
         let key: FitKey = (
-            [yaw, pitch, zoom, pan.x, pan.y, dot_aspect].map(f32::to_bits),
+            [
+                yaw, pitch, zoom, pan.x, pan.y, dot_aspect, b[0], b[1], b[2], b[3], b[4], b[5],
+                b[6], b[7], b[8],
+            ]
+            .map(f32::to_bits),
             width,
             height,
         );

@@ -13,7 +13,7 @@ use crate::fit::landmarks::{mirror, NAMES};
 use crate::fit::propose::{carry, MirrorPlane};
 use crate::fit::Landmarks;
 use crate::model::Mesh;
-use crate::render::{Camera, CellMode, ColorMode, Orientation, Renderer};
+use crate::render::{Camera, CellMode, ColorMode, Framing, Orientation, Renderer};
 use crate::tui::app::{Message, Severity};
 
 /// Landmark count.
@@ -244,6 +244,7 @@ impl PickApp {
             }
         }
         let sign = winding(&mesh);
+        let camera = Camera::front().with_basis(Framing::of_mesh(&mesh).basis);
         let mut app = PickApp {
             mesh,
             mesh_path,
@@ -255,7 +256,8 @@ impl PickApp {
             proposals: vec![None; COUNT],
             current: Some(order()[0]),
             history: Vec::new(),
-            camera: Camera::front(),
+            // Stood up by the mesh's shape: a z-up bust opens facing the viewer.
+            camera,
             cursor: Vec2::ZERO,
             snapped: None,
             size,
@@ -549,7 +551,7 @@ impl PickApp {
             PickAction::Turn(yaw, pitch) => {
                 self.camera.yaw = wrap_degrees(self.camera.yaw.to_degrees() + yaw).to_radians();
                 self.camera.pitch = (self.camera.pitch.to_degrees() + pitch)
-                    .clamp(-80.0, 80.0)
+                    .clamp(-90.0, 90.0)
                     .to_radians();
                 self.view_changed();
                 Vec::new()
@@ -559,7 +561,7 @@ impl PickApp {
                 Vec::new()
             }
             PickAction::ResetView => {
-                self.camera = Camera::front();
+                self.camera = Camera::front().with_basis(self.camera.basis);
                 self.view_changed();
                 Vec::new()
             }

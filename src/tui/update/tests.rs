@@ -281,7 +281,7 @@ fn view_actions_move_the_camera_within_limits() {
     let mut app = app();
     run(&mut app, &[Action::Rotate(200.0, 100.0)]);
     assert_eq!(app.view.yaw, -160.0);
-    assert_eq!(app.view.pitch, 89.0);
+    assert_eq!(app.view.pitch, 90.0);
     run(&mut app, &[Action::Zoom(100.0), Action::Pan(5.0, -5.0)]);
     assert_eq!(app.view.zoom, 8.0);
     assert_eq!(app.view.pan, (1.0, -1.0));

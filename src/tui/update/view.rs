@@ -8,7 +8,7 @@ pub(crate) fn apply(app: &mut App, action: Action) {
     match action {
         Action::Rotate(yaw, pitch) => {
             app.view.yaw = wrap_degrees(app.view.yaw + yaw);
-            app.view.pitch = (app.view.pitch + pitch).clamp(-89.0, 89.0);
+            app.view.pitch = (app.view.pitch + pitch).clamp(-90.0, 90.0);
             // Zoomed in, the focus stays at the centre as the head turns.
             if app.view.zoom > crate::tui::app::DEFAULT_ZOOM {
                 app.view.pan = focus_pan(app).unwrap_or(app.view.pan);
@@ -139,15 +139,12 @@ pub(crate) fn zoom_focus(app: &App) -> Option<glam::Vec3> {
 fn focus_pan(app: &App) -> Option<(f32, f32)> {
     let focus = zoom_focus(app)?;
     let mesh = app.doc.scene.mesh();
-    let camera = crate::render::Camera {
-        yaw: app.view.yaw.to_radians(),
-        pitch: app.view.pitch.to_radians(),
-        ..crate::render::Camera::front()
-    };
-    let view = camera.view_matrix();
-    // The centre the camera fits the rest pose around, as it sees it.
+    let framing = app.doc.scene.framing();
+    let view = crate::tui::view::viewport::camera(app).view_matrix();
+    // The centre the camera fits the framed points around, as it sees it.
     let (mut lo, mut hi) = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);
-    for p in mesh.positions.iter().filter(|p| p.is_finite()) {
+    let framed = framing.focus.as_deref().unwrap_or(&mesh.positions);
+    for p in framed.iter().filter(|p| p.is_finite()) {
         let v = view * *p;
         lo = lo.min(v);
         hi = hi.max(v);
@@ -155,8 +152,7 @@ fn focus_pan(app: &App) -> Option<(f32, f32)> {
     if !lo.is_finite() {
         return None;
     }
-    let (blo, bhi) = mesh.bounds();
-    let extent = (bhi - blo).truncate().max_element().max(f32::EPSILON);
+    let extent = framing.size(mesh);
     let offset = (view * focus - (lo + hi) * 0.5).truncate() / extent;
     Some((offset.x.clamp(-1.0, 1.0), offset.y.clamp(-1.0, 1.0)))
 }

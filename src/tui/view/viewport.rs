@@ -36,15 +36,18 @@ struct CacheKey {
     rig: Option<usize>,
 }
 
-/// The camera for the view settings: angles in degrees, pan as a fraction of the face's size.
+/// The camera for the view settings: angles in degrees about the face's own axes, pan as a
+/// fraction of the face's size. Every view of the editor (drawing, zoom focus, rig mode's
+/// directions) derives from this one.
 pub fn camera(app: &App) -> Camera {
-    let (lo, hi) = app.doc.scene.mesh().bounds();
-    let extent = (hi - lo).truncate().max_element().max(f32::EPSILON);
+    let framing = app.doc.scene.framing();
+    let extent = framing.size(app.doc.scene.mesh());
     Camera {
         yaw: app.view.yaw.to_radians(),
         pitch: app.view.pitch.to_radians(),
         zoom: app.view.zoom,
         pan: Vec2::new(app.view.pan.0, app.view.pan.1) * extent,
+        basis: framing.basis,
     }
 }
 
@@ -133,7 +136,9 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
     if app.rig_edit.on {
         super::rig::zone_overlays(app, overlays);
     }
-    let mut scene = Scene::new(mesh, app.doc.scene.positions()).with_overlays(overlays);
+    let mut scene = Scene::new(mesh, app.doc.scene.positions())
+        .with_overlays(overlays)
+        .with_framing(app.doc.scene.framing());
     scene.ghost = app.view.show_ghost;
     scene.displacement = app.view.show_displacement;
     renderer.render(&scene, &camera(app), app.view.style, canvas);
