@@ -33,7 +33,8 @@ pub struct SourceArgs {
     #[arg(long, value_name = "MESH")]
     pub mesh: Option<PathBuf>,
     /// The AU table (*.au.ron, or builtin:default) for --au, --expr and --combo. Default:
-    /// the built-in table when no rig is given either.
+    /// the built-in table when no rig is given, or when the rig has every muscle it names
+    /// (rigs fitted from the built-in template).
     #[arg(long, value_name = "TABLE")]
     pub table: Option<PathBuf>,
 }
@@ -150,13 +151,20 @@ pub struct Sources {
 pub fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
     let mesh = source.mesh.as_deref();
     let (rig, table, table_path) = match (&source.rig, &source.table) {
-        (Some(rig_path), table_path) => {
+        (Some(rig_path), Some(table_path)) => {
             let rig = rig_file::load_rig_ref(rig_path, mesh)?;
-            let table = match table_path {
-                Some(path) => Some(table_file::load_table_ref_for(path, &rig.rig)?),
-                None => None,
-            };
-            (rig, table, table_path.clone())
+            let table = table_file::load_table_ref_for(table_path, &rig.rig)?;
+            (rig, Some(table), Some(table_path.clone()))
+        }
+        (Some(rig_path), None) => {
+            let rig = rig_file::load_rig_ref(rig_path, mesh)?;
+            // A rig fitted from the built-in template keeps its muscle names, so the built-in
+            // table drives it; any other rig has no table until one is given.
+            let default = PathBuf::from(DEFAULT_TABLE);
+            match table_file::load_table_ref_for(&default, &rig.rig) {
+                Ok(table) => (rig, Some(table), Some(default)),
+                Err(_) => (rig, None, None),
+            }
         }
         (None, Some(table_path)) => {
             let (table, rig) = table_file::load_table_and_rig(table_path, mesh)?;
@@ -273,20 +281,45 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
 
 /// Writes the rest mesh and the chosen morph targets as `.glb`.
 fn export_gltf(args: &ExportArgs, sources: &Sources, path: &std::path::Path) -> anyhow::Result<()> {
-    let table = sources
-        .table
-        .as_ref()
-        .ok_or_else(|| anyhow!("--gltf needs an AU table: pass --table TABLE"))?;
     let rig = &sources.rig.rig;
+    let no_table = AuTable::new(sources.rig.path.clone());
+    let table = match (&sources.table, args.targets) {
+        (Some(table), _) => table,
+        // One target per muscle needs nothing from a table.
+        (None, Targets::Muscles) => &no_table,
+        (None, _) => bail!("--gltf needs an AU table for these targets: pass --table TABLE"),
+    };
     let mm = match args.unit_mm {
-        Some(mm) if mm.is_finite() && mm > 0.0 => mm,
+        Some(mm) if mm.is_finite() && mm > 0.0 && (mm / 1000.0).is_normal() => mm,
+        Some(mm) if mm.is_finite() && mm > 0.0 => bail!(
+            "--unit-mm {mm}: too small for a node scale (it would be written as 0 metres per unit)"
+        ),
         Some(mm) => bail!("--unit-mm must be a positive number of millimetres (got {mm})"),
         None if is_builtin_face(&sources.rig) => BUILTIN_FACE_MM_PER_UNIT,
-        None => 1.0,
+        None => {
+            if let Some(guess) = mm_per_unit_from_eyes(rig) {
+                if !(0.5..=2.0).contains(&guess) {
+                    eprintln!(
+                        "grimace export: --unit-mm not given, so 1 mm per unit is written; the eyes' spacing suggests about {guess:.3} mm per unit (pass --unit-mm {guess:.3} if so)"
+                    );
+                }
+            }
+            1.0
+        }
     };
     let TargetStates { states, silent } =
         target_states(args.targets.into(), rig, table, &ArkitMap::builtin())
             .map_err(|e| anyhow!("{}: {e}", table_label(sources)))?;
+    if states.is_empty() {
+        bail!(
+            "{}: it has no {} to export as morph targets (record some, or use --targets muscles)",
+            table_label(sources),
+            match args.targets {
+                Targets::Expressions => "expressions",
+                _ => "AUs",
+            }
+        );
+    }
     if !silent.is_empty() {
         eprintln!(
             "grimace export: {} ARKit shapes move nothing on this table: {}",
@@ -317,6 +350,32 @@ fn table_label(sources: &Sources) -> String {
         .as_ref()
         .map(|p| p.display().to_string())
         .unwrap_or_default()
+}
+
+/// Millimetres per unit guessed from the distance between the eye sphincters' centres, taking
+/// it as the built-in face's (in millimetres); `None` without two eye sphincters.
+fn mm_per_unit_from_eyes(rig: &crate::model::Rig) -> Option<f32> {
+    let eyes = |rig: &crate::model::Rig| -> Option<f32> {
+        let centres: Vec<glam::Vec3> = rig
+            .muscles
+            .iter()
+            .filter_map(|m| match &m.kind {
+                crate::model::MuscleKind::Sphincter(s)
+                    if s.convergence == crate::model::Convergence::MajorAxis =>
+                {
+                    Some(s.centre)
+                }
+                _ => None,
+            })
+            .collect();
+        let spread = centres
+            .iter()
+            .flat_map(|a| centres.iter().map(move |b| a.distance(*b)))
+            .fold(0.0f32, f32::max);
+        (spread.is_finite() && spread > 0.0).then_some(spread)
+    };
+    let template = eyes(&crate::io::builtin::default_rig())? * BUILTIN_FACE_MM_PER_UNIT;
+    Some(template / eyes(rig)?)
 }
 
 /// Whether the rig's mesh is the embedded default face (no `--mesh` given).

@@ -117,8 +117,10 @@ fn fit_inputs(args: &FitAuArgs, rig: &LoadedRig) -> Inputs {
     if let Some(map) = &args.map {
         inputs.add("the shape map", map);
     }
-    if let Some(dir) = &args.dir {
-        inputs.add_folder_files("a target shape of --dir", dir);
+    if let Ok(jobs) = jobs(args) {
+        for (target, _) in jobs {
+            inputs.add("a target shape", &target);
+        }
     }
     inputs
 }

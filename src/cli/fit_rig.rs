@@ -21,6 +21,10 @@ use crate::io::rig_file::{self, LoadedRig, MeshRef};
 use crate::io::{builtin, error::read_text, obj, reference, LoadError, MAX_FILE_BYTES};
 use crate::model::{BoundRig, Mesh};
 
+/// A landmark bend (see [`fit::Fitted::bend`]) from which `fit-rig` warns: public faces of
+/// other shapes bend up to about half of the face from the built-in template.
+const SUSPICIOUS_BEND: f64 = 0.9;
+
 /// Arguments of `grimace fit-rig`.
 #[derive(Debug, Args)]
 pub struct FitRigArgs {
@@ -137,6 +141,13 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     BoundRig::bind(&fitted.rig, &mesh)
         .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
     rig_file::save_rig(&args.out, &fitted.rig)?;
+    if fitted.bend >= SUSPICIOUS_BEND {
+        eprintln!(
+            "warning: a landmark bend of {:.0}% of the face usually means a landmark on the wrong feature or another numbering; check {} (docs/fitting.md, \"When a fit looks wrong\")",
+            100.0 * fitted.bend,
+            landmark_file.display()
+        );
+    }
     super::print(&summary(args, &mesh, &fitted))
 }
 

@@ -62,7 +62,9 @@ pub fn run(args: &ImportWatersArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the folder {}", args.out.display()))?;
     let mut inputs = crate::io::inputs::Inputs::new();
-    inputs.add_folder_files("a file of the classic data", &args.dir);
+    for name in [waters::FACELINE, waters::INDEX, waters::MUSCLE] {
+        inputs.add("a file of the classic data", &args.dir.join(name));
+    }
     let mesh_path = args.out.join("mesh.obj");
     for name in ["mesh.obj", "rig.ron", "mesh.landmarks.ron"] {
         inputs.check_output(&args.out.join(name))?;

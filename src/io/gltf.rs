@@ -58,9 +58,32 @@ impl Placement {
     }
 }
 
+/// The largest file a binary glTF can be: its length fields are 32-bit.
+pub const MAX_GLB_BYTES: u64 = u32::MAX as u64;
+
 /// Builds the binary glTF for a mesh and its targets, placed by `placement` (the node's scale
-/// and rotation). Every target must have one position per vertex.
-pub fn write_glb(mesh: &Mesh, targets: &[MorphTarget], placement: Placement) -> Vec<u8> {
+/// and rotation). Every target must have one position per vertex. A file that would not fit
+/// in a GLB's 32-bit length fields is refused before anything is built, with its estimated
+/// size.
+pub fn write_glb(
+    mesh: &Mesh,
+    targets: &[MorphTarget],
+    placement: Placement,
+) -> Result<Vec<u8>, String> {
+    write_glb_within(mesh, targets, placement, MAX_GLB_BYTES)
+}
+
+/// [`write_glb`] with the size limit given (tests use a small one).
+fn write_glb_within(
+    mesh: &Mesh,
+    targets: &[MorphTarget],
+    placement: Placement,
+    limit: u64,
+) -> Result<Vec<u8>, String> {
+    let estimate = estimated_bytes(mesh, targets);
+    if estimate > limit {
+        return Err(too_big(estimate));
+    }
     let mut builder = Builder::default();
     let rest_normals = unit_or_up(&mesh.vertex_normals(&mesh.positions));
 
@@ -146,6 +169,35 @@ pub fn write_glb(mesh: &Mesh, targets: &[MorphTarget], placement: Placement) -> 
     builder.finish()
 }
 
+fn too_big(bytes: u64) -> String {
+    format!(
+        "the file would be about {:.1} GiB, and a binary glTF holds at most 4 GiB (its length fields are 32-bit); export fewer targets (--targets) or a smaller mesh",
+        bytes as f64 / (1u64 << 30) as f64
+    )
+}
+
+/// An upper bound of the file's size: the rest mesh, each target's moved positions as the
+/// writer stores them (sparse or dense), its normals as if dense, and room for the JSON.
+fn estimated_bytes(mesh: &Mesh, targets: &[MorphTarget]) -> u64 {
+    let v = mesh.positions.len() as u64;
+    let mut bytes = 2 * 12 * v + 12 * mesh.triangles.len() as u64 + 4096;
+    for target in targets {
+        let moved = target
+            .positions
+            .iter()
+            .zip(&mesh.positions)
+            .filter(|(p, r)| small_to_zero(**p - **r) != Vec3::ZERO)
+            .count() as u64;
+        let positions = if moved * 4 >= v * 3 {
+            12 * v
+        } else {
+            16 * moved.max(1)
+        };
+        bytes += positions + 12 * v + 1024 + target.name.len() as u64;
+    }
+    bytes
+}
+
 /// Writes a `.glb` file atomically, keeping a replaced file as `FILE~`.
 pub fn save_glb(
     path: &Path,
@@ -153,7 +205,7 @@ pub fn save_glb(
     targets: &[MorphTarget],
     placement: Placement,
 ) -> Result<(), SaveError> {
-    let bytes = write_glb(mesh, targets, placement);
+    let bytes = write_glb(mesh, targets, placement).map_err(|e| SaveError::new(path, e))?;
     atomic::write_atomic(path, &bytes).map_err(|e| SaveError::io(path, &e))
 }
 
@@ -296,7 +348,7 @@ impl Builder {
     }
 
     /// The buffer, the JSON and the GLB container around them.
-    fn finish(mut self) -> Vec<u8> {
+    fn finish(mut self) -> Result<Vec<u8>, String> {
         self.root.asset = json::Asset {
             generator: Some(GENERATOR.into()),
             ..Default::default()
@@ -322,7 +374,13 @@ impl Builder {
             json: json_text.into(),
             bin: Some(self.bin.into()),
         };
-        glb.to_vec().expect("writing to memory does not fail")
+        let total = glb.json.len() as u64 + glb.bin.as_ref().map_or(0, |b| b.len() as u64) + 28;
+        if total > MAX_GLB_BYTES {
+            // The estimate is an upper bound, so this is not reached; never wrap the lengths.
+            return Err(too_big(total));
+        }
+        glb.to_vec()
+            .map_err(|e| format!("cannot write the binary glTF: {e}"))
     }
 }
 
@@ -359,4 +417,31 @@ fn unit_or_up(normals: &[Vec3]) -> Vec<Vec3> {
         .iter()
         .map(|n| if *n == Vec3::ZERO { Vec3::Z } else { *n })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_past_the_limit_is_refused_before_it_is_built_and_the_estimate_bounds_it() {
+        let mesh = crate::io::builtin::default_mesh();
+        let lifted: Vec<Vec3> = mesh.positions.iter().map(|p| *p + Vec3::Y).collect();
+        let targets: Vec<MorphTarget> = (0..3)
+            .map(|i| MorphTarget {
+                name: format!("t{i}"),
+                positions: lifted.clone(),
+            })
+            .collect();
+        let bytes = write_glb(&mesh, &targets, Placement::scaled(1.0)).unwrap();
+        let estimate = estimated_bytes(&mesh, &targets);
+        assert!(
+            estimate >= bytes.len() as u64,
+            "{estimate} < {}",
+            bytes.len()
+        );
+        let err =
+            write_glb_within(&mesh, &targets, Placement::scaled(1.0), estimate - 1).unwrap_err();
+        assert!(err.contains("at most 4 GiB"), "{err}");
+    }
 }

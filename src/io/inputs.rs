@@ -90,19 +90,6 @@ impl Inputs {
         }
     }
 
-    /// [`Inputs::add`] for every file of a folder (one level): the shapes `fit-au --dir` reads.
-    pub fn add_folder_files(&mut self, role: &str, folder: &Path) {
-        let Ok(entries) = fs::read_dir(folder) else {
-            return;
-        };
-        for entry in entries.flatten() {
-            let path = entry.path();
-            if path.is_file() {
-                self.add(role, &path);
-            }
-        }
-    }
-
     /// Refuses `out` when it is one of the inputs. An output that does not exist yet, or
     /// any other existing file, is allowed (saves keep the replaced file as `NAME~`).
     pub fn check_output(&self, out: &Path) -> Result<(), SaveError> {

@@ -14,3 +14,4 @@ mod limits;
 mod outputs;
 mod play;
 mod saves;
+mod silent;

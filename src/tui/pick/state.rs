@@ -740,8 +740,16 @@ impl PickApp {
             return Vec::new();
         }
         let vertices = self.picks.iter().map(|p| p.unwrap_or(0)).collect();
+        let landmarks = Landmarks::Vertices(vertices);
+        // The checks `validate` and `fit-rig` make: a set they would refuse is not written.
+        if let Err(e) = landmarks.positions(&self.mesh) {
+            self.error(format!(
+                "not saved: {e}; correct the picks (n, p) and save again"
+            ));
+            return Vec::new();
+        }
         vec![PickEffect::Save {
-            landmarks: Landmarks::Vertices(vertices),
+            landmarks,
             quit_after,
         }]
     }
@@ -862,6 +870,19 @@ mod tests {
     fn take(app: &mut PickApp, v: u32) -> Vec<PickEffect> {
         app.snapped = Some(v);
         app.update(PickAction::Confirm)
+    }
+
+    #[test]
+    fn a_set_that_fit_rig_would_refuse_is_not_saved() {
+        let mut app = picker(crate::io::builtin::default_mesh());
+        let v = preset()[30];
+        while app.current.is_some() {
+            take(&mut app, v);
+        }
+        assert_eq!(app.update(PickAction::Save), Vec::new());
+        let message = &app.message.as_ref().unwrap().text;
+        assert!(message.starts_with("not saved:"), "{message}");
+        assert!(app.dirty, "the picks are kept");
     }
 
     #[test]
