@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use super::jaw::Jaw;
-use super::muscle::Muscle;
+use glam::Vec3;
+
+use super::muscle::{Muscle, MuscleKind, Side};
 
 /// The rig file format version this build writes (and reads; older versions are converted
 /// on load, see `docs/formats.md`). Version 2 uses glTF's convention, the subject's left at
@@ -71,8 +73,84 @@ impl Rig {
         let partner = self.muscles.get(index)?.mirror.as_deref()?;
         self.muscle_index(partner)
     }
+
+    /// The normal of the plane the face mirrors across, as the rig's partners show it: the
+    /// mean direction from each right-side point to its left partner. On a head fitted in any
+    /// orientation this is the face's own left-right axis; on the built-in face it is x
+    /// exactly. `None` without partners.
+    pub fn mirror_normal(&self) -> Option<Vec3> {
+        let mut sum = Vec3::ZERO;
+        for (i, muscle) in self.muscles.iter().enumerate() {
+            let Some(j) = self.mirror_of(i) else {
+                continue;
+            };
+            if muscle.side != Side::Left {
+                continue;
+            }
+            for (l, r) in points(&muscle.kind)
+                .into_iter()
+                .zip(points(&self.muscles[j].kind))
+            {
+                sum += l - r;
+            }
+        }
+        let n = sum.normalize_or_zero();
+        (n != Vec3::ZERO && n.is_finite()).then_some(n)
+    }
+}
+
+/// A muscle's defining points, in a fixed order per kind.
+fn points(kind: &MuscleKind) -> Vec<Vec3> {
+    match kind {
+        MuscleKind::Linear(l) => vec![l.attachment, l.insertion],
+        MuscleKind::Sphincter(s) => vec![s.centre],
+        MuscleKind::Sheet(s) => vec![
+            s.attachment[0],
+            s.attachment[1],
+            s.insertion[0],
+            s.insertion[1],
+        ],
+    }
+}
+
+/// `v` reflected across the plane through the origin with unit normal `n`.
+pub fn reflect(v: Vec3, n: Vec3) -> Vec3 {
+    v - 2.0 * v.dot(n) * n
 }
 
 fn one() -> f32 {
     1.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::builtin;
+
+    #[test]
+    fn the_mirror_normal_is_the_faces_own_left_right_axis() {
+        let rig = builtin::default_rig();
+        assert_eq!(rig.mirror_normal(), Some(Vec3::X));
+        // Turned 30 degrees about the vertical: the normal turns with the face.
+        let turn = glam::Quat::from_rotation_y(30f32.to_radians());
+        let mut turned = rig.clone();
+        for muscle in &mut turned.muscles {
+            match &mut muscle.kind {
+                MuscleKind::Linear(l) => {
+                    l.attachment = turn * l.attachment;
+                    l.insertion = turn * l.insertion;
+                }
+                MuscleKind::Sphincter(s) => s.centre = turn * s.centre,
+                MuscleKind::Sheet(s) => {
+                    for p in s.attachment.iter_mut().chain(&mut s.insertion) {
+                        *p = turn * *p;
+                    }
+                }
+            }
+        }
+        let n = turned.mirror_normal().unwrap();
+        assert!((n - turn * Vec3::X).length() < 1e-5, "{n}");
+        let v = Vec3::new(0.3, 0.2, -0.1);
+        assert!(reflect(reflect(v, n), n).distance(v) < 1e-6);
+    }
 }

@@ -12,7 +12,7 @@ use glam::{Quat, Vec3};
 use super::action::{Action, Effect};
 use super::app::{App, FileStamp, Input, InputKind, Mode, Row, Step};
 use crate::io::rig_file::check_rig;
-use crate::model::muscle::mirror_x;
+use crate::model::rig::reflect;
 use crate::model::{Activations, Jaw, MuscleKind, Rig};
 
 /// Fine step of a point or a length, as a fraction of the face's height.
@@ -301,13 +301,13 @@ enum Change {
 }
 
 impl Change {
-    /// The same change on the mirror partner: moves reflected across x = 0, turns reflected
-    /// too (the reflected axis, the opposite sense).
-    fn mirrored(self) -> Change {
+    /// The same change on the mirror partner: moves reflected across the face's mirror plane
+    /// (unit normal `normal`), turns reflected too (the reflected axis, the opposite sense).
+    fn mirrored(self, normal: Vec3) -> Change {
         match self {
-            Change::Move(i, by) => Change::Move(i, mirror_x(by)),
+            Change::Move(i, by) => Change::Move(i, reflect(by, normal)),
             Change::Turn { axis, radians } => Change::Turn {
-                axis: mirror_x(axis),
+                axis: reflect(axis, normal),
                 radians: -radians,
             },
             other => other,
@@ -511,7 +511,9 @@ fn edit(app: &mut App, change: Change, part: Option<&str>, fx: &mut Vec<Effect>)
                 return app.error(nothing());
             }
             if let Some((_, kind)) = after.get_mut(1) {
-                change.mirrored().to_kind(kind);
+                // The face's own plane: a head fitted turned is not mirrored across x = 0.
+                let normal = rig.mirror_normal().unwrap_or(Vec3::X);
+                change.mirrored(normal).to_kind(kind);
             }
             (RigParts::Muscles(before), RigParts::Muscles(after))
         }

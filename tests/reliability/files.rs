@@ -101,7 +101,12 @@ fn saves_write_through_symbolic_links() {
         written.starts_with("# ") || written.contains("\nv "),
         "{written}"
     );
-    assert_eq!(names_in(&dir.path().join("real")), ["out.obj"]);
+    // The replaced file is kept beside the real file, not beside the link.
+    assert_eq!(names_in(&dir.path().join("real")), ["out.obj", "out.obj~"]);
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("real/out.obj~")).unwrap(),
+        "old"
+    );
 }
 
 #[test]

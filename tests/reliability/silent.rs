@@ -104,12 +104,12 @@ fn a_fit_with_a_landmark_on_the_wrong_feature_warns() {
         ],
     );
     assert!(muscles.status.success(), "{}", stderr(&muscles));
-    // The chin's vertex given for the nose tip (landmark 30): a point on the wrong feature.
+    // The chin's vertex given for a point of the right brow (19): a point on the wrong feature.
     let marks = grimace::io::builtin::landmarks("default").unwrap();
     let grimace::fit::Landmarks::Vertices(mut v) = marks else {
         panic!("the built-in landmarks are vertex numbers")
     };
-    v[30] = v[8];
+    v[19] = v[8];
     let bad = grimace::io::landmarks::landmarks_to_ron(&grimace::fit::Landmarks::Vertices(v));
     std::fs::write(dir.path().join("bad.landmarks.ron"), bad).unwrap();
     let out = grimace(
