@@ -92,6 +92,9 @@ pub fn prepare(
         crossterm::terminal::size().unwrap_or((80, 24)),
         cells,
     );
+    app.out_stamp = std::fs::read(out)
+        .ok()
+        .map(|bytes| crate::tui::app::FileStamp::of(&bytes));
     if let Some(picks) = existing {
         app.load_picks(&picks, &[]);
         app.info(format!(

@@ -267,3 +267,37 @@ fn fit_rig_pick_saves_the_landmarks_then_writes_a_rig() {
     assert!(!ed.wait_exit().success());
     assert!(!other.exists() && !fresh.exists());
 }
+
+#[test]
+fn a_landmark_file_changed_on_disk_is_replaced_only_when_confirmed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("face.landmarks.ron");
+    let preset_file =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("presets/default.landmarks.ron");
+    std::fs::copy(&preset_file, &out).unwrap();
+    let mesh = face_obj();
+    let (m, o) = (mesh.to_str().unwrap(), out.to_str().unwrap());
+    let mut ed = Term::grimace(dir.path(), &["landmarks", m, "--out", o], COLS, ROWS);
+    ed.wait_for("loaded");
+    // Someone else changes the file meanwhile.
+    let theirs = format!(
+        "{}// corrected by a colleague\n",
+        std::fs::read_to_string(&preset_file).unwrap()
+    );
+    std::fs::write(&out, &theirs).unwrap();
+    ed.send(":w\r");
+    let screen = ed.wait_for("Overwrite it? (y/n)");
+    assert!(screen.contains("changed on disk since it"), "{screen}");
+    ed.send("n");
+    ed.wait_for("the file on disk is kept");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), theirs);
+    ed.send(":w\r");
+    ed.wait_for("Overwrite it? (y/n)");
+    ed.send("y");
+    ed.wait_for("saved");
+    // Saved once, the picker's own file is saved again without asking.
+    ed.send(":wq\r");
+    assert!(ed.wait_exit().success());
+    let written = grimace::io::landmarks::load_landmarks(&out).unwrap();
+    assert_eq!(written, Landmarks::Vertices(preset()));
+}

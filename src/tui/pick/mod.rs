@@ -28,8 +28,10 @@ use ratatui::Terminal;
 
 use super::keymap;
 use super::term;
+use crate::fit::Landmarks;
 use crate::io::lock::Lock;
 use crate::io::pick_recovery::{self, PickRecovery};
+use crate::tui::app::FileStamp;
 pub use state::{PickAction, PickApp, PickEffect};
 
 /// The minimal set's points on the subject's left, picked first: the left eye's outer and
@@ -228,11 +230,8 @@ pub fn apply(app: &mut PickApp, session: &PickSession, action: PickAction) -> bo
                 PickEffect::Save {
                     landmarks,
                     quit_after,
-                } => {
-                    let result = crate::io::landmarks::save_landmarks(&app.out, &landmarks)
-                        .map_err(|e| e.message);
-                    queue.push(PickAction::Saved(result, quit_after));
-                }
+                    force,
+                } => queue.push(save(app, &landmarks, quit_after, force)),
                 PickEffect::WriteRecovery => write_recovery(app, session),
                 PickEffect::RemoveRecovery => {
                     if let Some(path) = &session.recovery {
@@ -246,6 +245,25 @@ pub fn apply(app: &mut PickApp, session: &PickSession, action: PickAction) -> bo
         }
     }
     quit
+}
+
+/// Saves the landmarks unless the file changed on disk since it was opened (and `force` is
+/// off); on success the picker's stamp becomes the new file's.
+fn save(app: &mut PickApp, landmarks: &Landmarks, quit_after: bool, force: bool) -> PickAction {
+    let on_disk = match std::fs::read(&app.out) {
+        Ok(bytes) => Some(FileStamp::of(&bytes)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        // A file that cannot be read is refused by the save itself, with its reason.
+        Err(_) => app.out_stamp,
+    };
+    if !force && on_disk != app.out_stamp {
+        return PickAction::SaveConflict(quit_after);
+    }
+    let result = crate::io::landmarks::save_landmarks(&app.out, landmarks).map_err(|e| e.message);
+    if result.is_ok() {
+        app.out_stamp = std::fs::read(&app.out).ok().map(|b| FileStamp::of(&b));
+    }
+    PickAction::Saved(result, quit_after)
 }
 
 /// Writes the picks to the recovery file (a failure is said on the status line).

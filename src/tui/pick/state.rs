@@ -71,6 +71,9 @@ pub enum PickAction {
     Answer(bool),
     /// The outcome of a save: the error when it failed, and whether to quit after it.
     Saved(Result<(), String>, bool),
+    /// The landmark file changed on disk since it was opened (or was made meanwhile):
+    /// nothing was written; whether to quit after saving.
+    SaveConflict(bool),
 }
 
 /// What the event loop must do for an update.
@@ -82,6 +85,8 @@ pub enum PickEffect {
         landmarks: Landmarks,
         /// Quit once saved.
         quit_after: bool,
+        /// Write even if the file changed on disk since it was opened (the user said so).
+        force: bool,
     },
     /// Write the picks to the recovery file now.
     WriteRecovery,
@@ -96,6 +101,11 @@ pub enum PickEffect {
 pub enum Question {
     /// Quit although picks are not saved.
     Quit,
+    /// Overwrite a landmark file that changed on disk since it was opened.
+    Overwrite {
+        /// Quit once saved.
+        quit_after: bool,
+    },
     /// Take back picks found in the recovery file.
     Recover {
         /// The picks.
@@ -224,6 +234,9 @@ pub struct PickApp {
     pub dirty: bool,
     /// Whether the landmarks were saved in this session.
     pub saved: bool,
+    /// The landmark file as opened or last saved (`None`: it did not exist), so that a file
+    /// changed by someone else is not replaced without asking.
+    pub out_stamp: Option<crate::tui::app::FileStamp>,
     /// Mesh vertices used by some triangle (only those can be proposed).
     used: Vec<bool>,
 }
@@ -268,6 +281,7 @@ impl PickApp {
             message: None,
             dirty: false,
             saved: false,
+            out_stamp: None,
             used,
         };
         app.rebuild_screen();
@@ -520,6 +534,10 @@ impl PickApp {
                 Vec::new()
             }
             (_, PickAction::Saved(result, quit_after)) => self.saved(result, quit_after),
+            (_, PickAction::SaveConflict(quit_after)) => {
+                self.mode = Mode::Confirm(Question::Overwrite { quit_after });
+                Vec::new()
+            }
             (Mode::Help, _) => {
                 self.mode = Mode::Normal;
                 Vec::new()
@@ -577,7 +595,7 @@ impl PickApp {
                 self.mode = Mode::Command(String::new());
                 Vec::new()
             }
-            PickAction::Save => self.save(false),
+            PickAction::Save => self.save(false, false),
             PickAction::Quit => {
                 if self.dirty {
                     self.mode = Mode::Confirm(Question::Quit);
@@ -727,7 +745,7 @@ impl PickApp {
         self.enter(Some(order[next as usize]));
     }
 
-    fn save(&mut self, quit_after: bool) -> Vec<PickEffect> {
+    fn save(&mut self, quit_after: bool, force: bool) -> Vec<PickEffect> {
         let missing: Vec<usize> = (0..COUNT).filter(|&i| self.picks[i].is_none()).collect();
         if !missing.is_empty() {
             let list: Vec<String> = missing.iter().take(8).map(usize::to_string).collect();
@@ -751,6 +769,7 @@ impl PickApp {
         vec![PickEffect::Save {
             landmarks,
             quit_after,
+            force,
         }]
     }
 
@@ -778,6 +797,11 @@ impl PickApp {
         match mode {
             Mode::Confirm(Question::Quit) if yes => {
                 vec![PickEffect::RemoveRecovery, PickEffect::Quit]
+            }
+            Mode::Confirm(Question::Overwrite { quit_after }) if yes => self.save(quit_after, true),
+            Mode::Confirm(Question::Overwrite { .. }) => {
+                self.info("not saved: the file on disk is kept as it is");
+                Vec::new()
             }
             Mode::Confirm(Question::Recover { picks, skipped, .. }) => {
                 if yes {
@@ -825,8 +849,8 @@ impl PickApp {
 
     fn run_command(&mut self, line: &str) -> Vec<PickEffect> {
         match line {
-            "w" | "write" => self.save(false),
-            "wq" | "x" => self.save(true),
+            "w" | "write" => self.save(false, false),
+            "wq" | "x" => self.save(true, false),
             "q" | "quit" => self.update(PickAction::Quit),
             "q!" | "quit!" => vec![PickEffect::RemoveRecovery, PickEffect::Quit],
             "" => Vec::new(),

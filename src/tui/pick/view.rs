@@ -355,6 +355,10 @@ fn draw_question(app: &PickApp, question: &Question, theme: &Theme, area: Rect, 
             "{} picks are not saved. Quit anyway? (y/n)",
             app.picked()
         ),
+        Question::Overwrite { .. } => format!(
+            "{} changed on disk since it was opened. Overwrite it? (y/n)",
+            crate::io::printable::printable(&app.out.display().to_string())
+        ),
         Question::Recover { picks, when, .. } => format!(
             "{} picked landmarks were kept from a picking session that stopped ({when}). Take them back? (y/n)",
             picks.iter().flatten().count()
