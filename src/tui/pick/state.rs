@@ -897,6 +897,31 @@ mod tests {
     }
 
     #[test]
+    fn a_conflict_asks_and_yes_saves_anyway() {
+        let mut app = picker(crate::io::builtin::default_mesh());
+        for v in preset() {
+            take(&mut app, v);
+        }
+        assert_eq!(app.update(PickAction::SaveConflict(true)), Vec::new());
+        assert_eq!(
+            app.mode,
+            Mode::Confirm(Question::Overwrite { quit_after: true })
+        );
+        let effects = app.update(PickAction::Answer(true));
+        assert!(
+            matches!(
+                &effects[..],
+                [PickEffect::Save {
+                    force: true,
+                    quit_after: true,
+                    ..
+                }]
+            ),
+            "{effects:?}"
+        );
+    }
+
+    #[test]
     fn a_set_that_fit_rig_would_refuse_is_not_saved() {
         let mut app = picker(crate::io::builtin::default_mesh());
         let v = preset()[30];
@@ -995,7 +1020,8 @@ mod tests {
             effects,
             vec![PickEffect::Save {
                 landmarks: Landmarks::Vertices(preset.clone()),
-                quit_after: false
+                quit_after: false,
+                force: false,
             }]
         );
         // n and p go through the picked landmarks, the cursor on each one's vertex.
