@@ -67,12 +67,8 @@ pub fn run(args: &FitAuArgs) -> anyhow::Result<()> {
     let mut report = String::new();
     let mut fitted = 0;
     for (target, key) in &jobs {
-        if !target.is_file() {
-            let _ = writeln!(
-                report,
-                "{key}: skipped, {} does not exist",
-                target.display()
-            );
+        if let Some(reason) = crate::io::error::not_a_file(target) {
+            let _ = writeln!(report, "{key}: skipped, {} {reason}", target.display());
             continue;
         }
         let mesh = obj::read_obj(target)?;
@@ -129,10 +125,10 @@ fn fit_inputs(args: &FitAuArgs, rig: &LoadedRig) -> Inputs {
 fn jobs(args: &FitAuArgs) -> anyhow::Result<Vec<(PathBuf, AuKey)>> {
     match (&args.target, args.au, &args.map, &args.dir) {
         (Some(target), Some(key), None, None) => {
-            if !target.is_file() {
+            if let Some(reason) = crate::io::error::not_a_file(target) {
                 return Err(anyhow!(LoadError::new(
                     target,
-                    "the target file does not exist"
+                    format!("the target file {reason}")
                 )));
             }
             Ok(vec![(target.clone(), key)])

@@ -130,3 +130,23 @@ fn a_fit_with_a_landmark_on_the_wrong_feature_warns() {
         stderr(&out)
     );
 }
+
+#[test]
+fn a_folder_or_a_pipe_as_a_target_shape_is_named_for_what_it_is() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("shape.obj")).unwrap();
+    let out = grimace(
+        dir.path(),
+        &[
+            "fit-au",
+            "shape.obj",
+            "--rig",
+            "builtin:default",
+            "--au",
+            "12",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("is a folder"), "{}", stderr(&out));
+    assert!(!stderr(&out).contains("does not exist"), "{}", stderr(&out));
+}
