@@ -12,3 +12,4 @@ mod cli;
 mod parts;
 mod real;
 mod rig;
+mod scheme;
