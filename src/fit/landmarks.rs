@@ -536,16 +536,16 @@ mod tests {
 
     #[test]
     fn sides_follow_the_mirror_and_the_names() {
-        for i in 0..COUNT {
+        for (i, name) in NAMES.iter().enumerate() {
             assert_eq!(side(mirror(i)), -side(i), "landmark {i}");
-            let want = if NAMES[i].contains("right") {
+            let want = if name.contains("right") {
                 -1
-            } else if NAMES[i].contains("left") {
+            } else if name.contains("left") {
                 1
             } else {
                 0
             };
-            assert_eq!(side(i), want, "{i}: {}", NAMES[i]);
+            assert_eq!(side(i), want, "{i}: {name}");
         }
     }
 
