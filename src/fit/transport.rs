@@ -64,6 +64,72 @@ pub struct Fitted {
 /// beyond the template's face keeps the muscles' own fields, as the jaw's weights fade there.
 const MASK_FADE: (f64, f64) = (0.08, 0.2);
 
+/// A fitted muscle whose size or strength is far from the template's times the face's scale.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outlier {
+    /// The muscle's name.
+    pub muscle: String,
+    /// What is off: `falloff`, `length`, `width`, `semi-major axis`, `semi-minor axis` or
+    /// `strength`.
+    pub what: &'static str,
+    /// The fitted value over the template's times the scale (1 when it scales with the face).
+    pub ratio: f64,
+}
+
+impl Fitted {
+    /// The muscles whose size (a linear muscle's falloff end, a sheet's length and width, a
+    /// ring's semi-axes) or strength (the product of its masks' gains) is more than `factor`
+    /// times larger or smaller than `template`'s times the similarity's scale. A linear
+    /// muscle's pull scales with its geometry, so its strength is compared with the
+    /// template's alone.
+    pub fn outliers(&self, template: &Rig, factor: f64) -> Vec<Outlier> {
+        let gain = |rig: &Rig, name: &str| {
+            rig.masks
+                .iter()
+                .filter(|m| m.muscles.iter().any(|n| n == name))
+                .map(|m| f64::from(m.gain))
+                .product::<f64>()
+        };
+        let mut out = Vec::new();
+        for (m, t) in self.rig.muscles.iter().zip(&template.muscles) {
+            let sizes: Vec<(&'static str, f32, f32)> = match (&m.kind, &t.kind) {
+                (MuscleKind::Linear(a), MuscleKind::Linear(b)) => {
+                    vec![("falloff", a.falloff_end, b.falloff_end)]
+                }
+                (MuscleKind::Sheet(a), MuscleKind::Sheet(b)) => {
+                    vec![("length", a.length, b.length), ("width", a.width, b.width)]
+                }
+                (MuscleKind::Sphincter(a), MuscleKind::Sphincter(b)) => vec![
+                    ("semi-major axis", a.semi_major, b.semi_major),
+                    ("semi-minor axis", a.semi_minor, b.semi_minor),
+                ],
+                _ => Vec::new(),
+            };
+            let strength_scale = match m.kind {
+                MuscleKind::Linear(_) => 1.0,
+                _ => self.scale,
+            };
+            let ratios = sizes
+                .into_iter()
+                .map(|(what, a, b)| (what, f64::from(a) / (f64::from(b) * self.scale)))
+                .chain([(
+                    "strength",
+                    gain(&self.rig, &m.name) / (gain(template, &t.name) * strength_scale),
+                )]);
+            for (what, ratio) in ratios {
+                if !(ratio <= factor && ratio >= 1.0 / factor) {
+                    out.push(Outlier {
+                        muscle: m.name.clone(),
+                        what,
+                        ratio,
+                    });
+                }
+            }
+        }
+        out
+    }
+}
+
 /// Gains this close to 1 are written as 1 (no mask).
 const GAIN_EPSILON: f64 = 1e-6;
 

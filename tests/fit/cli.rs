@@ -147,6 +147,45 @@ fn landmarks_out_of_order_are_warned_about() {
     );
 }
 
+/// A mouth whose landmarks make it far narrower than the template's, relative to the face,
+/// fits with a warning naming the mouth ring and what is off.
+#[test]
+fn muscles_far_off_the_template_are_warned_about() {
+    let dir = temp();
+    write_face(dir.path(), "head", |p| p);
+    let mesh = builtin::default_mesh();
+    let mut points = builtin::landmarks("face")
+        .unwrap()
+        .positions(&mesh)
+        .unwrap();
+    for p in &mut points[48..68] {
+        p.x *= 0.4;
+    }
+    grimace::io::landmarks::save_landmarks(
+        &dir.path().join("head.landmarks.ron"),
+        &grimace::fit::Landmarks::Points(points),
+    )
+    .unwrap();
+    let out = grimace_in(
+        dir.path(),
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "head.landmarks.ron",
+            "--out",
+            "head.rig.ron",
+        ],
+    );
+    let (_, stderr) = text(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning: Orbicularis_Oris: its semi-major axis came out 0.4")
+            && stderr.contains("warning: Orbicularis_Oris: its strength came out 0.4"),
+        "{stderr}"
+    );
+}
+
 fn fails_naming(dir: &Path, args: &[&str], file: &str, words: &str) {
     let out = grimace_in(dir, args);
     let (_, stderr) = text(&out);

@@ -99,23 +99,12 @@ fn rings_follow_the_lip_contour_on_closed_and_open_mouths() {
          half-height; pucker {want_pucker:.2} mm"
     );
     let mut heads: Vec<(&str, Mesh, Landmarks)> = vec![(
-        "built-in face, mouth open",
+        "built-in face, lips parted",
         open_mouth_face(),
         marks.clone(),
     )];
-    if let Some(shared) = common::shared_with(&["meshes/mediapipe_canonical_face.obj"]) {
-        let mesh = obj::read_obj(&shared.join("meshes/mediapipe_canonical_face.obj")).unwrap();
-        let landmarks = Landmarks::mediapipe(&mesh).unwrap();
-        heads.push(("MediaPipe, mouth closed", mesh, landmarks));
-    }
-    if let Some(shared) = common::shared_with(&["meshes/makehuman_base.obj"]) {
-        let mesh = obj::read_obj(&shared.join("meshes/makehuman_base.obj")).unwrap();
-        let landmarks = load_landmarks(Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/tests/fit_data/makehuman_base.landmarks.ron"
-        )))
-        .unwrap();
-        heads.push(("MakeHuman, mouth closed", mesh, landmarks));
+    for (name, mesh, landmarks) in shared_heads() {
+        heads.push((name, mesh, landmarks));
     }
     let mut failures = Vec::new();
     for (name, mesh, landmarks) in &heads {
@@ -136,6 +125,58 @@ fn rings_follow_the_lip_contour_on_closed_and_open_mouths() {
             failures.push(format!(
                 "{name}: pucker {pucker:.2} mm, built-in {want_pucker:.2} mm"
             ));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The default face and the shared heads with their landmarks, when the shared meshes are
+/// there.
+fn shared_heads() -> Vec<(&'static str, Mesh, Landmarks)> {
+    let mut heads = Vec::new();
+    if let Some(shared) = common::shared_with(&["meshes/mediapipe_canonical_face.obj"]) {
+        let mesh = obj::read_obj(&shared.join("meshes/mediapipe_canonical_face.obj")).unwrap();
+        let landmarks = Landmarks::mediapipe(&mesh).unwrap();
+        heads.push(("MediaPipe", mesh, landmarks));
+    }
+    if let Some(shared) = common::shared_with(&["meshes/makehuman_base.obj"]) {
+        let mesh = obj::read_obj(&shared.join("meshes/makehuman_base.obj")).unwrap();
+        let landmarks = load_landmarks(Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/fit_data/makehuman_base.landmarks.ron"
+        )))
+        .unwrap();
+        heads.push(("MakeHuman", mesh, landmarks));
+    }
+    heads
+}
+
+/// The eye rings take their height and strength from the lids: at AU45 the lids of a fitted
+/// head close as the built-in face's do, without passing each other.
+#[test]
+fn fitted_lids_close_without_crossing() {
+    let mut failures = Vec::new();
+    for (name, mesh, landmarks) in shared_heads() {
+        let rig = fit(&mesh, &landmarks).rig;
+        let bound = BoundRig::bind(&rig, &mesh).unwrap();
+        let act = builtin::default_table()
+            .entry_activations(&"45".parse().unwrap(), &rig)
+            .unwrap();
+        let mut moved = Vec::new();
+        bound.deform(&act, &mut moved).unwrap();
+        let v = landmarks.vertices(&mesh);
+        let up = FaceFrame::of(&landmarks.positions(&mesh).unwrap())
+            .unwrap()
+            .up;
+        let height = |p: &[Vec3], a: usize, b: usize| {
+            (p[v[a] as usize] - p[v[b] as usize]).as_dvec3().dot(up)
+        };
+        for (upper, lower) in [(37, 41), (38, 40), (43, 47), (44, 46)] {
+            let gap = height(&moved, upper, lower) / height(&mesh.positions, upper, lower);
+            println!("{name}: lids {upper}/{lower} at AU45: {gap:.2} of the rest opening");
+            if !(0.0..=0.35).contains(&gap) {
+                failures.push(format!("{name}: lids {upper}/{lower}: {gap:.2}"));
+            }
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
