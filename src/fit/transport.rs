@@ -2,9 +2,11 @@
 //!
 //! The template's landmarks are aligned with the mesh's by a similarity and a thin-plate
 //! spline ([`Warp`]); every muscle point goes through the warp, every length is scaled by
-//! the warp's local scale there, the jaw gets a pivot and axis through the warp and weights
-//! for the new mesh, and masks keep muscles to the skin and to their own side of the mouth
-//! and eyes. Muscle names stay, so AU tables written for the template drive the new face.
+//! the warp's local scale there (a mouth or eye ring by its lip or lid contour instead), the
+//! jaw gets a pivot and axis through the warp and weights for the new mesh, the template's
+//! per-vertex masks are carried like the jaw's weights, and masks keep muscles to the skin
+//! and to their own side of the mouth and eyes. Muscle names stay, so AU tables written for
+//! the template drive the new face.
 
 use std::path::PathBuf;
 
