@@ -138,6 +138,14 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         &overrides,
     )
     .map_err(|e| anyhow!(LoadError::new(&landmark_file, e.to_string())))?;
+    warn_order(&landmark_file, &landmarks, &mesh);
+    for o in fitted.outliers(&template.rig, OUTLIER_FACTOR) {
+        eprintln!(
+            "warning: {}: its {} came out {:.2} times the template's at this face's scale \
+             (check the landmarks around it)",
+            o.muscle, o.what, o.ratio
+        );
+    }
     BoundRig::bind(&fitted.rig, &mesh)
         .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
     rig_file::save_rig(&args.out, &fitted.rig)?;
@@ -149,6 +157,21 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         );
     }
     super::print(&summary(args, &mesh, &fitted))
+}
+
+/// A fitted muscle whose size or strength is more than this many times off the template's
+/// (times the face's scale) is warned about.
+const OUTLIER_FACTOR: f64 = 2.0;
+
+/// Warns about landmarks out of the iBUG scheme's order (a contour listed backwards, a point
+/// on the wrong side): the fit goes ahead, but crosses what is out of order.
+fn warn_order(file: &Path, landmarks: &Landmarks, mesh: &Mesh) {
+    let Ok(points) = landmarks.positions(mesh) else {
+        return;
+    };
+    for problem in fit::landmarks::order_problems(&points) {
+        eprintln!("warning: {}: {problem}", file.display());
+    }
 }
 
 /// The mesh's landmarks and the file to name in messages about them.

@@ -294,6 +294,145 @@ pub fn check_shape(points: &[Vec3]) -> Result<(), LandmarkError> {
     Ok(())
 }
 
+/// Which side of the face landmark `i` marks: -1 the subject's right, +1 the subject's left,
+/// 0 the midline. The subject's left is `+lateral` in [`FaceFrame`].
+pub fn side(i: usize) -> i8 {
+    match i {
+        0..=7 | 17..=21 | 31 | 32 | 36..=41 | 48..=50 | 58..=61 | 67 => -1,
+        9..=16 | 22..=26 | 34 | 35 | 42..=47 | 52..=56 | 63..=65 => 1,
+        _ => 0,
+    }
+}
+
+/// How the points of one contour of the scheme follow each other, seen from the front with
+/// the subject's left to the right of the picture (the face frame's `lateral`, `up`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Order {
+    /// Going round the nose from the subject's right ear down past the chin to the left
+    /// (the jaw line): counter-clockwise about the nose.
+    RoundTheChin,
+    /// From the subject's right to the left (brows, nostrils).
+    RightToLeft,
+    /// From the top down (the nose bridge).
+    Downward,
+    /// A closed loop, clockwise: along the top from the subject's right corner to the left,
+    /// back along the bottom, each top point above its bottom partner (eyes, lips).
+    Clockwise,
+}
+
+/// The contours of the scheme: name, first and last landmark, and their order.
+pub const CONTOURS: [(&str, usize, usize, Order); 9] = [
+    ("jaw line", 0, 16, Order::RoundTheChin),
+    ("right brow", 17, 21, Order::RightToLeft),
+    ("left brow", 22, 26, Order::RightToLeft),
+    ("nose bridge", 27, 30, Order::Downward),
+    ("nostrils", 31, 35, Order::RightToLeft),
+    ("right eye", 36, 41, Order::Clockwise),
+    ("left eye", 42, 47, Order::Clockwise),
+    ("outer lip line", 48, 59, Order::Clockwise),
+    ("inner lip line", 60, 67, Order::Clockwise),
+];
+
+/// What is out of order in a set of 68 landmark points against the iBUG scheme: each point
+/// of one side on that side of the midline (the face's own frame: the subject's left is the
+/// side of the left eye, 42-47), and each contour ([`CONTOURS`]) in its order. Empty when
+/// the set follows the scheme. A set swapped as a whole (an image's left taken for the
+/// subject's) passes: its frame swaps with it, and [`FaceFrame::right_handed`] tells.
+pub fn order_problems(points: &[Vec3]) -> Vec<String> {
+    let Some(frame) = FaceFrame::of(points) else {
+        return vec!["the landmarks do not span a face".into()];
+    };
+    let midline: Vec<DVec3> = (0..COUNT)
+        .filter(|&i| side(i) == 0)
+        .map(|i| points[i].as_dvec3())
+        .collect();
+    let origin = midline.iter().copied().sum::<DVec3>() / midline.len() as f64;
+    let flat: Vec<(f64, f64)> = points
+        .iter()
+        .map(|p| {
+            let l = frame.local(origin, p.as_dvec3());
+            (l.x, l.y)
+        })
+        .collect();
+    let mut problems = Vec::new();
+    for (i, &(x, _)) in flat.iter().enumerate() {
+        let s = f64::from(side(i));
+        if s != 0.0 && x * s <= 0.0 {
+            let wrong = if s > 0.0 { "right" } else { "left" };
+            problems.push(format!(
+                "landmark {i} ({}) lies on the subject's {wrong} side",
+                NAMES[i]
+            ));
+        }
+    }
+    for &(name, first, last, order) in &CONTOURS {
+        if !in_order(&flat, first, last, order) {
+            problems.push(format!(
+                "the {name} ({first}-{last}) is not in the scheme's order ({})",
+                match order {
+                    Order::RoundTheChin => "from the subject's right ear round the chin to the left",
+                    Order::RightToLeft => "from the subject's right to the left",
+                    Order::Downward => "from the top down",
+                    Order::Clockwise =>
+                        "from the subject's right corner along the top to the left, back along the bottom",
+                }
+            ));
+        }
+    }
+    problems
+}
+
+/// Whether landmarks `first..=last` of `flat` (front-view coordinates) follow `order`.
+/// Neighbours may coincide (a coarse mesh snaps two points to one vertex, a closed mouth puts
+/// its inner lips on one line), but no step goes back and the ends differ.
+fn in_order(flat: &[(f64, f64)], first: usize, last: usize, order: Order) -> bool {
+    let x = |i: usize| flat[i].0;
+    let y = |i: usize| flat[i].1;
+    // Along `ids` the key never falls and ends higher than it starts.
+    let rising = |ids: &[usize], key: &dyn Fn(usize) -> f64| {
+        ids.windows(2).all(|w| key(w[1]) >= key(w[0])) && key(ids[ids.len() - 1]) > key(ids[0])
+    };
+    let run: Vec<usize> = (first..=last).collect();
+    match order {
+        Order::RightToLeft => rising(&run, &x),
+        Order::Downward => rising(&run, &|i| -y(i)),
+        Order::RoundTheChin => {
+            // Counter-clockwise about the nose, less than a full turn.
+            let (cx, cy) = mean_of(&flat[27..=35]);
+            let angle = |i: usize| (y(i) - cy).atan2(x(i) - cx);
+            let turns: Vec<f64> = run
+                .windows(2)
+                .map(|w| {
+                    let t = angle(w[1]) - angle(w[0]);
+                    t - std::f64::consts::TAU * (t / std::f64::consts::TAU).round()
+                })
+                .collect();
+            turns.iter().all(|&t| t >= 0.0)
+                && (0.0..std::f64::consts::TAU).contains(&turns.iter().sum::<f64>())
+        }
+        Order::Clockwise => {
+            // The top runs right to left corner, the bottom back; each top point lies above
+            // its bottom partner (the one as far from the corners), or level with it within
+            // 1% of the corners' distance: a closed mouth's lips meet.
+            let corner = first + (last + 1 - first) / 2;
+            let bottom: Vec<usize> = (corner..=last).chain([first]).collect();
+            let level = 0.01 * (x(corner) - x(first)).abs();
+            rising(&run[..=corner - first], &x)
+                && rising(&bottom, &|i| -x(i))
+                && (first + 1..corner).all(|i| y(i) >= y(first + last + 1 - i) - level)
+        }
+    }
+}
+
+/// The mean of some front-view points.
+fn mean_of(points: &[(f64, f64)]) -> (f64, f64) {
+    let n = points.len().max(1) as f64;
+    let (x, y) = points
+        .iter()
+        .fold((0.0, 0.0), |(x, y), p| (x + p.0, y + p.1));
+    (x / n, y / n)
+}
+
 /// A face's own frame from its landmarks.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FaceFrame {
@@ -392,6 +531,21 @@ mod tests {
                 );
                 assert_ne!(a, b, "{i}");
             }
+        }
+    }
+
+    #[test]
+    fn sides_follow_the_mirror_and_the_names() {
+        for (i, name) in NAMES.iter().enumerate() {
+            assert_eq!(side(mirror(i)), -side(i), "landmark {i}");
+            let want = if name.contains("right") {
+                -1
+            } else if name.contains("left") {
+                1
+            } else {
+                0
+            };
+            assert_eq!(side(i), want, "{i}: {name}");
         }
     }
 

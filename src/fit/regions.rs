@@ -179,3 +179,77 @@ pub fn smoothstep(a: f64, b: f64, x: f64) -> f64 {
     let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
 }
+
+/// A closed landmark contour around an opening: the outer lip line and each eye's lids,
+/// by their corners and their landmarks (first to last).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Contour {
+    /// The subject's right and left corners.
+    pub corners: [usize; 2],
+    /// The contour's landmarks, `first..=last`.
+    pub first: usize,
+    /// See `first`.
+    pub last: usize,
+}
+
+/// The contours the rings of the face sit in: the outer lip line, the right eye, the left eye.
+pub const CONTOURS: [Contour; 3] = [
+    Contour {
+        corners: [48, 54],
+        first: 48,
+        last: 59,
+    },
+    Contour {
+        corners: [36, 39],
+        first: 36,
+        last: 41,
+    },
+    Contour {
+        corners: [42, 45],
+        first: 42,
+        last: 47,
+    },
+];
+
+/// How far a contour of landmarks reaches, in its own frame: `across` from the right corner
+/// to the left, `out` the face's forward direction made perpendicular to it, `up` completing
+/// them (`out x across`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extent {
+    /// The mean of the contour's landmarks.
+    pub centre: DVec3,
+    /// Unit vectors: across (corner to corner), up, out of the face.
+    pub axes: [DVec3; 3],
+    /// Half the corners' distance along `across`.
+    pub half_width: f64,
+    /// Half the contour's height along `up`.
+    pub half_height: f64,
+}
+
+impl Extent {
+    /// The extent of `contour` among 68 landmark `points`, in a face whose forward direction
+    /// is `forward`; `None` when the corners coincide or the contour has no height.
+    pub fn of(points: &[Vec3], contour: &Contour, forward: DVec3) -> Option<Extent> {
+        let at = |i: usize| points[i].as_dvec3();
+        let ids = contour.first..=contour.last;
+        let d = at(contour.corners[1]) - at(contour.corners[0]);
+        let across = (d - forward * d.dot(forward)).normalize_or_zero();
+        let out = (forward - across * forward.dot(across)).normalize_or_zero();
+        let up = out.cross(across);
+        let heights = ids.clone().map(|i| at(i).dot(up));
+        let (lo, hi) = heights.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
+            (lo.min(h), hi.max(h))
+        });
+        let half_width = 0.5 * d.dot(across);
+        let half_height = 0.5 * (hi - lo);
+        let centre = ids.clone().map(at).sum::<DVec3>() / ids.count() as f64;
+        (across != DVec3::ZERO && half_width > 0.0 && half_height > 0.0)
+            .then_some(Extent {
+                centre,
+                axes: [across, up, out],
+                half_width,
+                half_height,
+            })
+            .filter(|e| e.centre.is_finite() && e.half_height.is_finite())
+    }
+}

@@ -2,9 +2,11 @@
 //!
 //! The template's landmarks are aligned with the mesh's by a similarity and a thin-plate
 //! spline ([`Warp`]); every muscle point goes through the warp, every length is scaled by
-//! the warp's local scale there, the jaw gets a pivot and axis through the warp and weights
-//! for the new mesh, and masks keep muscles to the skin and to their own side of the mouth
-//! and eyes. Muscle names stay, so AU tables written for the template drive the new face.
+//! the warp's local scale there (a mouth or eye ring by its lip or lid contour instead), the
+//! jaw gets a pivot and axis through the warp and weights for the new mesh, the template's
+//! per-vertex masks are carried like the jaw's weights, and masks keep muscles to the skin
+//! and to their own side of the mouth and eyes. Muscle names stay, so AU tables written for
+//! the template drive the new face.
 
 use std::path::PathBuf;
 
@@ -13,9 +15,11 @@ use thiserror::Error;
 
 use super::landmarks::{FaceFrame, LandmarkError, Landmarks};
 use super::parts::{find_parts, Part, PartOverrides, Parts};
-use super::regions::{Opening, Side};
+use super::regions::{Extent, Opening, Side, CONTOURS};
 use super::warp::Warp;
-use crate::model::{Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Sphincter};
+use crate::model::{
+    Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Sphincter,
+};
 
 /// A rig with the mesh it is placed on and that mesh's landmarks: what a fit starts from.
 #[derive(Debug, Clone, Copy)]
@@ -57,6 +61,77 @@ pub struct Fitted {
     pub sides: Vec<(String, Vec<String>, Vec<String>)>,
 }
 
+/// Carried per-vertex mask weights fade back to 1 (no mask) between these distances from the
+/// nearest carried template vertex, as fractions of the landmarks' spread: a neck or body
+/// beyond the template's face keeps the muscles' own fields, as the jaw's weights fade there.
+const MASK_FADE: (f64, f64) = (0.08, 0.2);
+
+/// A fitted muscle whose size or strength is far from the template's times the face's scale.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outlier {
+    /// The muscle's name.
+    pub muscle: String,
+    /// What is off: `falloff`, `length`, `width`, `semi-major axis`, `semi-minor axis` or
+    /// `strength`.
+    pub what: &'static str,
+    /// The fitted value over the template's times the scale (1 when it scales with the face).
+    pub ratio: f64,
+}
+
+impl Fitted {
+    /// The muscles whose size (a linear muscle's falloff end, a sheet's length and width, a
+    /// ring's semi-axes) or strength (the product of its masks' gains) is more than `factor`
+    /// times larger or smaller than `template`'s times the similarity's scale. A linear
+    /// muscle's pull scales with its geometry, so its strength is compared with the
+    /// template's alone.
+    pub fn outliers(&self, template: &Rig, factor: f64) -> Vec<Outlier> {
+        let gain = |rig: &Rig, name: &str| {
+            rig.masks
+                .iter()
+                .filter(|m| m.muscles.iter().any(|n| n == name))
+                .map(|m| f64::from(m.gain))
+                .product::<f64>()
+        };
+        let mut out = Vec::new();
+        for (m, t) in self.rig.muscles.iter().zip(&template.muscles) {
+            let sizes: Vec<(&'static str, f32, f32)> = match (&m.kind, &t.kind) {
+                (MuscleKind::Linear(a), MuscleKind::Linear(b)) => {
+                    vec![("falloff", a.falloff_end, b.falloff_end)]
+                }
+                (MuscleKind::Sheet(a), MuscleKind::Sheet(b)) => {
+                    vec![("length", a.length, b.length), ("width", a.width, b.width)]
+                }
+                (MuscleKind::Sphincter(a), MuscleKind::Sphincter(b)) => vec![
+                    ("semi-major axis", a.semi_major, b.semi_major),
+                    ("semi-minor axis", a.semi_minor, b.semi_minor),
+                ],
+                _ => Vec::new(),
+            };
+            let strength_scale = match m.kind {
+                MuscleKind::Linear(_) => 1.0,
+                _ => self.scale,
+            };
+            let ratios = sizes
+                .into_iter()
+                .map(|(what, a, b)| (what, f64::from(a) / (f64::from(b) * self.scale)))
+                .chain([(
+                    "strength",
+                    gain(&self.rig, &m.name) / (gain(template, &t.name) * strength_scale),
+                )]);
+            for (what, ratio) in ratios {
+                if !(ratio <= factor && ratio >= 1.0 / factor) {
+                    out.push(Outlier {
+                        muscle: m.name.clone(),
+                        what,
+                        ratio,
+                    });
+                }
+            }
+        }
+        out
+    }
+}
+
 /// Gains this close to 1 are written as 1 (no mask).
 const GAIN_EPSILON: f64 = 1e-6;
 
@@ -80,14 +155,21 @@ pub fn fit_rig(
     if !parts.of_vertex.contains(&Part::Skin) {
         return Err(FitError::NoSkin);
     }
+    let rings = RingFit::all(
+        template.landmarks,
+        &target,
+        [&from, &to],
+        warp.similarity.scale,
+    );
     let mut gains = Vec::new();
     let muscles: Vec<Muscle> = template
         .rig
         .muscles
         .iter()
         .map(|m| {
-            let (kind, gain) = carry(&m.kind, &warp);
-            // the template's own gains on the muscle (its per-vertex weights are not carried)
+            let (kind, gain) = carry(&m.kind, &warp, &rings);
+            // the template's own gains on the muscle (its per-vertex weights are carried by
+            // `carry_masks`)
             let gain = gain
                 * template
                     .rig
@@ -123,16 +205,19 @@ pub fn fit_rig(
         jaw,
         masks: Vec::new(),
     };
+    let sources = Sources::find(template, &warp, mesh, &parts);
     let sides = side_masks(
         &mut rig,
         template,
         mesh,
-        &parts,
+        &sources,
         &openings_from,
         &openings_to,
     );
+    rig.masks.extend(carry_masks(template, &sources));
     rig.masks.extend(still_mask(&rig, &parts));
-    rig.masks.extend(depth_masks(&rig, mesh, &parts, &to));
+    rig.masks
+        .extend(depth_masks(&rig, template, mesh, &sources, [&from, &to]));
     for (name, gain) in gains {
         rig.masks.push(Mask {
             muscles: vec![name],
@@ -149,10 +234,62 @@ pub fn fit_rig(
     })
 }
 
+/// A ring's landmark contour on the template and on the mesh, and the linear map between
+/// them: the contour's own axes (across, up, out of the face) onto the mesh's, stretched by
+/// the ratios of the contours' half-widths and half-heights across and up, and by the
+/// similarity's scale out of the face.
+#[derive(Debug, Clone, Copy)]
+struct RingFit {
+    from: Extent,
+    map: DMat3,
+    width_ratio: f64,
+    height_ratio: f64,
+}
+
+impl RingFit {
+    /// The fits of the mouth's and the eyes' contours ([`CONTOURS`]) that both faces have.
+    fn all(template: &[Vec3], target: &[Vec3], frames: [&FaceFrame; 2], scale: f64) -> Vec<Self> {
+        CONTOURS
+            .iter()
+            .filter_map(|contour| {
+                let from = Extent::of(template, contour, frames[0].forward)?;
+                let to = Extent::of(target, contour, frames[1].forward)?;
+                let width_ratio = to.half_width / from.half_width;
+                let height_ratio = to.half_height / from.half_height;
+                let basis = |e: &Extent| DMat3::from_cols(e.axes[0], e.axes[1], e.axes[2]);
+                let stretch = DMat3::from_diagonal(DVec3::new(width_ratio, height_ratio, scale));
+                Some(RingFit {
+                    from,
+                    map: basis(&to) * stretch * basis(&from).transpose(),
+                    width_ratio,
+                    height_ratio,
+                })
+            })
+            .collect()
+    }
+
+    /// The contour a sphincter centred at template point `centre` sits in: the nearest,
+    /// relative to its half-width, if the centre lies within a half-width of its middle.
+    fn around(rings: &[RingFit], centre: DVec3) -> Option<&RingFit> {
+        let off = |r: &RingFit| centre.distance(r.from.centre) / r.from.half_width;
+        rings
+            .iter()
+            .filter(|r| off(r) < 1.0)
+            .min_by(|a, b| off(a).total_cmp(&off(b)))
+    }
+}
+
 /// A muscle's geometry through the warp, and the gain for the kinds whose pull is a length
 /// of its own (sheets and sphincters move the skin by up to one mesh unit per activation,
 /// whatever the face's size).
-fn carry(kind: &MuscleKind, warp: &Warp) -> (MuscleKind, f64) {
+///
+/// A sphincter in a contour of landmarks (the lips, an eye) takes its frame and semi-axes
+/// from that contour ([`RingFit`]), not from the warp at its centre: there the lip or lid
+/// landmarks nearly coincide on a closed mouth or eye, and the spline's Jacobian swings with
+/// them. Its gain is the contour's ratio along the direction it pulls: the width for a ring
+/// that closes on its centre (the mouth's pucker), the height for one that closes on its
+/// major axis (lids, lips pressed together).
+fn carry(kind: &MuscleKind, warp: &Warp, rings: &[RingFit]) -> (MuscleKind, f64) {
     let map = |p: Vec3| warp.apply_f32(p);
     match kind {
         MuscleKind::Linear(m) => {
@@ -197,7 +334,16 @@ fn carry(kind: &MuscleKind, warp: &Warp) -> (MuscleKind, f64) {
         }
         MuscleKind::Sphincter(m) => {
             let c = m.centre.as_dvec3();
-            let j = warp.jacobian(c);
+            let (j, gain) = match RingFit::around(rings, c) {
+                Some(ring) => (
+                    ring.map,
+                    match m.convergence {
+                        Convergence::Centre => ring.width_ratio,
+                        Convergence::MajorAxis => ring.height_ratio,
+                    },
+                ),
+                None => (warp.jacobian(c), warp.local_scale(c)),
+            };
             let axes = m.frame.rotation().unwrap_or(DMat3::IDENTITY);
             let (u, v) = (j * axes.x_axis, j * axes.y_axis);
             (
@@ -208,7 +354,7 @@ fn carry(kind: &MuscleKind, warp: &Warp) -> (MuscleKind, f64) {
                     frame: carry_frame(u, v),
                     ..m.clone()
                 }),
-                warp.local_scale(c),
+                gain,
             )
         }
     }
@@ -275,13 +421,16 @@ fn snap_axis(axis: Vec3) -> Vec3 {
 }
 
 /// The masks that keep each muscle of one lip (or lid) off the other: a muscle working above
-/// an opening's line gets weight `1 - w` on the vertices below it, and the other way round.
-/// Returns, per opening, the muscles kept above and below.
+/// an opening's line gets less weight on the vertices below it, and the other way round, by
+/// as much more as they lie on the other side than their template sources ([`Sources`]) do
+/// on the template. What the template's own fields do across its lines is kept (a fit to the
+/// template itself adds nothing); a vertex carried across the line by the warp or the
+/// nearest-point lookup is cut off. Returns, per opening, the muscles kept above and below.
 fn side_masks(
     rig: &mut Rig,
     template: Template<'_>,
     mesh: &Mesh,
-    parts: &Parts,
+    sources: &Sources,
     openings_from: &[Opening],
     openings_to: &[Opening],
 ) -> Vec<(String, Vec<String>, Vec<String>)> {
@@ -304,10 +453,12 @@ fn side_masks(
                 .positions
                 .iter()
                 .enumerate()
-                .filter(|(v, _)| parts.of_vertex[*v] == Part::Skin)
                 .filter_map(|(v, p)| {
+                    let (id, share) = sources.of_vertex[v]?;
                     let w = to.side_weight(*p, other);
-                    (w > 0.0).then_some((v as u32, (1.0 - w) as f32))
+                    let was = share * from.side_weight(template.mesh.positions[id as usize], other);
+                    let cut = w - was;
+                    (cut > GAIN_EPSILON).then_some((v as u32, (1.0 - cut) as f32))
                 })
                 .collect();
             if !weights.is_empty() {
@@ -336,25 +487,41 @@ fn action_point(kind: &MuscleKind) -> Vec3 {
 /// A sphincter pulls everything inside its ellipse, however deep: on a whole head that would
 /// include the back of the head. Each sphincter gets weight 0 on skin more than its
 /// semi-major axis behind its centre (along the face's forward direction), fading in over
-/// the half-axis in front of that.
-fn depth_masks(rig: &Rig, mesh: &Mesh, parts: &Parts, frame: &FaceFrame) -> Vec<Mask> {
+/// the half-axis in front of that, less what the template's own ring reaches at the vertex's
+/// source ([`Sources`]): a fit to the template itself cuts nothing, a head behind the
+/// template's face is cut.
+fn depth_masks(
+    rig: &Rig,
+    template: Template<'_>,
+    mesh: &Mesh,
+    sources: &Sources,
+    frames: [&FaceFrame; 2],
+) -> Vec<Mask> {
+    let [from, to] = frames;
+    // How much of a ring at `centre` reaching `reach` is cut at `p`.
+    let cut = |s: &Sphincter, frame: &FaceFrame, p: Vec3| {
+        let reach = f64::from(s.semi_major);
+        let behind = -(p - s.centre).as_dvec3().dot(frame.forward);
+        super::regions::smoothstep(0.5 * reach, reach, behind)
+    };
     let mut masks = Vec::new();
-    for m in &rig.muscles {
-        let MuscleKind::Sphincter(s) = &m.kind else {
+    for (m, t) in rig.muscles.iter().zip(&template.rig.muscles) {
+        let (MuscleKind::Sphincter(s), MuscleKind::Sphincter(ts)) = (&m.kind, &t.kind) else {
             continue;
         };
         let field = crate::model::Field::of(&m.kind, &mesh.positions);
-        let reach = f64::from(s.semi_major);
         let weights: Vec<(u32, f32)> = field
             .vertices
             .iter()
-            .filter(|&&v| parts.of_vertex[v as usize] == Part::Skin)
             .filter_map(|&v| {
-                let behind = -(mesh.positions[v as usize] - s.centre)
-                    .as_dvec3()
-                    .dot(frame.forward);
-                let w = 1.0 - super::regions::smoothstep(0.5 * reach, reach, behind);
-                (w < 1.0).then_some((v, w as f32))
+                let (id, share) = sources.of_vertex[v as usize].unwrap_or((0, 0.0));
+                let was = if share > 0.0 {
+                    share * cut(ts, from, template.mesh.positions[id as usize])
+                } else {
+                    0.0
+                };
+                let more = cut(s, to, mesh.positions[v as usize]) - was;
+                (more > GAIN_EPSILON).then_some((v, (1.0 - more) as f32))
             })
             .collect();
         if !weights.is_empty() {
@@ -366,6 +533,103 @@ fn depth_masks(rig: &Rig, mesh: &Mesh, parts: &Parts, frame: &FaceFrame) -> Vec<
         }
     }
     masks
+}
+
+/// Where each skin vertex of the mesh comes from on the template: the nearest template skin
+/// vertex after the warp, and the share of that vertex's mask weights it takes (1 near the
+/// template, fading to 0 where no template vertex is near: a neck or body beyond the
+/// template's face keeps the muscles' own fields, as the jaw's weights fade there).
+struct Sources {
+    /// Per mesh vertex: `(template vertex, share)`, `None` for parts that are not skin and
+    /// skin far from the template.
+    of_vertex: Vec<Option<(u32, f64)>>,
+}
+
+impl Sources {
+    fn find(template: Template<'_>, warp: &Warp, mesh: &Mesh, parts: &Parts) -> Sources {
+        let count = template.mesh.vertex_count();
+        let mut skin = vec![true; count];
+        for mask in template
+            .rig
+            .masks
+            .iter()
+            .filter(|m| is_still(template.rig, m))
+        {
+            for &(v, _) in &mask.weights {
+                if let Some(s) = skin.get_mut(v as usize) {
+                    *s = false;
+                }
+            }
+        }
+        let ids: Vec<u32> = (0..count as u32).filter(|&v| skin[v as usize]).collect();
+        let points = ids
+            .iter()
+            .map(|&v| warp.apply_f32(template.mesh.positions[v as usize]))
+            .collect();
+        let index = super::nearest::Nearest::new(points, ids);
+        let (near, far) = (MASK_FADE.0 * warp.spread, MASK_FADE.1 * warp.spread);
+        let of_vertex = mesh
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(v, p)| {
+                if parts.of_vertex[v] != Part::Skin {
+                    return None;
+                }
+                let (id, d) = index.nearest_within(*p, far as f32)?;
+                let share = 1.0 - super::regions::smoothstep(near, far, f64::from(d));
+                (share > 0.0).then_some((id, share))
+            })
+            .collect();
+        Sources { of_vertex }
+    }
+}
+
+/// A mask holding a rig's still parts: weight 0 everywhere it lists, for every muscle.
+fn is_still(rig: &Rig, mask: &Mask) -> bool {
+    mask.weights.iter().all(|&(_, w)| w == 0.0)
+        && rig
+            .muscles
+            .iter()
+            .all(|muscle| mask.muscles.contains(&muscle.name))
+}
+
+/// The template's per-vertex masks carried to the mesh: each skin vertex takes the weight of
+/// its source ([`Sources`]), blended back to 1 by the source's share. A mask holding the
+/// template's still parts is not carried: the mesh's own parts make its still mask. The
+/// masks' gains are folded into each muscle's gain by [`fit_rig`], so a carried mask has
+/// gain 1.
+fn carry_masks(template: Template<'_>, sources: &Sources) -> Vec<Mask> {
+    let count = template.mesh.vertex_count();
+    template
+        .rig
+        .masks
+        .iter()
+        .filter(|m| !m.weights.is_empty() && !is_still(template.rig, m))
+        .filter_map(|mask| {
+            let mut dense = vec![1.0f32; count];
+            for &(v, w) in &mask.weights {
+                if let Some(slot) = dense.get_mut(v as usize) {
+                    *slot = w;
+                }
+            }
+            let weights: Vec<(u32, f32)> = sources
+                .of_vertex
+                .iter()
+                .enumerate()
+                .filter_map(|(v, source)| {
+                    let (id, share) = (*source)?;
+                    let w = 1.0 - share * (1.0 - f64::from(dense[id as usize]));
+                    (w < 1.0 - GAIN_EPSILON).then_some((v as u32, w as f32))
+                })
+                .collect();
+            (!weights.is_empty()).then(|| Mask {
+                muscles: mask.muscles.clone(),
+                gain: 1.0,
+                weights,
+            })
+        })
+        .collect()
 }
 
 /// One mask for every muscle: weight 0 on every vertex that is not skin.

@@ -59,6 +59,7 @@ fn from_an_obj_to_a_rig_the_other_commands_accept() {
     );
     let (stdout, stderr) = text(&out);
     assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
     assert!(stdout.contains("scale 11.5"), "{stdout}");
     assert!(stdout.contains("skin"), "{stdout}");
     let rig_text = std::fs::read_to_string(dir.path().join("head.rig.ron")).unwrap();
@@ -109,6 +110,80 @@ fn from_an_obj_to_a_rig_the_other_commands_accept() {
         ],
     );
     assert!(out.status.success(), "{:?}", text(&out));
+}
+
+/// Landmarks out of the scheme's order still fit, with a warning naming the file and the
+/// contour: a lower lip listed from the subject's right to left.
+#[test]
+fn landmarks_out_of_order_are_warned_about() {
+    let dir = temp();
+    write_face(dir.path(), "head", |p| p);
+    let mut v = builtin::landmarks("face")
+        .unwrap()
+        .vertices(&builtin::default_mesh());
+    v[55..60].reverse();
+    grimace::io::landmarks::save_landmarks(
+        &dir.path().join("head.landmarks.ron"),
+        &grimace::fit::Landmarks::Vertices(v),
+    )
+    .unwrap();
+    let out = grimace_in(
+        dir.path(),
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "head.landmarks.ron",
+            "--out",
+            "head.rig.ron",
+        ],
+    );
+    let (_, stderr) = text(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning: head.landmarks.ron: the outer lip line (48-59)")
+            && stderr.contains("landmark 55 "),
+        "{stderr}"
+    );
+}
+
+/// A mouth whose landmarks make it far narrower than the template's, relative to the face,
+/// fits with a warning naming the mouth ring and what is off.
+#[test]
+fn muscles_far_off_the_template_are_warned_about() {
+    let dir = temp();
+    write_face(dir.path(), "head", |p| p);
+    let mesh = builtin::default_mesh();
+    let mut points = builtin::landmarks("face")
+        .unwrap()
+        .positions(&mesh)
+        .unwrap();
+    for p in &mut points[48..68] {
+        p.x *= 0.4;
+    }
+    grimace::io::landmarks::save_landmarks(
+        &dir.path().join("head.landmarks.ron"),
+        &grimace::fit::Landmarks::Points(points),
+    )
+    .unwrap();
+    let out = grimace_in(
+        dir.path(),
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "head.landmarks.ron",
+            "--out",
+            "head.rig.ron",
+        ],
+    );
+    let (_, stderr) = text(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning: Orbicularis_Oris: its semi-major axis came out 0.4")
+            && stderr.contains("warning: Orbicularis_Oris: its strength came out 0.4"),
+        "{stderr}"
+    );
 }
 
 fn fails_naming(dir: &Path, args: &[&str], file: &str, words: &str) {

@@ -12,3 +12,5 @@ mod cli;
 mod parts;
 mod real;
 mod rig;
+mod rings;
+mod scheme;

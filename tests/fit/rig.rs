@@ -301,3 +301,31 @@ fn au_fields_survive_similarities_and_a_mild_bend() {
     assert!(sphincter_aus >= 4 * 7, "{sphincter_aus} sphincter AUs");
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// Fitting the default rig to the default face itself (scale 1, no bend) gives every AU of
+/// the default table back: the template's per-vertex masks are carried with the rig.
+#[test]
+fn the_identity_fit_gives_every_au_back() {
+    let mesh = builtin::default_mesh();
+    let want = au_fields(&builtin::default_rig(), &mesh);
+    let got = au_fields(&fitted_default(&mesh), &mesh);
+    let mut wrong = Vec::new();
+    let mut worst = 0.0f32;
+    for ((key, a), (_, b)) in want.iter().zip(&got) {
+        let err = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| x.distance(*y))
+            .fold(0.0f32, f32::max);
+        worst = worst.max(err);
+        if err > 1e-4 {
+            wrong.push(format!("AU {key}: {err:.4}"));
+        }
+    }
+    println!(
+        "identity fit: {} of {} AUs differ, largest difference {worst:.2e}",
+        wrong.len(),
+        want.len()
+    );
+    assert!(wrong.is_empty(), "{wrong:#?}");
+}
