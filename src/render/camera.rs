@@ -184,6 +184,17 @@ impl Camera {
     }
 }
 
+/// An angle in degrees brought into (-180, 180]: the one range every view shows its turn in
+/// (half a turn either way reads as 180, never -180).
+pub fn wrap_degrees(deg: f32) -> f32 {
+    let wrapped = (deg + 180.0).rem_euclid(360.0) - 180.0;
+    if wrapped == -180.0 {
+        180.0
+    } else {
+        wrapped
+    }
+}
+
 /// A camera fitted to a canvas: maps mesh points to dot coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Projection {
@@ -217,5 +228,19 @@ impl Projection {
     #[inline]
     pub fn to_view(&self, p: Vec3) -> Vec3 {
         self.view * p
+    }
+}
+
+#[cfg(test)]
+mod angle_tests {
+    use super::wrap_degrees;
+
+    #[test]
+    fn angles_wrap_into_one_half_open_range() {
+        assert_eq!(wrap_degrees(-180.0), 180.0);
+        assert_eq!(wrap_degrees(180.0), 180.0);
+        assert_eq!(wrap_degrees(190.0), -170.0);
+        assert_eq!(wrap_degrees(-540.0), 180.0);
+        assert_eq!(wrap_degrees(0.0), 0.0);
     }
 }

@@ -2,7 +2,7 @@
 //! built-in table, the face an engine shows (rest plus each AU target's displacement times
 //! the AU's intensity factor) against grimace's own deformation of the expression, in
 //! millimetres of the built-in face (1 unit = 11.5 mm). docs/gltf.md quotes the printed
-//! table (`cargo test --test gltf_blending -- --nocapture`).
+//! table (`cargo test --test cli gltf_blending -- --nocapture`).
 
 use std::path::Path;
 

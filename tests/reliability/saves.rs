@@ -2,8 +2,9 @@
 //! the new version or of the backup, and a read-only folder. Through
 //! `io::atomic::write_atomic` and `io::table_file::save_table`.
 //!
-//! Mounting needs root; without it the full-disk tests skip with a printed reason and the
-//! read-only folder is made with permissions instead.
+//! Mounting needs root; without it the full-disk tests skip with a printed reason (and fail
+//! under `CI=true`, where they must run) and the read-only folder is made with permissions
+//! instead.
 
 use std::fs;
 use std::io::Write;
@@ -66,6 +67,11 @@ macro_rules! mount_or_skip {
         match Tmpfs::mount($kib) {
             Ok(fs) => fs,
             Err(reason) => {
+                // CI runs as root: a full-disk test that did not run there is a failure.
+                assert!(
+                    std::env::var("CI").as_deref() != Ok("true"),
+                    "CI=true but the full-disk test cannot run: {reason}"
+                );
                 eprintln!("skipped: {reason}");
                 return;
             }

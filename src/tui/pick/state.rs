@@ -567,7 +567,9 @@ impl PickApp {
                 Vec::new()
             }
             PickAction::Turn(yaw, pitch) => {
-                self.camera.yaw = wrap_degrees(self.camera.yaw.to_degrees() + yaw).to_radians();
+                self.camera.yaw =
+                    crate::render::camera::wrap_degrees(self.camera.yaw.to_degrees() + yaw)
+                        .to_radians();
                 self.camera.pitch = (self.camera.pitch.to_degrees() + pitch)
                     .clamp(-90.0, 90.0)
                     .to_radians();
@@ -862,10 +864,6 @@ impl PickApp {
             }
         }
     }
-}
-
-fn wrap_degrees(d: f32) -> f32 {
-    (d + 180.0).rem_euclid(360.0) - 180.0
 }
 
 #[cfg(test)]

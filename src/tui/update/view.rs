@@ -7,7 +7,7 @@ use super::*;
 pub(crate) fn apply(app: &mut App, action: Action) {
     match action {
         Action::Rotate(yaw, pitch) => {
-            app.view.yaw = wrap_degrees(app.view.yaw + yaw);
+            app.view.yaw = crate::render::camera::wrap_degrees(app.view.yaw + yaw);
             app.view.pitch = (app.view.pitch + pitch).clamp(-90.0, 90.0);
             // Zoomed in, the focus stays at the centre as the head turns.
             if app.view.zoom > crate::tui::app::DEFAULT_ZOOM {
@@ -77,15 +77,6 @@ pub(crate) fn apply(app: &mut App, action: Action) {
 
 pub(crate) fn on_off(what: &str, on: bool) -> String {
     format!("{what} {}", if on { "on" } else { "off" })
-}
-
-pub(crate) fn wrap_degrees(deg: f32) -> f32 {
-    let wrapped = (deg + 180.0).rem_euclid(360.0) - 180.0;
-    if wrapped == -180.0 {
-        180.0
-    } else {
-        wrapped
-    }
 }
 
 /// Where zooming in centres: the selected muscle's region, or with the jaw (or no muscle)
