@@ -164,6 +164,10 @@ pub(super) fn reference_light(
     )
 }
 
+/// Whether the SSE2 kernels run (x86-64, unless the `scalar-raster` feature asks for the
+/// portable code everywhere, as CI does to test the path other machines run).
+const SIMD: bool = cfg!(all(target_arch = "x86_64", not(feature = "scalar-raster")));
+
 /// How the shaded surface's dots are lit and coloured.
 struct Look<'a> {
     /// The surface's colour at full light.
@@ -187,7 +191,7 @@ impl Look<'_> {
         (on, color, layer): (&mut [bool], &mut [Rgb], &mut [Layer]),
     ) {
         #[cfg(target_arch = "x86_64")]
-        if self.heat.is_none() {
+        if SIMD && self.heat.is_none() {
             let end = y1.saturating_sub(1) * w + x1;
             if y0 < y1
                 && x0 < x1
@@ -209,6 +213,19 @@ impl Look<'_> {
             }
             return;
         }
+        self.light_rows((x0, y0, x1, y1), w, depth, shade, (on, color, layer));
+    }
+
+    /// The portable [`Look::light_dots`]: the same dots and colours as the SSE2 steps
+    /// (tested).
+    fn light_rows(
+        &self,
+        (x0, y0, x1, y1): (usize, usize, usize, usize),
+        w: usize,
+        depth: &[f32],
+        shade: &[f32],
+        (on, color, layer): (&mut [bool], &mut [Rgb], &mut [Layer]),
+    ) {
         for y in y0..y1 {
             let thresholds = BAYER[y & 3].map(|b| b as f32 + 0.5);
             let (from, to) = (y * w + x0, y * w + x1);
@@ -396,19 +413,34 @@ pub(super) fn shade_triangle_in<const N: usize>(
     let [wa, wb] = corner_weights(p, area);
     let z = plane(wa, wb, [a.z, b.z, c.z]);
     let planes = attr.map(|v| plane(wa, wb, v));
+    let padded = (x1 - x0).next_multiple_of(4);
+    // Every row's steps fit in the buffers when the last row's do.
+    let last_end = (y1 - 1) * w + x0 + padded;
+    #[cfg(target_arch = "x86_64")]
+    if SIMD && last_end <= depth.len() && out.iter().all(|o| o.len() >= last_end) {
+        sse::shade_rows([x0, x1, y0, y1], w, wa, wb, z, planes, depth, out);
+        return;
+    }
+    let _ = last_end;
+    shade_rows([x0, x1, y0, y1], w, [wa, wb, z], planes, depth, out);
+}
+
+/// The portable [`shade_triangle_in`] over the rows of its box: the same dots and bits as
+/// the SSE2 steps (tested), four lanes at a time where the buffers hold the padding, one dot
+/// at a time at the canvas's end.
+fn shade_rows<const N: usize>(
+    [x0, x1, y0, y1]: [usize; 4],
+    w: usize,
+    [wa, wb, z]: [(f32, f32, f32); 3],
+    planes: [(f32, f32, f32); N],
+    depth: &mut [f32],
+    out: [&mut [f32]; N],
+) {
     /// Dots per step.
     const LANES: usize = 4;
     const STEP: [f32; LANES] = [0.5, 1.5, 2.5, 3.5];
     let width = x1 - x0;
     let padded = width.next_multiple_of(LANES);
-    // Every row's steps fit in the buffers when the last row's do.
-    let last_end = (y1 - 1) * w + x0 + padded;
-    #[cfg(target_arch = "x86_64")]
-    if last_end <= depth.len() && out.iter().all(|o| o.len() >= last_end) {
-        sse::shade_rows([x0, x1, y0, y1], w, wa, wb, z, planes, depth, out);
-        return;
-    }
-    let _ = last_end;
     for y in y0..y1 {
         let py = y as f32 + 0.5;
         let from = y * w + x0;
@@ -650,6 +682,95 @@ mod sse {
                     }
                     i += 4;
                     x += 4;
+                }
+            }
+        }
+    }
+}
+
+/// The SSE2 kernels promise the portable code's bits: both run on the same random triangles
+/// and buffers and must leave the same depth, attributes, dots and colours.
+#[cfg(all(test, target_arch = "x86_64"))]
+mod simd_matches_portable {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn corner() -> impl Strategy<Value = Vec3> {
+        (-8.0f32..72.0, -8.0f32..40.0, -5.0f32..5.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+    }
+
+    fn bits(v: &[f32]) -> Vec<u32> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+
+        #[test]
+        fn shading_steps_give_the_same_bits(
+            p in [corner(), corner(), corner()],
+            attr in proptest::array::uniform2(proptest::array::uniform3(0.0f32..1.0)),
+            seed in any::<u32>(),
+        ) {
+            let (w, h) = (64usize, 32usize);
+            let [a, b, c] = p;
+            let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+            prop_assume!(area.is_finite() && area.abs() >= 1e-9);
+            let dots = float_box(p, w, h);
+            let [x0, x1, y0, y1] = dots;
+            prop_assume!(x0 < x1 && y0 < y1);
+            let [wa, wb] = corner_weights(p, area);
+            let z = plane(wa, wb, [a.z, b.z, c.z]);
+            let planes = attr.map(|v| plane(wa, wb, v));
+            // Room for the last row's padding, and some dots already drawn nearer.
+            let len = w * h + 4;
+            let start: Vec<f32> = (0..len)
+                .map(|i| if (i as u32 ^ seed) % 5 == 0 { 1.0 } else { f32::NEG_INFINITY })
+                .collect();
+            let (mut d1, mut d2) = (start.clone(), start.clone());
+            let (mut s1, mut s2, mut k1, mut k2) =
+                (vec![0.25; len], vec![0.25; len], vec![0.5; len], vec![0.5; len]);
+            sse::shade_rows(dots, w, wa, wb, z, planes, &mut d1, [&mut s1, &mut k1]);
+            shade_rows(dots, w, [wa, wb, z], planes, &mut d2, [&mut s2, &mut k2]);
+            prop_assert_eq!(bits(&d1), bits(&d2));
+            prop_assert_eq!(bits(&s1), bits(&s2));
+            prop_assert_eq!(bits(&k1), bits(&k2));
+        }
+
+        #[test]
+        fn lighting_steps_give_the_same_dots_and_colours(
+            rect in (0usize..60, 0usize..30, 1usize..64, 1usize..32),
+            dither in any::<bool>(),
+            base in (any::<u8>(), any::<u8>(), any::<u8>()),
+            seed in any::<u32>(),
+        ) {
+            let (w, h) = (64usize, 32usize);
+            let (x0, y0) = (rect.0, rect.1);
+            let (x1, y1) = ((x0 + rect.2).min(w), (y0 + rect.3).min(h));
+            prop_assume!(x0 < x1 && y0 < y1);
+            let len = w * h;
+            let mut r = seed;
+            let mut next = || {
+                r = r.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (r >> 8) as f32 / (1 << 24) as f32
+            };
+            let depth: Vec<f32> =
+                (0..len).map(|_| if next() < 0.2 { f32::NEG_INFINITY } else { next() }).collect();
+            // Shades past 0..1 and NaN clamp alike in both.
+            let shade: Vec<f32> = (0..len)
+                .map(|i| if i % 97 == 0 { f32::NAN } else { next() * 1.4 - 0.2 })
+                .collect();
+            let look = Look { base: Rgb(base.0, base.1, base.2), dither, heat: None };
+            let (mut on1, mut c1, mut l1) = (vec![false; len], vec![Rgb(0, 0, 0); len], vec![Layer::Empty; len]);
+            let (mut on2, mut c2, mut l2) = (on1.clone(), c1.clone(), l1.clone());
+            sse::light_rows((x0, y0, x1, y1), w, look.base, dither, &depth, &shade, (&mut on1, &mut c1, &mut l1));
+            look.light_rows((x0, y0, x1, y1), w, &depth, &shade, (&mut on2, &mut c2, &mut l2));
+            // Colour and layer are read only where a dot is on, as the kernels say.
+            for i in 0..len {
+                prop_assert_eq!(on1[i], on2[i], "dot {}", i);
+                if on1[i] {
+                    prop_assert_eq!(c1[i], c2[i], "dot {}", i);
+                    prop_assert_eq!(l1[i], l2[i], "dot {}", i);
                 }
             }
         }
