@@ -112,7 +112,7 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     };
     let (landmarks, landmark_file) = target_landmarks(&landmark_arg, args, &mesh)?;
     let template = rig_file::load_rig_ref(&args.template, None)?;
-    let template_points = template_landmarks(args, &template)?;
+    let (template_points, template_file) = template_landmarks(args, &template)?;
     let mesh_path = mesh_reference(&args.mesh, &args.out)?;
     let mut inputs = Inputs::new();
     inputs.add("the mesh to rig", &args.mesh);
@@ -137,7 +137,13 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         mesh_path,
         &overrides,
     )
-    .map_err(|e| anyhow!(LoadError::new(&landmark_file, e.to_string())))?;
+    .map_err(|e| match e {
+        // The template's own landmarks are at fault, not the mesh's.
+        e @ fit::FitError::Template(_) => {
+            anyhow!(LoadError::new(&template_file, e.to_string()))
+        }
+        e => anyhow!(LoadError::new(&landmark_file, e.to_string())),
+    })?;
     warn_order(&landmark_file, &landmarks, &mesh);
     for o in fitted.outliers(&template.rig, OUTLIER_FACTOR) {
         eprintln!(
@@ -195,7 +201,10 @@ fn target_landmarks(
 
 /// The template's landmark positions: given, built in, or `MESH.landmarks.ron` beside the
 /// template's mesh.
-fn template_landmarks(args: &FitRigArgs, template: &LoadedRig) -> anyhow::Result<Vec<glam::Vec3>> {
+fn template_landmarks(
+    args: &FitRigArgs,
+    template: &LoadedRig,
+) -> anyhow::Result<(Vec<glam::Vec3>, PathBuf)> {
     let (landmarks, path) = match &args.template_landmarks {
         Some(path) => (load_landmarks(path)?, path.clone()),
         None => match rig_file::mesh_ref(&template.path, &template.rig.mesh) {
@@ -223,7 +232,8 @@ fn template_landmarks(args: &FitRigArgs, template: &LoadedRig) -> anyhow::Result
             }
         },
     };
-    Ok(check_against(&landmarks, &template.mesh, &path, None)?)
+    let points = check_against(&landmarks, &template.mesh, &path, None)?;
+    Ok((points, path))
 }
 
 /// `head.obj` -> `head.landmarks.ron`, in the same folder.

@@ -179,6 +179,42 @@ pub enum LandmarkError {
     /// The landmarks do not span a face (all on one point, or on a line).
     #[error("the landmarks do not span a face: they lie on one point or on a line")]
     Degenerate,
+    /// The landmarks lie in one plane: the nose tip does not stand out of the face.
+    #[error(
+        "the landmarks lie in one plane (the nose tip, 30, is not in front of the eyes and \
+         mouth): grimace needs their 3D positions on the mesh, not a 2D image's"
+    )]
+    Planar,
+    /// The points are so far from the origin, for their spread, that single precision
+    /// cannot tell them apart.
+    #[error(
+        "the landmarks lie about {offset:.3e} units from the origin but only {spread:.3e} \
+         apart: single-precision numbers cannot tell them apart there; move the mesh nearer \
+         the origin"
+    )]
+    FarFromOrigin {
+        /// Distance of the landmarks' centre from the origin.
+        offset: f64,
+        /// Their spread.
+        spread: f64,
+    },
+    /// One landmark lies far from all the others.
+    #[error(
+        "landmark {landmark} lies {times:.0} times farther from the face's centre than the \
+         others do: it is not on this face"
+    )]
+    Outlier {
+        /// The landmark (0-based).
+        landmark: usize,
+        /// Its distance from the median centre over the other landmarks' median distance.
+        times: f64,
+    },
+    /// The landmarks are not in the iBUG scheme's order.
+    #[error("the landmarks are not in the iBUG order: {problems}")]
+    OutOfOrder {
+        /// What is out of order (the first few problems).
+        problems: String,
+    },
     /// The landmarks are the template's mirror image.
     #[error(
         "the landmarks are mirrored: the subject's left and right are swapped relative to the \
@@ -283,15 +319,86 @@ pub fn nearest_vertex(positions: &[Vec3], p: Vec3) -> u32 {
     best.1
 }
 
-/// Refuses landmark sets that do not span a face: every point nearly on one point or line.
+/// Refuses landmark sets that do not span a face, saying why: one far outlier, points past
+/// single precision, a plane, or every point nearly on one point or line.
 pub fn check_shape(points: &[Vec3]) -> Result<(), LandmarkError> {
-    let frame = FaceFrame::of(points).ok_or(LandmarkError::Degenerate)?;
+    // A point far beyond all the others is never part of the face, whatever the frame says.
+    if let outlier @ LandmarkError::Outlier { .. } = why_not_a_face(points) {
+        return Err(outlier);
+    }
+    let Some(frame) = FaceFrame::of(points) else {
+        return Err(why_not_a_face(points));
+    };
     let spread = rms_spread(&points.iter().map(|p| p.as_dvec3()).collect::<Vec<_>>());
     // The eye line and the eyes-to-mouth line must both be a fair part of the face.
     if !(frame.eye_distance > 0.2 * spread && frame.eyes_to_mouth > 0.2 * spread) {
-        return Err(LandmarkError::Degenerate);
+        return Err(why_not_a_face(points));
     }
     Ok(())
+}
+
+/// Why a set does not span a face, most specific first.
+fn why_not_a_face(points: &[Vec3]) -> LandmarkError {
+    let p: Vec<DVec3> = points.iter().map(|p| p.as_dvec3()).collect();
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let centre = DVec3::new(
+        median(p.iter().map(|q| q.x).collect()),
+        median(p.iter().map(|q| q.y).collect()),
+        median(p.iter().map(|q| q.z).collect()),
+    );
+    let distances: Vec<f64> = p.iter().map(|q| q.distance(centre)).collect();
+    let typical = median(distances.clone());
+    if let Some((landmark, far)) = distances
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+    {
+        if typical > 0.0 && far > 20.0 * typical {
+            return LandmarkError::Outlier {
+                landmark,
+                times: far / typical,
+            };
+        }
+    }
+    // Points a few float steps apart: their spread is lost against their offset.
+    let offset = centre.length();
+    let step = offset * f64::from(f32::EPSILON);
+    if typical < 64.0 * step {
+        return LandmarkError::FarFromOrigin {
+            offset,
+            spread: typical,
+        };
+    }
+    let mean = p.iter().copied().sum::<DVec3>() / p.len() as f64;
+    let mut covariance = glam::DMat3::ZERO;
+    for q in &p {
+        let d = *q - mean;
+        covariance += glam::DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+    }
+    // The smallest principal spread against the middle one: a plane has none across it.
+    let trace = covariance.x_axis.x + covariance.y_axis.y + covariance.z_axis.z;
+    let det = covariance.determinant();
+    let spread2 = trace / 3.0;
+    if spread2 > 0.0 && det.abs() < 1e-9 * spread2.powi(3) && covariance_rank2(&covariance, spread2)
+    {
+        return LandmarkError::Planar;
+    }
+    LandmarkError::Degenerate
+}
+
+/// Whether a covariance matrix with determinant near zero still spans two directions (a
+/// plane, not a line): some 2x2 principal minor stays large.
+fn covariance_rank2(c: &glam::DMat3, spread2: f64) -> bool {
+    let minors = [
+        c.x_axis.x * c.y_axis.y - c.y_axis.x * c.x_axis.y,
+        c.x_axis.x * c.z_axis.z - c.z_axis.x * c.x_axis.z,
+        c.y_axis.y * c.z_axis.z - c.z_axis.y * c.y_axis.z,
+    ];
+    minors.iter().any(|m| *m > 1e-3 * spread2 * spread2)
 }
 
 /// Which side of the face landmark `i` marks: -1 the subject's right, +1 the subject's left,
@@ -499,6 +606,38 @@ impl FaceFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn builtin_points() -> Vec<Vec3> {
+        let mesh = crate::io::builtin::default_mesh();
+        crate::io::builtin::landmarks("default")
+            .unwrap()
+            .positions(&mesh)
+            .unwrap()
+    }
+
+    #[test]
+    fn a_set_that_is_no_face_is_refused_for_its_own_reason() {
+        let good = builtin_points();
+        assert_eq!(check_shape(&good), Ok(()));
+        let mut flat = good.clone();
+        for p in &mut flat {
+            p.z = 0.0;
+        }
+        assert_eq!(check_shape(&flat), Err(LandmarkError::Planar));
+        let mut outlier = good.clone();
+        outlier[40] = Vec3::new(1e4, 0.0, 0.0);
+        assert!(matches!(
+            check_shape(&outlier),
+            Err(LandmarkError::Outlier { landmark: 40, .. })
+        ));
+        let far: Vec<Vec3> = good.iter().map(|p| *p * 1e-3 + Vec3::splat(1e6)).collect();
+        assert!(matches!(
+            check_shape(&far),
+            Err(LandmarkError::FarFromOrigin { .. })
+        ));
+        let line: Vec<Vec3> = (0..COUNT).map(|i| Vec3::X * i as f32).collect();
+        assert_eq!(check_shape(&line), Err(LandmarkError::Degenerate));
+    }
 
     #[test]
     fn mirror_is_an_involution_that_keeps_the_midline() {

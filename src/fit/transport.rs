@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use glam::{DMat3, DVec3, Vec3};
 use thiserror::Error;
 
-use super::landmarks::{FaceFrame, LandmarkError, Landmarks};
+use super::landmarks::{check_shape, order_problems, FaceFrame, LandmarkError, Landmarks};
 use super::parts::{find_parts, Part, PartOverrides, Parts};
 use super::regions::{Extent, Opening, Side, CONTOURS};
 use super::warp::Warp;
@@ -35,9 +35,13 @@ pub struct Template<'a> {
 /// Why a rig cannot be fitted.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum FitError {
-    /// The target's (or the template's) landmarks are unusable.
+    /// The target's landmarks are unusable.
     #[error(transparent)]
     Landmarks(#[from] LandmarkError),
+    /// The template's landmarks are unusable (not the target's: the message belongs to the
+    /// template's landmark file).
+    #[error("the template's landmarks: {0}")]
+    Template(LandmarkError),
     /// The warp could not be solved (landmarks far too close together).
     #[error("the landmarks cannot be aligned with the template's (are several on one point?)")]
     Warp,
@@ -145,9 +149,24 @@ pub fn fit_rig(
     overrides: &PartOverrides,
 ) -> Result<Fitted, FitError> {
     let target = landmarks.positions(mesh)?;
-    let from = FaceFrame::of(template.landmarks).ok_or(LandmarkError::Degenerate)?;
+    check_shape(template.landmarks).map_err(FitError::Template)?;
+    let from =
+        FaceFrame::of(template.landmarks).ok_or(FitError::Template(LandmarkError::Degenerate))?;
     let to = FaceFrame::of(&target).ok_or(LandmarkError::Degenerate)?;
+    // Meshes are right-handed (docs/model.md), so of two sets that disagree the left-handed
+    // one is the mirrored one.
+    if from.right_handed != to.right_handed && !from.right_handed {
+        return Err(FitError::Template(LandmarkError::Mirrored));
+    }
     if from.right_handed != to.right_handed {
+        // A set out of order can look mirrored; say what is out of order first.
+        let problems = order_problems(&target);
+        if !problems.is_empty() && problems.len() > 2 {
+            return Err(LandmarkError::OutOfOrder {
+                problems: problems.into_iter().take(3).collect::<Vec<_>>().join("; "),
+            }
+            .into());
+        }
         return Err(LandmarkError::Mirrored.into());
     }
     let warp = Warp::fit(template.landmarks, &target).ok_or(FitError::Warp)?;

@@ -150,3 +150,82 @@ fn a_folder_or_a_pipe_as_a_target_shape_is_named_for_what_it_is() {
     assert!(stderr(&out).contains("is a folder"), "{}", stderr(&out));
     assert!(!stderr(&out).contains("does not exist"), "{}", stderr(&out));
 }
+
+/// The built-in landmarks with each point moved to its mirror partner's vertex.
+fn swapped_landmarks() -> String {
+    let grimace::fit::Landmarks::Vertices(v) = grimace::io::builtin::landmarks("default").unwrap()
+    else {
+        panic!("vertex numbers")
+    };
+    let swapped: Vec<u32> = (0..v.len())
+        .map(|i| v[grimace::fit::landmarks::mirror(i)])
+        .collect();
+    grimace::io::landmarks::landmarks_to_ron(&grimace::fit::Landmarks::Vertices(swapped))
+}
+
+#[test]
+fn a_mirrored_template_is_blamed_on_the_template_and_a_shuffled_set_on_its_order() {
+    let dir = tempfile::tempdir().unwrap();
+    assert!(grimace(dir.path(), &["export", "--out", "head.obj"])
+        .status
+        .success());
+    let presets = Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/default.landmarks.ron");
+    std::fs::copy(presets, dir.path().join("head.landmarks.ron")).unwrap();
+    std::fs::write(
+        dir.path().join("swapped.landmarks.ron"),
+        swapped_landmarks(),
+    )
+    .unwrap();
+    let out = grimace(
+        dir.path(),
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "head.landmarks.ron",
+            "--template-landmarks",
+            "swapped.landmarks.ron",
+            "--out",
+            "a.rig.ron",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains(
+            "swapped.landmarks.ron: the template's landmarks: the landmarks are mirrored"
+        ),
+        "{}",
+        stderr(&out)
+    );
+    // A set shuffled out of every contour's sequence is named as an order problem.
+    let grimace::fit::Landmarks::Vertices(v) = grimace::io::builtin::landmarks("default").unwrap()
+    else {
+        panic!("vertex numbers")
+    };
+    let shuffled: Vec<u32> = (0..v.len())
+        .map(|i| v[(grimace::fit::landmarks::mirror(i) * 7) % 68])
+        .collect();
+    std::fs::write(
+        dir.path().join("shuffled.landmarks.ron"),
+        grimace::io::landmarks::landmarks_to_ron(&grimace::fit::Landmarks::Vertices(shuffled)),
+    )
+    .unwrap();
+    let out = grimace(
+        dir.path(),
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "shuffled.landmarks.ron",
+            "--out",
+            "b.rig.ron",
+        ],
+    );
+    // Refused or warned about, the order is named, never a mirror.
+    let said = stderr(&out);
+    assert!(!said.contains("mirrored"), "{said}");
+    assert!(
+        said.contains("lies on the subject's") || said.contains("not in the iBUG order"),
+        "{said}"
+    );
+}
