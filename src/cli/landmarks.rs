@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use anyhow::anyhow;
 use clap::Args;
 
+use crate::fit::Landmarks;
 use crate::io::landmarks::{check_against, parse_landmarks};
 use crate::io::lock::{self, LockOutcome};
 use crate::io::pick_recovery;
@@ -95,7 +96,18 @@ pub fn prepare(
     app.out_stamp = std::fs::read(out)
         .ok()
         .map(|bytes| crate::tui::app::FileStamp::of(&bytes));
-    if let Some(picks) = existing {
+    if let Some(landmarks) = existing {
+        let vertices = landmarks.vertices(&app.mesh);
+        if let Landmarks::Points(points) = &landmarks {
+            app.kept_points = Some(
+                vertices
+                    .iter()
+                    .copied()
+                    .zip(points.iter().copied())
+                    .collect(),
+            );
+        }
+        let picks: Vec<Option<u32>> = vertices.into_iter().map(Some).collect();
         app.load_picks(&picks, &[]);
         app.info(format!(
             "{} loaded: Enter or Tab goes through the landmarks, n and p move between them",
@@ -141,17 +153,15 @@ fn check_mesh(mesh: &Mesh, path: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The picks of an existing landmark file, checked against the mesh.
-fn existing_picks(out: &Path, mesh: &Mesh) -> anyhow::Result<Option<Vec<Option<u32>>>> {
+/// The landmarks of an existing landmark file, checked against the mesh.
+fn existing_picks(out: &Path, mesh: &Mesh) -> anyhow::Result<Option<Landmarks>> {
     if !out.exists() {
         return Ok(None);
     }
     let text = read_text(out, MAX_FILE_BYTES)?;
     let landmarks = parse_landmarks(&text, out)?;
     check_against(&landmarks, mesh, out, Some(&text))?;
-    Ok(Some(
-        landmarks.vertices(mesh).into_iter().map(Some).collect(),
-    ))
+    Ok(Some(landmarks))
 }
 
 /// Offers picks kept by a session that stopped; a file another running picker owns is left

@@ -367,7 +367,8 @@ fn why_not_a_face(points: &[Vec3]) -> LandmarkError {
     // Points a few float steps apart: their spread is lost against their offset.
     let offset = centre.length();
     let step = offset * f64::from(f32::EPSILON);
-    if typical < 64.0 * step {
+    // (Points given as one, near the origin, are one point, not a precision loss.)
+    if (typical > 0.0 && typical < 64.0 * step) || (typical == 0.0 && offset >= 1e6) {
         return LandmarkError::FarFromOrigin {
             offset,
             spread: typical,

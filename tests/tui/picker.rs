@@ -301,3 +301,27 @@ fn a_landmark_file_changed_on_disk_is_replaced_only_when_confirmed() {
     let written = grimace::io::landmarks::load_landmarks(&out).unwrap();
     assert_eq!(written, Landmarks::Vertices(preset()));
 }
+
+#[test]
+fn a_points_file_saved_unchanged_stays_the_same_points() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("face.landmarks.ron");
+    let mesh = face_obj();
+    let loaded = grimace::io::obj::read_obj(&mesh).unwrap();
+    // Points a little off their vertices, as a scan's landmarks are.
+    let points: Vec<glam::Vec3> = preset()
+        .iter()
+        .map(|&v| loaded.positions[v as usize] + glam::Vec3::new(0.01, -0.02, 0.005))
+        .collect();
+    let original = Landmarks::Points(points);
+    std::fs::write(&out, grimace::io::landmarks::landmarks_to_ron(&original)).unwrap();
+    let (m, o) = (mesh.to_str().unwrap(), out.to_str().unwrap());
+    let mut ed = Term::grimace(dir.path(), &["landmarks", m, "--out", o], COLS, ROWS);
+    ed.wait_for("loaded");
+    ed.send(":wq\r");
+    assert!(ed.wait_exit().success());
+    assert_eq!(
+        grimace::io::landmarks::load_landmarks(&out).unwrap(),
+        original
+    );
+}

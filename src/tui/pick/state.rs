@@ -237,6 +237,10 @@ pub struct PickApp {
     /// The landmark file as opened or last saved (`None`: it did not exist), so that a file
     /// changed by someone else is not replaced without asking.
     pub out_stamp: Option<crate::tui::app::FileStamp>,
+    /// A landmark file of points as loaded: each landmark's vertex (as the picker shows it)
+    /// and its point. Saved, a landmark still on that vertex keeps its point, so a points
+    /// file comes back as points, unchanged where nothing was picked again.
+    pub kept_points: Option<Vec<(u32, Vec3)>>,
     /// Mesh vertices used by some triangle (only those can be proposed).
     used: Vec<bool>,
 }
@@ -282,6 +286,7 @@ impl PickApp {
             dirty: false,
             saved: false,
             out_stamp: None,
+            kept_points: None,
             used,
         };
         app.rebuild_screen();
@@ -759,8 +764,23 @@ impl PickApp {
             ));
             return Vec::new();
         }
-        let vertices = self.picks.iter().map(|p| p.unwrap_or(0)).collect();
-        let landmarks = Landmarks::Vertices(vertices);
+        let vertices: Vec<u32> = self.picks.iter().map(|p| p.unwrap_or(0)).collect();
+        let landmarks = match &self.kept_points {
+            Some(kept) if kept.len() == vertices.len() => Landmarks::Points(
+                vertices
+                    .iter()
+                    .zip(kept)
+                    .map(|(&v, &(was, point))| {
+                        if v == was {
+                            point
+                        } else {
+                            self.mesh.positions[v as usize]
+                        }
+                    })
+                    .collect(),
+            ),
+            _ => Landmarks::Vertices(vertices),
+        };
         // The checks `validate` and `fit-rig` make: a set they would refuse is not written.
         if let Err(e) = landmarks.positions(&self.mesh) {
             self.error(format!(
