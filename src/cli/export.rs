@@ -17,7 +17,7 @@ use crate::io::arkit::ArkitMap;
 use crate::io::rig_file::{self, LoadedRig};
 use crate::io::table_file;
 use crate::io::{gltf, obj};
-use crate::model::{Activations, BoundRig};
+use crate::model::{Activations, BoundRig, Deformation};
 
 /// Where the rig, mesh and AU table come from.
 #[derive(Debug, Clone, Args)]
@@ -83,6 +83,29 @@ pub struct ExportArgs {
     /// Default: 11.5 for the built-in face (docs/face.md), else 1 (a mesh in millimetres).
     #[arg(long, value_name = "MM", requires = "gltf")]
     pub unit_mm: Option<f32>,
+    /// The deformation.
+    #[command(flatten)]
+    pub model: ModelArgs,
+}
+
+/// `--model`: which deformation a command uses.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct ModelArgs {
+    /// The deformation: `skin` (the default: what the editor, `play` and `render` show) or
+    /// `paper` (the paper's bare linear model, for comparison with the classic data; see
+    /// docs/model.md).
+    #[arg(
+        long = "model",
+        value_name = "MODEL",
+        default_value = "skin",
+        value_parser = parse_model
+    )]
+    pub deformation: Deformation,
+}
+
+/// Parses `--model`.
+fn parse_model(text: &str) -> Result<Deformation, String> {
+    text.parse()
 }
 
 /// The `--targets` values.
@@ -175,9 +198,11 @@ pub fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
 /// The built-in table used when neither a rig nor a table is given.
 pub const DEFAULT_TABLE: &str = "builtin:default";
 
-/// Binds a loaded rig to its mesh, naming the rig file on failure.
-pub fn bind(rig: &LoadedRig) -> anyhow::Result<BoundRig> {
-    BoundRig::bind(&rig.rig, &rig.mesh).map_err(|e| anyhow!("{}: {e}", rig.path.display()))
+/// Binds a loaded rig to its mesh with a deformation, naming the rig file on failure.
+pub fn bind(rig: &LoadedRig, model: Deformation) -> anyhow::Result<BoundRig> {
+    model
+        .bind(&rig.rig, &rig.mesh)
+        .map_err(|e| anyhow!("{}: {e}", rig.path.display()))
 }
 
 /// The activations a state asks for, checked against the rig's ranges.
@@ -240,7 +265,7 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
         return export_gltf(args, &sources, path);
     }
     let act = activations(&args.state, &sources)?;
-    let bound = bind(&sources.rig)?;
+    let bound = bind(&sources.rig, args.model.deformation)?;
     let mut positions = Vec::new();
     bound.deform(&act, &mut positions)?;
     let out = args
@@ -274,7 +299,7 @@ fn export_gltf(args: &ExportArgs, sources: &Sources, path: &std::path::Path) -> 
             silent.join(", ")
         );
     }
-    let bound = bind(&sources.rig)?;
+    let bound = bind(&sources.rig, args.model.deformation)?;
     let targets = morph_targets(&bound, &states)?;
     gltf::save_glb(path, &sources.rig.mesh, &targets, mm / 1000.0)?;
     Ok(())

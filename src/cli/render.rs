@@ -11,7 +11,7 @@ use rayon::prelude::*;
 
 use super::export::{self, SourceArgs, Sources, StateArgs};
 use crate::io::atomic::{replace_unsynced, write_atomic_no_backup};
-use crate::model::{Activations, BoundRig, Mesh, Skin};
+use crate::model::{Activations, BoundRig, Mesh};
 use crate::render::{
     muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, DisplacementLegend,
     Overlay, Palette, Renderer, Scene, Style,
@@ -123,6 +123,9 @@ pub struct RenderArgs {
     /// The file to write (format from the extension: .svg, .png, .txt), or the folder for --all.
     #[arg(long, value_name = "FILE|DIR")]
     pub out: Option<PathBuf>,
+    /// The deformation.
+    #[command(flatten)]
+    pub model: export::ModelArgs,
 }
 
 fn parse_style(text: &str) -> Result<Style, String> {
@@ -288,8 +291,7 @@ fn deform(bound: &BoundRig, act: &Activations) -> anyhow::Result<Vec<Vec3>> {
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let sources = export::load_sources(&args.source)?;
     let rig = &sources.rig;
-    let bound = BoundRig::bind_with(&rig.rig, &rig.mesh, Skin::DEFAULT)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", rig.path.display()))?;
+    let bound = export::bind(rig, args.model.deformation)?;
     let look = Look::new(args, &sources)?;
     if args.all {
         return render_all(args, &sources, &bound, &look);
