@@ -287,17 +287,31 @@ fn deform(bound: &BoundRig, act: &Activations) -> anyhow::Result<Vec<Vec3>> {
     Ok(positions)
 }
 
+/// The rig, mesh and table `render` draws, bound with the deformation its arguments name.
+pub fn load(args: &RenderArgs) -> anyhow::Result<(Sources, BoundRig)> {
+    let sources = export::load_sources(&args.source)?;
+    let bound = export::bind(&sources.rig, args.model.deformation)?;
+    Ok((sources, bound))
+}
+
+/// The vertex positions `render` draws for the state its arguments ask for.
+pub fn state_positions(
+    args: &RenderArgs,
+    sources: &Sources,
+    bound: &BoundRig,
+) -> anyhow::Result<Vec<Vec3>> {
+    let act = export::activations(&args.state, sources)?;
+    deform(bound, &act)
+}
+
 /// Runs `grimace render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let sources = export::load_sources(&args.source)?;
-    let rig = &sources.rig;
-    let bound = export::bind(rig, args.model.deformation)?;
+    let (sources, bound) = load(args)?;
     let look = Look::new(args, &sources)?;
     if args.all {
         return render_all(args, &sources, &bound, &look);
     }
-    let act = export::activations(&args.state, &sources)?;
-    let positions = deform(&bound, &act)?;
+    let positions = state_positions(args, &sources, &bound)?;
     let mesh = &sources.rig.mesh;
     let mut renderer = Renderer::new(mesh);
     match &args.out {

@@ -12,4 +12,5 @@ mod face_cli;
 mod files;
 mod gltf_blending;
 mod gltf_export;
+mod one_deformation;
 mod render_cli;
