@@ -314,7 +314,7 @@ fn table_label(sources: &Sources) -> String {
 }
 
 /// Whether the rig's mesh is the embedded default face (no `--mesh` given).
-fn is_builtin_face(rig: &LoadedRig) -> bool {
+pub fn is_builtin_face(rig: &LoadedRig) -> bool {
     rig.mesh_path.is_none() && rig.rig.mesh == std::path::Path::new("builtin:face")
 }
 
