@@ -9,13 +9,14 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail, Context};
 use clap::Args;
 
-use super::export::{self, ModelArgs, SourceArgs};
-use crate::facs::AuKey;
+use super::export::{self, ModelArgs};
+use crate::facs::combo::parse_combo;
+use crate::facs::{AuKey, AuMapper, AuTable};
 use crate::fit::quality::{Expect, Eyes, Gauge, Quality};
 use crate::fit::Landmarks;
 use crate::io::landmarks::{check_against, load_landmarks};
 use crate::io::rig_file::{self, LoadedRig, MeshRef};
-use crate::io::{builtin, LoadError};
+use crate::io::{builtin, table_file, LoadError};
 use crate::model::{Activations, Side};
 
 /// Arguments of `grimace check`.
@@ -82,19 +83,25 @@ struct Entry {
 
 /// The report and the number of failing entries.
 fn check(args: &CheckArgs) -> anyhow::Result<(String, usize)> {
-    let sources = export::load_sources(&SourceArgs {
-        rig: args.rig.clone(),
-        mesh: None,
-        table: args
-            .table
-            .clone()
-            .or_else(|| Some(PathBuf::from(export::DEFAULT_TABLE))),
-    })?;
-    let rig = &sources.rig;
-    let table = sources
+    let table_path = args
         .table
-        .as_ref()
-        .ok_or_else(|| anyhow!("check needs an AU table: pass --table TABLE"))?;
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(export::DEFAULT_TABLE));
+    let (rig, table) = match &args.rig {
+        Some(path) => (
+            rig_file::load_rig_ref(path, None)?,
+            load_table(&table_path)?,
+        ),
+        None => {
+            let (table, rig) = table_file::load_table_and_rig(&table_path, None)?;
+            (rig, table)
+        }
+    };
+    if let Some(notice) = &rig.notice {
+        eprintln!("warning: {notice}");
+    }
+    let rig = &rig;
+    let mapper = AuMapper::new(&table, &rig.rig);
     let landmarks = landmarks(args, rig)?;
     let unit_mm = match args.unit_mm {
         Some(mm) if mm.is_finite() && mm > 0.0 => Some(mm),
@@ -107,31 +114,45 @@ fn check(args: &CheckArgs) -> anyhow::Result<(String, usize)> {
     let bound = export::bind(rig, args.model.deformation)?;
     let mut entries = Vec::new();
     for key in table.aus.keys() {
+        let mut act = Activations::zero(&rig.rig);
+        mapper.map([(*key, 1.0)], &mut act);
         entries.push(Entry {
             label: format!("AU {key}"),
-            act: table
-                .entry_activations(key, &rig.rig)
-                .map_err(|e| anyhow!("AU {key}: {e}"))?,
+            act,
             expect: expect_of(*key),
         });
     }
-    for name in table.expressions.keys() {
+    for (name, combo) in &table.expressions {
+        let combo = parse_combo(combo).map_err(|e| anyhow!("expression `{name}`: {e}"))?;
+        let mut act = Activations::zero(&rig.rig);
+        mapper.map(
+            combo.terms.iter().map(|t| (t.key, t.intensity.factor())),
+            &mut act,
+        );
         entries.push(Entry {
             label: name.clone(),
-            act: table
-                .expression_activations(name, &rig.rig)
-                .map_err(|e| anyhow!("expression `{name}`: {e}"))?,
+            act,
             expect: Expect::default(),
         });
     }
-    let mut report = format!(
+    let mut report = String::new();
+    if !mapper.unknown_muscles().is_empty() {
+        let names: Vec<&str> = mapper
+            .unknown_muscles()
+            .iter()
+            .map(String::as_str)
+            .collect();
+        let _ = writeln!(
+            report,
+            "note: the rig has no muscle {}; the table's entries play without them",
+            names.join(", ")
+        );
+    }
+    let _ = write!(
+        report,
         "{} with {} ({} deformation, {:.2} mm per unit)\n{:<16} {:>6} {:>7} {:>7} {:>8} {:>9}  {:<6} verdict\n",
         rig.path.display(),
-        sources
-            .table_path
-            .as_deref()
-            .unwrap_or(Path::new(export::DEFAULT_TABLE))
-            .display(),
+        table_path.display(),
         args.model.deformation,
         gauge.mm_per_unit(),
         "entry",
@@ -194,6 +215,20 @@ fn expect_of(key: AuKey) -> Expect {
     Expect {
         lids_close: matches!(key.number, 43 | 45).then_some(eyes),
         jaw_opens: matches!(key.number, 26 | 27) && key.side.is_none(),
+    }
+}
+
+/// A table by reference (`builtin:NAME` or a file), checked on its own: a rig it was not
+/// made for plays it without the muscles it lacks.
+fn load_table(path: &Path) -> anyhow::Result<AuTable> {
+    match builtin::builtin_name(path) {
+        Some(name) => builtin::table(name).ok_or_else(|| {
+            anyhow!(LoadError::new(
+                path,
+                format!("there is no built-in table named `{name}`")
+            ))
+        }),
+        None => Ok(table_file::load_table(path)?),
     }
 }
 

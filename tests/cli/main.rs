@@ -7,6 +7,7 @@
 mod common;
 
 mod bad_inputs;
+mod check_cli;
 mod completions;
 mod face_cli;
 mod files;
