@@ -7,8 +7,8 @@
 //! An AU key resolves to recordings by one rule ([`resolve`]): the key itself when recorded;
 //! a bilateral key the table records only by side is both recorded sides (`12` is `L12` +
 //! `R12`); a one-sided key the table records only bilaterally is derived from that recording
-//! (`L45` is the `45` recording's left muscles and half its midline muscles and jaw, so `L45`
-//! + `R45` is `45`). The editor's `:combo`, `render`, `export` (OBJ and glTF) and `play` all
+//! (`L45` is the `45` recording's left muscles and half its midline muscles and jaw, so
+//! `L45` and `R45` add up to `45`). The editor's `:combo`, `render`, `export` (OBJ and glTF) and `play` all
 //! go through [`AuMapper`], so every key one accepts, the others accept.
 //!
 //! The mapper resolves muscle names once, so a frame costs one multiply-add per recorded
