@@ -324,6 +324,14 @@ impl Gauge {
         }
         let nearest = Region::of_landmark(index);
         let height = |q: Vec3| (q - self.landmark(&self.rest, 27)).dot(self.down);
+        let upper_lids = [37, 38, 43, 44]
+            .iter()
+            .map(|&i| height(self.landmark(&self.rest, i)))
+            .fold(f32::INFINITY, f32::min);
+        // the glabella, above the lids between the brows, is nearest the nose's root
+        if nearest == Region::Nose && height(p) < upper_lids {
+            return Region::Brow;
+        }
         let below_eyes = height(p) > height(self.landmark(&self.rest, 41));
         let above_mouth = height(p) < height(self.landmark(&self.rest, 48));
         // well away from the feature it is nearest to, between the eyes and the mouth
