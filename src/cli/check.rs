@@ -17,7 +17,7 @@ use crate::fit::Landmarks;
 use crate::io::landmarks::{check_against, load_landmarks};
 use crate::io::rig_file::{self, LoadedRig, MeshRef};
 use crate::io::{builtin, table_file, LoadError};
-use crate::model::{Activations, Side};
+use crate::model::{Activations, Rig, Side};
 
 /// Arguments of `grimace check`.
 #[derive(Debug, Args)]
@@ -87,54 +87,19 @@ fn check(args: &CheckArgs) -> anyhow::Result<(String, usize)> {
         .table
         .clone()
         .unwrap_or_else(|| PathBuf::from(export::DEFAULT_TABLE));
-    let (rig, table) = match &args.rig {
-        Some(path) => (
-            rig_file::load_rig_ref(path, None)?,
-            load_table(&table_path)?,
-        ),
-        None => {
-            let (table, rig) = table_file::load_table_and_rig(&table_path, None)?;
-            (rig, table)
-        }
-    };
-    if let Some(notice) = &rig.notice {
-        eprintln!("warning: {notice}");
-    }
-    let rig = &rig;
+    let (rig, table) = load(args, &table_path)?;
     let mapper = AuMapper::new(&table, &rig.rig);
-    let landmarks = landmarks(args, rig)?;
     let unit_mm = match args.unit_mm {
         Some(mm) if mm.is_finite() && mm > 0.0 => Some(mm),
         Some(mm) => bail!("--unit-mm must be a positive number of millimetres (got {mm})"),
-        None if export::is_builtin_face(rig) => Some(export::BUILTIN_FACE_MM_PER_UNIT),
+        None if export::is_builtin_face(&rig) => Some(export::BUILTIN_FACE_MM_PER_UNIT),
         None => None,
     };
+    let landmarks = landmarks(args, &rig)?;
     let gauge = Gauge::new(&rig.mesh, &landmarks.vertices(&rig.mesh), unit_mm)
         .map_err(|e| anyhow!("{}: {e}", rig.path.display()))?;
-    let bound = export::bind(rig, args.model.deformation)?;
-    let mut entries = Vec::new();
-    for key in table.aus.keys() {
-        let mut act = Activations::zero(&rig.rig);
-        mapper.map([(*key, 1.0)], &mut act);
-        entries.push(Entry {
-            label: format!("AU {key}"),
-            act,
-            expect: expect_of(*key),
-        });
-    }
-    for (name, combo) in &table.expressions {
-        let combo = parse_combo(combo).map_err(|e| anyhow!("expression `{name}`: {e}"))?;
-        let mut act = Activations::zero(&rig.rig);
-        mapper.map(
-            combo.terms.iter().map(|t| (t.key, t.intensity.factor())),
-            &mut act,
-        );
-        entries.push(Entry {
-            label: name.clone(),
-            act,
-            expect: Expect::default(),
-        });
-    }
+    let bound = export::bind(&rig, args.model.deformation)?;
+    let entries = entries(&table, &rig.rig, &mapper)?;
     let mut report = String::new();
     if !mapper.unknown_muscles().is_empty() {
         let names: Vec<&str> = mapper
@@ -180,6 +145,49 @@ fn check(args: &CheckArgs) -> anyhow::Result<(String, usize)> {
         entries.len()
     );
     Ok((report, failed))
+}
+
+/// The rig (given, or the one the table names) and the table.
+fn load(args: &CheckArgs, table_path: &Path) -> anyhow::Result<(LoadedRig, AuTable)> {
+    let (rig, table) = match &args.rig {
+        Some(path) => (rig_file::load_rig_ref(path, None)?, load_table(table_path)?),
+        None => {
+            let (table, rig) = table_file::load_table_and_rig(table_path, None)?;
+            (rig, table)
+        }
+    };
+    if let Some(notice) = &rig.notice {
+        eprintln!("warning: {notice}");
+    }
+    Ok((rig, table))
+}
+
+/// Every AU of the table at full intensity, then every expression, through the mapper.
+fn entries(table: &AuTable, rig: &Rig, mapper: &AuMapper) -> anyhow::Result<Vec<Entry>> {
+    let mut entries = Vec::new();
+    for key in table.aus.keys() {
+        let mut act = Activations::zero(rig);
+        mapper.map([(*key, 1.0)], &mut act);
+        entries.push(Entry {
+            label: format!("AU {key}"),
+            act,
+            expect: expect_of(*key),
+        });
+    }
+    for (name, combo) in &table.expressions {
+        let combo = parse_combo(combo).map_err(|e| anyhow!("expression `{name}`: {e}"))?;
+        let mut act = Activations::zero(rig);
+        mapper.map(
+            combo.terms.iter().map(|t| (t.key, t.intensity.factor())),
+            &mut act,
+        );
+        entries.push(Entry {
+            label: name.clone(),
+            act,
+            expect: Expect::default(),
+        });
+    }
+    Ok(entries)
 }
 
 /// One entry's row.
