@@ -9,11 +9,11 @@ use glam::Vec3;
 use thiserror::Error;
 
 use crate::facs::table::TableError;
+use crate::facs::AuMapper;
 use crate::facs::{AuKey, AuTable};
 use crate::io::arkit::ArkitMap;
 use crate::io::gltf::MorphTarget;
 use crate::model::{ActivationError, Activations, BoundRig, Rig};
-use crate::play::AuMapper;
 
 /// Which states become morph targets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

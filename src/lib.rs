@@ -12,13 +12,13 @@
 //! ```text
 //!  cli (the commands)          tui (ratatui + crossterm editor)    [feature `tui`]
 //!              \                  /
-//!   play   (frame sources, AU mapping, playback clock)
+//!   play   (frame sources, tracker intensities, playback clock)
 //!   render (camera, raster to a dot canvas, text, svg, png)
-//!   fit    (rigs carried to other faces by landmarks, AU entries fitted to shapes)
+//!   fit    (rigs carried to other faces by landmarks, AU entries fitted to shapes, quality)
 //!   face   (the generator of the built-in default face and its rigs)
 //!   io     (RON rig and table files, OBJ, classic Waters import, OpenFace CSV, atomic save)
-//!   facs   (AU keys and catalogue, AU tables, combination strings)
-//!   model  (mesh, muscles, jaw, rig, fields, deform)
+//!   facs   (AU keys and catalogue, AU tables, combination strings, the AU mapper)
+//!   model  (mesh, muscles, jaw, rig, fields, deform, the one deformation)
 //! ```
 
 #![warn(missing_docs)]

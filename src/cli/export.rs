@@ -18,7 +18,7 @@ use crate::io::inputs::Inputs;
 use crate::io::rig_file::{self, LoadedRig};
 use crate::io::table_file;
 use crate::io::{gltf, obj};
-use crate::model::{Activations, BoundRig};
+use crate::model::{Activations, BoundRig, Deformation};
 use crate::render::Framing;
 use glam::Quat;
 
@@ -91,6 +91,29 @@ pub struct ExportArgs {
     /// scan) gets the node rotation that stands it up in glTF's y-up viewers.
     #[arg(long, requires = "gltf")]
     pub keep_axes: bool,
+    /// The deformation.
+    #[command(flatten)]
+    pub model: ModelArgs,
+}
+
+/// `--model`: which deformation a command uses.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct ModelArgs {
+    /// The deformation: `skin` (the default: what the editor, `play` and `render` show) or
+    /// `paper` (the paper's bare linear model, for comparison with the classic data; see
+    /// docs/model.md).
+    #[arg(
+        long = "model",
+        value_name = "MODEL",
+        default_value = "skin",
+        value_parser = parse_model
+    )]
+    pub deformation: Deformation,
+}
+
+/// Parses `--model`.
+fn parse_model(text: &str) -> Result<Deformation, String> {
+    text.parse()
 }
 
 /// The `--targets` values.
@@ -202,9 +225,11 @@ impl Sources {
 /// The built-in table used when neither a rig nor a table is given.
 pub const DEFAULT_TABLE: &str = "builtin:default";
 
-/// Binds a loaded rig to its mesh, naming the rig file on failure.
-pub fn bind(rig: &LoadedRig) -> anyhow::Result<BoundRig> {
-    BoundRig::bind(&rig.rig, &rig.mesh).map_err(|e| anyhow!("{}: {e}", rig.path.display()))
+/// Binds a loaded rig to its mesh with a deformation, naming the rig file on failure.
+pub fn bind(rig: &LoadedRig, model: Deformation) -> anyhow::Result<BoundRig> {
+    model
+        .bind(&rig.rig, &rig.mesh)
+        .map_err(|e| anyhow!("{}: {e}", rig.path.display()))
 }
 
 /// The activations a state asks for, checked against the rig's ranges.
@@ -267,7 +292,7 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
         return export_gltf(args, &sources, path);
     }
     let act = activations(&args.state, &sources)?;
-    let bound = bind(&sources.rig)?;
+    let bound = bind(&sources.rig, args.model.deformation)?;
     let mut positions = Vec::new();
     bound.deform(&act, &mut positions)?;
     let out = args
@@ -328,7 +353,7 @@ fn export_gltf(args: &ExportArgs, sources: &Sources, path: &std::path::Path) -> 
         );
     }
     sources.inputs().check_output(path)?;
-    let bound = bind(&sources.rig)?;
+    let bound = bind(&sources.rig, args.model.deformation)?;
     let targets = morph_targets(&bound, &states)?;
     let rotation = if args.keep_axes {
         Quat::IDENTITY
@@ -379,7 +404,7 @@ fn mm_per_unit_from_eyes(rig: &crate::model::Rig) -> Option<f32> {
 }
 
 /// Whether the rig's mesh is the embedded default face (no `--mesh` given).
-fn is_builtin_face(rig: &LoadedRig) -> bool {
+pub fn is_builtin_face(rig: &LoadedRig) -> bool {
     rig.mesh_path.is_none() && rig.rig.mesh == std::path::Path::new("builtin:face")
 }
 

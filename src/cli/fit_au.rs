@@ -51,12 +51,18 @@ pub struct FitAuArgs {
     /// The folder holding NAME.obj for every shape name of the map.
     #[arg(long, value_name = "DIR", requires = "map")]
     pub dir: Option<PathBuf>,
+    /// The deformation the entries are fitted to.
+    #[command(flatten)]
+    pub model: super::export::ModelArgs,
 }
 
 /// Runs `grimace fit-au`.
 pub fn run(args: &FitAuArgs) -> anyhow::Result<()> {
     let loaded = rig_file::load_rig_ref(&args.rig, None)?;
-    let bound = BoundRig::bind(&loaded.rig, &loaded.mesh)
+    let bound = args
+        .model
+        .deformation
+        .bind(&loaded.rig, &loaded.mesh)
         .map_err(|e| anyhow!(LoadError::new(&args.rig, e.to_string())))?;
     let jobs = jobs(args)?;
     let mut table = match &args.table {
@@ -71,15 +77,15 @@ pub fn run(args: &FitAuArgs) -> anyhow::Result<()> {
             let _ = writeln!(report, "{key}: skipped, {} {reason}", target.display());
             continue;
         }
-        let mesh = obj::read_obj(target)?;
-        let AuFit {
-            activations,
-            explained,
-        } = fit_au(&bound, &mesh.positions)
-            .map_err(|e| anyhow!(LoadError::new(target, e.to_string())))?;
-        table
-            .record(*key, "", &loaded.rig, &activations)
-            .map_err(|e| anyhow!("{}: AU {key}: {e}", target.display()))?;
+        let explained = match fit_one(&bound, &mut table, target, *key) {
+            Ok(explained) => explained,
+            // One target alone fails as a command; in a set it is skipped and the rest kept.
+            Err(e) if jobs.len() == 1 => return Err(e),
+            Err(e) => {
+                let _ = writeln!(report, "{key}: skipped, {e}");
+                continue;
+            }
+        };
         fitted += 1;
         let _ = writeln!(
             report,
@@ -90,7 +96,8 @@ pub fn run(args: &FitAuArgs) -> anyhow::Result<()> {
         );
     }
     if fitted == 0 {
-        bail!("no target shape was found; nothing fitted");
+        eprint!("{report}");
+        bail!("no target shape could be fitted; nothing written");
     }
     match &args.table {
         Some(path) => {
@@ -119,6 +126,25 @@ fn fit_inputs(args: &FitAuArgs, rig: &LoadedRig) -> Inputs {
         }
     }
     inputs
+}
+
+/// Reads one target, fits it and records the entry; returns the fraction explained.
+fn fit_one(
+    bound: &BoundRig,
+    table: &mut AuTable,
+    target: &Path,
+    key: AuKey,
+) -> anyhow::Result<f64> {
+    let mesh = obj::read_obj(target)?;
+    let AuFit {
+        activations,
+        explained,
+    } = fit_au(bound, &mesh.positions)
+        .map_err(|e| anyhow!(LoadError::new(target, e.to_string())))?;
+    table
+        .record(key, "", bound.rig(), &activations)
+        .map_err(|e| anyhow!("{}: AU {key}: {e}", target.display()))?;
+    Ok(explained)
 }
 
 /// The (target file, AU key) pairs to fit.

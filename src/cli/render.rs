@@ -11,7 +11,7 @@ use rayon::prelude::*;
 
 use super::export::{self, SourceArgs, Sources, StateArgs};
 use crate::io::atomic::{replace_unsynced, write_atomic};
-use crate::model::{Activations, BoundRig, Mesh, Skin};
+use crate::model::{Activations, BoundRig, Mesh};
 use crate::render::{
     muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, DisplacementLegend,
     Framing, Overlay, Palette, Renderer, Scene, Style,
@@ -123,6 +123,9 @@ pub struct RenderArgs {
     /// The file to write (format from the extension: .svg, .png, .txt), or the folder for --all.
     #[arg(long, value_name = "FILE|DIR")]
     pub out: Option<PathBuf>,
+    /// The deformation.
+    #[command(flatten)]
+    pub model: export::ModelArgs,
 }
 
 fn parse_style(text: &str) -> Result<Style, String> {
@@ -290,18 +293,31 @@ fn deform(bound: &BoundRig, act: &Activations) -> anyhow::Result<Vec<Vec3>> {
     Ok(positions)
 }
 
+/// The rig, mesh and table `render` draws, bound with the deformation its arguments name.
+pub fn load(args: &RenderArgs) -> anyhow::Result<(Sources, BoundRig)> {
+    let sources = export::load_sources(&args.source)?;
+    let bound = export::bind(&sources.rig, args.model.deformation)?;
+    Ok((sources, bound))
+}
+
+/// The vertex positions `render` draws for the state its arguments ask for.
+pub fn state_positions(
+    args: &RenderArgs,
+    sources: &Sources,
+    bound: &BoundRig,
+) -> anyhow::Result<Vec<Vec3>> {
+    let act = export::activations(&args.state, sources)?;
+    deform(bound, &act)
+}
+
 /// Runs `grimace render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let sources = export::load_sources(&args.source)?;
-    let rig = &sources.rig;
-    let bound = BoundRig::bind_with(&rig.rig, &rig.mesh, Skin::DEFAULT)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", rig.path.display()))?;
+    let (sources, bound) = load(args)?;
     let look = Look::new(args, &sources)?;
     if args.all {
         return render_all(args, &sources, &bound, &look);
     }
-    let act = export::activations(&args.state, &sources)?;
-    let positions = deform(&bound, &act)?;
+    let positions = state_positions(args, &sources, &bound)?;
     let mesh = &sources.rig.mesh;
     let mut renderer = Renderer::new(mesh);
     match &args.out {

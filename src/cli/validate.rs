@@ -13,7 +13,7 @@ use clap::Args;
 use crate::io::table_file;
 use crate::io::{obj, rig_file, LoadError};
 
-use crate::model::BoundRig;
+use crate::model::Deformation;
 
 /// Arguments of `grimace validate`.
 #[derive(Debug, Args)]
@@ -102,7 +102,9 @@ fn check_rig(path: &Path) -> Result<String, LoadError> {
     if let Some(notice) = &loaded.notice {
         eprintln!("warning: {notice}");
     }
-    BoundRig::bind(&loaded.rig, &loaded.mesh).map_err(|e| LoadError::new(path, e.to_string()))?;
+    Deformation::default()
+        .bind(&loaded.rig, &loaded.mesh)
+        .map_err(|e| LoadError::new(path, e.to_string()))?;
     Ok(format!(
         "rig: {} muscles{}, mesh {} vertices",
         loaded.rig.muscles.len(),

@@ -15,6 +15,7 @@ use thiserror::Error;
 use super::au::AuKey;
 use super::catalogue;
 use super::combo::{parse_combo, Combo, ComboError};
+use super::mapper::{resolve, AuMapper, Resolved};
 use crate::model::{Activations, Rig, JAW_RANGE, MUSCLE_RANGE};
 
 /// The AU table file format version this build reads and writes.
@@ -255,42 +256,80 @@ impl AuTable {
         Ok(parsed)
     }
 
-    /// The AUs of a combination the table lacks, each once, in the order written.
+    /// The AUs of a combination the table cannot give, each once, in the order written. A
+    /// one-sided AU recorded only bilaterally, or a bilateral one recorded only by side, is
+    /// not missing ([`crate::facs::mapper::resolve`]).
     pub fn missing(&self, combo: &Combo) -> Vec<AuKey> {
         let mut missing: Vec<AuKey> = vec![];
         for term in &combo.terms {
-            if !self.aus.contains_key(&term.key) && !missing.contains(&term.key) {
+            if !self.gives(term.key) && !missing.contains(&term.key) {
                 missing.push(term.key);
             }
         }
         missing
     }
 
-    /// The activations of one recorded AU on a rig, at full intensity.
-    pub fn entry_activations(&self, key: &AuKey, rig: &Rig) -> Result<Activations, TableError> {
-        let entry = self.aus.get(key).ok_or(TableError::NoSuchAu(*key))?;
-        let mut out = Activations::zero(rig);
-        add_entry(&mut out, *key, entry, 1.0, rig)?;
-        Ok(out)
+    /// Whether the table gives an AU: recorded, or resolved from recordings by the mapper's
+    /// rule (`L45` from `45`, `12` from `L12` and `R12`).
+    pub fn gives(&self, key: AuKey) -> bool {
+        resolve(&self.aus, key) != Resolved::Missing
     }
 
-    /// Evaluates a combination on a rig: each term's recorded AU scaled by its intensity;
-    /// overlapping AUs add, then every value is clamped to its range (muscles 0-2, jaw 0-4).
-    /// AUs the table lacks are all reported together ([`TableError::MissingAus`]).
+    /// The recorded keys an AU is played from.
+    fn sources_of(&self, key: AuKey) -> Vec<AuKey> {
+        match resolve(&self.aus, key) {
+            Resolved::Recorded => vec![key],
+            Resolved::Sides(sides) => sides,
+            Resolved::FromBilateral(bilateral) => vec![bilateral],
+            Resolved::Missing => Vec::new(),
+        }
+    }
+
+    /// The activations of one AU on a rig, at full intensity (see [`AuTable::evaluate`]).
+    pub fn entry_activations(&self, key: &AuKey, rig: &Rig) -> Result<Activations, TableError> {
+        if !self.gives(*key) {
+            return Err(TableError::NoSuchAu(*key));
+        }
+        self.map_checked([(*key, 1.0)], rig)
+    }
+
+    /// Evaluates a combination on a rig through [`AuMapper`]: each term's AU scaled by its
+    /// intensity; overlapping AUs add, then every value is clamped to its range (muscles
+    /// 0-2, jaw 0-4). AUs the table cannot give are all reported together
+    /// ([`TableError::MissingAus`]).
     pub fn evaluate(&self, combo: &Combo, rig: &Rig) -> Result<Activations, TableError> {
         let missing = self.missing(combo);
         if !missing.is_empty() {
             return Err(TableError::MissingAus(missing));
         }
+        self.map_checked(
+            combo
+                .terms
+                .iter()
+                .map(|term| (term.key, term.intensity.factor())),
+            rig,
+        )
+    }
+
+    /// Maps AUs the table gives, refusing a recording that names a muscle the rig lacks.
+    fn map_checked(
+        &self,
+        aus: impl IntoIterator<Item = (AuKey, f32)> + Clone,
+        rig: &Rig,
+    ) -> Result<Activations, TableError> {
+        for (key, _) in aus.clone() {
+            for source in self.sources_of(key) {
+                let entry = &self.aus[&source];
+                if let Some(muscle) = entry.muscles.keys().find(|m| rig.muscle_index(m).is_none()) {
+                    return Err(TableError::UnknownMuscle {
+                        au: source,
+                        muscle: muscle.clone(),
+                    });
+                }
+            }
+        }
         let mut out = Activations::zero(rig);
-        for term in &combo.terms {
-            let entry = &self.aus[&term.key];
-            add_entry(&mut out, term.key, entry, term.intensity.factor(), rig)?;
-        }
-        for value in &mut out.muscles {
-            *value = value.clamp(*MUSCLE_RANGE.start(), *MUSCLE_RANGE.end());
-        }
-        out.jaw = out.jaw.clamp(*JAW_RANGE.start(), *JAW_RANGE.end());
+        AuMapper::new(self, rig).map(aus, &mut out);
         Ok(out)
     }
 
@@ -349,7 +388,11 @@ impl AuTable {
         self.expressions
             .iter()
             .filter(|(_, combo)| {
-                parse_combo(combo).is_ok_and(|c| c.terms.iter().any(|t| t.key == *key))
+                parse_combo(combo).is_ok_and(|c| {
+                    c.terms
+                        .iter()
+                        .any(|t| t.key == *key || self.sources_of(t.key).contains(key))
+                })
             })
             .map(|(name, _)| name.clone())
             .collect()
@@ -439,25 +482,5 @@ fn check_entry(key: AuKey, entry: &AuEntry) -> Result<(), TableError> {
     if !(entry.jaw.is_finite() && JAW_RANGE.contains(&entry.jaw)) {
         return Err(range_error("jaw", entry.jaw, &JAW_RANGE));
     }
-    Ok(())
-}
-
-fn add_entry(
-    out: &mut Activations,
-    key: AuKey,
-    entry: &AuEntry,
-    factor: f32,
-    rig: &Rig,
-) -> Result<(), TableError> {
-    for (muscle, &value) in &entry.muscles {
-        let index = rig
-            .muscle_index(muscle)
-            .ok_or_else(|| TableError::UnknownMuscle {
-                au: key,
-                muscle: muscle.clone(),
-            })?;
-        out.muscles[index] += value * factor;
-    }
-    out.jaw += entry.jaw * factor;
     Ok(())
 }

@@ -8,7 +8,8 @@
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh;
 //! - [`transport`]: the whole fit ([`fit_rig`]);
-//! - [`solve`]: activations that best reproduce a target shape ([`fit_au`]).
+//! - [`solve`]: activations that best reproduce a target shape ([`fit_au`]);
+//! - [`quality`]: tears, lids and jaw of a deformed face (`grimace check`).
 //!
 //! Nothing here reads files or knows about terminals.
 
@@ -17,6 +18,7 @@ pub mod landmarks;
 pub mod nearest;
 pub mod parts;
 pub mod propose;
+pub mod quality;
 pub mod regions;
 pub mod solve;
 pub mod transport;

@@ -1,10 +1,15 @@
 //! Fitting an AU entry to a target shape: the muscle activations (0 to 2) and jaw activation
 //! (0 to 4) whose deformation best reproduces the target's displacement from rest.
 //!
-//! For a fixed jaw activation the deformation is affine in the muscle activations (each
-//! vertex's jaw blend is an affine map of its post-muscle position), so the muscles come from
-//! a box-constrained linear least-squares problem solved exactly by an active-set method. The
-//! jaw is found by a scan and a golden-section search over its range around that.
+//! The fit is made on the deformation the rig was bound with ([`crate::model::Deformation`]).
+//! For the paper's bare model and a fixed jaw activation the deformation is affine in the
+//! muscle activations (each vertex's jaw blend is an affine map of its post-muscle position),
+//! so the muscles come from a box-constrained linear least-squares problem solved exactly by
+//! an active-set method, and the jaw from a scan and a golden-section search over its range.
+//! The skin rules make the deformation nonlinear: that linear solution is then the start of
+//! projected Gauss-Newton iterations on the deformation itself (a forward-difference
+//! Jacobian at the current estimate, the same bounded least squares for the step, a
+//! backtracking line search on the true residual), which keep every activation in range.
 
 use glam::{DMat3, DVec3, Vec3};
 use thiserror::Error;
@@ -50,17 +55,195 @@ pub fn fit_au(bound: &BoundRig, target: &[Vec3]) -> Result<AuFit, SolveError> {
         return Err(SolveError::NoDisplacement);
     }
     let (jaw, muscles, residual) = problem.best_jaw();
-    let activations = Activations {
+    let linear = to_activations(&muscles, jaw);
+    if bound.skin().is_paper() {
+        return Ok(AuFit {
+            activations: linear,
+            explained: 1.0 - residual / problem.target_norm,
+        });
+    }
+    let (activations, residual) = Refine::new(bound, target).run(linear);
+    Ok(AuFit {
+        activations,
+        explained: 1.0 - residual / problem.target_norm,
+    })
+}
+
+/// Activations in range from a solution's values.
+fn to_activations(muscles: &[f64], jaw: f64) -> Activations {
+    Activations {
         muscles: muscles
             .iter()
             .map(|&a| clean(a, *MUSCLE_RANGE.end()))
             .collect(),
         jaw: clean(jaw, *JAW_RANGE.end()),
-    };
-    Ok(AuFit {
-        activations,
-        explained: 1.0 - residual / problem.target_norm,
-    })
+    }
+}
+
+/// Gauss-Newton iterations at most; each costs one deformation per variable.
+const GAUSS_NEWTON_ITERATIONS: usize = 30;
+/// The finite-difference step of an activation.
+const DIFFERENCE_STEP: f64 = 1e-3;
+
+/// The bounded nonlinear least squares of a target on the deformation as bound.
+struct Refine<'a> {
+    bound: &'a BoundRig,
+    target: &'a [Vec3],
+    /// Upper bound of each variable: the muscles, then the jaw when the rig has one.
+    hi: Vec<f64>,
+    muscles: usize,
+}
+
+/// One variable's column of the Jacobian: the vertices it moves and how far per unit.
+type Column = Vec<(u32, DVec3)>;
+
+impl<'a> Refine<'a> {
+    fn new(bound: &'a BoundRig, target: &'a [Vec3]) -> Refine<'a> {
+        let muscles = bound.muscle_count();
+        let mut hi = vec![f64::from(*MUSCLE_RANGE.end()); muscles];
+        if bound.rig().jaw.is_some() {
+            hi.push(f64::from(*JAW_RANGE.end()));
+        }
+        Refine {
+            bound,
+            target,
+            hi,
+            muscles,
+        }
+    }
+
+    fn activations(&self, x: &[f64]) -> Activations {
+        let jaw = x.get(self.muscles).copied().unwrap_or(0.0);
+        Activations {
+            muscles: x[..self.muscles].iter().map(|&a| a as f32).collect(),
+            jaw: jaw as f32,
+        }
+    }
+
+    /// The deformed positions at `x` (the rest shape if the rig refuses them, which the
+    /// bounds rule out).
+    fn deform(&self, x: &[f64], out: &mut Vec<Vec3>) {
+        if self.bound.deform(&self.activations(x), out).is_err() {
+            out.clear();
+            out.extend_from_slice(self.bound.rest());
+        }
+    }
+
+    fn cost(&self, positions: &[Vec3]) -> f64 {
+        positions
+            .iter()
+            .zip(self.target)
+            .map(|(p, t)| (p.as_dvec3() - t.as_dvec3()).length_squared())
+            .sum()
+    }
+
+    /// Iterates from `start`; returns the activations and their residual `|r|^2`.
+    fn run(&self, start: Activations) -> (Activations, f64) {
+        let mut x: Vec<f64> = start.muscles.iter().map(|&a| f64::from(a)).collect();
+        if self.hi.len() > self.muscles {
+            x.push(f64::from(start.jaw));
+        }
+        let mut now = Vec::new();
+        self.deform(&x, &mut now);
+        let mut cost = self.cost(&now);
+        let mut trial = Vec::new();
+        for _ in 0..GAUSS_NEWTON_ITERATIONS {
+            if cost == 0.0 {
+                break;
+            }
+            let proposal = self.step(&x, &now);
+            let mut t = 1.0;
+            let mut accepted = false;
+            while t > 1e-4 {
+                let candidate: Vec<f64> = x
+                    .iter()
+                    .zip(&proposal)
+                    .map(|(a, b)| a + t * (b - a))
+                    .collect();
+                self.deform(&candidate, &mut trial);
+                let c = self.cost(&trial);
+                if c < cost {
+                    let moved = candidate
+                        .iter()
+                        .zip(&x)
+                        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                    x = candidate;
+                    std::mem::swap(&mut now, &mut trial);
+                    cost = c;
+                    accepted = moved > 1e-7;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+        }
+        let jaw = x.get(self.muscles).copied().unwrap_or(0.0);
+        (to_activations(&x[..self.muscles], jaw), cost)
+    }
+
+    /// The bounded Gauss-Newton point from `x`: minimises `|J (y - x) + r|^2` over the box.
+    fn step(&self, x: &[f64], now: &[Vec3]) -> Vec<f64> {
+        let columns = self.jacobian(x, now);
+        let k = x.len();
+        let residual: Vec<DVec3> = now
+            .iter()
+            .zip(self.target)
+            .map(|(p, t)| p.as_dvec3() - t.as_dvec3())
+            .collect();
+        let mut gram = vec![0.0; k * k];
+        let mut jr = vec![0.0; k];
+        let mut dense = vec![DVec3::ZERO; now.len()];
+        for i in 0..k {
+            for &(v, d) in &columns[i] {
+                dense[v as usize] = d;
+                jr[i] += d.dot(residual[v as usize]);
+            }
+            for j in i..k {
+                let dot: f64 = columns[j]
+                    .iter()
+                    .map(|&(v, d)| d.dot(dense[v as usize]))
+                    .sum();
+                gram[i * k + j] = dot;
+                gram[j * k + i] = dot;
+            }
+            for &(v, _) in &columns[i] {
+                dense[v as usize] = DVec3::ZERO;
+            }
+        }
+        // |J y - (J x - r)|^2: the linear term is G x - J^T r.
+        let c: Vec<f64> = (0..k)
+            .map(|i| (0..k).map(|j| gram[i * k + j] * x[j]).sum::<f64>() - jr[i])
+            .collect();
+        box_least_squares(&gram, &c, &vec![0.0; k], &self.hi)
+    }
+
+    /// Forward differences of the deformation in each variable, stepping inward at a bound.
+    fn jacobian(&self, x: &[f64], now: &[Vec3]) -> Vec<Column> {
+        let mut moved = Vec::new();
+        (0..x.len())
+            .map(|i| {
+                let h = if x[i] + DIFFERENCE_STEP <= self.hi[i] {
+                    DIFFERENCE_STEP
+                } else {
+                    -DIFFERENCE_STEP
+                };
+                let mut y = x.to_vec();
+                y[i] += h;
+                self.deform(&y, &mut moved);
+                // the step as the f32 activation really took it
+                let taken = f64::from(y[i] as f32) - f64::from(x[i] as f32);
+                moved
+                    .iter()
+                    .zip(now)
+                    .enumerate()
+                    .filter(|(_, (a, b))| a != b)
+                    .map(|(v, (a, b))| (v as u32, (a.as_dvec3() - b.as_dvec3()) / taken))
+                    .collect()
+            })
+            .collect()
+    }
 }
 
 /// An activation in range, with values within rounding of a bound set to it.
@@ -235,9 +418,9 @@ impl Problem {
                 }
             }
         }
-        let lo = 0.0;
-        let hi = f64::from(*MUSCLE_RANGE.end());
-        let x = box_least_squares(&gram, &rhs, m, lo, hi);
+        let lo = vec![0.0; m];
+        let hi = vec![f64::from(*MUSCLE_RANGE.end()); m];
+        let x = box_least_squares(&gram, &rhs, &lo, &hi);
         // |r|^2 = constant - 2 x.rhs + x G x
         let mut quad = 0.0;
         for i in 0..m {
@@ -250,15 +433,17 @@ impl Problem {
     }
 }
 
-/// Minimises `x G x / 2 - c x` over `lo <= x <= hi` (G symmetric positive semi-definite) by
-/// a primal active-set method; a tiny ridge makes indistinguishable muscles share.
-fn box_least_squares(gram: &[f64], c: &[f64], m: usize, lo: f64, hi: f64) -> Vec<f64> {
+/// Minimises `x G x / 2 - c x` over `lo <= x <= hi` (per variable; G symmetric positive
+/// semi-definite) by a primal active-set method; a tiny ridge makes indistinguishable
+/// muscles share.
+fn box_least_squares(gram: &[f64], c: &[f64], lo: &[f64], hi: &[f64]) -> Vec<f64> {
+    let m = c.len();
     let trace: f64 = (0..m).map(|i| gram[i * m + i]).sum();
     let ridge = 1e-10 * trace.max(1e-300) / m.max(1) as f64;
     let g = |i: usize, j: usize| gram[i * m + j] + if i == j { ridge } else { 0.0 };
     // Muscles that move nothing stay at 0.
     let live: Vec<bool> = (0..m).map(|i| gram[i * m + i] > 0.0).collect();
-    let mut x = vec![lo; m];
+    let mut x = lo.to_vec();
     // free[i]: not held at a bound.
     let mut free: Vec<bool> = vec![false; m];
     for _ in 0..(4 * m + 20) {
@@ -269,7 +454,7 @@ fn box_least_squares(gram: &[f64], c: &[f64], m: usize, lo: f64, hi: f64) -> Vec
         let scale = 1e-12 * (1.0 + c.iter().fold(0.0f64, |a, v| a.max(v.abs())));
         let release = (0..m)
             .filter(|&i| live[i] && !free[i])
-            .filter(|&i| (x[i] <= lo && grad[i] < -scale) || (x[i] >= hi && grad[i] > scale))
+            .filter(|&i| (x[i] <= lo[i] && grad[i] < -scale) || (x[i] >= hi[i] && grad[i] > scale))
             .max_by(|&a, &b| grad[a].abs().total_cmp(&grad[b].abs()));
         let Some(i) = release else {
             if free.iter().any(|&f| f) && !inner(&g, c, &mut x, &mut free, lo, hi) {
@@ -290,8 +475,8 @@ fn inner(
     c: &[f64],
     x: &mut [f64],
     free: &mut [bool],
-    lo: f64,
-    hi: f64,
+    lo: &[f64],
+    hi: &[f64],
 ) -> bool {
     let ids: Vec<usize> = (0..x.len()).filter(|&i| free[i]).collect();
     if ids.is_empty() {
@@ -322,17 +507,17 @@ fn inner(
     for (r, &i) in ids.iter().enumerate() {
         let target = solution[r];
         let delta = target - x[i];
-        if target < lo && delta < 0.0 {
-            let t = (lo - x[i]) / delta;
+        if target < lo[i] && delta < 0.0 {
+            let t = (lo[i] - x[i]) / delta;
             if t < step {
                 step = t;
-                blocking = Some((i, lo));
+                blocking = Some((i, lo[i]));
             }
-        } else if target > hi && delta > 0.0 {
-            let t = (hi - x[i]) / delta;
+        } else if target > hi[i] && delta > 0.0 {
+            let t = (hi[i] - x[i]) / delta;
             if t < step {
                 step = t;
-                blocking = Some((i, hi));
+                blocking = Some((i, hi[i]));
             }
         }
     }
@@ -394,16 +579,17 @@ mod tests {
     fn box_least_squares_clamps_and_solves() {
         // G = I: the solution is c clamped to the box.
         let g = vec![1.0, 0.0, 0.0, 1.0];
-        let x = box_least_squares(&g, &[0.5, 3.0], 2, 0.0, 2.0);
+        let (lo, hi) = ([0.0; 2], [2.0; 2]);
+        let x = box_least_squares(&g, &[0.5, 3.0], &lo, &hi);
         assert!(
             (x[0] - 0.5).abs() < 1e-9 && (x[1] - 2.0).abs() < 1e-9,
             "{x:?}"
         );
-        let x = box_least_squares(&g, &[-1.0, 1.0], 2, 0.0, 2.0);
+        let x = box_least_squares(&g, &[-1.0, 1.0], &lo, &hi);
         assert!(x[0].abs() < 1e-9 && (x[1] - 1.0).abs() < 1e-9, "{x:?}");
         // Coupled: G = [[2,1],[1,2]], c = [3, 0]: unconstrained (2,-1); with x2 >= 0: x1 = 1.5.
         let g = vec![2.0, 1.0, 1.0, 2.0];
-        let x = box_least_squares(&g, &[3.0, 0.0], 2, 0.0, 2.0);
+        let x = box_least_squares(&g, &[3.0, 0.0], &lo, &hi);
         assert!((x[0] - 1.5).abs() < 1e-9 && x[1].abs() < 1e-9, "{x:?}");
     }
 }

@@ -4,6 +4,7 @@
 
 pub mod activations;
 pub mod deform;
+pub mod deformation;
 pub mod field;
 pub mod jaw;
 pub mod mesh;
@@ -12,6 +13,7 @@ pub mod rig;
 
 pub use activations::{ActivationError, Activations, JAW_RANGE, MUSCLE_RANGE};
 pub use deform::{deform, BindError, BoundRig, Skin};
+pub use deformation::Deformation;
 pub use field::Field;
 pub use jaw::Jaw;
 pub use mesh::{Mesh, MeshError};

@@ -28,7 +28,7 @@ use crate::io::timeline::{Timeline, TimelineError};
 use crate::model::{Activations, Rig};
 
 use super::json::parse_flat_object;
-use super::map::{clamp_activations, AuIntensity, AuMapper, IntensityScale};
+use super::map::{clamp_to_ranges, AuIntensity, AuMapper, IntensityScale};
 
 /// The frame rate assumed for rows without timestamps, unless one is given.
 pub const DEFAULT_FRAME_RATE: f64 = 30.0;
@@ -428,7 +428,7 @@ impl TimelineSource {
                 pose.muscles[index] += value;
             }
             pose.jaw += key.jaw.unwrap_or(0.0);
-            clamp_activations(&mut pose);
+            clamp_to_ranges(&mut pose);
             poses.push(pose);
         }
         let count = timeline.frame_count();

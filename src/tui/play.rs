@@ -125,7 +125,8 @@ pub fn run(
     cells: CellMode,
     frames: Option<usize>,
 ) -> Result<()> {
-    let bound = BoundRig::bind_with(rig, &mesh, crate::model::Skin::DEFAULT)
+    let bound = crate::model::Deformation::default()
+        .bind(rig, &mesh)
         .context("cannot place the rig on its mesh")?;
     let rest = bound.rest().to_vec();
     let mut face = Face {

@@ -891,12 +891,9 @@ mod tests {
 
     /// The rig as bound from scratch deforms the held face exactly as the rebound one.
     fn assert_bound_as_from_scratch(app: &App) {
-        let scratch = crate::model::BoundRig::bind_with(
-            app.rig(),
-            app.doc.scene.mesh(),
-            crate::model::Skin::DEFAULT,
-        )
-        .unwrap();
+        let scratch = crate::model::Deformation::default()
+            .bind(app.rig(), app.doc.scene.mesh())
+            .unwrap();
         let activations = held_activations(app, app.selected_row(), app.rig_edit.held);
         let mut out = Vec::new();
         scratch.deform(&activations, &mut out).unwrap();
@@ -1051,12 +1048,9 @@ mod tests {
         run(&mut app, Action::Rig(RigAction::Toggle));
         run(&mut app, Action::Undo);
         assert_eq!(app.rig(), &rig0);
-        let scratch = crate::model::BoundRig::bind_with(
-            &rig0,
-            app.doc.scene.mesh(),
-            crate::model::Skin::DEFAULT,
-        )
-        .unwrap();
+        let scratch = crate::model::Deformation::default()
+            .bind(&rig0, app.doc.scene.mesh())
+            .unwrap();
         let mut out = Vec::new();
         scratch.deform(&app.doc.activations, &mut out).unwrap();
         assert_eq!(app.doc.scene.positions(), out.as_slice());

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 
-use crate::model::{Activations, BoundRig, Mesh, MuscleKind, Rig, Skin};
+use crate::model::{Activations, BoundRig, Deformation, Mesh, MuscleKind, Rig};
 use crate::render::Framing;
 
 /// The face being edited: bound rig, rest mesh and the deformed positions for the current
@@ -22,7 +22,8 @@ pub struct Scene {
 impl Scene {
     /// Binds a rig to its mesh. Fails with a message when the rig does not fit the mesh.
     pub fn new(rig: Rig, mesh: Mesh) -> Result<Scene, String> {
-        let bound = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT)
+        let bound = Deformation::default()
+            .bind(&rig, &mesh)
             .map_err(|e| format!("the rig does not fit its mesh: {e}"))?;
         let positions = mesh.positions.clone();
         // Once, from the rig as loaded: rig-mode edits do not move the view.
@@ -76,8 +77,9 @@ impl Scene {
     /// Replaces the rig (rig mode's edits), keeping the old one when the new one does not
     /// bind to the mesh. The positions are those of the rest pose until the next deform.
     pub fn set_rig(&mut self, rig: Rig) -> Result<(), String> {
-        self.bound =
-            BoundRig::bind_with(&rig, &self.mesh, Skin::DEFAULT).map_err(|e| e.to_string())?;
+        self.bound = Deformation::default()
+            .bind(&rig, &self.mesh)
+            .map_err(|e| e.to_string())?;
         self.positions.clone_from(&self.mesh.positions);
         self.generation += 1;
         Ok(())

@@ -93,6 +93,9 @@ fn import_then_export_each_muscle_matches_the_classic_output() {
                 rig_path.to_str().unwrap(),
                 "--set",
                 &set,
+                // the classic program's positions are the paper's model
+                "--model",
+                "paper",
                 "--out",
                 out.to_str().unwrap(),
             ]);
@@ -194,7 +197,9 @@ fn export(dir: &Path, args: &[&str]) -> Result<Vec<Vec3>, (Option<i32>, String)>
 /// The positions the library gives for the same activations, to compare the command with.
 fn library(dir: &Path, muscles: [f32; 2], jaw: f32) -> Vec<Vec3> {
     let rig = rig_file::load_rig(&dir.join("t.rig.ron")).unwrap();
-    let bound = grimace::model::BoundRig::bind(&rig.rig, &rig.mesh).unwrap();
+    let bound = grimace::model::Deformation::default()
+        .bind(&rig.rig, &rig.mesh)
+        .unwrap();
     let mut out = vec![];
     let act = grimace::model::Activations {
         muscles: muscles.to_vec(),
@@ -315,7 +320,9 @@ fn export_defaults_to_the_built_in_face_rig_and_table() {
 
     let rig = grimace::io::builtin::default_rig();
     let table = grimace::io::builtin::default_table();
-    let bound = grimace::model::BoundRig::bind(&rig, &face).unwrap();
+    let bound = grimace::model::Deformation::default()
+        .bind(&rig, &face)
+        .unwrap();
     let name = table.expressions.keys().next().unwrap().clone();
     let mut want = vec![];
     let act = table.expression_activations(&name, &rig).unwrap();

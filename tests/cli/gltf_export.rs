@@ -14,15 +14,15 @@ use grimace::io::obj::read_obj;
 
 /// A .glb read back: rest positions, target names, each target's position displacements,
 /// and the node's scale.
-struct Read {
-    rest: Vec<Vec3>,
-    names: Vec<String>,
-    deltas: Vec<Vec<Vec3>>,
+pub(crate) struct Read {
+    pub(crate) rest: Vec<Vec3>,
+    pub(crate) names: Vec<String>,
+    pub(crate) deltas: Vec<Vec<Vec3>>,
     scale: [f32; 3],
     triangles: usize,
 }
 
-fn read_glb(path: &Path) -> Read {
+pub(crate) fn read_glb(path: &Path) -> Read {
     let bytes = std::fs::read(path).unwrap();
     let gltf = gltf::Gltf::from_slice(&bytes).expect("the crate reads the file");
     let bin = gltf.blob.clone().expect("a BIN chunk");

@@ -7,9 +7,11 @@
 mod common;
 
 mod bad_inputs;
+mod check_cli;
 mod completions;
 mod face_cli;
 mod files;
 mod gltf_blending;
 mod gltf_export;
+mod one_deformation;
 mod render_cli;

@@ -398,3 +398,50 @@ fn fit_au_fills_a_table_and_refuses_other_meshes() {
     assert_eq!(map.len(), 49);
     assert_eq!(builtin::ARKIT_MAP.matches("\": \"").count(), 52);
 }
+
+#[test]
+fn fit_au_map_skips_a_rest_shaped_and_a_broken_target_and_writes_the_rest() {
+    let dir = temp();
+    let d = dir.path();
+    for (file, args) in [("smile", &["--au", "12"][..]), ("rest", &[][..])] {
+        let mut all = vec!["export", "--out"];
+        let name = format!("{file}.obj");
+        all.push(&name);
+        all.extend_from_slice(args);
+        let out = grimace_in(d, &all);
+        assert!(out.status.success(), "{:?}", text(&out));
+    }
+    std::fs::write(d.join("broken.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        d.join("set.map.ron"),
+        "{ \"smile\": \"12\", \"rest\": \"19\", \"broken\": \"9\" }",
+    )
+    .unwrap();
+    let out = grimace_in(
+        d,
+        &[
+            "fit-au",
+            "--rig",
+            "builtin:default",
+            "--map",
+            "set.map.ron",
+            "--dir",
+            ".",
+            "--table",
+            "mine.au.ron",
+        ],
+    );
+    let (stdout, stderr) = text(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stdout.contains("19: skipped") && stdout.contains("rest shape"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("9: skipped") && stdout.contains("3 vertices"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("wrote 1 AU entries"), "{stdout}");
+    let table = grimace::io::load_table(&d.join("mine.au.ron")).unwrap();
+    assert_eq!(table.aus.len(), 1);
+}
