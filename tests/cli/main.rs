@@ -14,4 +14,5 @@ mod files;
 mod gltf_blending;
 mod gltf_export;
 mod one_deformation;
+mod readme_example;
 mod render_cli;
