@@ -10,6 +10,7 @@
 
 use std::cell::RefCell;
 use std::collections::BTreeSet;
+use std::sync::Arc;
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -22,9 +23,11 @@ use super::muscle::MuscleKind;
 use super::rig::{Combine, Rig};
 
 mod skin;
+mod spread;
 
 pub use skin::Skin;
 use skin::{Adjacency, Guard, Patch};
+use spread::Surface;
 
 /// Meshes with at least this many vertices are deformed in parallel chunks.
 pub const PARALLEL_MIN_VERTICES: usize = 32_768;
@@ -210,6 +213,11 @@ pub struct BoundRig {
     vertex_jaw: Vec<f32>,
     /// The mesh, kept when the skin rules are on so a rebind can fit them again.
     skin_mesh: Option<Mesh>,
+    /// The rest surface's operators, kept when the fields are spread (a rebind spreads the
+    /// changed fields again).
+    surface: Option<Arc<Surface>>,
+    /// The spread length the fields were spread by (0 when they are not).
+    spread_length: f64,
 }
 
 thread_local! {
@@ -250,6 +258,12 @@ impl BoundRig {
                 }
             })
             .collect();
+        let surface = (skin.spread > 0.0).then(|| Arc::new(Surface::of(mesh)));
+        let spread_length = spread::spread_length(rig, skin.spread);
+        let fields = match &surface {
+            Some(surface) => spread::spread_all(surface, rig, fields, &scales, spread_length),
+            None => fields,
+        };
         check_reach(rig, &rest, &fields)?;
         let mut bound = BoundRig {
             rig: rig.clone(),
@@ -268,6 +282,8 @@ impl BoundRig {
             vertex_row: Vec::new(),
             vertex_jaw: Vec::new(),
             skin_mesh: None,
+            surface,
+            spread_length,
         };
         bound.build_rows()?;
         bound.build_skin(mesh);

@@ -24,4 +24,6 @@ mod openface_proptest;
 mod presets_builtin;
 mod presets_table;
 mod properties;
+mod regions;
 mod skin;
+mod tears;
