@@ -26,4 +26,5 @@ mod presets_table;
 mod properties;
 mod regions;
 mod skin;
+mod spread;
 mod tears;
