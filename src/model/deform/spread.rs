@@ -29,10 +29,10 @@ use crate::model::muscle::MuscleKind;
 use crate::model::Rig;
 
 /// How far the spread is solved, in spread lengths: beyond it the kernel has fallen below
-/// `exp(-5)` of its value and the field is taken as zero.
-const REACH: f64 = 5.0;
+/// `exp(-4)` of its value and the field is taken as zero.
+const REACH: f64 = 4.0;
 /// Entries smaller than this fraction of the field's largest are left out (sparsity).
-const KEEP: f64 = 1e-3;
+const KEEP: f64 = 1e-2;
 /// Relative residual at which the conjugate gradients stop.
 const TOLERANCE: f64 = 1e-7;
 /// Most conjugate-gradient iterations (far more than a face needs).
