@@ -149,3 +149,87 @@ fn the_pull_reaches_past_the_zone_and_dies_out() {
         );
     }
 }
+
+/// One level of 1-to-4 midpoint subdivision; the old vertices keep their numbers.
+fn subdivide(mesh: &grimace::model::Mesh) -> grimace::model::Mesh {
+    let mut positions = mesh.positions.clone();
+    let mut midpoints = std::collections::HashMap::new();
+    let mut midpoint = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
+        *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            positions.push((positions[a as usize] + positions[b as usize]) * 0.5);
+            (positions.len() - 1) as u32
+        })
+    };
+    let mut triangles = Vec::new();
+    for &[a, b, c] in &mesh.triangles {
+        let ab = midpoint(a, b, &mut positions);
+        let bc = midpoint(b, c, &mut positions);
+        let ca = midpoint(c, a, &mut positions);
+        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    grimace::model::Mesh::new(positions, triangles).expect("valid")
+}
+
+/// The spread is set in face units, not in edges: on the built-in face subdivided once (four
+/// times the triangles, half the edge length) every spread field agrees with the coarse one
+/// at the shared vertices as closely as the muscles' own fields do (which differ where a
+/// mask lists coarse vertices only), and far closer than the spread changes the field.
+#[test]
+fn the_spread_does_not_depend_on_the_resolution() {
+    let coarse = builtin::default_mesh();
+    let fine = subdivide(&coarse);
+    let rig = builtin::default_rig();
+    let on = |mesh, skin| BoundRig::bind_with(&rig, mesh, skin).expect("binds");
+    let (own, own_fine, spread_coarse, spread_fine) = (
+        on(&coarse, Skin::DEFAULT),
+        on(&fine, Skin::DEFAULT),
+        on(&coarse, Skin::TISSUE),
+        on(&fine, Skin::TISSUE),
+    );
+    let dense = |field: &grimace::model::Field| {
+        let mut d = vec![Vec3::ZERO; coarse.positions.len()];
+        for (&v, &x) in field.vertices.iter().zip(&field.displacements) {
+            if (v as usize) < d.len() {
+                d[v as usize] = x;
+            }
+        }
+        d
+    };
+    let mut gaps = Vec::new();
+    for (m, muscle) in rig.muscles.iter().enumerate() {
+        if matches!(muscle.kind, MuscleKind::Sphincter(_)) {
+            continue;
+        }
+        let [a, f, b, c] =
+            [&own, &own_fine, &spread_coarse, &spread_fine].map(|r| dense(r.field(m).unwrap()));
+        let largest = b.iter().map(|d| d.length()).fold(0.0f32, f32::max);
+        let gap = |x: &[Vec3], y: &[Vec3]| {
+            x.iter()
+                .zip(y)
+                .map(|(p, q)| (*p - *q).length())
+                .fold(0.0f32, f32::max)
+                / largest
+        };
+        let (resolution, spreading, own) = (gap(&b, &c), gap(&a, &b), gap(&a, &f));
+        println!(
+            "{}: resolution {resolution:.3} (own fields {own:.3}), spread {spreading:.3}",
+            muscle.name
+        );
+        assert!(
+            resolution < spreading + own,
+            "{}: coarse and fine differ by {resolution} of the largest travel; the spread \
+             changes the field by {spreading}",
+            muscle.name
+        );
+        gaps.push((resolution - own, spreading));
+    }
+    // on the whole, the resolution moves a field a small part of what the spread does
+    let mean = |i: usize| gaps.iter().map(|g| [g.0, g.1][i]).sum::<f32>() / gaps.len() as f32;
+    println!("mean: resolution {}, spread {}", mean(0), mean(1));
+    assert!(
+        mean(0) < 0.25 * mean(1),
+        "resolution {} against spread {}",
+        mean(0),
+        mean(1)
+    );
+}
