@@ -2,7 +2,7 @@
 //!
 //! The face is the classic Waters face from `../shared/golden` (or `$GRIMACE_SHARED/golden`);
 //! without it the benchmark prints why and measures nothing. Sizes: the classic face with its
-//! 18 linear muscles at 1.0, then the same face subdivided 1-to-4 to about 113k and 450k
+//! 18 linear muscles at 1.0, then the same face subdivided 1-to-4 to about 28k, 113k and 450k
 //! vertices with every muscle kind active (2 sheets, 3 sphincters and a jaw placed here for
 //! this geometry). The naive baseline visits every vertex for every muscle and recomputes the
 //! muscle's geometry each time, as the classic program does.
@@ -276,10 +276,16 @@ fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activat
         naive_min / deform_min,
         naive_min / single_min
     );
+    let tissue = (mesh.positions.len() < 200_000).then(|| spread(label, mesh, rig, act, &bound));
     let mut group = c.benchmark_group(label);
     group.bench_function("deform", |b| {
         b.iter(|| bound.deform(black_box(act), &mut out).expect("in range"))
     });
+    if let Some(tissue) = &tissue {
+        group.bench_function("deform_spread", |b| {
+            b.iter(|| tissue.deform(black_box(act), &mut out).expect("in range"))
+        });
+    }
     group.bench_function("deform_paper", |b| {
         b.iter(|| paper.deform(black_box(act), &mut out).expect("in range"))
     });
@@ -298,6 +304,31 @@ fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activat
         b.iter(|| naive(&mesh.positions, rig, black_box(act), &mut check))
     });
     group.finish();
+}
+
+/// Binds `rig` with the skin spread ([`Skin::TISSUE`]) and prints its bind time, its pairs
+/// and its deformation's minimum against the same rig without the spread (`without`).
+fn spread(label: &str, mesh: &Mesh, rig: &Rig, act: &Activations, without: &BoundRig) -> BoundRig {
+    let start = std::time::Instant::now();
+    let tissue = BoundRig::bind_with(rig, mesh, Skin::TISSUE).expect("bench rig binds");
+    let bind = start.elapsed().as_secs_f64();
+    let mut out = Vec::new();
+    let with_min = min_time(200, || {
+        tissue.deform(black_box(act), &mut out).expect("in range")
+    });
+    let without_min = min_time(200, || {
+        without.deform(black_box(act), &mut out).expect("in range")
+    });
+    eprintln!(
+        "{label}: with the spread: bind {:.1} ms, {} pairs ({} without), min deform {:.3} us \
+         ({:.3} us without)",
+        bind * 1e3,
+        tissue.pair_count(),
+        without.pair_count(),
+        with_min * 1e6,
+        without_min * 1e6
+    );
+    tissue
 }
 
 /// The shortest of `runs` timed calls, in seconds.
@@ -326,6 +357,7 @@ fn default_face(c: &mut Criterion) {
         .expect("happiness evaluates");
     let skin = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("binds");
     let paper = BoundRig::bind_with(&rig, &mesh, Skin::PAPER).expect("binds");
+    let tissue = spread("default_face", &mesh, &rig, &act, &skin);
     let mut out = Vec::new();
     let m = rig.muscle_index("L_Zygomatic_Major").expect("zygomatic");
     let mut group = c.benchmark_group("default_face");
@@ -334,6 +366,9 @@ fn default_face(c: &mut Criterion) {
     });
     group.bench_function("deform_paper", |b| {
         b.iter(|| paper.deform(black_box(&act), &mut out).expect("in range"))
+    });
+    group.bench_function("deform_spread", |b| {
+        b.iter(|| tissue.deform(black_box(&act), &mut out).expect("in range"))
     });
     skin.deform(&act, &mut out).expect("in range");
     group.bench_function("update_muscle_zygomatic", |b| {
@@ -377,9 +412,12 @@ fn benches(c: &mut Criterion) {
     };
     act.muscles.extend([0.4, 0.4, 0.3, 0.4, 0.4]);
     let mut mesh = face;
-    for _ in 0..4 {
+    for _ in 0..3 {
         mesh = subdivide(&mesh);
     }
+    let head_rig = rig(muscles.clone(), Some(jaw_for(&mesh)));
+    measure(c, "subdivided_28k", &mesh, &head_rig, &act);
+    mesh = subdivide(&mesh);
     let big_rig = rig(muscles.clone(), Some(jaw_for(&mesh)));
     measure(c, "subdivided_113k", &mesh, &big_rig, &act);
     let mesh = subdivide(&mesh);

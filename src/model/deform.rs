@@ -10,6 +10,7 @@
 
 use std::cell::RefCell;
 use std::collections::BTreeSet;
+use std::sync::Arc;
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -21,10 +22,14 @@ use super::mesh::{Mesh, MeshError};
 use super::muscle::MuscleKind;
 use super::rig::{Combine, Rig};
 
+mod checks;
 mod skin;
+mod spread;
 
+use checks::{check_budget, check_reach, mask_scales};
 pub use skin::Skin;
 use skin::{Adjacency, Guard, Patch};
+use spread::Surface;
 
 /// Meshes with at least this many vertices are deformed in parallel chunks.
 pub const PARALLEL_MIN_VERTICES: usize = 32_768;
@@ -210,6 +215,11 @@ pub struct BoundRig {
     vertex_jaw: Vec<f32>,
     /// The mesh, kept when the skin rules are on so a rebind can fit them again.
     skin_mesh: Option<Mesh>,
+    /// The rest surface's operators, kept when the fields are spread (a rebind spreads the
+    /// changed fields again).
+    surface: Option<Arc<Surface>>,
+    /// The spread length the fields were spread by (0 when they are not).
+    spread_length: f64,
 }
 
 thread_local! {
@@ -250,6 +260,12 @@ impl BoundRig {
                 }
             })
             .collect();
+        let surface = (skin.spread > 0.0).then(|| Arc::new(Surface::of(mesh)));
+        let spread_length = spread::spread_length(rig, skin.spread);
+        let fields = match &surface {
+            Some(surface) => spread::spread_all(surface, rig, fields, &scales, spread_length),
+            None => fields,
+        };
         check_reach(rig, &rest, &fields)?;
         let mut bound = BoundRig {
             rig: rig.clone(),
@@ -268,6 +284,8 @@ impl BoundRig {
             vertex_row: Vec::new(),
             vertex_jaw: Vec::new(),
             skin_mesh: None,
+            surface,
+            spread_length,
         };
         bound.build_rows()?;
         bound.build_skin(mesh);
@@ -756,30 +774,11 @@ pub fn deform(
     rig.deform(act, out)
 }
 
-/// Unique muscle names, and every mirror partner present.
 /// The most `(vertex, muscle)` pairs a rig may influence: each costs about 36 bytes bound
 /// (its field entry, its CSR entry and its row), so the limit is about 1.2 GB.
 pub const MAX_INFLUENCES: usize = 1 << 25;
 
-/// Refuses a rig whose fields would pass [`MAX_INFLUENCES`], before any is kept. Only rigs
-/// that could pass it (muscles times vertices above the limit) pay for the counting pass.
-fn check_budget(rig: &Rig, rest: &[Vec3]) -> Result<(), BindError> {
-    if rig.muscles.len().saturating_mul(rest.len()) <= MAX_INFLUENCES {
-        return Ok(());
-    }
-    let mut total = 0usize;
-    for muscle in &rig.muscles {
-        total += Field::count(&muscle.kind, rest);
-        if total > MAX_INFLUENCES {
-            return Err(BindError::TooManyInfluences {
-                muscle: muscle.name.clone(),
-                vertices: rest.len(),
-            });
-        }
-    }
-    Ok(())
-}
-
+/// Unique muscle names, and every mirror partner present.
 fn validate_names(rig: &Rig) -> Result<(), BindError> {
     let mut seen = BTreeSet::new();
     for m in &rig.muscles {
@@ -848,76 +847,6 @@ fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
         weights: weights.iter().map(|&(_, w)| w).collect(),
         rows: Vec::new(),
     }))
-}
-
-/// Per muscle, the product of the weights of the masks naming it (one per vertex), or
-/// `None` for a muscle no mask names.
-fn mask_scales(rig: &Rig, count: usize) -> Result<Vec<Option<Vec<f32>>>, BindError> {
-    let mut scales: Vec<Option<Vec<f32>>> = vec![None; rig.muscles.len()];
-    for (index, mask) in rig.masks.iter().enumerate() {
-        let bad = |message: String| BindError::Mask {
-            mask: index,
-            message,
-        };
-        let mut previous: Option<u32> = None;
-        for &(vertex, weight) in &mask.weights {
-            if vertex as usize >= count {
-                return Err(bad(format!(
-                    "vertex {vertex} does not exist; the mesh has {count} vertices"
-                )));
-            }
-            if previous.is_some_and(|p| p >= vertex) {
-                return Err(bad(format!(
-                    "vertices must be sorted with no repeats; {vertex} comes after {}",
-                    previous.unwrap_or(0)
-                )));
-            }
-            previous = Some(vertex);
-            if !(weight.is_finite() && (0.0..=1.0).contains(&weight)) {
-                return Err(bad(format!(
-                    "vertex {vertex} has weight {weight}, outside 0.0 to 1.0"
-                )));
-            }
-        }
-        if !(mask.gain.is_finite() && mask.gain > 0.0 && mask.gain <= 1e6) {
-            return Err(bad(format!(
-                "gain {} must be a finite number above 0 and at most 1e6",
-                mask.gain
-            )));
-        }
-        for name in &mask.muscles {
-            let muscle = rig
-                .muscle_index(name)
-                .ok_or_else(|| bad(format!("names `{name}`, which is not a muscle of the rig")))?;
-            let scale = scales[muscle].get_or_insert_with(|| vec![1.0; count]);
-            if mask.gain != 1.0 {
-                scale.iter_mut().for_each(|s| *s *= mask.gain);
-            }
-            for &(vertex, weight) in &mask.weights {
-                scale[vertex as usize] *= weight;
-            }
-        }
-    }
-    Ok(scales)
-}
-
-/// Refuses rigs whose full activation would leave the range where `f32` sums stay finite.
-fn check_reach(rig: &Rig, rest: &[Vec3], fields: &[Field]) -> Result<(), BindError> {
-    let max = *MUSCLE_RANGE.end() as f64;
-    let mut reach: Vec<f64> = rest.iter().map(|p| p.as_dvec3().length()).collect();
-    for (muscle, field) in rig.muscles.iter().zip(fields) {
-        for (&v, d) in field.vertices.iter().zip(&field.displacements) {
-            let r = &mut reach[v as usize];
-            *r += max * d.as_dvec3().length();
-            if !r.is_finite() || *r > MAX_REACH {
-                return Err(BindError::OutOfReach {
-                    muscle: muscle.name.clone(),
-                    vertex: v,
-                });
-            }
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -24,4 +24,7 @@ mod openface_proptest;
 mod presets_builtin;
 mod presets_table;
 mod properties;
+mod regions;
 mod skin;
+mod spread;
+mod tears;

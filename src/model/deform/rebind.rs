@@ -7,7 +7,7 @@
 
 use glam::Vec3;
 
-use super::{bind_jaw, check_budget, check_reach, BindError, BoundRig, MAX_INFLUENCES};
+use super::{bind_jaw, check_budget, check_reach, spread, BindError, BoundRig, MAX_INFLUENCES};
 use crate::model::field::{validate_muscle, Field};
 use crate::model::muscle::{Muscle, MuscleKind};
 use crate::model::Rig;
@@ -50,25 +50,53 @@ impl BoundRig {
             }
             check_budget(&rig, &self.rest)?;
         }
-        let mut old = Vec::with_capacity(sorted.len());
+        let mut rig = self.rig.clone();
         for (index, kind) in &sorted {
-            let field = Field::of(kind, &self.rest);
-            let field = match mask_scale(&self.rig, *index, count) {
-                Some(scale) => field.scaled(&scale),
-                None => field,
-            };
-            old.push(std::mem::replace(&mut self.fields[*index], field));
+            rig.muscles[*index].kind = kind.clone();
         }
-        if let Err(error) = check_reach(&self.rig, &self.rest, &self.fields) {
-            for ((index, _), field) in sorted.iter().zip(old) {
-                self.fields[*index] = field;
+        // A changed spread length (a muscle moved the rig's box) spreads every field again.
+        let length = spread::spread_length(&rig, self.skin.spread);
+        let changed: Vec<usize> = if self.surface.is_some() && length != self.spread_length {
+            (0..rig.muscles.len()).collect()
+        } else {
+            sorted.iter().map(|(index, _)| *index).collect()
+        };
+        let mut old = Vec::with_capacity(changed.len());
+        for &index in &changed {
+            let field = self.field_of(&rig, index, length);
+            old.push(std::mem::replace(&mut self.fields[index], field));
+        }
+        if let Err(error) = check_reach(&rig, &self.rest, &self.fields) {
+            for (&index, field) in changed.iter().zip(old) {
+                self.fields[index] = field;
             }
             return Err(error);
         }
-        for (index, kind) in sorted {
-            self.rig.muscles[index].kind = kind;
-        }
+        self.rig = rig;
+        self.spread_length = length;
         self.rebuild_rows()
+    }
+
+    /// Muscle `index`'s field on the rest mesh as `bind` computes it: the muscle's own,
+    /// masked, then spread by `length` when the fields are spread.
+    fn field_of(&self, rig: &Rig, index: usize, length: f64) -> Field {
+        let count = self.rest.len();
+        let scale = mask_scale(rig, index, count);
+        let field = Field::of(&rig.muscles[index].kind, &self.rest);
+        let field = match &scale {
+            Some(scale) => field.scaled(scale),
+            None => field,
+        };
+        match &self.surface {
+            Some(surface) => spread::spread_one(
+                surface,
+                &rig.muscles[index].kind,
+                field,
+                scale.as_deref(),
+                length,
+            ),
+            None => field,
+        }
     }
 
     /// Gives the jaw a new pivot, axis and degrees per unit (its weights stay): the same as

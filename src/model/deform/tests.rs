@@ -347,6 +347,14 @@ fn bind_refuses_skin_rules_out_of_range() {
             slide: f32::NAN,
             ..Skin::DEFAULT
         },
+        Skin {
+            spread: -0.1,
+            ..Skin::DEFAULT
+        },
+        Skin {
+            spread: f32::INFINITY,
+            ..Skin::DEFAULT
+        },
     ] {
         let err = BoundRig::bind_with(&r, &mesh(), skin).unwrap_err();
         assert!(matches!(err, BindError::Skin(_)), "{err}");

@@ -1,0 +1,98 @@
+//! The checks of a rig's fields at bind time that are not about one muscle's parameters: the
+//! influence budget, the masks and the reach at full activation.
+
+use glam::Vec3;
+
+use super::{BindError, MAX_INFLUENCES, MAX_REACH};
+use crate::model::activations::MUSCLE_RANGE;
+use crate::model::field::Field;
+use crate::model::Rig;
+
+/// Refuses a rig whose fields would pass [`MAX_INFLUENCES`], before any is kept. Only rigs
+/// that could pass it (muscles times vertices above the limit) pay for the counting pass.
+pub(super) fn check_budget(rig: &Rig, rest: &[Vec3]) -> Result<(), BindError> {
+    if rig.muscles.len().saturating_mul(rest.len()) <= MAX_INFLUENCES {
+        return Ok(());
+    }
+    let mut total = 0usize;
+    for muscle in &rig.muscles {
+        total += Field::count(&muscle.kind, rest);
+        if total > MAX_INFLUENCES {
+            return Err(BindError::TooManyInfluences {
+                muscle: muscle.name.clone(),
+                vertices: rest.len(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Per muscle, the product of the weights of the masks naming it (one per vertex), or
+/// `None` for a muscle no mask names.
+pub(super) fn mask_scales(rig: &Rig, count: usize) -> Result<Vec<Option<Vec<f32>>>, BindError> {
+    let mut scales: Vec<Option<Vec<f32>>> = vec![None; rig.muscles.len()];
+    for (index, mask) in rig.masks.iter().enumerate() {
+        let bad = |message: String| BindError::Mask {
+            mask: index,
+            message,
+        };
+        let mut previous: Option<u32> = None;
+        for &(vertex, weight) in &mask.weights {
+            if vertex as usize >= count {
+                return Err(bad(format!(
+                    "vertex {vertex} does not exist; the mesh has {count} vertices"
+                )));
+            }
+            if previous.is_some_and(|p| p >= vertex) {
+                return Err(bad(format!(
+                    "vertices must be sorted with no repeats; {vertex} comes after {}",
+                    previous.unwrap_or(0)
+                )));
+            }
+            previous = Some(vertex);
+            if !(weight.is_finite() && (0.0..=1.0).contains(&weight)) {
+                return Err(bad(format!(
+                    "vertex {vertex} has weight {weight}, outside 0.0 to 1.0"
+                )));
+            }
+        }
+        if !(mask.gain.is_finite() && mask.gain > 0.0 && mask.gain <= 1e6) {
+            return Err(bad(format!(
+                "gain {} must be a finite number above 0 and at most 1e6",
+                mask.gain
+            )));
+        }
+        for name in &mask.muscles {
+            let muscle = rig
+                .muscle_index(name)
+                .ok_or_else(|| bad(format!("names `{name}`, which is not a muscle of the rig")))?;
+            let scale = scales[muscle].get_or_insert_with(|| vec![1.0; count]);
+            if mask.gain != 1.0 {
+                scale.iter_mut().for_each(|s| *s *= mask.gain);
+            }
+            for &(vertex, weight) in &mask.weights {
+                scale[vertex as usize] *= weight;
+            }
+        }
+    }
+    Ok(scales)
+}
+
+/// Refuses rigs whose full activation would leave the range where `f32` sums stay finite.
+pub(super) fn check_reach(rig: &Rig, rest: &[Vec3], fields: &[Field]) -> Result<(), BindError> {
+    let max = *MUSCLE_RANGE.end() as f64;
+    let mut reach: Vec<f64> = rest.iter().map(|p| p.as_dvec3().length()).collect();
+    for (muscle, field) in rig.muscles.iter().zip(fields) {
+        for (&v, d) in field.vertices.iter().zip(&field.displacements) {
+            let r = &mut reach[v as usize];
+            *r += max * d.as_dvec3().length();
+            if !r.is_finite() || *r > MAX_REACH {
+                return Err(BindError::OutOfReach {
+                    muscle: muscle.name.clone(),
+                    vertex: v,
+                });
+            }
+        }
+    }
+    Ok(())
+}

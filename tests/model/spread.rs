@@ -1,0 +1,235 @@
+//! The skin spread keeps the deformation's promises (`docs/model.md`, "The skin spread"):
+//! zero activation is the rest mesh, a mirrored pose of the symmetric built-in face is the
+//! mirrored mesh, a one-muscle update equals a full deform bit for bit, a rebind equals a
+//! fresh bind, and the pull reaches past the muscle's own zone but dies out within reach.
+
+use glam::Vec3;
+use grimace::io::builtin;
+use grimace::model::{Activations, BoundRig, MuscleKind, Skin};
+
+fn bound() -> BoundRig {
+    let mesh = builtin::default_mesh();
+    BoundRig::bind_with(&builtin::default_rig(), &mesh, Skin::TISSUE).expect("binds")
+}
+
+fn deformed(bound: &BoundRig, act: &Activations) -> Vec<Vec3> {
+    let mut out = Vec::new();
+    bound.deform(act, &mut out).expect("in range");
+    out
+}
+
+#[test]
+fn zero_activation_is_the_rest_mesh_bit_for_bit() {
+    let bound = bound();
+    let out = deformed(&bound, &Activations::zero(bound.rig()));
+    for (p, r) in out.iter().zip(bound.rest()) {
+        assert_eq!(
+            p.to_array().map(f32::to_bits),
+            r.to_array().map(f32::to_bits)
+        );
+    }
+}
+
+#[test]
+fn a_mirrored_pose_gives_the_mirrored_face() {
+    let bound = bound();
+    let rig = bound.rig();
+    let rest = bound.rest();
+    // the built-in face is symmetric: each vertex has a partner at (-x, y, z)
+    let key = |p: Vec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
+    let index: std::collections::HashMap<_, usize> =
+        rest.iter().enumerate().map(|(i, p)| (key(*p), i)).collect();
+    let flip = |p: Vec3| Vec3::new(-p.x, p.y, p.z);
+    let partner: Vec<usize> = rest
+        .iter()
+        .map(|p| {
+            index
+                .get(&key(flip(*p) + Vec3::ZERO))
+                .copied()
+                .expect("mirror vertex")
+        })
+        .collect();
+    let mut act = Activations::zero(rig);
+    for (m, a) in act.muscles.iter_mut().enumerate() {
+        *a = [0.0, 0.4, 1.3, 2.0][m % 4];
+    }
+    let mut swapped = act.clone();
+    for m in 0..rig.muscles.len() {
+        swapped.muscles[rig.mirror_of(m).unwrap_or(m)] = act.muscles[m];
+    }
+    let out = deformed(&bound, &act);
+    let mirrored = deformed(&bound, &swapped);
+    let worst = (0..out.len())
+        .map(|v| (mirrored[v] - flip(out[partner[v]])).abs().max_element())
+        .fold(0.0f32, f32::max);
+    assert!(worst <= 1e-5, "mirrored pose differs by {worst}");
+}
+
+#[test]
+fn a_one_muscle_update_equals_a_full_deform() {
+    let bound = bound();
+    let rig = bound.rig();
+    let mut act = Activations::zero(rig);
+    act.muscles.iter_mut().for_each(|a| *a = 0.7);
+    act.jaw = 1.5;
+    let mut out = deformed(&bound, &act);
+    for m in 0..rig.muscles.len() {
+        act.muscles[m] = 1.9;
+        bound.update_muscle(&act, m, &mut out).expect("in range");
+        assert_eq!(out, deformed(&bound, &act), "after muscle {m}");
+    }
+}
+
+#[test]
+fn a_rebind_equals_a_fresh_bind() {
+    let mesh = builtin::default_mesh();
+    let mut rig = builtin::default_rig();
+    let mut bound = BoundRig::bind_with(&rig, &mesh, Skin::TISSUE).expect("binds");
+    // a small move (the spread length stays) and a large one (the rig's box grows)
+    for shift in [Vec3::new(0.0, 0.01, 0.0), Vec3::new(0.0, 3.0, 0.0)] {
+        let m = rig
+            .muscles
+            .iter()
+            .position(|m| matches!(m.kind, MuscleKind::Linear(_)))
+            .expect("a linear muscle");
+        let MuscleKind::Linear(mut linear) = rig.muscles[m].kind.clone() else {
+            unreachable!()
+        };
+        linear.attachment += shift;
+        linear.insertion += shift;
+        rig.muscles[m].kind = MuscleKind::Linear(linear.clone());
+        bound
+            .rebind_muscle(m, MuscleKind::Linear(linear))
+            .expect("rebinds");
+        let fresh = BoundRig::bind_with(&rig, &mesh, Skin::TISSUE).expect("binds");
+        assert!(bound == fresh, "rebind after a shift of {shift}");
+    }
+}
+
+#[test]
+fn the_pull_reaches_past_the_zone_and_dies_out() {
+    let mesh = builtin::default_mesh();
+    let rig = builtin::default_rig();
+    let own = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("binds");
+    let spread = bound();
+    let diagonal = {
+        let (lo, hi) = mesh.bounds();
+        (hi - lo).length()
+    };
+    for m in 0..rig.muscles.len() {
+        let (before, after) = (own.field(m).unwrap(), spread.field(m).unwrap());
+        if matches!(rig.muscles[m].kind, MuscleKind::Sphincter(_)) {
+            assert_eq!(before, after, "{}: a ring is kept", rig.muscles[m].name);
+            continue;
+        }
+        assert!(
+            after.len() > before.len(),
+            "{}: {} vertices moved with the spread, {} without",
+            rig.muscles[m].name,
+            after.len(),
+            before.len()
+        );
+        // every spread vertex lies within reach of the muscle's own zone
+        let far = after
+            .vertices
+            .iter()
+            .map(|&v| {
+                let p = mesh.positions[v as usize];
+                before
+                    .vertices
+                    .iter()
+                    .map(|&u| (mesh.positions[u as usize] - p).length())
+                    .fold(f32::INFINITY, f32::min)
+            })
+            .fold(0.0f32, f32::max);
+        assert!(
+            far < 0.25 * diagonal,
+            "{}: reaches {far}",
+            rig.muscles[m].name
+        );
+    }
+}
+
+/// One level of 1-to-4 midpoint subdivision; the old vertices keep their numbers.
+fn subdivide(mesh: &grimace::model::Mesh) -> grimace::model::Mesh {
+    let mut positions = mesh.positions.clone();
+    let mut midpoints = std::collections::HashMap::new();
+    let mut midpoint = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
+        *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            positions.push((positions[a as usize] + positions[b as usize]) * 0.5);
+            (positions.len() - 1) as u32
+        })
+    };
+    let mut triangles = Vec::new();
+    for &[a, b, c] in &mesh.triangles {
+        let ab = midpoint(a, b, &mut positions);
+        let bc = midpoint(b, c, &mut positions);
+        let ca = midpoint(c, a, &mut positions);
+        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    grimace::model::Mesh::new(positions, triangles).expect("valid")
+}
+
+/// The spread is set in face units, not in edges: on the built-in face subdivided once (four
+/// times the triangles, half the edge length) every spread field agrees with the coarse one
+/// at the shared vertices as closely as the muscles' own fields do (which differ where a
+/// mask lists coarse vertices only), and far closer than the spread changes the field.
+#[test]
+fn the_spread_does_not_depend_on_the_resolution() {
+    let coarse = builtin::default_mesh();
+    let fine = subdivide(&coarse);
+    let rig = builtin::default_rig();
+    let on = |mesh, skin| BoundRig::bind_with(&rig, mesh, skin).expect("binds");
+    let (own, own_fine, spread_coarse, spread_fine) = (
+        on(&coarse, Skin::DEFAULT),
+        on(&fine, Skin::DEFAULT),
+        on(&coarse, Skin::TISSUE),
+        on(&fine, Skin::TISSUE),
+    );
+    let dense = |field: &grimace::model::Field| {
+        let mut d = vec![Vec3::ZERO; coarse.positions.len()];
+        for (&v, &x) in field.vertices.iter().zip(&field.displacements) {
+            if (v as usize) < d.len() {
+                d[v as usize] = x;
+            }
+        }
+        d
+    };
+    let mut gaps = Vec::new();
+    for (m, muscle) in rig.muscles.iter().enumerate() {
+        if matches!(muscle.kind, MuscleKind::Sphincter(_)) {
+            continue;
+        }
+        let [a, f, b, c] =
+            [&own, &own_fine, &spread_coarse, &spread_fine].map(|r| dense(r.field(m).unwrap()));
+        let largest = b.iter().map(|d| d.length()).fold(0.0f32, f32::max);
+        let gap = |x: &[Vec3], y: &[Vec3]| {
+            x.iter()
+                .zip(y)
+                .map(|(p, q)| (*p - *q).length())
+                .fold(0.0f32, f32::max)
+                / largest
+        };
+        let (resolution, spreading, own) = (gap(&b, &c), gap(&a, &b), gap(&a, &f));
+        println!(
+            "{}: resolution {resolution:.3} (own fields {own:.3}), spread {spreading:.3}",
+            muscle.name
+        );
+        assert!(
+            resolution < spreading + own,
+            "{}: coarse and fine differ by {resolution} of the largest travel; the spread \
+             changes the field by {spreading}",
+            muscle.name
+        );
+        gaps.push((resolution - own, spreading));
+    }
+    // on the whole, the resolution moves a field a small part of what the spread does
+    let mean = |i: usize| gaps.iter().map(|g| [g.0, g.1][i]).sum::<f32>() / gaps.len() as f32;
+    println!("mean: resolution {}, spread {}", mean(0), mean(1));
+    assert!(
+        mean(0) < 0.25 * mean(1),
+        "resolution {} against spread {}",
+        mean(0),
+        mean(1)
+    );
+}
