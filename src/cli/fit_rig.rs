@@ -19,7 +19,7 @@ use crate::io::inputs::Inputs;
 use crate::io::landmarks::{check_against, load_landmarks, parse_landmarks};
 use crate::io::rig_file::{self, LoadedRig, MeshRef};
 use crate::io::{builtin, error::read_text, obj, reference, LoadError, MAX_FILE_BYTES};
-use crate::model::{BoundRig, Mesh};
+use crate::model::{Deformation, Mesh};
 
 /// A landmark bend (see [`fit::Fitted::bend`]) from which `fit-rig` warns: public faces of
 /// other shapes bend up to about half of the face from the built-in template.
@@ -152,7 +152,8 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
             o.muscle, o.what, o.ratio
         );
     }
-    BoundRig::bind(&fitted.rig, &mesh)
+    Deformation::default()
+        .bind(&fitted.rig, &mesh)
         .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
     rig_file::save_rig(&args.out, &fitted.rig)?;
     if fitted.bend >= SUSPICIOUS_BEND {
