@@ -21,8 +21,8 @@ use crate::play::open::{open_file, RecordingOptions};
 use crate::play::player::Reopen;
 use crate::play::skips::Skips;
 use crate::play::{
-    AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, PlayClock,
-    Player, Poll, SourceError, TimelineSource,
+    AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, PlayClock, Player,
+    Poll, SourceError, TimelineSource,
 };
 use crate::tui::keymap;
 

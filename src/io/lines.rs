@@ -50,9 +50,13 @@ pub const SNIFF_BYTES: u64 = 64 * 1024;
 /// The input's first line (at most [`SNIFF_BYTES`], lossily decoded) and a reader that yields
 /// every byte of the input from the start: the bytes read for the sniff, then the rest. A pipe,
 /// a FIFO or `<(...)` is read once, so telling its format loses nothing.
-pub fn sniff_first_line<R: BufRead>(mut input: R) -> io::Result<(String, Chain<Cursor<Vec<u8>>, R>)> {
+pub fn sniff_first_line<R: BufRead>(
+    mut input: R,
+) -> io::Result<(String, Chain<Cursor<Vec<u8>>, R>)> {
     let mut head = Vec::new();
-    (&mut input).take(SNIFF_BYTES).read_until(b'\n', &mut head)?;
+    (&mut input)
+        .take(SNIFF_BYTES)
+        .read_until(b'\n', &mut head)?;
     let first = String::from_utf8_lossy(&head).into_owned();
     Ok((first, Cursor::new(head).chain(input)))
 }

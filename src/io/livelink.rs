@@ -123,8 +123,12 @@ impl LiveLinkColumns {
             )
         };
         let timecode = fields[self.timecode].trim();
-        let seconds = parse_timecode(timecode, fps)
-            .map_err(|why| error(column_of(self.timecode), format!("timecode `{}` {why}", shorten(timecode))))?;
+        let seconds = parse_timecode(timecode, fps).map_err(|why| {
+            error(
+                column_of(self.timecode),
+                format!("timecode `{}` {why}", shorten(timecode)),
+            )
+        })?;
         let mut weights = Vec::with_capacity(self.shapes.len());
         for &(index, shape) in &self.shapes {
             let field = fields[index].trim();
@@ -276,15 +280,24 @@ mod tests {
     #[test]
     fn absurd_timecodes_are_refused_saying_why() {
         let why = |t: &str, fps: f64| parse_timecode(t, fps).unwrap_err();
-        assert_eq!(why("99999999999999:00:00:00", 60.0), "hours 99999999999999 is not below 24");
+        assert_eq!(
+            why("99999999999999:00:00:00", 60.0),
+            "hours 99999999999999 is not below 24"
+        );
         let long = format!("00:00:00:01.{}", "9".repeat(400));
         let t = parse_timecode(&long, 60.0).unwrap();
         assert!(t.is_finite() && (t - 2.0 / 60.0).abs() < 1e-9, "{t}");
         assert!(why(&format!("00:00:00:{}", "9".repeat(400)), 60.0).contains("not a timecode"));
         let fast = why("00:00:00:45", 30.0);
-        assert!(fast.starts_with("frame 45 is not below the frame rate 30"), "{fast}");
+        assert!(
+            fast.starts_with("frame 45 is not below the frame rate 30"),
+            "{fast}"
+        );
         assert!(fast.contains("--fps"), "{fast}");
-        assert_eq!(parse_timecode("23:59:59:59.999", 60.0).map(|t| t < 86_400.0), Ok(true));
+        assert_eq!(
+            parse_timecode("23:59:59:59.999", 60.0).map(|t| t < 86_400.0),
+            Ok(true)
+        );
     }
 
     #[test]

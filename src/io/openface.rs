@@ -159,10 +159,7 @@ impl OpenFaceColumns {
             .frame
             .map(|i| in_range(i, "frame", MAX_FRAME))
             .transpose()?;
-        let timestamp = self
-            .timestamp
-            .map(|i| number(i, "timestamp"))
-            .transpose()?;
+        let timestamp = self.timestamp.map(|i| number(i, "timestamp")).transpose()?;
         let success = match self.success {
             Some(i) => number(i, "success")? != 0.0,
             None => true,

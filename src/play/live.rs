@@ -17,7 +17,9 @@ use super::json::parse_flat_object;
 use super::livelink::{LiveLinkRows, LIVELINK_FRAME_RATE};
 use super::map::{AuMapper, IntensityScale};
 use super::rules::{printable_poll, shown, NameSet, Seen, NAMES_KEPT, NAME_CHARS};
-use super::source::{row_event, AuFrames, Event, FrameSource, Poll, RowClock, SourceError, DEFAULT_FRAME_RATE};
+use super::source::{
+    row_event, AuFrames, Event, FrameSource, Poll, RowClock, SourceError, DEFAULT_FRAME_RATE,
+};
 
 /// The largest UDP datagram read.
 const MAX_DATAGRAM: usize = 65_536;
@@ -255,7 +257,11 @@ impl LiveSource {
         };
         let pairs = match parse_flat_object(text) {
             Ok(pairs) => pairs,
-            Err(e) => return malformed(format!("{}: {}", e.column, e.message)),
+            Err(e) => {
+                return Event::Malformed {
+                    message: format!("{source}:{number}:{}: {}", e.column, e.message),
+                }
+            }
         };
         let mut time: Option<(String, f64)> = None;
         let mut given = Given::default();
@@ -300,10 +306,9 @@ impl LiveSource {
     /// Says once that a field is ignored, while few names have been; the rest are counted.
     fn ignore(&mut self, name: &str, what: &str, why: &str) {
         match self.ignored.see(name) {
-            Seen::New(name) => self.builder.push_notice(format!(
-                "{}: {what} `{name}` {why} (ignored)",
-                self.name
-            )),
+            Seen::New(name) => self
+                .builder
+                .push_notice(format!("{}: {what} `{name}` {why} (ignored)", self.name)),
             Seen::Full => self.builder.push_notice(format!(
                 "{}: more than {NAMES_KEPT} names ignored; the rest are counted, not named",
                 self.name

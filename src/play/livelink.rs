@@ -43,7 +43,9 @@ impl LiveLinkRows {
             .filter(|(_, k)| k.is_none())
             .map(|((_, s), _)| *s);
         if let Some(list) = names.list(without) {
-            builder.push_notice(format!("{source}: ARKit shapes with no AU (ignored): {list}"));
+            builder.push_notice(format!(
+                "{source}: ARKit shapes with no AU (ignored): {list}"
+            ));
         }
         if let Some(list) = names.list(columns.ignored.iter().map(String::as_str)) {
             builder.push_notice(format!(

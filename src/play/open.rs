@@ -71,4 +71,3 @@ fn refuse_special(path: &Path) -> Result<(), SourceError> {
         _ => Ok(()),
     }
 }
-

@@ -203,11 +203,21 @@ mod tests {
         assert_eq!(rule.accept(0.5), Ok(0.5));
         assert_eq!(rule.accept(0.5), Ok(0.5), "a repeated time is a cut");
         for bad in [f64::NAN, f64::INFINITY, 1e300, -2e6] {
-            assert!(rule.accept(bad).unwrap_err().contains("out of range"), "{bad}");
+            assert!(
+                rule.accept(bad).unwrap_err().contains("out of range"),
+                "{bad}"
+            );
         }
         let back = rule.accept(0.25).unwrap_err();
-        assert!(back.contains("0.250 s is before the previous frame's 0.500 s"), "{back}");
-        assert_eq!(rule.accept(1.0), Ok(1.0), "a refused frame leaves the rule as it was");
+        assert!(
+            back.contains("0.250 s is before the previous frame's 0.500 s"),
+            "{back}"
+        );
+        assert_eq!(
+            rule.accept(1.0),
+            Ok(1.0),
+            "a refused frame leaves the rule as it was"
+        );
     }
 
     #[test]
@@ -227,15 +237,24 @@ mod tests {
     fn names_are_kept_bounded_and_cut() {
         let mut names = NameSet::default();
         let long = "x".repeat(10_000);
-        assert_eq!(names.see(&long), Seen::New(format!("{}...", "x".repeat(NAME_CHARS))));
+        assert_eq!(
+            names.see(&long),
+            Seen::New(format!("{}...", "x".repeat(NAME_CHARS)))
+        );
         assert_eq!(names.see(&long), Seen::Known);
-        assert_eq!(names.see("a\u{1b}]0;t\u{7}"), Seen::New("a\\x1b]0;t\\x07".into()));
+        assert_eq!(
+            names.see("a\u{1b}]0;t\u{7}"),
+            Seen::New("a\\x1b]0;t\\x07".into())
+        );
         for i in 2..NAMES_KEPT {
             assert!(matches!(names.see(&format!("n{i}")), Seen::New(_)));
         }
         assert_eq!(names.see("late"), Seen::Full);
         assert_eq!(names.see("later"), Seen::Counted);
         assert_eq!(names.not_kept(), 2);
-        assert_eq!(names.list(["n2", "more"]).as_deref(), Some("and 1 more not named"));
+        assert_eq!(
+            names.list(["n2", "more"]).as_deref(),
+            Some("and 1 more not named")
+        );
     }
 }

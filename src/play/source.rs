@@ -264,7 +264,11 @@ impl RowClock {
     }
 
     /// The time to play a row at, or why it is refused.
-    pub(crate) fn time(&mut self, timestamp: Option<f64>, frame: Option<f64>) -> Result<f64, String> {
+    pub(crate) fn time(
+        &mut self,
+        timestamp: Option<f64>,
+        frame: Option<f64>,
+    ) -> Result<f64, String> {
         let raw = self.raw(timestamp, frame);
         self.rule.accept(raw)
     }
@@ -486,4 +490,3 @@ fn keyframe_aus(text: &str, table: &AuTable, rig: &Rig) -> Result<Activations, S
     let combo = parse_combo(combo).map_err(|e| format!("`{combo}`: {e}"))?;
     table.evaluate(&combo, rig).map_err(|e| e.to_string())
 }
-
