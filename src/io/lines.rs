@@ -47,12 +47,13 @@ pub fn describe_bytes(bytes: usize) -> String {
 /// The most bytes [`sniff_first_line`] reads to tell a format by its first line.
 pub const SNIFF_BYTES: u64 = 64 * 1024;
 
+/// An input read again from its start: the bytes already read, then the rest.
+pub type Replayed<R> = Chain<Cursor<Vec<u8>>, R>;
+
 /// The input's first line (at most [`SNIFF_BYTES`], lossily decoded) and a reader that yields
 /// every byte of the input from the start: the bytes read for the sniff, then the rest. A pipe,
 /// a FIFO or `<(...)` is read once, so telling its format loses nothing.
-pub fn sniff_first_line<R: BufRead>(
-    mut input: R,
-) -> io::Result<(String, Chain<Cursor<Vec<u8>>, R>)> {
+pub fn sniff_first_line<R: BufRead>(mut input: R) -> io::Result<(String, Replayed<R>)> {
     let mut head = Vec::new();
     (&mut input)
         .take(SNIFF_BYTES)
@@ -151,6 +152,17 @@ impl<R: BufRead> LineReader<R> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_sniffed_input_is_read_whole_from_its_start() {
+        let (first, mut input) = sniff_first_line(&b"Timecode,x\r\n1,2\n"[..]).unwrap();
+        assert_eq!(first, "Timecode,x\r\n");
+        let mut all = String::new();
+        input.read_to_string(&mut all).unwrap();
+        assert_eq!(all, "Timecode,x\r\n1,2\n");
+        let (first, _) = sniff_first_line(&vec![b'a'; 100_000][..]).unwrap();
+        assert_eq!(first.len() as u64, SNIFF_BYTES, "a sniff reads a bounded prefix");
+    }
 
     fn lines(bytes: &[u8], limit: usize) -> Vec<(usize, String, usize)> {
         // A one-byte buffer: every split of a line end across reads is exercised.

@@ -3,7 +3,8 @@
 //! handed out under the stream rules ([`super::rules`]).
 
 use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender};
+use std::sync::{Arc, Condvar, Mutex, PoisonError};
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -35,6 +36,95 @@ enum Message {
 /// The most lines (or datagrams) of a live stream waiting to be shown.
 pub const QUEUE_LINES: usize = 1024;
 
+/// The most bytes of lines (or datagrams) waiting to be shown: with lines of up to 1 MiB, a
+/// queue bounded by count alone could hold a gigabyte.
+pub const QUEUE_BYTES: usize = 8 << 20;
+
+/// A live stream's queue: at most [`QUEUE_LINES`] messages and about [`QUEUE_BYTES`] bytes
+/// (one line larger than that still passes, alone). The reader thread waits when it is full.
+struct Queue {
+    queued: Mutex<usize>,
+    freed: Condvar,
+}
+
+impl Queue {
+    /// The sending and receiving ends of a new queue.
+    fn ends() -> (QueueSender, QueueReceiver) {
+        let (sender, receiver) = mpsc::sync_channel(QUEUE_LINES);
+        let queue = Arc::new(Queue {
+            queued: Mutex::new(0),
+            freed: Condvar::new(),
+        });
+        (
+            QueueSender {
+                sender,
+                queue: Arc::clone(&queue),
+            },
+            QueueReceiver { receiver, queue },
+        )
+    }
+}
+
+fn size(message: &Message) -> usize {
+    match message {
+        Message::Line(_, text) => text.len(),
+        Message::TooLong(..) | Message::Failed(_) => 0,
+    }
+}
+
+/// The reader thread's end of a [`Queue`].
+struct QueueSender {
+    sender: SyncSender<Message>,
+    queue: Arc<Queue>,
+}
+
+impl QueueSender {
+    /// Sends once the message fits; `false` when the source is gone.
+    fn send(&self, message: Message) -> bool {
+        let bytes = size(&message);
+        let mut queued = self
+            .queue
+            .queued
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        while *queued > 0 && *queued + bytes > QUEUE_BYTES {
+            // Waking now and then notices a source that went away while the queue was full.
+            let (guard, _) = self
+                .queue
+                .freed
+                .wait_timeout(queued, Duration::from_millis(200))
+                .unwrap_or_else(PoisonError::into_inner);
+            queued = guard;
+            if Arc::strong_count(&self.queue) == 1 {
+                return false;
+            }
+        }
+        *queued += bytes;
+        drop(queued);
+        self.sender.send(message).is_ok()
+    }
+}
+
+/// The source's end of a [`Queue`].
+struct QueueReceiver {
+    receiver: Receiver<Message>,
+    queue: Arc<Queue>,
+}
+
+impl QueueReceiver {
+    fn recv_timeout(&self, wait: Duration) -> Result<Message, RecvTimeoutError> {
+        let message = self.receiver.recv_timeout(wait)?;
+        let mut queued = self
+            .queue
+            .queued
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        *queued = queued.saturating_sub(size(&message));
+        self.queue.freed.notify_all();
+        Ok(message)
+    }
+}
+
 /// How a live stream is written, decided by its first line.
 enum LiveFormat {
     Undecided,
@@ -46,7 +136,7 @@ enum LiveFormat {
 /// A live stream: lines on stdin (CSV with a header line, or one JSON object per line) or
 /// JSON datagrams on a loopback UDP port.
 pub struct LiveSource {
-    receiver: Receiver<Message>,
+    receiver: QueueReceiver,
     format: LiveFormat,
     builder: AuFrames,
     clock: RowClock,
@@ -69,11 +159,11 @@ impl LiveSource {
     /// frames (each format has its own default).
     ///
     /// Memory stays bounded whatever the producer does: a line longer than
-    /// [`MAX_LINE_BYTES`] is read past and reported, and at most [`QUEUE_LINES`] lines wait
+    /// [`MAX_LINE_BYTES`] is read past and reported, and at most [`QUEUE_LINES`] lines ([`QUEUE_BYTES`]) wait
     /// to be shown; past that the reader stops reading, so a faster producer waits on its
     /// pipe (back-pressure) rather than growing a backlog.
     pub fn stdin(mapper: AuMapper, scale: IntensityScale, fps: Option<f64>) -> LiveSource {
-        let (sender, receiver) = mpsc::sync_channel(QUEUE_LINES);
+        let (sender, receiver) = Queue::ends();
         thread::spawn(move || {
             let mut lines = LineReader::new(std::io::stdin().lock(), MAX_LINE_BYTES);
             loop {
@@ -86,7 +176,7 @@ impl LiveSource {
                     Err(e) => Message::Failed(format!("cannot read stdin: {e}")),
                 };
                 let failed = matches!(message, Message::Failed(_));
-                if sender.send(message).is_err() || failed {
+                if !sender.send(message) || failed {
                     break;
                 }
             }
@@ -112,7 +202,7 @@ impl LiveSource {
         })?;
         // Bounded like stdin: when the queue is full the reader waits and the system drops
         // datagrams that overflow the socket's buffer, as UDP does.
-        let (sender, receiver) = mpsc::sync_channel(QUEUE_LINES);
+        let (sender, receiver) = Queue::ends();
         thread::spawn(move || {
             let mut buffer = vec![0u8; MAX_DATAGRAM];
             let mut number = 0;
@@ -121,13 +211,13 @@ impl LiveSource {
                     Ok((size, _)) => {
                         number += 1;
                         let text = String::from_utf8_lossy(&buffer[..size]).into_owned();
-                        if sender.send(Message::Line(number, text)).is_err() {
+                        if !sender.send(Message::Line(number, text)) {
                             break;
                         }
                     }
                     Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
                     Err(e) => {
-                        let _ = sender.send(Message::Failed(format!("udp receive failed: {e}")));
+                        sender.send(Message::Failed(format!("udp receive failed: {e}")));
                         break;
                     }
                 }
@@ -139,7 +229,7 @@ impl LiveSource {
     }
 
     fn new(
-        receiver: Receiver<Message>,
+        receiver: QueueReceiver,
         mapper: AuMapper,
         scale: IntensityScale,
         fps: Option<f64>,
@@ -443,5 +533,31 @@ impl LiveSource {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_queue_holds_a_bounded_number_of_bytes() {
+        let (sender, receiver) = Queue::ends();
+        let line = "x".repeat(QUEUE_BYTES / 2 + 1);
+        let writer = thread::spawn(move || {
+            for number in 1..=3 {
+                assert!(sender.send(Message::Line(number, line.clone())));
+            }
+        });
+        thread::sleep(Duration::from_millis(300));
+        // The second line would pass the budget: it waits until the first is taken.
+        assert_eq!(*receiver.queue.queued.lock().unwrap(), QUEUE_BYTES / 2 + 1);
+        for number in 1..=3 {
+            match receiver.recv_timeout(Duration::from_secs(10)) {
+                Ok(Message::Line(n, _)) => assert_eq!(n, number),
+                _ => panic!("line {number} did not come"),
+            }
+        }
+        writer.join().unwrap();
     }
 }

@@ -18,7 +18,7 @@ use crate::io::openface::{OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOut
 use crate::io::timeline::{Timeline, TimelineError};
 use crate::model::{Activations, Rig};
 
-pub use super::live::{LiveSource, QUEUE_LINES};
+pub use super::live::{LiveSource, QUEUE_BYTES, QUEUE_LINES};
 use super::map::{clamp_activations, AuIntensity, AuMapper, IntensityScale};
 use super::rules::{printable_poll, TimeBase, TimeRule};
 
