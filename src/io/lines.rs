@@ -161,7 +161,11 @@ mod tests {
         input.read_to_string(&mut all).unwrap();
         assert_eq!(all, "Timecode,x\r\n1,2\n");
         let (first, _) = sniff_first_line(&vec![b'a'; 100_000][..]).unwrap();
-        assert_eq!(first.len() as u64, SNIFF_BYTES, "a sniff reads a bounded prefix");
+        assert_eq!(
+            first.len() as u64,
+            SNIFF_BYTES,
+            "a sniff reads a bounded prefix"
+        );
     }
 
     fn lines(bytes: &[u8], limit: usize) -> Vec<(usize, String, usize)> {
