@@ -13,19 +13,16 @@ use clap::Args;
 
 use super::export::{self, SourceArgs};
 use crate::facs::AuTable;
-use crate::io::arkit::ArkitMap;
-use crate::io::livelink;
 use crate::io::rig_file::LoadedRig;
 use crate::io::table_file::load_table_ref_for;
 use crate::io::timeline::load_timeline;
 use crate::model::{Mesh, Rig};
-use crate::play::livelink::{LiveLinkSource, LIVELINK_FRAME_RATE};
+use crate::play::open::{open_file, RecordingOptions};
 use crate::play::player::Reopen;
 use crate::play::skips::Skips;
-use crate::play::source::DEFAULT_FRAME_RATE;
 use crate::play::{
-    AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, OpenFaceSource,
-    PlayClock, Player, Poll, SourceError, TimelineSource,
+    AuMapper, Event, Frame, FrameSource, FrameStats, IntensityScale, LiveSource, PlayClock, Player,
+    Poll, SourceError, TimelineSource,
 };
 use crate::tui::keymap;
 
@@ -37,7 +34,8 @@ INPUT:
                       weights 0-1, played through presets/arkit.map.ron; timecodes at --fps,
                       default 60)
   FILE.timeline.ron   keyframes of AU combinations or activations (see docs/formats.md)
-  --stdin             one frame per line: a CSV header line then rows, or JSON objects
+  --stdin             one frame per line: a CSV header line (OpenFace or Live Link Face)
+                      then rows, or JSON objects
                       {\"AU1\": 0.0, ..., \"AU45\": 0.0}; ARKit names (\"jawOpen\": 0-1) too
   --udp 127.0.0.1:PORT  JSON objects, one per datagram, on a loopback port (0 picks one)
 
@@ -195,24 +193,17 @@ fn open_source(
     } else {
         IntensityScale::ZeroToFive
     };
-    let fps = args.fps.unwrap_or(DEFAULT_FRAME_RATE);
     if let Some(path) = &args.file {
         if is_timeline(path) {
             let timeline = load_timeline(path)?;
             return Ok(Box::new(TimelineSource::new(timeline, path, table, rig)?));
         }
-        if livelink::is_livelink_file(path) {
-            let fps = args.fps.unwrap_or(LIVELINK_FRAME_RATE);
-            let arkit = ArkitMap::builtin();
-            let source = LiveLinkSource::open(path, mapper.clone(), &arkit, fps)?;
-            return Ok(Box::new(source));
-        }
-        return Ok(Box::new(OpenFaceSource::open(
-            path,
-            mapper.clone(),
+        let options = RecordingOptions {
+            mapper: mapper.clone(),
             scale,
-            fps,
-        )?));
+            fps: args.fps,
+        };
+        return Ok(open_file(path, &options)?);
     }
     if let Some(address) = &args.udp {
         let (source, bound) = LiveSource::udp(address, mapper.clone(), scale)?;
@@ -220,7 +211,7 @@ fn open_source(
         eprintln!("listening on udp {bound}");
         return Ok(Box::new(source));
     }
-    Ok(Box::new(LiveSource::stdin(mapper.clone(), scale, fps)))
+    Ok(Box::new(LiveSource::stdin(mapper.clone(), scale, args.fps)))
 }
 
 /// Plays in the terminal view (see [`crate::tui::play`]); `--loop` reopens the input.

@@ -5,7 +5,7 @@
 //! dropped, and a line longer than the limit is read to its end but only its first bytes are
 //! kept: its full length is reported, so the caller can say why it skips it.
 
-use std::io::{self, BufRead};
+use std::io::{self, BufRead, Chain, Cursor, Read};
 
 use super::error::BOM;
 
@@ -42,6 +42,24 @@ pub fn describe_bytes(bytes: usize) -> String {
     } else {
         format!("{bytes} bytes")
     }
+}
+
+/// The most bytes [`sniff_first_line`] reads to tell a format by its first line.
+pub const SNIFF_BYTES: u64 = 64 * 1024;
+
+/// An input read again from its start: the bytes already read, then the rest.
+pub type Replayed<R> = Chain<Cursor<Vec<u8>>, R>;
+
+/// The input's first line (at most [`SNIFF_BYTES`], lossily decoded) and a reader that yields
+/// every byte of the input from the start: the bytes read for the sniff, then the rest. A pipe,
+/// a FIFO or `<(...)` is read once, so telling its format loses nothing.
+pub fn sniff_first_line<R: BufRead>(mut input: R) -> io::Result<(String, Replayed<R>)> {
+    let mut head = Vec::new();
+    (&mut input)
+        .take(SNIFF_BYTES)
+        .read_until(b'\n', &mut head)?;
+    let first = String::from_utf8_lossy(&head).into_owned();
+    Ok((first, Cursor::new(head).chain(input)))
 }
 
 /// Reads lines from any buffered input; see the module documentation.
@@ -134,6 +152,21 @@ impl<R: BufRead> LineReader<R> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_sniffed_input_is_read_whole_from_its_start() {
+        let (first, mut input) = sniff_first_line(&b"Timecode,x\r\n1,2\n"[..]).unwrap();
+        assert_eq!(first, "Timecode,x\r\n");
+        let mut all = String::new();
+        input.read_to_string(&mut all).unwrap();
+        assert_eq!(all, "Timecode,x\r\n1,2\n");
+        let (first, _) = sniff_first_line(&vec![b'a'; 100_000][..]).unwrap();
+        assert_eq!(
+            first.len() as u64,
+            SNIFF_BYTES,
+            "a sniff reads a bounded prefix"
+        );
+    }
 
     fn lines(bytes: &[u8], limit: usize) -> Vec<(usize, String, usize)> {
         // A one-byte buffer: every split of a line end across reads is exercised.

@@ -11,8 +11,7 @@
 //! so column order does not matter; other columns are ignored. A row that cannot be read
 //! is a [`RowError`] with its line and column, never a panic.
 
-use std::fs::File;
-use std::io::{BufRead, BufReader, Read};
+use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 use super::arkit;
@@ -59,16 +58,6 @@ pub fn is_header(line: &str) -> bool {
     )
 }
 
-/// Whether a file starts with a Live Link Face header (reads at most its first 64 KiB).
-pub fn is_livelink_file(path: &Path) -> bool {
-    let Ok(file) = File::open(path) else {
-        return false;
-    };
-    let mut first = String::new();
-    let mut reader = BufReader::new(file.take(64 * 1024));
-    reader.read_line(&mut first).is_ok() && is_header(&first)
-}
-
 impl LiveLinkColumns {
     /// Reads a header line; the error says what is wrong with it.
     pub fn from_header(line: &str) -> Result<LiveLinkColumns, String> {
@@ -84,7 +73,7 @@ impl LiveLinkColumns {
         for (index, name) in names.iter().enumerate().skip(2) {
             match arkit::canonical(name) {
                 Some(shape) if shapes.iter().any(|(_, s)| *s == shape) => {
-                    return Err(format!("column `{name}` appears twice in the header"));
+                    return Err(format!("column `{shape}` appears twice in the header"));
                 }
                 Some(shape) => shapes.push((index, shape)),
                 None if name.is_empty() => {}
@@ -134,10 +123,10 @@ impl LiveLinkColumns {
             )
         };
         let timecode = fields[self.timecode].trim();
-        let seconds = parse_timecode(timecode, fps).ok_or_else(|| {
+        let seconds = parse_timecode(timecode, fps).map_err(|why| {
             error(
                 column_of(self.timecode),
-                format!("`{timecode}` is not a timecode HH:MM:SS:FF.fff"),
+                format!("timecode `{}` {why}", shorten(timecode)),
             )
         })?;
         let mut weights = Vec::with_capacity(self.shapes.len());
@@ -148,7 +137,7 @@ impl LiveLinkColumns {
                 _ => {
                     return Err(error(
                         column_of(index),
-                        format!("{shape}: `{field}` is not a number"),
+                        format!("{shape}: `{}` is not a number", shorten(field)),
                     ))
                 }
             }
@@ -162,28 +151,52 @@ impl LiveLinkColumns {
 }
 
 /// `HH:MM:SS:FF` or `HH:MM:SS:FF.fff` (a fraction of a frame) in seconds at `fps`; `;` is
-/// taken for `:` (drop-frame timecode is written with it).
-pub fn parse_timecode(text: &str, fps: f64) -> Option<f64> {
+/// taken for `:` (drop-frame timecode is written with it). A timecode is a time of day: hours
+/// run 0-23, minutes and seconds 0-59, and the frame stays below the frame rate (a frame of 45
+/// at 30 fps means the take was recorded faster than the rate given). The error says which.
+pub fn parse_timecode(text: &str, fps: f64) -> Result<f64, String> {
     let parts: Vec<&str> = text.split([':', ';']).collect();
     let [h, m, s, f] = parts.as_slice() else {
-        return None;
+        return Err("is not a timecode HH:MM:SS:FF.fff".into());
     };
-    let whole = |t: &str| -> Option<f64> {
-        (!t.is_empty() && t.bytes().all(|b| b.is_ascii_digit()))
-            .then(|| t.parse::<f64>().ok())
-            .flatten()
-    };
-    let (h, m, s) = (whole(h)?, whole(m)?, whole(s)?);
-    let frame = match f.split_once('.') {
-        Some((frames, fraction)) => {
-            whole(frames)? + whole(fraction)? / 10f64.powi(fraction.len() as i32)
+    let digits = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
+    let whole = |t: &str, what: &str, below: f64| -> Result<f64, String> {
+        match t.parse::<f64>() {
+            Ok(v) if digits(t) && v < below => Ok(v),
+            Ok(_) if digits(t) => Err(format!("{what} {} is not below {below}", shorten(t))),
+            _ => Err("is not a timecode HH:MM:SS:FF.fff".into()),
         }
-        None => whole(f)?,
     };
-    if m >= 60.0 || s >= 60.0 {
-        return None;
+    let (h, m, s) = (
+        whole(h, "hours", 24.0)?,
+        whole(m, "minutes", 60.0)?,
+        whole(s, "seconds", 60.0)?,
+    );
+    // The frame and its fraction read as one decimal: a fraction of any length stays finite.
+    let frame_digits = match f.split_once('.') {
+        Some((frames, fraction)) => digits(frames) && digits(fraction),
+        None => digits(f),
+    };
+    let frame = match f.parse::<f64>() {
+        Ok(frame) if frame_digits && frame < fps => frame,
+        Ok(frame) if frame_digits && frame.is_finite() => {
+            return Err(format!(
+                "frame {} is not below the frame rate {fps}: the take was recorded faster (give its rate with --fps)",
+                shorten(f)
+            ))
+        }
+        _ => return Err("is not a timecode HH:MM:SS:FF.fff".into()),
+    };
+    Ok((h * 60.0 + m) * 60.0 + s + frame / fps)
+}
+
+/// The first characters of a field, for messages.
+fn shorten(field: &str) -> String {
+    const MAX: usize = 24;
+    match field.char_indices().nth(MAX) {
+        None => field.to_string(),
+        Some((cut, _)) => format!("{}...", &field[..cut]),
     }
-    Some((h * 60.0 + m) * 60.0 + s + frame / fps)
 }
 
 /// A Live Link Face recording read row by row, each line in bounded memory.
@@ -247,11 +260,11 @@ mod tests {
 
     #[test]
     fn timecodes_read_with_frames_and_their_fraction() {
-        assert_eq!(parse_timecode("00:00:01:30.000", 60.0), Some(1.5));
-        assert_eq!(parse_timecode("01:02:03:06", 30.0), Some(3723.2));
+        assert_eq!(parse_timecode("00:00:01:30.000", 60.0), Ok(1.5));
+        assert_eq!(parse_timecode("01:02:03:06", 30.0), Ok(3723.2));
         let t = parse_timecode("00:00:00:01.5", 60.0).unwrap();
         assert!((t - 1.5 / 60.0).abs() < 1e-12);
-        assert_eq!(parse_timecode("00:00:00;10", 30.0), Some(10.0 / 30.0));
+        assert_eq!(parse_timecode("00:00:00;10", 30.0), Ok(10.0 / 30.0));
         for bad in [
             "",
             "1:2:3",
@@ -260,8 +273,31 @@ mod tests {
             "00:00:00:01.",
             "-1:00:00:00",
         ] {
-            assert_eq!(parse_timecode(bad, 60.0), None, "{bad}");
+            assert!(parse_timecode(bad, 60.0).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn absurd_timecodes_are_refused_saying_why() {
+        let why = |t: &str, fps: f64| parse_timecode(t, fps).unwrap_err();
+        assert_eq!(
+            why("99999999999999:00:00:00", 60.0),
+            "hours 99999999999999 is not below 24"
+        );
+        let long = format!("00:00:00:01.{}", "9".repeat(400));
+        let t = parse_timecode(&long, 60.0).unwrap();
+        assert!(t.is_finite() && (t - 2.0 / 60.0).abs() < 1e-9, "{t}");
+        assert!(why(&format!("00:00:00:{}", "9".repeat(400)), 60.0).contains("not a timecode"));
+        let fast = why("00:00:00:45", 30.0);
+        assert!(
+            fast.starts_with("frame 45 is not below the frame rate 30"),
+            "{fast}"
+        );
+        assert!(fast.contains("--fps"), "{fast}");
+        assert_eq!(
+            parse_timecode("23:59:59:59.999", 60.0).map(|t| t < 86_400.0),
+            Ok(true)
+        );
     }
 
     #[test]

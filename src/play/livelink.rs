@@ -1,89 +1,131 @@
 //! A Live Link Face CSV recording as a frame source: each row's ARKit weights (0-1) become
 //! AU intensities through the ARKit map, then activations through the AU table, as OpenFace
-//! rows do.
+//! rows do. Timecodes are times of day: a take across midnight runs on into the next day
+//! (see [`super::rules`]).
 
-use std::collections::BTreeSet;
-use std::fs::File;
-use std::io::BufReader;
 use std::path::Path;
 use std::time::Duration;
 
 use super::map::{AuMapper, IntensityScale};
-use super::source::{AuFrames, Event, FrameSource, Poll, SourceError};
+use super::rules::{printable_poll, NameSet, TimeBase, TimeRule};
+use super::source::{AuFrames, Event, FrameSource, Input, Poll, SourceError};
 use crate::facs::AuKey;
 use crate::io::arkit::ArkitMap;
-use crate::io::livelink::LiveLinkReader;
+use crate::io::livelink::{LiveLinkColumns, LiveLinkReader, LiveLinkRow};
+use crate::io::openface::RowError;
 
 /// The frame rate Live Link Face records at unless set otherwise in the app.
 pub const LIVELINK_FRAME_RATE: f64 = 60.0;
 
-/// A Live Link Face CSV file.
-pub struct LiveLinkSource {
-    reader: LiveLinkReader<BufReader<File>>,
-    name: String,
+/// What a Live Link Face source keeps between rows, whether it reads a file or stdin.
+#[derive(Debug)]
+pub(crate) struct LiveLinkRows {
     /// The AU of each shape column (`None`: the shape has no AU).
     keys: Vec<Option<AuKey>>,
+    rule: TimeRule,
+}
+
+impl LiveLinkRows {
+    /// The AUs of the header's shapes; what the header holds that will not play is queued on
+    /// `builder` as notices (names kept bounded through `names`).
+    pub(crate) fn new(
+        columns: &LiveLinkColumns,
+        arkit: &ArkitMap,
+        builder: &mut AuFrames,
+        names: &mut NameSet,
+        source: &str,
+    ) -> LiveLinkRows {
+        let keys: Vec<Option<AuKey>> = columns.shapes.iter().map(|(_, s)| arkit.au(s)).collect();
+        let without = columns
+            .shapes
+            .iter()
+            .zip(&keys)
+            .filter(|(_, k)| k.is_none())
+            .map(|((_, s), _)| *s);
+        if let Some(list) = names.list(without) {
+            builder.push_notice(format!(
+                "{source}: ARKit shapes with no AU (ignored): {list}"
+            ));
+        }
+        if let Some(list) = names.list(columns.ignored.iter().map(String::as_str)) {
+            builder.push_notice(format!(
+                "{source}: columns that are not blendshapes (ignored): {list}"
+            ));
+        }
+        builder.report_missing(keys.iter().flatten().copied());
+        LiveLinkRows {
+            keys,
+            rule: TimeRule::new(TimeBase::TimeOfDay),
+        }
+    }
+
+    /// The event for one row: a frame timed from the first row's timecode, or a malformed row.
+    pub(crate) fn event(
+        &mut self,
+        builder: &mut AuFrames,
+        row: Result<LiveLinkRow, RowError>,
+        source: &str,
+    ) -> Event {
+        let row = match row {
+            Ok(row) => row,
+            Err(e) => {
+                let column = e.column.map(|c| format!(":{c}")).unwrap_or_default();
+                return Event::Malformed {
+                    message: format!("{source}:{}{column}: {}", e.line, e.message),
+                };
+            }
+        };
+        let time = match self.rule.accept(row.seconds) {
+            Ok(time) => time,
+            Err(why) => {
+                return Event::Malformed {
+                    message: format!("{source}:{}: {why}", row.line),
+                }
+            }
+        };
+        let raw = self
+            .keys
+            .iter()
+            .zip(&row.weights)
+            .filter_map(|(key, w)| key.map(|k| (k, *w)));
+        Event::Frame(builder.frame(time, Some(row.line), raw))
+    }
+}
+
+/// A Live Link Face CSV file.
+pub struct LiveLinkSource {
+    reader: LiveLinkReader<Input>,
+    name: String,
+    rows: LiveLinkRows,
     builder: AuFrames,
-    first: Option<f64>,
     stashed: Option<Event>,
 }
 
 impl LiveLinkSource {
-    /// Opens a recording and reads its header; `fps` is the frame rate of its timecodes.
-    pub fn open(
+    /// Reads the header of `input`, the recording at `path`; `fps` is the frame rate of its
+    /// timecodes.
+    pub fn new(
+        input: Input,
         path: &Path,
         mapper: AuMapper,
         arkit: &ArkitMap,
         fps: f64,
     ) -> Result<LiveLinkSource, SourceError> {
-        let file = File::open(path).map_err(|source| SourceError::Io {
-            what: format!("cannot open {}", path.display()),
-            source,
-        })?;
-        let reader = LiveLinkReader::new(BufReader::new(file), path, fps)?;
+        let reader = LiveLinkReader::new(input, path, fps)?;
         let name = path.display().to_string();
         let mut builder = AuFrames::new(mapper, IntensityScale::ZeroToOne, &name);
-        let shapes = &reader.columns().shapes;
-        let keys: Vec<Option<AuKey>> = shapes.iter().map(|(_, s)| arkit.au(s)).collect();
-        let without: Vec<&str> = shapes
-            .iter()
-            .zip(&keys)
-            .filter(|(_, k)| k.is_none())
-            .map(|((_, s), _)| *s)
-            .collect();
-        if !without.is_empty() {
-            builder.push_notice(format!(
-                "{name}: ARKit shapes with no AU (ignored): {}",
-                without.join(", ")
-            ));
-        }
-        let ignored: BTreeSet<&str> = reader
-            .columns()
-            .ignored
-            .iter()
-            .map(String::as_str)
-            .collect();
-        if !ignored.is_empty() {
-            let list: Vec<&str> = ignored.into_iter().collect();
-            builder.push_notice(format!(
-                "{name}: columns that are not blendshapes (ignored): {}",
-                list.join(", ")
-            ));
-        }
-        builder.report_missing(keys.iter().flatten().copied());
+        let mut names = NameSet::default();
+        let rows = LiveLinkRows::new(reader.columns(), arkit, &mut builder, &mut names, &name);
         Ok(LiveLinkSource {
             reader,
             name,
-            keys,
+            rows,
             builder,
-            first: None,
             stashed: None,
         })
     }
-}
 
-impl FrameSource for LiveLinkSource {
-    fn poll(&mut self, _wait: Duration) -> Result<Poll, SourceError> {
+    fn next_event(&mut self) -> Result<Poll, SourceError> {
         if let Some(notice) = self.builder.take_notice() {
             return Ok(Poll::Event(Event::Notice(notice)));
         }
@@ -93,23 +135,7 @@ impl FrameSource for LiveLinkSource {
         let Some(row) = self.reader.next_row()? else {
             return Ok(Poll::End);
         };
-        let event = match row {
-            Err(e) => {
-                let column = e.column.map(|c| format!(":{c}")).unwrap_or_default();
-                Event::Malformed {
-                    message: format!("{}:{}{column}: {}", self.name, e.line, e.message),
-                }
-            }
-            Ok(row) => {
-                let first = *self.first.get_or_insert(row.seconds);
-                let raw = self
-                    .keys
-                    .iter()
-                    .zip(&row.weights)
-                    .filter_map(|(key, w)| key.map(|k| (k, *w)));
-                Event::Frame(self.builder.frame(row.seconds - first, Some(row.line), raw))
-            }
-        };
+        let event = self.rows.event(&mut self.builder, row, &self.name);
         // A clamp warning raised by this row goes out before the row.
         match self.builder.take_notice() {
             Some(notice) => {
@@ -118,6 +144,12 @@ impl FrameSource for LiveLinkSource {
             }
             None => Ok(Poll::Event(event)),
         }
+    }
+}
+
+impl FrameSource for LiveLinkSource {
+    fn poll(&mut self, _wait: Duration) -> Result<Poll, SourceError> {
+        self.next_event().map(printable_poll)
     }
 
     fn is_live(&self) -> bool {

@@ -1,7 +1,11 @@
 //! Playback: frames of AU intensities or activations from files and live streams, mapped
 //! through an AU table, on a clock that keeps the source's frame rate.
 //!
-//! - [`source`]: OpenFace CSV files, timelines, stdin (CSV or JSON lines), loopback UDP JSON;
+//! - [`source`]: OpenFace CSV files and timelines; [`live`]: stdin (CSV, Live Link Face or
+//!   JSON lines) and loopback UDP JSON; [`open`]: a file read once, its format told from its
+//!   first line;
+//! - [`rules`]: what every source keeps to: finite, bounded, monotonic time, bounded memory
+//!   for names seen, messages made safe to print;
 //! - [`map`]: AU intensities to activations through an [`crate::facs::AuTable`];
 //! - [`clock`]: source time against wall time (speed, pause, steps) and dropped-frame counts;
 //! - [`livelink`]: Live Link Face CSV recordings (ARKit blendshapes) through the ARKit map;
@@ -10,9 +14,12 @@
 
 pub mod clock;
 pub mod json;
+pub mod live;
 pub mod livelink;
 pub mod map;
+pub mod open;
 pub mod player;
+pub mod rules;
 pub mod skips;
 pub mod source;
 

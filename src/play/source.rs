@@ -6,35 +6,27 @@
 //! ready; live sources are fed by a reader thread and wait up to the time given.
 
 use std::collections::BTreeSet;
-use std::fs::File;
-use std::io::BufReader;
-use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
+use std::io::BufRead;
 use std::path::Path;
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
-use std::thread;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use thiserror::Error;
 
 use crate::facs::combo::parse_combo;
 use crate::facs::{AuKey, AuTable};
-use crate::io::arkit::{self, ArkitMap};
-use crate::io::lines::LineReader;
-use crate::io::openface::{
-    OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome, MAX_LINE_BYTES, MAX_TIMESTAMP,
-};
-use crate::io::printable::printable;
+use crate::io::openface::{OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome};
 use crate::io::timeline::{Timeline, TimelineError};
 use crate::model::{Activations, Rig};
 
-use super::json::parse_flat_object;
+pub use super::live::{LiveSource, QUEUE_BYTES, QUEUE_LINES};
 use super::map::{clamp_to_ranges, AuIntensity, AuMapper, IntensityScale};
+use super::rules::{printable_poll, TimeBase, TimeRule};
+
+/// A file or stream read once, from its start (see [`crate::io::lines::sniff_first_line`]).
+pub type Input = Box<dyn BufRead>;
 
 /// The frame rate assumed for rows without timestamps, unless one is given.
 pub const DEFAULT_FRAME_RATE: f64 = 30.0;
-
-/// The largest UDP datagram read.
-const MAX_DATAGRAM: usize = 65_536;
 
 /// A frame ready to show.
 #[derive(Debug, Clone, PartialEq)]
@@ -78,21 +70,6 @@ pub enum Poll {
     Pending,
     /// The source is finished.
     End,
-}
-
-impl Poll {
-    /// The poll with the text of its messages made safe to print: they quote rows, fields
-    /// and keys of the input, which may hold terminal escapes (see [`printable`]).
-    fn printable(self) -> Poll {
-        let safe = |text: String| printable(&text).into_owned();
-        match self {
-            Poll::Event(Event::Malformed { message }) => Poll::Event(Event::Malformed {
-                message: safe(message),
-            }),
-            Poll::Event(Event::Notice(text)) => Poll::Event(Event::Notice(safe(text))),
-            other => other,
-        }
-    }
 }
 
 /// A source that cannot be opened or read on.
@@ -182,6 +159,16 @@ impl AuFrames {
         }
     }
 
+    /// The scale of the intensities.
+    pub fn scale(&self) -> IntensityScale {
+        self.scale
+    }
+
+    /// Sets the scale of the intensities (a stream tells its format by its first line).
+    pub fn set_scale(&mut self, scale: IntensityScale) {
+        self.scale = scale;
+    }
+
     /// Queues a notice to hand out before the next frame.
     pub fn push_notice(&mut self, notice: String) {
         self.pending.push(notice);
@@ -237,24 +224,28 @@ impl AuFrames {
     }
 }
 
-/// Times rows by timestamp, else by frame number, else by order, at a frame rate.
+/// Times rows by timestamp, else by frame number, else by order, at a frame rate; the
+/// times played keep the stream rules ([`TimeRule`]).
 #[derive(Debug, Clone)]
-struct RowClock {
+pub(crate) struct RowClock {
     frame_rate: f64,
     first_frame: Option<f64>,
     ordinal: usize,
+    rule: TimeRule,
 }
 
 impl RowClock {
-    fn new(frame_rate: f64) -> RowClock {
+    pub(crate) fn new(frame_rate: f64) -> RowClock {
         RowClock {
             frame_rate,
             first_frame: None,
             ordinal: 0,
+            rule: TimeRule::new(TimeBase::Absolute),
         }
     }
 
-    fn time(&mut self, timestamp: Option<f64>, frame: Option<f64>) -> f64 {
+    /// The row's time, before the rules.
+    fn raw(&mut self, timestamp: Option<f64>, frame: Option<f64>) -> f64 {
         let ordinal = self.ordinal;
         self.ordinal += 1;
         if let Some(t) = timestamp {
@@ -266,9 +257,24 @@ impl RowClock {
         }
         ordinal as f64 / self.frame_rate
     }
+
+    /// The time to play a frame given at `raw` seconds, or why it is refused.
+    pub(crate) fn accept(&mut self, raw: f64) -> Result<f64, String> {
+        self.rule.accept(raw)
+    }
+
+    /// The time to play a row at, or why it is refused.
+    pub(crate) fn time(
+        &mut self,
+        timestamp: Option<f64>,
+        frame: Option<f64>,
+    ) -> Result<f64, String> {
+        let raw = self.raw(timestamp, frame);
+        self.rule.accept(raw)
+    }
 }
 
-fn row_event(
+pub(crate) fn row_event(
     builder: &mut AuFrames,
     clock: &mut RowClock,
     columns: &OpenFaceColumns,
@@ -283,11 +289,18 @@ fn row_event(
             }
         }
         RowOutcome::Row(row) if !row.success => {
-            clock.time(row.timestamp, row.frame);
+            clock.raw(row.timestamp, row.frame);
             Event::Untracked { line: row.line }
         }
         RowOutcome::Row(row) => {
-            let time = clock.time(row.timestamp, row.frame);
+            let time = match clock.time(row.timestamp, row.frame) {
+                Ok(time) => time,
+                Err(why) => {
+                    return Event::Malformed {
+                        message: format!("{source}:{}: {why}", row.line),
+                    }
+                }
+            };
             let raw = columns
                 .aus
                 .iter()
@@ -300,7 +313,7 @@ fn row_event(
 
 /// An OpenFace CSV file.
 pub struct OpenFaceSource {
-    reader: OpenFaceReader<BufReader<File>>,
+    reader: OpenFaceReader<Input>,
     builder: AuFrames,
     clock: RowClock,
     name: String,
@@ -308,19 +321,15 @@ pub struct OpenFaceSource {
 }
 
 impl OpenFaceSource {
-    /// Opens a file and reads its header.
-    pub fn open(
+    /// Reads the header of `input`, the file at `path` (see [`super::open::open_file`]).
+    pub fn new(
+        input: Input,
         path: &Path,
         mapper: AuMapper,
         scale: IntensityScale,
         frame_rate: f64,
     ) -> Result<OpenFaceSource, SourceError> {
-        refuse_special(path)?;
-        let file = File::open(path).map_err(|source| SourceError::Io {
-            what: format!("cannot open {}", path.display()),
-            source,
-        })?;
-        let reader = OpenFaceReader::new(BufReader::new(file), path)?;
+        let reader = OpenFaceReader::new(input, path)?;
         let name = path.display().to_string();
         let mut builder = AuFrames::new(mapper, scale, &name);
         builder.report_missing(reader.columns().aus.iter().map(|c| AuKey::new(c.number)));
@@ -336,7 +345,7 @@ impl OpenFaceSource {
 
 impl FrameSource for OpenFaceSource {
     fn poll(&mut self, _wait: Duration) -> Result<Poll, SourceError> {
-        self.next_event().map(Poll::printable)
+        self.next_event().map(printable_poll)
     }
 
     fn is_live(&self) -> bool {
@@ -371,25 +380,6 @@ impl OpenFaceSource {
             }
             None => Ok(Poll::Event(event)),
         }
-    }
-}
-
-/// Refuses a folder, a device or a socket as an OpenFace CSV, saying what it is. A named pipe
-/// is fine: the file is read once, as a stream (`grimace play <(tracker ...)`).
-fn refuse_special(path: &Path) -> Result<(), SourceError> {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo()) {
-            return Ok(());
-        }
-    }
-    match crate::io::error::not_a_file(path) {
-        // A missing or unreadable file is reported by the open itself.
-        Some(reason) if std::fs::metadata(path).is_ok() => {
-            Err(SourceError::OpenFace(OpenFaceError::new(path, reason)))
-        }
-        _ => Ok(()),
     }
 }
 
@@ -431,6 +421,15 @@ impl TimelineSource {
             clamp_to_ranges(&mut pose);
             poses.push(pose);
         }
+        // The rules bound every source's time; a timeline's is known before it plays.
+        let end = timeline.keyframes.last().map_or(0.0, |k| k.time);
+        TimeRule::new(TimeBase::Absolute)
+            .accept(end)
+            .map_err(|why| TimelineError {
+                path: path.to_path_buf(),
+                position: None,
+                message: format!("the last keyframe: {why}"),
+            })?;
         let count = timeline.frame_count();
         Ok(TimelineSource {
             timeline,
@@ -469,12 +468,12 @@ impl FrameSource for TimelineSource {
         }
         let time = self.next as f64 / self.timeline.frame_rate;
         self.next += 1;
-        Ok(Poll::Event(Event::Frame(Frame {
+        Ok(printable_poll(Poll::Event(Event::Frame(Frame {
             time,
             line: None,
             aus: Vec::new(),
             activations: self.sample(time),
-        })))
+        }))))
     }
 
     fn is_live(&self) -> bool {
@@ -490,333 +489,4 @@ fn keyframe_aus(text: &str, table: &AuTable, rig: &Rig) -> Result<Activations, S
         .map_or(text, String::as_str);
     let combo = parse_combo(combo).map_err(|e| format!("`{combo}`: {e}"))?;
     table.evaluate(&combo, rig).map_err(|e| e.to_string())
-}
-
-/// What a reader thread sends: one line (or datagram) with its number, a line too long to
-/// read (its number and why), or a read failure.
-enum Message {
-    Line(usize, String),
-    TooLong(usize, String),
-    Failed(String),
-}
-
-/// The most lines (or datagrams) of a live stream waiting to be shown.
-pub const QUEUE_LINES: usize = 1024;
-
-/// How a live stream is written, decided by its first line.
-enum LiveFormat {
-    Undecided,
-    Csv(OpenFaceColumns),
-    Json,
-}
-
-/// A live stream: lines on stdin (CSV with a header line, or one JSON object per line) or
-/// JSON datagrams on a loopback UDP port.
-pub struct LiveSource {
-    receiver: Receiver<Message>,
-    format: LiveFormat,
-    builder: AuFrames,
-    clock: RowClock,
-    name: String,
-    opened: Instant,
-    ignored: BTreeSet<String>,
-    csv_allowed: bool,
-    stashed: Option<Event>,
-    arkit: ArkitMap,
-}
-
-impl LiveSource {
-    /// Reads stdin on a thread; the first non-blank line says CSV (a header) or JSON (`{`).
-    ///
-    /// Memory stays bounded whatever the producer does: a line longer than
-    /// [`MAX_LINE_BYTES`] is read past and reported, and at most [`QUEUE_LINES`] lines wait
-    /// to be shown; past that the reader stops reading, so a faster producer waits on its
-    /// pipe (back-pressure) rather than growing a backlog.
-    pub fn stdin(mapper: AuMapper, scale: IntensityScale, frame_rate: f64) -> LiveSource {
-        let (sender, receiver) = mpsc::sync_channel(QUEUE_LINES);
-        thread::spawn(move || {
-            let mut lines = LineReader::new(std::io::stdin().lock(), MAX_LINE_BYTES);
-            loop {
-                let message = match lines.next_line() {
-                    Ok(None) => break,
-                    Ok(Some(line)) => match line.too_long(MAX_LINE_BYTES) {
-                        Some(why) => Message::TooLong(line.number, why),
-                        None => Message::Line(line.number, line.text),
-                    },
-                    Err(e) => Message::Failed(format!("cannot read stdin: {e}")),
-                };
-                let failed = matches!(message, Message::Failed(_));
-                if sender.send(message).is_err() || failed {
-                    break;
-                }
-            }
-        });
-        LiveSource::new(receiver, mapper, scale, frame_rate, "stdin", true)
-    }
-
-    /// Listens on a loopback UDP address (port 0 picks a free port); returns the source and
-    /// the address bound. Each datagram holds one JSON object (or several, one per line).
-    pub fn udp(
-        address: &str,
-        mapper: AuMapper,
-        scale: IntensityScale,
-    ) -> Result<(LiveSource, SocketAddr), SourceError> {
-        let address = loopback_address(address)?;
-        let socket = UdpSocket::bind(address).map_err(|source| SourceError::Io {
-            what: format!("cannot listen on udp {address}"),
-            source,
-        })?;
-        let bound = socket.local_addr().map_err(|source| SourceError::Io {
-            what: "cannot read the bound address".into(),
-            source,
-        })?;
-        // Bounded like stdin: when the queue is full the reader waits and the system drops
-        // datagrams that overflow the socket's buffer, as UDP does.
-        let (sender, receiver) = mpsc::sync_channel(QUEUE_LINES);
-        thread::spawn(move || {
-            let mut buffer = vec![0u8; MAX_DATAGRAM];
-            let mut number = 0;
-            loop {
-                match socket.recv_from(&mut buffer) {
-                    Ok((size, _)) => {
-                        number += 1;
-                        let text = String::from_utf8_lossy(&buffer[..size]).into_owned();
-                        if sender.send(Message::Line(number, text)).is_err() {
-                            break;
-                        }
-                    }
-                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                    Err(e) => {
-                        let _ = sender.send(Message::Failed(format!("udp receive failed: {e}")));
-                        break;
-                    }
-                }
-            }
-        });
-        let name = format!("udp {bound}");
-        let source = LiveSource::new(receiver, mapper, scale, DEFAULT_FRAME_RATE, &name, false);
-        Ok((source, bound))
-    }
-
-    fn new(
-        receiver: Receiver<Message>,
-        mapper: AuMapper,
-        scale: IntensityScale,
-        frame_rate: f64,
-        name: &str,
-        csv_allowed: bool,
-    ) -> LiveSource {
-        LiveSource {
-            receiver,
-            format: LiveFormat::Undecided,
-            builder: AuFrames::new(mapper, scale, name),
-            clock: RowClock::new(frame_rate),
-            name: name.to_string(),
-            opened: Instant::now(),
-            ignored: BTreeSet::new(),
-            csv_allowed,
-            stashed: None,
-            arkit: ArkitMap::builtin(),
-        }
-    }
-
-    /// Handles one line; `None` when it produced nothing (blank, or a CSV header).
-    fn line(&mut self, number: usize, text: &str) -> Option<Event> {
-        let trimmed = text.trim().trim_start_matches('\u{feff}');
-        if trimmed.is_empty() {
-            return None;
-        }
-        if let LiveFormat::Undecided = self.format {
-            if trimmed.starts_with('{') || !self.csv_allowed {
-                self.format = LiveFormat::Json;
-            } else {
-                return match OpenFaceColumns::from_header(trimmed) {
-                    Ok(columns) => {
-                        self.builder
-                            .report_missing(columns.aus.iter().map(|c| AuKey::new(c.number)));
-                        self.format = LiveFormat::Csv(columns);
-                        None
-                    }
-                    Err(e) => Some(Event::Malformed {
-                        message: format!("{}:{number}: {e}", self.name),
-                    }),
-                };
-            }
-        }
-        match &self.format {
-            LiveFormat::Csv(columns) => {
-                let columns = columns.clone();
-                let outcome = match columns.parse_row(trimmed, number) {
-                    Ok(row) => RowOutcome::Row(row),
-                    Err(e) => RowOutcome::Malformed(e),
-                };
-                Some(self.csv_row(&columns, outcome))
-            }
-            _ => Some(self.json_line(number, trimmed)),
-        }
-    }
-
-    fn csv_row(&mut self, columns: &OpenFaceColumns, outcome: RowOutcome) -> Event {
-        // Rows without a timestamp are timed by arrival.
-        if let RowOutcome::Row(row) = &outcome {
-            if row.timestamp.is_none() && row.frame.is_none() {
-                let mut row = row.clone();
-                row.timestamp = Some(self.opened.elapsed().as_secs_f64());
-                return row_event(
-                    &mut self.builder,
-                    &mut self.clock,
-                    columns,
-                    RowOutcome::Row(row),
-                    &self.name,
-                );
-            }
-        }
-        row_event(
-            &mut self.builder,
-            &mut self.clock,
-            columns,
-            outcome,
-            &self.name,
-        )
-    }
-
-    fn json_line(&mut self, number: usize, text: &str) -> Event {
-        let pairs = match parse_flat_object(text) {
-            Ok(pairs) => pairs,
-            Err(e) => {
-                return Event::Malformed {
-                    message: format!("{}:{number}:{}: {}", self.name, e.column, e.message),
-                }
-            }
-        };
-        let mut time = None;
-        let mut raw = Vec::new();
-        let mut au_names: Vec<String> = Vec::new();
-        for (name, value) in pairs {
-            if name.eq_ignore_ascii_case("timestamp") {
-                if value.is_nan() || value.abs() > MAX_TIMESTAMP {
-                    return Event::Malformed {
-                        message: format!(
-                            "{}:{number}: timestamp {value:e} is out of range (at most {MAX_TIMESTAMP} in size)",
-                            self.name
-                        ),
-                    };
-                }
-                time = Some(value);
-            } else if let Some(key) = json_au_key(&name) {
-                // Two spellings of one AU (`AU12`, `AU12_r`) would add up: refuse the frame,
-                // as for a key given twice.
-                if let Some(k) = raw.iter().position(|(seen, _)| *seen == key) {
-                    return Event::Malformed {
-                        message: format!(
-                            "{}:{number}: AU{key} is given twice, as `{}` and `{name}`",
-                            self.name, au_names[k]
-                        ),
-                    };
-                }
-                raw.push((key, value as f32));
-                au_names.push(name);
-            } else if let Some(shape) = arkit::canonical(&name) {
-                // ARKit weights are 0-1 whatever the stream's AU scale. Several shapes may
-                // name one AU (both give it): the stronger one counts.
-                match self.arkit.au(shape) {
-                    Some(key) => {
-                        let value = value as f32 * self.builder.scale.max();
-                        match raw.iter_mut().find(|(seen, _)| *seen == key) {
-                            Some((_, v)) => *v = v.max(value),
-                            None => {
-                                raw.push((key, value));
-                                au_names.push(name);
-                            }
-                        }
-                    }
-                    None if self.ignored.insert(name.clone()) => self.builder.pending.push(
-                        format!("{}: ARKit shape `{name}` has no AU (ignored)", self.name),
-                    ),
-                    None => {}
-                }
-            } else if self.ignored.insert(name.clone()) && !name.eq_ignore_ascii_case("frame") {
-                self.builder.pending.push(format!(
-                    "{}: field `{name}` is not an AU (ignored)",
-                    self.name
-                ));
-            }
-        }
-        self.builder.report_missing(raw.iter().map(|(k, _)| *k));
-        let time = time.unwrap_or_else(|| self.opened.elapsed().as_secs_f64());
-        Event::Frame(self.builder.frame(time, Some(number), raw))
-    }
-}
-
-/// `AU12`, `AU01`, `AU12_r`, `AUL12`/`AUR12` -> the AU key.
-fn json_au_key(name: &str) -> Option<AuKey> {
-    let rest = name
-        .strip_prefix("AU")
-        .or_else(|| name.strip_prefix("au"))?;
-    let rest = rest
-        .strip_suffix("_r")
-        .or_else(|| rest.strip_suffix("_R"))
-        .unwrap_or(rest);
-    rest.parse().ok()
-}
-
-/// Resolves an address and refuses anything but loopback.
-fn loopback_address(text: &str) -> Result<SocketAddr, SourceError> {
-    let addresses: Vec<SocketAddr> = text
-        .to_socket_addrs()
-        .map_err(|_| SourceError::BadAddress(text.to_string()))?
-        .collect();
-    let first = *addresses
-        .first()
-        .ok_or_else(|| SourceError::BadAddress(text.to_string()))?;
-    if addresses.iter().all(|a| a.ip().is_loopback()) {
-        Ok(first)
-    } else {
-        Err(SourceError::NotLoopback(text.to_string()))
-    }
-}
-
-impl FrameSource for LiveSource {
-    fn poll(&mut self, wait: Duration) -> Result<Poll, SourceError> {
-        self.next_event(wait).map(Poll::printable)
-    }
-
-    fn is_live(&self) -> bool {
-        true
-    }
-}
-
-impl LiveSource {
-    fn next_event(&mut self, wait: Duration) -> Result<Poll, SourceError> {
-        let deadline = Instant::now() + wait;
-        loop {
-            // Notices a line raised go out before the line's own event.
-            if let Some(notice) = self.builder.take_notice() {
-                return Ok(Poll::Event(Event::Notice(notice)));
-            }
-            if let Some(event) = self.stashed.take() {
-                return Ok(Poll::Event(event));
-            }
-            let left = deadline.saturating_duration_since(Instant::now());
-            let message = match self.receiver.recv_timeout(left) {
-                Ok(message) => message,
-                Err(RecvTimeoutError::Timeout) => return Ok(Poll::Pending),
-                Err(RecvTimeoutError::Disconnected) => return Ok(Poll::End),
-            };
-            match message {
-                Message::Line(number, text) => self.stashed = self.line(number, &text),
-                Message::TooLong(number, why) => {
-                    self.stashed = Some(Event::Malformed {
-                        message: format!("{}:{number}: {why}", self.name),
-                    })
-                }
-                Message::Failed(message) => {
-                    return Err(SourceError::Io {
-                        what: self.name.clone(),
-                        source: std::io::Error::other(message),
-                    })
-                }
-            }
-        }
-    }
 }

@@ -123,3 +123,44 @@ pub fn lines(output: &Output) -> Vec<String> {
 pub fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
+
+/// Runs `command` (its output piped) and fails the test when it has not ended within
+/// `seconds`: a run that stalls (a frame due in years, a pipe read twice) is a failure, not a
+/// hung test.
+pub fn output_within(command: &mut Command, seconds: u64) -> Output {
+    let mut child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run grimace");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(seconds);
+    while child.try_wait().expect("wait for grimace").is_none() {
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let out = child.wait_with_output().expect("wait for grimace");
+            panic!(
+                "still running after {seconds} s; stderr so far:\n{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("wait for grimace")
+}
+
+/// `grimace play --headless --rig R --table T ARGS...` with the fixture written into `dir`
+/// and stdin closed, ready for [`output_within`].
+pub fn play_command(dir: &Path, args: &[&str]) -> Command {
+    let (rig, table) = write_fixture(dir);
+    let mut command = grimace();
+    command
+        .arg("play")
+        .arg("--headless")
+        .arg("--rig")
+        .arg(&rig)
+        .arg("--table")
+        .arg(&table)
+        .args(args)
+        .stdin(Stdio::null());
+    command
+}

@@ -79,12 +79,38 @@ fn a_recording_plays_its_frames_and_skips_the_bad_row() {
 
 #[test]
 fn frame_rate_and_strict_apply_to_recordings() {
-    let out = play(&[TAKE, "--fps", "30"], None);
+    // The take's frame numbers run 30 to 41: at 50 fps a frame lasts 20 ms.
+    let out = play(&[TAKE, "--fps", "50"], None);
     let frames = lines(&out);
-    assert!(frames[1].starts_with("0.033 "), "{}", frames[1]);
+    assert!(frames[1].starts_with("0.020 "), "{}", frames[1]);
+    // At 30 fps those frame numbers cannot be: every row is refused, naming --fps, instead of
+    // time running backwards at each second.
+    let out = play(&[TAKE, "--fps", "30"], None);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(lines(&out).last().unwrap(), "played 0 frames, skipped 12");
+    assert!(
+        stderr.contains(
+            "take.csv:2:1: timecode `10:41:07:30.250` frame 30.250 is not below the frame rate 30"
+        ) && stderr.contains("--fps"),
+        "{stderr}"
+    );
     let out = play(&[TAKE, "--strict"], None);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("take.csv:10:"));
+}
+
+#[test]
+fn a_take_on_stdin_plays_as_the_file_does() {
+    let take = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join(TAKE)).unwrap();
+    let piped = play(&["--stdin"], Some(&take));
+    assert!(
+        piped.status.success(),
+        "{}",
+        String::from_utf8_lossy(&piped.stderr)
+    );
+    let file = play(&[TAKE], None);
+    assert_eq!(lines(&piped), lines(&file));
+    assert_eq!(lines(&piped).last().unwrap(), "played 11 frames, skipped 1");
 }
 
 #[test]

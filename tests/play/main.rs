@@ -11,5 +11,6 @@ mod default_face;
 mod live;
 mod livelink;
 mod openface;
+mod rules;
 mod timeline;
 mod view;

@@ -100,7 +100,7 @@ fn absurd_timestamps_are_refused_not_waited_for() {
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(
         stderr(&out).contains(
-            "far.csv:3:1: timestamp 1e8 is out of range (at most 1000000 in size) (row skipped)"
+            "far.csv:3: time 1e8 s is out of range (at most 1000000 in size) (row skipped)"
         ),
         "{}",
         stderr(&out)
@@ -113,7 +113,7 @@ fn absurd_timestamps_are_refused_not_waited_for() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(
-        stderr(&out).contains("stdin:1: timestamp 1e300 is out of range"),
+        stderr(&out).contains("stdin:1: time 1e300 s is out of range"),
         "{}",
         stderr(&out)
     );
