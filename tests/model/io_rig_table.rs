@@ -74,6 +74,7 @@ fn sample_rig() -> Rig {
         ],
         jaw: Some(Jaw {
             axis: glam::Vec3::X,
+            slide: glam::Vec3::ZERO,
             pivot: Vec3::new(0.0, -1.0, 2.0),
             degrees_per_unit: 1.0,
             weights: (0..14).map(|v| (v, v as f32 / 13.0)).collect(),

@@ -50,6 +50,7 @@ fn rig(muscles: Vec<Muscle>, jaw: Option<Jaw>) -> Rig {
 fn jaw(weight: f32) -> Jaw {
     Jaw {
         axis: glam::Vec3::X,
+        slide: glam::Vec3::ZERO,
         pivot: Vec3::ZERO,
         degrees_per_unit: 1.0,
         weights: vec![(2, weight)],
@@ -106,6 +107,7 @@ fn jaw_turns_the_post_muscle_position() {
     let mut r = rig(vec![linear("a")], None);
     r.jaw = Some(Jaw {
         axis: glam::Vec3::X,
+        slide: glam::Vec3::ZERO,
         pivot: Vec3::Y,
         degrees_per_unit: 90.0,
         weights: vec![(0, 1.0)],
