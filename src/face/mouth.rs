@@ -128,9 +128,11 @@ const ARCH_STEPS: i32 = 10;
 /// The tongue: centre and semi-axes (mm).
 const TONGUE_CENTRE: [f64; 3] = [0.0, OCCLUSAL_Y - 6.0, -36.0];
 const TONGUE_SEMI_AXES: [f64; 3] = [14.0, 5.0, 17.0];
-/// The back wall: an elliptic slab facing the lips.
-const WALL_CENTRE: [f64; 3] = [0.0, OCCLUSAL_Y - 10.0, -52.0];
-const WALL_SEMI_AXES: [f64; 2] = [27.0, 31.0];
+/// The back wall: an elliptic slab facing the lips, reaching from under the nose to below
+/// the lower incisors at the widest opening. Its centre lies above the occlusal plane: the
+/// wall belongs to the skull, and fitting tells still pieces from the jaw's by that side.
+const WALL_CENTRE: [f64; 3] = [0.0, OCCLUSAL_Y + 8.0, -52.0];
+const WALL_SEMI_AXES: [f64; 2] = [27.0, 36.0];
 const WALL_THICKNESS: f64 = 4.0;
 /// Segments round the tongue and the wall, and rings from pole to pole of the tongue.
 const SEGMENTS: usize = 16;
