@@ -114,8 +114,8 @@ pub fn hold_still(mesh: &Mesh, rig: &mut Rig) {
 fn piece_groups(mesh: &Mesh, skin_len: usize, groups: &mut BTreeMap<String, Vec<u32>>) {
     let component = crate::fit::parts::components(mesh);
     let mut pieces: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
-    for v in skin_len..mesh.vertex_count() {
-        pieces.entry(component[v]).or_default().push(v as u32);
+    for (v, &c) in component.iter().enumerate().skip(skin_len) {
+        pieces.entry(c).or_default().push(v as u32);
     }
     let [ex, ey, ez] = EYEBALL.centre;
     for members in pieces.values() {

@@ -157,19 +157,23 @@ fn eyes_and_teeth_stay_out_of_the_skin_muscles_and_lower_teeth_turn_with_the_jaw
         "{:?}",
         fitted.parts.choices
     );
-    // the face's own eyeballs, after its skin, are still parts too
     // the face's own eyeballs and upper teeth, after its skin, are still parts too; its lower
     // teeth, lower gum and tongue (unnamed pieces below the lip line) turn with the jaw
     let skin = grimace::face::groups::skin_len(&template_mesh);
     assert!((0..skin).all(|v| parts[v] == Part::Skin));
     let jaw_parts = grimace::face::groups::jaw_parts(&template_mesh);
-    for v in skin..template_mesh.vertex_count() {
+    for (v, part) in parts
+        .iter()
+        .enumerate()
+        .take(template_mesh.vertex_count())
+        .skip(skin)
+    {
         let expected = if jaw_parts.contains(&(v as u32)) {
             Part::Jaw
         } else {
             Part::Still
         };
-        assert_eq!(parts[v], expected, "vertex {v}: {:?}", fitted.parts.choices);
+        assert_eq!(*part, expected, "vertex {v}: {:?}", fitted.parts.choices);
     }
 
     let bound = BoundRig::bind(&fitted.rig, &mesh).unwrap();
