@@ -162,6 +162,7 @@ fn jaw_for(mesh: &Mesh) -> Jaw {
         .collect();
     Jaw {
         axis: glam::Vec3::X,
+        slide: glam::Vec3::ZERO,
         pivot: Vec3::new(0.0, -0.5, 2.0),
         degrees_per_unit: 1.0,
         weights,

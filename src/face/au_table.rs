@@ -134,7 +134,7 @@ const AUS: &[AuSpec] = &[
     ),
     au(25, &[("Depressor_Labii_Inferioris", 0.6)], 0.8),
     // the stretched lips draw the corners in round the opening (a light sphincter)
-    au(26, &[("Orbicularis_Oris", 0.4)], 2.5),
+    au(26, &[("Orbicularis_Oris", 0.4)], 2.2),
     au(27, &[("Orbicularis_Oris", 0.6)], 4.0),
     au(43, &[("Orbicularis_Oculi", 2.0)], 0.0),
     au(45, &[("Orbicularis_Oculi", 2.0)], 0.0),

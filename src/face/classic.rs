@@ -585,6 +585,7 @@ fn jaw(marks: &Landmarks, p: &[Vec3]) -> Result<Jaw, ClassicError> {
     let pivot_y = mouth_y + PIVOT_HEIGHT * (eye_y - mouth_y);
     Ok(Jaw {
         axis: glam::Vec3::X,
+        slide: glam::Vec3::ZERO,
         pivot: rounded(Vec3::new(0.0, pivot_y, marks.deepest_z)),
         degrees_per_unit: CLASSIC_JAW_DEGREES_PER_UNIT,
         weights,

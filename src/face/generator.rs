@@ -16,7 +16,8 @@
 //! right-hand normal points out of the skin (toward the viewer on the front of the face).
 //!
 //! After the skin come the two eyeballs ([`EYEBALL`]), closed and separate pieces: the
-//! subject's left eye, then its mirror. Appending them keeps every skin vertex's number.
+//! subject's left eye, then its mirror; then the inside of the mouth ([`super::mouth`]).
+//! Appending them keeps every skin vertex's number.
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -86,6 +87,7 @@ pub fn generate() -> Mesh {
     builder.place_vertices();
     builder.build_triangles();
     builder.add_eyeballs();
+    super::mouth::append(&mut builder.positions, &mut builder.triangles);
     let mut mesh = Mesh {
         positions: builder.positions,
         triangles: builder.triangles,

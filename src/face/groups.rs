@@ -6,9 +6,10 @@
 //! `forehead_centre`, and per side `*_inner_eye_corner`, `*_outer_eye_corner`,
 //! `*_upper_lid_centre`, `*_lower_lid_centre`, `*_mouth_corner`, `*_brow_inner`,
 //! `*_brow_centre`, `*_brow_outer`, `*_cheekbone`, `*_alare`, `*_forehead`. Regions:
-//! `upper_lip`, `lower_lip`, `*_upper_lid`, `*_lower_lid`, `*_brow`. The eyeballs (the
-//! pieces after the skin): `*_eyeball` (all of it), and within it `*_iris` and `*_pupil`.
-//! Every other group holds skin vertices only.
+//! `upper_lip`, `lower_lip`, `*_upper_lid`, `*_lower_lid`, `*_brow`. The pieces after the
+//! skin: the eyeballs, `*_eyeball` (all of it), and within it `*_iris` and `*_pupil`; the
+//! mouth's parts ([`super::mouth`]): `upper_teeth`, `upper_gum`, `lower_teeth`, `lower_gum`,
+//! `tongue`, `mouth_interior`. Every other group holds skin vertices only.
 //!
 //! The groups are recomputed from the mesh's positions and slit structure, so they follow
 //! the generator; [`find_groups_in`] finds them again in a mesh read back from a file.
@@ -19,6 +20,7 @@ use glam::{Vec2, Vec3};
 
 use super::anthropometry::*;
 use super::generator::{Slit, Slits, Tissue, EYEBALL};
+use super::mouth::{self, MouthPart};
 use super::surface;
 use crate::model::{Mask, Mesh, Rig};
 
@@ -29,7 +31,7 @@ pub fn find_groups(mesh: &Mesh, slits: &Slits) -> BTreeMap<String, Vec<u32>> {
     slit_groups(slits, &mut groups);
     landmark_groups(skin, &mut groups);
     region_groups(skin, &groups.clone(), &mut groups);
-    eyeball_groups(mesh, skin.len(), &mut groups);
+    piece_groups(mesh, skin.len(), &mut groups);
     for members in groups.values_mut() {
         members.sort_unstable();
         members.dedup();
@@ -54,24 +56,48 @@ pub fn skin_len(mesh: &Mesh) -> usize {
         .unwrap_or(component.len())
 }
 
-/// The vertices that never move: both eyeballs.
+/// The eyeballs' vertices: they never move.
 pub fn still_vertices(mesh: &Mesh) -> Vec<u32> {
-    let mut still: Vec<u32> = ["left_eyeball", "right_eyeball"]
+    vertices_of(mesh, &["left_eyeball", "right_eyeball"])
+}
+
+/// The vertices of the mouth's parts that the mandible carries: the lower teeth, the lower
+/// gum and the tongue (jaw weight 1).
+pub fn jaw_parts(mesh: &Mesh) -> Vec<u32> {
+    let names: Vec<&str> = MouthPart::ALL
+        .into_iter()
+        .filter(|p| p.turns_with_jaw())
+        .map(MouthPart::group)
+        .collect();
+    vertices_of(mesh, &names)
+}
+
+/// Every vertex that is not skin: the eyeballs and the mouth's parts.
+pub fn rigid_vertices(mesh: &Mesh) -> Vec<u32> {
+    let mut names = vec!["left_eyeball", "right_eyeball"];
+    names.extend(MouthPart::ALL.map(MouthPart::group));
+    vertices_of(mesh, &names)
+}
+
+/// The sorted vertices of the named groups.
+fn vertices_of(mesh: &Mesh, names: &[&str]) -> Vec<u32> {
+    let mut out: Vec<u32> = names
         .iter()
         .filter_map(|name| mesh.groups.get(*name))
         .flatten()
         .copied()
         .collect();
-    still.sort_unstable();
-    still.dedup();
-    still
+    out.sort_unstable();
+    out.dedup();
+    out
 }
 
-/// Keeps the still vertices ([`still_vertices`]) out of every muscle of `rig`: one mask of
-/// weight 0 on them naming all its muscles, replacing an earlier one on the same vertices.
-/// The jaw's weights leave them out already (they lie far above the mouth).
+/// Keeps the parts that are not skin ([`rigid_vertices`]: eyeballs, teeth, gums, tongue,
+/// the mouth's back wall) out of every muscle of `rig`: one mask of weight 0 on them naming
+/// all its muscles, replacing an earlier one on the same vertices. The jaw's weights give
+/// them 1 or 0 on their own ([`jaw_parts`]).
 pub fn hold_still(mesh: &Mesh, rig: &mut Rig) {
-    let weights: Vec<(u32, f32)> = still_vertices(mesh).into_iter().map(|v| (v, 0.0)).collect();
+    let weights: Vec<(u32, f32)> = rigid_vertices(mesh).into_iter().map(|v| (v, 0.0)).collect();
     if weights.is_empty() {
         return;
     }
@@ -83,12 +109,50 @@ pub fn hold_still(mesh: &Mesh, rig: &mut Rig) {
     });
 }
 
-/// `*_eyeball`, `*_iris` and `*_pupil` for every piece after the skin, told apart by where
-/// its vertices lie on [`EYEBALL`]'s profile.
-fn eyeball_groups(mesh: &Mesh, skin_len: usize, groups: &mut BTreeMap<String, Vec<u32>>) {
+/// The groups of the pieces after the skin: a piece whose centre lies inside an eyeball's
+/// globe is that eyeball, any other is the mouth's part whose designed centre lies nearest.
+fn piece_groups(mesh: &Mesh, skin_len: usize, groups: &mut BTreeMap<String, Vec<u32>>) {
+    let component = crate::fit::parts::components(mesh);
+    let mut pieces: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for (v, &c) in component.iter().enumerate().skip(skin_len) {
+        pieces.entry(c).or_default().push(v as u32);
+    }
+    let [ex, ey, ez] = EYEBALL.centre;
+    for members in pieces.values() {
+        let mut centre = [0.0f64; 3];
+        for &v in members {
+            let [x, y, z] = mm_of(mesh.positions[v as usize]);
+            centre = [centre[0] + x, centre[1] + y, centre[2] + z];
+        }
+        let centre = centre.map(|c| c / members.len() as f64);
+        let from_eye = (centre[0].abs() - ex)
+            .hypot(centre[1] - ey)
+            .hypot(centre[2] - ez);
+        if from_eye < EYEBALL.radius {
+            eyeball_groups(mesh, members, groups);
+        } else {
+            let name = mouth::nearest_part(centre).group();
+            groups.entry(name.to_string()).or_default().extend(members);
+        }
+    }
+}
+
+/// A mesh position in the generator's millimetres (x, height above the nasion, z).
+fn mm_of(p: Vec3) -> [f64; 3] {
+    [
+        f64::from(p.x) * MM_PER_UNIT,
+        f64::from(p.y) * MM_PER_UNIT + Y_ORIGIN_MM,
+        f64::from(p.z) * MM_PER_UNIT,
+    ]
+}
+
+/// `*_eyeball`, `*_iris` and `*_pupil` for the vertices of one eyeball, told apart by where
+/// they lie on [`EYEBALL`]'s profile.
+fn eyeball_groups(mesh: &Mesh, members: &[u32], groups: &mut BTreeMap<String, Vec<u32>>) {
     let profile = EYEBALL.profile();
     let [cx, cy, cz] = EYEBALL.centre;
-    for (i, p) in mesh.positions.iter().enumerate().skip(skin_len) {
+    for &i in members {
+        let p = mesh.positions[i as usize];
         let side = if p.x > 0.0 { "left" } else { "right" };
         let x = f64::from(p.x.abs()) * MM_PER_UNIT - cx;
         let y = f64::from(p.y) * MM_PER_UNIT + Y_ORIGIN_MM - cy;
@@ -102,7 +166,6 @@ fn eyeball_groups(mesh: &Mesh, skin_len: usize, groups: &mut BTreeMap<String, Ve
                 da.total_cmp(&db)
             })
             .map_or(Tissue::Sclera, |ring| ring.2);
-        let i = i as u32;
         groups.entry(format!("{side}_eyeball")).or_default().push(i);
         let part = match tissue {
             Tissue::Sclera => continue,

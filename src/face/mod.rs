@@ -9,6 +9,7 @@ pub mod au_table;
 pub mod classic;
 pub mod generator;
 pub mod groups;
+pub mod mouth;
 pub mod presets;
 pub mod rigs;
 pub mod surface;

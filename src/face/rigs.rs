@@ -20,34 +20,32 @@ use crate::model::{
 /// The mesh path the built-in rigs name: the embedded default face.
 pub const FACE_PATH: &str = "builtin:face";
 
-/// Jaw rotation in degrees per unit of jaw activation: 4.0 turns the jaw 14 degrees, which
-/// opens the mouth about 20 mm at the lips, a wide but natural opening.
-pub const JAW_DEGREES_PER_UNIT: f32 = 3.5;
+/// Jaw rotation in degrees per unit of jaw activation: 4.0 turns the jaw 25 degrees, which
+/// with the condyle's slide opens the mouth about 45 mm at the lips (an adult's widest
+/// opening is 40 to 55 mm between the incisors); 2.0 drops the lower incisors about 18 mm.
+pub const JAW_DEGREES_PER_UNIT: f32 = 6.25;
 
 /// The condyle: height above the nasion (mm) and distance in front of the tragion (mm), just
 /// in front of the tragus at the height of the ala-tragus line.
 pub const CONDYLE_MM: (f64, f64) = (-38.0, 8.0);
 
 /// How far the condyle slides forward and down the articular eminence per degree of jaw
-/// turn (mm): about 15 mm over a full opening of about 30 degrees.
-pub const CONDYLE_SLIDE_MM_PER_DEGREE: f64 = 0.5;
+/// turn (mm): about 19 mm over the widest opening of 25 degrees (adults: 15 to 20 mm).
+pub const CONDYLE_SLIDE_MM_PER_DEGREE: f64 = 0.75;
 
-/// The slope of the articular eminence below the horizontal (degrees).
-pub const EMINENCE_SLOPE_DEGREES: f64 = 35.0;
+/// The slope of the condyle's path below the horizontal (degrees): the articular eminence
+/// is steeper, but the condyle rides onto its crest and the path flattens as it goes.
+pub const EMINENCE_SLOPE_DEGREES: f64 = 30.0;
 
-/// Where the jaw turns (height above the nasion and distance in front of the tragion, mm).
-///
-/// Not the condyle itself: a real jaw turns and its condyle slides forward and down the
-/// articular eminence in proportion to the angle. A turn by a small angle `a` about the
-/// condyle `C` plus a slide `a t` is, to first order, a turn by `a` about
-/// `C + (-t_z, t_y)` in (height, depth): the instantaneous centre of rotation, below and
-/// behind the condyle. Turning about it moves the chin mostly down and a little back, as a
-/// jaw drop does; about the condyle it would move back as much as down.
-pub fn jaw_pivot_mm() -> (f64, f64) {
-    let per_radian = CONDYLE_SLIDE_MM_PER_DEGREE * 180.0 / std::f64::consts::PI;
+/// The jaw's slide per degree of turn (mm, as (down, forward)): the condyle glides forward
+/// and down the articular eminence while the jaw turns about it, so the chin moves mostly
+/// down; about the condyle alone it would move back almost as much as down.
+pub fn jaw_slide_mm() -> (f64, f64) {
     let slope = EMINENCE_SLOPE_DEGREES.to_radians();
-    let (down, forward) = (per_radian * slope.sin(), per_radian * slope.cos());
-    (CONDYLE_MM.0 - forward, CONDYLE_MM.1 - down)
+    (
+        CONDYLE_SLIDE_MM_PER_DEGREE * slope.sin(),
+        CONDYLE_SLIDE_MM_PER_DEGREE * slope.cos(),
+    )
 }
 
 /// Why a rig cannot be placed on a mesh.
@@ -665,22 +663,31 @@ impl Placer<'_> {
         })
     }
 
-    /// The jaw: a pivot at the temporomandibular joint and weights over the lower face.
+    /// The jaw: a turn about the condyles with their slide down the articular eminence, and
+    /// weights over the lower face and the parts of the mouth that the mandible carries.
     fn jaw(&self) -> Result<Jaw, PlacementError> {
         let corner = self.landmark("left_mouth_corner")?;
         let upper = self.landmark("upper_lip_centre")?;
         let lower = self.landmark("lower_lip_centre")?;
         let mouth_y = 0.5 * (upper.y + lower.y);
-        let weights = jaw_weights(&self.mesh.positions, mouth_y, corner.x);
+        let skin = super::groups::skin_len(self.mesh);
+        let mut weights = jaw_weights(&self.mesh.positions[..skin], mouth_y, corner.x);
+        weights.extend(
+            super::groups::jaw_parts(self.mesh)
+                .into_iter()
+                .map(|v| (v, 1.0)),
+        );
+        let (down, forward) = jaw_slide_mm();
         Ok(Jaw {
             axis: glam::Vec3::X,
             pivot: rounded(Vec3::new(
                 0.0,
-                y_units(jaw_pivot_mm().0) as f32,
-                units(-HEAD_DEPTH + jaw_pivot_mm().1) as f32,
+                y_units(CONDYLE_MM.0) as f32,
+                units(-HEAD_DEPTH + CONDYLE_MM.1) as f32,
             )),
             degrees_per_unit: JAW_DEGREES_PER_UNIT,
             weights,
+            slide: Vec3::new(0.0, -units(down) as f32, units(forward) as f32),
         })
     }
 }

@@ -20,6 +20,22 @@ use crate::model::{Jaw, Mesh};
 /// fractions of the landmarks' spread.
 const FADE: (f64, f64) = (0.08, 0.2);
 
+/// The jaw's slide per degree on the fitted mesh: the template's slide carried by the warp's
+/// local linear part `j` at the pivot (so a larger head slides further), kept in the plane
+/// the jaw turns in (perpendicular to the carried axis `axis`): the condyles glide in the
+/// sagittal plane, and a slide across it would make a symmetric jaw drop lopsided.
+pub fn carried_slide(jaw: &Jaw, j: glam::DMat3, axis: Vec3) -> Vec3 {
+    if jaw.slide == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let carried = j * jaw.slide.as_dvec3();
+    let axis = axis.as_dvec3().normalize_or_zero();
+    let planar = carried - axis * carried.dot(axis);
+    let planar = planar.as_vec3();
+    // an axis snapped to a coordinate axis leaves that coordinate exactly zero
+    Vec3::select(axis.as_vec3().abs().cmpeq(Vec3::ONE), Vec3::ZERO, planar)
+}
+
 /// The jaw weights of `mesh`, sorted by vertex, zeros left out.
 pub fn weights(
     template: Template<'_>,

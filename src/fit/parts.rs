@@ -6,7 +6,10 @@
 //! - skin is every piece (connected component) that holds a landmark, and, when the mesh has
 //!   named groups, only the groups that hold a landmark;
 //! - everything else is a rigid part; a part named like lower teeth or a tongue, or a piece
-//!   inside the mouth below the lip line, turns with the jaw; the rest keeps still.
+//!   inside the mouth below the lip line, turns with the jaw; the rest keeps still;
+//! - a group named like the mouth's parts but for neither jaw (`teeth`, `Mouth_Teeth_Tongue`,
+//!   one material for all of them) is split into its connected pieces, and each piece turns
+//!   with the jaw when its centre lies below the occlusal plane ([`MouthTest`]).
 //!
 //! `--skin GROUP` and `--rigid GROUP` override the choice for whole groups.
 
@@ -14,7 +17,7 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::landmarks::{FaceFrame, INNER_LOWER, INNER_UPPER, MOUTH_CORNERS};
+use super::landmarks::{FaceFrame, CHIN, INNER_LOWER, INNER_UPPER, MOUTH_CORNERS};
 use crate::model::Mesh;
 
 /// What a vertex is for fitting.
@@ -86,6 +89,20 @@ fn rigid_name(name: &str) -> bool {
         return false;
     }
     RIGID_WORDS.iter().any(|w| lower.contains(w))
+}
+
+/// True when a rigid group's name says it holds the mouth's parts without saying which jaw
+/// they belong to (`teeth`, `gums`, `mouth`, `teeth_tongue`, but not `upper_teeth` or a
+/// lone `tongue`): its pieces are sorted by the occlusal plane.
+fn mixed_mouth_name(name: &str) -> bool {
+    let lower = name.to_ascii_lowercase();
+    let mouth = ["teeth", "tooth", "gum", "mouth"]
+        .iter()
+        .any(|w| lower.contains(w));
+    let sided = ["upper", "lower", "top", "bottom", "interior"]
+        .iter()
+        .any(|w| lower.contains(w));
+    mouth && !sided
 }
 
 /// True when a rigid part's name says it turns with the jaw (lower teeth, lower gums, tongue).
@@ -166,9 +183,40 @@ pub fn find_parts(
     // group follows its pieces.
     for (name, members) in mesh.groups.iter().filter(|(_, m)| !m.is_empty()) {
         let holds_landmark = members.iter().any(|&v| marked[v as usize]);
+        let forced_rigid = overrides.rigid.iter().any(|g| g == name);
+        let split = mixed_mouth_name(name)
+            && !overrides.skin.iter().any(|g| g == name)
+            && (forced_rigid || !holds_landmark);
+        if let (true, Some(mouth)) = (split, &mouth) {
+            for &v in members {
+                grouped[v as usize] = true;
+            }
+            let reason = if forced_rigid {
+                "--rigid"
+            } else {
+                "occlusal plane"
+            };
+            for (k, piece) in split_pieces(members, &component).iter().enumerate() {
+                let part = if mouth.below_occlusal_plane(mesh, piece) {
+                    Part::Jaw
+                } else {
+                    Part::Still
+                };
+                for &v in piece {
+                    of_vertex[v as usize] = part;
+                }
+                choices.push(PartChoice {
+                    name: format!("{name} piece {}", k + 1),
+                    vertices: piece.len(),
+                    part,
+                    reason,
+                });
+            }
+            continue;
+        }
         let (part, reason) = if overrides.skin.iter().any(|g| g == name) {
             (Some(Part::Skin), "--skin")
-        } else if overrides.rigid.iter().any(|g| g == name) {
+        } else if forced_rigid {
             let jaw = jaw_name(name)
                 || mouth
                     .as_ref()
@@ -235,6 +283,18 @@ pub fn find_parts(
     Parts { of_vertex, choices }
 }
 
+/// A group's vertices split by the connected piece each lies on, pieces in order of their
+/// first vertex.
+fn split_pieces(members: &[u32], component: &[u32]) -> Vec<Vec<u32>> {
+    let mut pieces: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for &v in members {
+        pieces.entry(component[v as usize]).or_default().push(v);
+    }
+    let mut out: Vec<Vec<u32>> = pieces.into_values().collect();
+    out.sort_by_key(|p| p[0]);
+    out
+}
+
 /// The most common part among some vertices.
 fn majority(parts: impl Iterator<Item = Part>) -> Part {
     let mut counts = [0usize; 3];
@@ -247,13 +307,24 @@ fn majority(parts: impl Iterator<Item = Part>) -> Part {
         .unwrap_or(Part::Skin)
 }
 
-/// Decides whether an unnamed piece sits inside the mouth below the lip line (lower teeth,
-/// tongue): its centre lies between the mouth corners, behind the lips and below the inner
-/// lip line, within a mouth's height of it.
+/// Decides whether a piece sits inside the mouth below the lip line (lower teeth, tongue):
+/// its centre lies between the mouth corners, behind the lips and below the occlusal plane,
+/// within a mouth's height of it.
+///
+/// The occlusal plane passes through the lip line (the inner lip landmarks 60-67, where the
+/// teeth meet behind closed lips) across the face; its normal is the face's vertical from
+/// the chin (8) to the eyes, made perpendicular to the left-right axis. Not the direction
+/// from the mouth to the eyes: the eyes lie behind the lips, so that leans back, and not the
+/// chin-to-lips direction, which leans forward with the chin; over the 30 mm the teeth reach
+/// back, a lean of 10 degrees moves the plane 5 mm, about the depth of a crown.
 struct MouthTest {
     frame: FaceFrame,
     centre: DVec3,
     half_width: f64,
+    /// Normal of the occlusal plane (through `centre`).
+    occlusal_up: DVec3,
+    /// Into the face along the plane, perpendicular to the left-right axis.
+    occlusal_back: DVec3,
 }
 
 impl MouthTest {
@@ -267,28 +338,52 @@ impl MouthTest {
             .sum::<DVec3>())
             / (INNER_UPPER.len() + INNER_LOWER.len()) as f64;
         let half_width = 0.5 * p(MOUTH_CORNERS[0]).distance(p(MOUTH_CORNERS[1]));
+        let eyes = (36..48).map(p).sum::<DVec3>() / 12.0;
+        let rise = eyes - p(CHIN);
+        let rise = rise - frame.lateral * rise.dot(frame.lateral);
+        let occlusal_up = rise.try_normalize().unwrap_or(frame.up);
+        let occlusal_back = -occlusal_up.cross(frame.lateral).normalize_or_zero()
+            * occlusal_up.cross(frame.lateral).dot(frame.forward).signum();
         Some(MouthTest {
             frame,
             centre,
             half_width,
+            occlusal_up,
+            occlusal_back,
         })
+    }
+
+    /// The centre of `members` relative to the lip line: (across, up from the occlusal plane,
+    /// back into the face).
+    fn local(&self, mesh: &Mesh, members: &[u32]) -> DVec3 {
+        let mean = members
+            .iter()
+            .map(|&v| mesh.positions[v as usize].as_dvec3())
+            .sum::<DVec3>()
+            / members.len().max(1) as f64;
+        let d = mean - self.centre;
+        DVec3::new(
+            d.dot(self.frame.lateral),
+            d.dot(self.occlusal_up),
+            d.dot(self.occlusal_back),
+        )
+    }
+
+    /// True when the centre of `members` lies below the occlusal plane (on the chin's side).
+    fn below_occlusal_plane(&self, mesh: &Mesh, members: &[u32]) -> bool {
+        self.local(mesh, members).y < 0.0
     }
 
     fn turns_with_jaw(&self, mesh: &Mesh, members: &[u32]) -> bool {
         if members.is_empty() {
             return false;
         }
-        let mean = members
-            .iter()
-            .map(|&v| mesh.positions[v as usize].as_dvec3())
-            .sum::<DVec3>()
-            / members.len() as f64;
-        let local = self.frame.local(self.centre, mean);
+        let local = self.local(mesh, members);
         local.x.abs() < 1.2 * self.half_width
             && local.y < 0.0
             && local.y > -1.5 * self.half_width
-            && local.z < 0.0
-            && local.z > -3.0 * self.half_width
+            && local.z > 0.0
+            && local.z < 3.0 * self.half_width
     }
 }
 
@@ -314,6 +409,18 @@ mod tests {
         assert!(jaw_name("Tongue"));
         assert!(!jaw_name("helper-upper-teeth"));
         assert!(!jaw_name("helper-l-eye"));
+        for name in ["teeth", "Mouth_Teeth_Tongue", "material:TeethGums", "mouth"] {
+            assert!(mixed_mouth_name(name), "{name}");
+        }
+        for name in [
+            "upper_teeth",
+            "lower_gum",
+            "tongue",
+            "helper-l-eye",
+            "mouth_interior",
+        ] {
+            assert!(!mixed_mouth_name(name), "{name}");
+        }
     }
 
     #[test]

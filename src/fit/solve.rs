@@ -277,6 +277,8 @@ struct Problem {
     pivot: DVec3,
     axis: DVec3,
     radians_per_unit: f64,
+    /// The jaw's slide per unit of activation (`Jaw::slide` times its degrees per unit).
+    slide_per_unit: DVec3,
 }
 
 impl Problem {
@@ -317,13 +319,14 @@ impl Problem {
                 entries: row_entries,
             });
         }
-        let (pivot, axis, radians_per_unit) = match &rig.jaw {
+        let (pivot, axis, radians_per_unit, slide_per_unit) = match &rig.jaw {
             Some(j) => (
                 j.pivot.as_dvec3(),
                 j.axis.as_dvec3().normalize_or(DVec3::X),
                 f64::from(j.degrees_per_unit).to_radians(),
+                j.slide.as_dvec3() * f64::from(j.degrees_per_unit),
             ),
-            None => (DVec3::ZERO, DVec3::X, 0.0),
+            None => (DVec3::ZERO, DVec3::X, 0.0, DVec3::ZERO),
         };
         Problem {
             rows,
@@ -333,6 +336,7 @@ impl Problem {
             pivot,
             axis,
             radians_per_unit,
+            slide_per_unit,
         }
     }
 
@@ -406,7 +410,8 @@ impl Problem {
         for row in &self.rows {
             let w = row.jaw;
             let blend = |p: DVec3| p + (rotation * p - p) * w;
-            let base = self.pivot + blend(row.rest - self.pivot) - row.rest;
+            let slide = self.slide_per_unit * (k * w);
+            let base = self.pivot + blend(row.rest - self.pivot) + slide - row.rest;
             let r0 = row.target - base;
             constant += r0.length_squared();
             columns.clear();

@@ -407,6 +407,7 @@ fn carry_jaw(
         degrees_per_unit: jaw.degrees_per_unit,
         weights,
         axis,
+        slide: super::jaw::carried_slide(jaw, j, axis),
     }
 }
 

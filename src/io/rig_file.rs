@@ -244,6 +244,7 @@ pub fn upgrade_v1(rig: &mut Rig, builtin: BuiltinMeshes) -> String {
         // A reflection reverses the sense of a turn: turning by an angle about the axis
         // becomes turning by the same angle about minus the reflected axis.
         jaw.axis = -mirror_x(jaw.axis);
+        jaw.slide = mirror_x(jaw.slide);
         if let Some(mesh) = &mesh {
             jaw.weights = mirrored_weights(&jaw.weights, mesh);
         }
@@ -432,6 +433,7 @@ pub fn rig_to_ron(rig: &Rig) -> String {
         degrees_per_unit,
         weights,
         axis,
+        slide,
     }) = jaw
     {
         out.push_str("    jaw: (\n");
@@ -443,6 +445,9 @@ pub fn rig_to_ron(rig: &Rig) -> String {
             "        degrees_per_unit: {},\n",
             float(*degrees_per_unit)
         ));
+        if *slide != Vec3::ZERO {
+            out.push_str(&format!("        slide: {},\n", point(*slide)));
+        }
         out.push_str("        weights: [\n");
         // Six `(vertex, weight)` pairs per line keep a dense jaw readable.
         for chunk in weights.chunks(6) {
@@ -570,6 +575,9 @@ struct JawFile {
     weights: Vec<(u32, f32)>,
     #[serde(default = "crate::model::jaw::x_axis_p3")]
     axis: P3,
+    /// The slide per degree; absent in files written before it (a pure turn).
+    #[serde(default)]
+    slide: P3,
 }
 
 /// A sphincter's frame: both directions are required when the field is written.
@@ -614,6 +622,7 @@ impl RigFile {
                 degrees_per_unit: j.degrees_per_unit,
                 weights: j.weights,
                 axis: Vec3::from(j.axis),
+                slide: Vec3::from(j.slide),
             }),
             masks: self
                 .masks

@@ -146,6 +146,8 @@ struct BoundJaw {
     /// Unit axis of the turn; exactly `Vec3::X` for the usual jaw.
     axis: Vec3,
     radians_per_unit: f64,
+    /// Translation per unit of activation (the slide per degree times the degrees per unit).
+    slide_per_unit: Vec3,
     /// Jaw vertices with a non-zero weight, sorted.
     vertices: Vec<u32>,
     weights: Vec<f32>,
@@ -156,7 +158,7 @@ struct BoundJaw {
 /// Marks a vertex that no muscle moves (it has no CSR row).
 const NO_ROW: u32 = u32::MAX;
 
-/// The rotation of one deformation: `cos` and `sin` of the jaw angle.
+/// The jaw motion of one deformation: `cos` and `sin` of the jaw angle, and the slide.
 #[derive(Debug, Clone, Copy)]
 struct JawTurn {
     pivot: Vec3,
@@ -164,16 +166,18 @@ struct JawTurn {
     sin: f32,
     /// The rotation matrix when the axis is not the x axis.
     general: Option<glam::Mat3>,
+    /// The translation after the turn; `None` for the paper's pure rotation, which keeps
+    /// its arithmetic bit for bit.
+    shift: Option<Vec3>,
 }
 
 impl JawTurn {
-    /// Eqs. 16-19: rotate `p` about the x axis through the pivot, then blend by `weight`.
-    /// A jaw with another axis turns about it instead.
+    /// Eqs. 16-19: rotate `p` about the x axis through the pivot, slide it, then blend by
+    /// `weight`. A jaw with another axis turns about it instead.
     #[inline]
     fn apply(&self, p: Vec3, weight: f32) -> Vec3 {
-        if let Some(rotation) = &self.general {
-            let turned = self.pivot + *rotation * (p - self.pivot);
-            return turned * weight + p * (1.0 - weight);
+        if self.general.is_some() || self.shift.is_some() {
+            return self.apply_general(p, weight);
         }
         let y = p.y - self.pivot.y;
         let z = p.z - self.pivot.z;
@@ -181,6 +185,21 @@ impl JawTurn {
         let rz = self.pivot.z + (self.sin * y + self.cos * z);
         let keep = 1.0 - weight;
         Vec3::new(p.x, ry * weight + p.y * keep, rz * weight + p.z * keep)
+    }
+
+    /// A turn about any axis and the slide after it, blended by `weight`.
+    fn apply_general(&self, p: Vec3, weight: f32) -> Vec3 {
+        let d = p - self.pivot;
+        let turned = match &self.general {
+            Some(rotation) => *rotation * d,
+            None => Vec3::new(
+                d.x,
+                self.cos * d.y - self.sin * d.z,
+                self.sin * d.y + self.cos * d.z,
+            ),
+        };
+        let moved = self.pivot + turned + self.shift.unwrap_or(Vec3::ZERO);
+        moved * weight + p * (1.0 - weight)
     }
 }
 
@@ -331,10 +350,11 @@ impl BoundRig {
         if let Some(jaw) = &self.jaw {
             let angle = (4.0 * jaw.radians_per_unit.abs()).min(std::f64::consts::PI);
             let chord = 2.0 * (angle / 2.0).sin();
+            let slide = 4.0 * jaw.slide_per_unit.length();
             for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
                 let r = &mut reach[v as usize];
                 let far = (self.rest[v as usize] - jaw.pivot).length() + *r;
-                *r += w * (chord as f32) * far;
+                *r += w * ((chord as f32) * far + slide);
             }
             jaw_moved = jaw.vertices.clone();
         }
@@ -751,6 +771,7 @@ impl BoundRig {
             sin: angle.sin() as f32,
             general: (jaw.axis != Vec3::X)
                 .then(|| glam::Mat3::from_axis_angle(jaw.axis, angle as f32)),
+            shift: (jaw.slide_per_unit != Vec3::ZERO).then(|| jaw.slide_per_unit * k),
         })
     }
 }
@@ -823,6 +844,13 @@ fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
             value: jaw.axis.to_string(),
         });
     }
+    let slide_per_unit = jaw.slide * jaw.degrees_per_unit;
+    if !(slide_per_unit.is_finite() && slide_per_unit.as_dvec3().length() <= MAX_REACH) {
+        return Err(BindError::JawParameter {
+            parameter: "slide",
+            value: jaw.slide.to_string(),
+        });
+    }
     let mut weights = jaw.weights.clone();
     weights.sort_by_key(|&(v, _)| v);
     for pair in weights.windows(2) {
@@ -843,6 +871,7 @@ fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
         pivot: jaw.pivot,
         axis,
         radians_per_unit: (jaw.degrees_per_unit as f64).to_radians(),
+        slide_per_unit,
         vertices: weights.iter().map(|&(v, _)| v).collect(),
         weights: weights.iter().map(|&(_, w)| w).collect(),
         rows: Vec::new(),

@@ -1,14 +1,16 @@
-//! The jaw: a weighted rotation of the lower face about a pivot (MODEL-NOTES section 5).
+//! The jaw: a weighted rotation of the lower face about a pivot (MODEL-NOTES section 5), with
+//! an optional forward slide in proportion to the angle (the condyle's glide).
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 /// The jaw of a rig.
 ///
-/// Activation `K` (0.0 to 4.0) turns the jaw by `K * degrees_per_unit` degrees about `axis`
-/// (the x axis unless given) through `pivot`; positive angles open the mouth (the chin moves down and back). Each
-/// vertex's weight blends between its rotated and unrotated position, so the lip corners
-/// (weight 0) never tear.
+/// Activation `K` (0.0 to 4.0) turns the jaw by `theta = K * degrees_per_unit` degrees about
+/// `axis` (the x axis unless given) through `pivot`, then moves it by `theta * slide` (the
+/// temporomandibular joint's glide: the condyle slides forward and down the articular
+/// eminence as the mouth opens); positive angles open the mouth. Each vertex's weight blends
+/// between its moved and unmoved position, so the lip corners (weight 0) never tear.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Jaw {
     /// The point the jaw turns about (near the temporomandibular joint).
@@ -23,6 +25,15 @@ pub struct Jaw {
     /// mesh lies another way round.
     #[serde(default = "x_axis", skip_serializing_if = "is_x_axis")]
     pub axis: Vec3,
+    /// Translation per degree of turn (mesh units, mesh axes): the condyle's slide forward
+    /// and down as the jaw opens. Zero (the paper's pure rotation) unless given, so rig
+    /// files written before it load unchanged.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub slide: Vec3,
+}
+
+fn is_zero(v: &Vec3) -> bool {
+    *v == Vec3::ZERO
 }
 
 /// The jaw's axis in rigs that do not give one.

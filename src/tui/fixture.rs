@@ -79,6 +79,7 @@ pub(crate) fn app() -> App {
         ],
         jaw: Some(Jaw {
             axis: glam::Vec3::X,
+            slide: glam::Vec3::ZERO,
             pivot: Vec3::new(0.0, 0.0, -1.0),
             degrees_per_unit: 1.0,
             weights: vec![(0, 1.0), (1, 1.0)],

@@ -157,10 +157,24 @@ fn eyes_and_teeth_stay_out_of_the_skin_muscles_and_lower_teeth_turn_with_the_jaw
         "{:?}",
         fitted.parts.choices
     );
-    // the face's own eyeballs, after its skin, are still parts too
+    // the face's own eyeballs and upper teeth, after its skin, are still parts too; its lower
+    // teeth, lower gum and tongue (unnamed pieces below the lip line) turn with the jaw
     let skin = grimace::face::groups::skin_len(&template_mesh);
     assert!((0..skin).all(|v| parts[v] == Part::Skin));
-    assert!((skin..template_mesh.vertex_count()).all(|v| parts[v] == Part::Still));
+    let jaw_parts = grimace::face::groups::jaw_parts(&template_mesh);
+    for (v, part) in parts
+        .iter()
+        .enumerate()
+        .take(template_mesh.vertex_count())
+        .skip(skin)
+    {
+        let expected = if jaw_parts.contains(&(v as u32)) {
+            Part::Jaw
+        } else {
+            Part::Still
+        };
+        assert_eq!(*part, expected, "vertex {v}: {:?}", fitted.parts.choices);
+    }
 
     let bound = BoundRig::bind(&fitted.rig, &mesh).unwrap();
     let table = builtin::default_table();
@@ -199,4 +213,103 @@ fn eyes_and_teeth_stay_out_of_the_skin_muscles_and_lower_teeth_turn_with_the_jaw
         .sum::<f32>()
         / lower.len() as f32;
     assert!(drop < -2.0, "lower teeth moved {drop} mm along z");
+}
+
+/// A head whose teeth, gums and tongue are one group (one material, as many scans have
+/// them): the built-in face in millimetres with its mouth parts merged. Fitting splits the
+/// group into pieces and sorts them by the occlusal plane: at AU26 the lower teeth follow the
+/// chin down and the upper teeth stay where they are.
+#[test]
+fn one_group_of_teeth_gums_and_tongue_is_split_at_the_occlusal_plane() {
+    use grimace::face::mouth::MouthPart;
+    let template_mesh = builtin::default_mesh();
+    let rig = builtin::default_rig();
+    let landmarks = builtin::landmarks("face").unwrap();
+    let points = landmarks.positions(&template_mesh).unwrap();
+    let table = builtin::default_table();
+    let group = |part: MouthPart| template_mesh.groups[part.group()].clone();
+    let upper = group(MouthPart::UpperTeeth);
+    let lower = group(MouthPart::LowerTeeth);
+    // the names of one part for all: one says tongue (so all of it turned with the jaw),
+    // the other says nothing of a jaw (so all of it stayed still)
+    for name in ["TeethGumsTongue", "material:Teeth"] {
+        let mut mesh = template_mesh.clone();
+        for p in &mut mesh.positions {
+            *p *= 11.5;
+        }
+        let merged: Vec<u32> = MouthPart::ALL
+            .into_iter()
+            .filter(|p| *p != MouthPart::Interior)
+            .flat_map(|p| template_mesh.groups[p.group()].clone())
+            .collect();
+        let interior = group(MouthPart::Interior);
+        let skin_len = grimace::face::groups::skin_len(&template_mesh) as u32;
+        mesh.groups = [
+            ("Head".to_string(), (0..skin_len).collect::<Vec<u32>>()),
+            (
+                "Eyes".to_string(),
+                grimace::face::groups::still_vertices(&template_mesh),
+            ),
+            (name.to_string(), merged),
+            ("mouth_interior".to_string(), interior),
+        ]
+        .into_iter()
+        .map(|(k, mut v)| {
+            v.sort_unstable();
+            (k, v)
+        })
+        .collect();
+        let fitted = fit_rig(
+            Template {
+                rig: &rig,
+                mesh: &template_mesh,
+                landmarks: &points,
+            },
+            &mesh,
+            &landmarks,
+            "head.obj".into(),
+            &PartOverrides::default(),
+        )
+        .unwrap();
+        let parts = &fitted.parts.of_vertex;
+        let choices = &fitted.parts.choices;
+        assert!(
+            upper.iter().all(|&v| parts[v as usize] == Part::Still),
+            "{name}: {choices:?}"
+        );
+        assert!(
+            lower.iter().all(|&v| parts[v as usize] == Part::Jaw),
+            "{name}: {choices:?}"
+        );
+        assert!(
+            choices
+                .iter()
+                .any(|c| c.name.starts_with(name) && c.reason == "occlusal plane"),
+            "{name}: {choices:?}"
+        );
+        let bound = BoundRig::bind(&fitted.rig, &mesh).unwrap();
+        let act = table
+            .entry_activations(&"26".parse().unwrap(), &fitted.rig)
+            .unwrap();
+        let mut out = Vec::new();
+        bound.deform(&act, &mut out).unwrap();
+        for &v in &upper {
+            assert_eq!(
+                out[v as usize], mesh.positions[v as usize],
+                "{name}: upper tooth {v} moved"
+            );
+        }
+        let chin = template_mesh.groups["chin"][0] as usize;
+        let chin_drop = mesh.positions[chin].y - out[chin].y;
+        let teeth_drop = lower
+            .iter()
+            .map(|&v| mesh.positions[v as usize].y - out[v as usize].y)
+            .sum::<f32>()
+            / lower.len() as f32;
+        assert!(chin_drop > 10.0, "{name}: the chin drops {chin_drop} mm");
+        assert!(
+            teeth_drop > 0.6 * chin_drop,
+            "{name}: the lower teeth drop {teeth_drop} mm, the chin {chin_drop} mm"
+        );
+    }
 }

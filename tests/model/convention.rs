@@ -162,12 +162,17 @@ fn a_version_1_rig_on_the_built_in_face_is_mirrored_on_load() {
     assert!(notice.contains("rig version 1 converted"), "{notice}");
     assert_eq!(old.rig.version, RIG_VERSION);
     let mut current = builtin::default_rig();
-    // the mouth sphincter's bulge has changed since that file was written (a stronger pucker);
-    // the conversion is about positions, so compare with the bulge the file has
+    // the mouth sphincter's bulge and the jaw's joint have changed since that file was
+    // written (a stronger pucker, a jaw that slides); the conversion is about positions, so
+    // compare with the bulge and the jaw's turn the file has
     for (now, then) in current.muscles.iter_mut().zip(&old.rig.muscles) {
         if let (MuscleKind::Sphincter(a), MuscleKind::Sphincter(b)) = (&mut now.kind, &then.kind) {
             a.bulge = b.bulge;
         }
+    }
+    if let (Some(now), Some(then)) = (&mut current.jaw, &old.rig.jaw) {
+        (now.pivot, now.degrees_per_unit, now.slide) =
+            (then.pivot, then.degrees_per_unit, then.slide);
     }
     let mesh = builtin::default_mesh();
     assert_eq!(old.mesh.positions, mesh.positions);

@@ -53,11 +53,14 @@ fn the_skin_and_its_vertex_numbers_are_unchanged() {
         "the first {SKIN_VERTICES} vertices or {SKIN_TRIANGLES} triangles changed"
     );
     let eyes = eyeball_vertices(&mesh);
-    assert_eq!(eyes.len(), mesh.vertex_count() - SKIN_VERTICES);
+    assert_eq!(eyes.len(), 2 * EYEBALL.vertex_count());
     assert_eq!(
         eyes[0] as usize, SKIN_VERTICES,
         "eyeballs come after the skin"
     );
+    // then the mouth's parts, up to the last vertex
+    let rigid = groups::rigid_vertices(&mesh);
+    assert_eq!(rigid.len(), mesh.vertex_count() - SKIN_VERTICES);
 }
 
 #[test]
@@ -304,13 +307,18 @@ fn fitting_keeps_the_eyeballs_still() {
     let landmarks = builtin::landmarks("face").expect("default landmarks");
     let vertices = landmarks.vertices(&mesh);
     let points = landmarks.positions(&mesh).expect("landmarks on the mesh");
-    let eyes = eyeball_vertices(&mesh);
+    let rigid = groups::rigid_vertices(&mesh);
+    let jaw = groups::jaw_parts(&mesh);
     let mut unnamed = mesh.clone();
     unnamed.groups.clear();
     for m in [&mesh, &unnamed] {
         let parts = find_parts(m, &vertices, &points, &PartOverrides::default());
         for (v, part) in parts.of_vertex.iter().enumerate() {
-            let expected = if eyes.contains(&(v as u32)) {
+            let v32 = v as u32;
+            // the mouth's lower parts turn with the jaw, the other rigid parts stay
+            let expected = if jaw.contains(&v32) {
+                Part::Jaw
+            } else if rigid.contains(&v32) {
                 Part::Still
             } else {
                 Part::Skin
@@ -326,11 +334,12 @@ fn fitting_keeps_the_eyeballs_still() {
 fn a_rig_file_without_the_eyeball_mask_keeps_them_still() {
     let mesh = builtin::default_mesh();
     let eyes = eyeball_vertices(&mesh);
+    let rigid = groups::rigid_vertices(&mesh);
     let mut old = builtin::default_rig();
     old.masks.retain(|m| {
         !m.weights
             .iter()
-            .any(|(v, _)| eyes.contains(v) && m.weights.len() == eyes.len())
+            .any(|(v, _)| eyes.contains(v) && m.weights.len() == rigid.len())
     });
     assert!(
         old.masks.len() < builtin::default_rig().masks.len(),

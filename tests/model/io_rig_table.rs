@@ -74,6 +74,7 @@ fn sample_rig() -> Rig {
         ],
         jaw: Some(Jaw {
             axis: glam::Vec3::X,
+            slide: glam::Vec3::ZERO,
             pivot: Vec3::new(0.0, -1.0, 2.0),
             degrees_per_unit: 1.0,
             weights: (0..14).map(|v| (v, v as f32 / 13.0)).collect(),
@@ -143,6 +144,28 @@ fn rig_round_trips_exactly_and_reads_well() {
         ),
         "{text}"
     );
+    // no slide is written for the paper's pure turn
+    assert!(!text.contains("slide"), "{text}");
+}
+
+/// A jaw's slide is written and read back exactly; a file without one (every file written
+/// before it existed) reads as the pure turn.
+#[test]
+fn the_jaw_slide_round_trips_and_defaults_to_none() {
+    let mut rig = sample_rig();
+    if let Some(jaw) = &mut rig.jaw {
+        jaw.slide = Vec3::new(0.0, -0.025, 0.0565);
+    }
+    let text = io::rig_to_ron(&rig);
+    assert!(
+        text.contains("        slide: (0.0, -0.025, 0.0565),\n"),
+        "{text}"
+    );
+    let back = io::parse_rig(&text, p()).unwrap();
+    assert_eq!(back, rig);
+    let old = io::rig_to_ron(&sample_rig());
+    let read = io::parse_rig(&old, p()).unwrap();
+    assert_eq!(read.jaw.map(|j| j.slide), Some(Vec3::ZERO));
 }
 
 #[test]

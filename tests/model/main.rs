@@ -20,6 +20,8 @@ mod fuzz_regressions;
 mod golden_linear;
 mod io_rig_table;
 mod io_waters;
+mod jaw_mouth;
+mod lids;
 mod openface_proptest;
 mod presets_builtin;
 mod presets_table;

@@ -168,6 +168,7 @@ fn symmetric_rig(combine: Combine) -> Rig {
         muscles,
         jaw: Some(Jaw {
             axis: glam::Vec3::X,
+            slide: glam::Vec3::ZERO,
             pivot: Vec3::new(0.0, 1.0, -2.0),
             degrees_per_unit: 3.0,
             weights,

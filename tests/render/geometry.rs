@@ -437,6 +437,7 @@ fn muscle_overlays_cover_every_muscle_and_the_jaw() {
         muscles: vec![linear, sphincter, sheet],
         jaw: Some(Jaw {
             axis: glam::Vec3::X,
+            slide: glam::Vec3::ZERO,
             pivot: Vec3::new(0.0, -0.2, -0.5),
             degrees_per_unit: 1.0,
             weights: vec![],

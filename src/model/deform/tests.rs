@@ -50,6 +50,7 @@ fn rig(muscles: Vec<Muscle>, jaw: Option<Jaw>) -> Rig {
 fn jaw(weight: f32) -> Jaw {
     Jaw {
         axis: glam::Vec3::X,
+        slide: glam::Vec3::ZERO,
         pivot: Vec3::ZERO,
         degrees_per_unit: 1.0,
         weights: vec![(2, weight)],
@@ -106,6 +107,7 @@ fn jaw_turns_the_post_muscle_position() {
     let mut r = rig(vec![linear("a")], None);
     r.jaw = Some(Jaw {
         axis: glam::Vec3::X,
+        slide: glam::Vec3::ZERO,
         pivot: Vec3::Y,
         degrees_per_unit: 90.0,
         weights: vec![(0, 1.0)],
@@ -122,6 +124,61 @@ fn jaw_turns_the_post_muscle_position() {
         "{}",
         out[0]
     );
+}
+
+/// The slide moves the jaw after the turn, in proportion to the angle and blended by the
+/// weight; `update_jaw` agrees with `deform` bit for bit; a bad slide is refused.
+#[test]
+fn jaw_slides_in_proportion_to_its_angle() {
+    let slide = Vec3::new(0.0, -0.01, 0.02);
+    let sliding = Jaw {
+        slide,
+        degrees_per_unit: 2.0,
+        ..jaw(0.5)
+    };
+    let bound = BoundRig::bind(&rig(vec![], Some(sliding.clone())), &mesh()).expect("binds");
+    let mut out = Vec::new();
+    let act = Activations {
+        muscles: vec![],
+        jaw: 3.0,
+    };
+    bound.deform(&act, &mut out).expect("in range");
+    // vertex 2 at (0, -8, 6), turned by 6 degrees about the origin, moved by 6 x slide,
+    // half of that motion kept (weight 0.5)
+    let p = Vec3::new(0.0, -8.0, 6.0);
+    let (sin, cos) = 6.0f32.to_radians().sin_cos();
+    let turned = Vec3::new(0.0, cos * p.y - sin * p.z, sin * p.y + cos * p.z) + 6.0 * slide;
+    let want = p + 0.5 * (turned - p);
+    assert!((out[2] - want).length() < 1e-5, "{} vs {want}", out[2]);
+    let mut partial = mesh().positions;
+    bound.update_jaw(&act, &mut partial).expect("in range");
+    assert_eq!(partial, out);
+    // no slide: exactly the paper's turn
+    let pure = BoundRig::bind(
+        &rig(
+            vec![],
+            Some(Jaw {
+                slide: Vec3::ZERO,
+                ..sliding.clone()
+            }),
+        ),
+        &mesh(),
+    )
+    .expect("binds");
+    let mut turned_only = Vec::new();
+    pure.deform(&act, &mut turned_only).expect("in range");
+    assert!((out[2] - turned_only[2] - 0.5 * 6.0 * slide).length() < 1e-5);
+    let lost = Jaw {
+        slide: Vec3::new(f32::NAN, 0.0, 0.0),
+        ..sliding
+    };
+    assert!(matches!(
+        BoundRig::bind(&rig(vec![], Some(lost)), &mesh()),
+        Err(BindError::JawParameter {
+            parameter: "slide",
+            ..
+        })
+    ));
 }
 
 #[test]

@@ -249,9 +249,16 @@ impl Look<'_> {
     }
 }
 
-/// The tone of a vertex group's material by its name: irises are mid grey, pupils nearly
-/// black, everything else as lit.
-const TONES: [(&str, f32); 2] = [("pupil", 0.12), ("iris", 0.45)];
+/// The tone of a vertex group's material by its name: irises are mid grey, pupils and the
+/// inside of the mouth nearly black, the tongue and gums a little darker than skin and
+/// teeth, everything else as lit.
+const TONES: [(&str, f32); 5] = [
+    ("pupil", 0.12),
+    ("mouth_interior", 0.06),
+    ("iris", 0.45),
+    ("tongue", 0.6),
+    ("gum", 0.7),
+];
 
 /// Per-vertex tones from the mesh's named groups ([`TONES`]; the first name that matches
 /// wins), or nothing when no group names a dark material.
