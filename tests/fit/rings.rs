@@ -73,13 +73,14 @@ fn pucker_mm(rig: &Rig, mesh: &Mesh, vertices: &[u32]) -> f32 {
     travel / canthal * CANTHAL_MM
 }
 
-/// The built-in face with its lips parted by its own jaw (at 2.0: 7 degrees), no muscles.
+/// The built-in face with its lips parted by its own jaw (about 7 degrees), no muscles.
 fn open_mouth_face() -> Mesh {
     let mut mesh = builtin::default_mesh();
     let rig = builtin::default_rig();
     let bound = BoundRig::bind(&rig, &mesh).unwrap();
     let mut act = Activations::zero(&rig);
-    act.jaw = 2.0;
+    let degrees_per_unit = rig.jaw.as_ref().unwrap().degrees_per_unit;
+    act.jaw = 7.0 / degrees_per_unit;
     let mut moved = Vec::new();
     bound.deform(&act, &mut moved).unwrap();
     mesh.positions = moved;
