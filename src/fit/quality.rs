@@ -9,7 +9,9 @@
 //!   normal (a fold or a tear in the rendered surface).
 //! - **Stretch**: the largest ratio of a skin edge's deformed length to its rest length.
 //! - **Lid gap** (AU43 and AU45): the opening left between the upper and lower lid
-//!   landmarks (37/41, 38/40 on the subject's right eye, 43/47, 44/46 on the left), as a
+//!   landmarks (37/41, 38/40 on the subject's right eye, 43/47, 44/46 on the left), across
+//!   the eye (the part of their separation off the line through the eye's corners, so lids
+//!   that meet with their landmarks a little apart along the lid count as closed), as a
 //!   fraction of the rest opening; the largest pair counts.
 //! - **Jaw drop** (AU26 and AU27): how far the chin (landmark 8) and the lower lip
 //!   (landmark 57) travel down the face, the smaller of the two.
@@ -32,6 +34,9 @@ pub const MIN_JAW_DROP_MM: f32 = 15.0;
 
 /// Upper and lower lid landmark pairs: the subject's right eye, then the left.
 pub const LID_PAIRS: [[(usize, usize); 2]; 2] = [[(37, 41), (38, 40)], [(43, 47), (44, 46)]];
+
+/// The corners of each eye of [`LID_PAIRS`]: the subject's right eye, then the left.
+const EYE_CORNERS: [(usize, usize); 2] = [(36, 39), (42, 45)];
 
 /// Which eyes a lid measure looks at.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -279,24 +284,29 @@ impl Gauge {
 
     /// The largest lid opening left, as a fraction of its rest opening.
     fn lid_gap(&self, positions: &[Vec3], eyes: Eyes) -> f32 {
-        let pairs: &[[(usize, usize); 2]] = match eyes {
-            Eyes::Both => &LID_PAIRS,
-            Eyes::Right => &LID_PAIRS[..1],
-            Eyes::Left => &LID_PAIRS[1..],
+        let eyes: &[usize] = match eyes {
+            Eyes::Both => &[0, 1],
+            Eyes::Right => &[0],
+            Eyes::Left => &[1],
         };
-        pairs
-            .iter()
-            .flatten()
-            .filter_map(|&(upper, lower)| {
-                let rest = self
-                    .landmark(&self.rest, upper)
-                    .distance(self.landmark(&self.rest, lower));
-                let now = self
-                    .landmark(positions, upper)
-                    .distance(self.landmark(positions, lower));
-                (rest > 0.0).then_some(now / rest)
-            })
-            .fold(0.0f32, f32::max)
+        let mut worst = 0.0f32;
+        for &eye in eyes {
+            let (inner, outer) = EYE_CORNERS[eye];
+            // Across the eye: the separation off the corners' line, in each pose's own
+            // corners (the eye may move as a whole).
+            let across = |p: &[Vec3], upper: usize, lower: usize| {
+                let along = (self.landmark(p, outer) - self.landmark(p, inner)).normalize_or_zero();
+                let d = self.landmark(p, upper) - self.landmark(p, lower);
+                (d - along * d.dot(along)).length()
+            };
+            for &(upper, lower) in &LID_PAIRS[eye] {
+                let rest = across(&self.rest, upper, lower);
+                if rest > 0.0 {
+                    worst = worst.max(across(positions, upper, lower) / rest);
+                }
+            }
+        }
+        worst
     }
 
     /// How far the chin and the lower lip dropped down the face (mm), the smaller.
@@ -422,5 +432,27 @@ mod tests {
             },
         );
         assert!((open.jaw_drop_mm.unwrap() - 20.0).abs() < 1e-3, "{open:?}");
+    }
+
+    #[test]
+    fn lids_that_meet_a_little_apart_along_the_lid_count_as_closed() {
+        let (mesh, landmarks) = grid(10);
+        let gauge = Gauge::new(&mesh, &landmarks, Some(10.0)).unwrap();
+        let mut closed = mesh.positions.clone();
+        for (eye, pairs) in LID_PAIRS.iter().enumerate() {
+            let (inner, outer) = EYE_CORNERS[eye];
+            let at = |i: usize| mesh.positions[landmarks[i] as usize];
+            let along = (at(outer) - at(inner)).normalize_or_zero();
+            for &(upper, lower) in pairs {
+                // On the lower lid's line across the eye, half a unit along it.
+                closed[landmarks[upper] as usize] = at(lower) + along * 0.5;
+            }
+        }
+        let expect = Expect {
+            lids_close: Some(Eyes::Both),
+            jaw_opens: false,
+        };
+        let gap = gauge.measure(&closed, expect).lid_gap.unwrap();
+        assert!(gap < 1e-5, "{gap}");
     }
 }
