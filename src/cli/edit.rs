@@ -46,6 +46,9 @@ pub struct EditArgs {
     /// Braille, half-block or ASCII cells.
     #[command(flatten)]
     pub cells: super::CellsArgs,
+    /// Which way the face stands in its mesh (when the rig would guess wrong).
+    #[command(flatten)]
+    pub facing: super::FacingArgs,
     /// Colours: auto (from NO_COLOR, TERM, COLORTERM and the terminal's name), truecolor,
     /// 256, 16 or none. Over SSH COLORTERM is often lost; set this to what the terminal has.
     #[arg(long, value_name = "MODE", default_value = "auto", value_parser = parse_colors)]
@@ -100,7 +103,10 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
     }
-    let scene = Scene::new(rig, mesh)?;
+    let mut scene = Scene::new(rig, mesh)?;
+    if let Some(basis) = args.facing.basis().map_err(|e| e.to_string())? {
+        scene.face(basis);
+    }
     let mut app = App::new(scene, table, args.file.clone());
     app.doc.file_stamp = stamp;
     // Rig mode's `:w` writes the rig file back; the stamp notices changes made meanwhile.

@@ -100,7 +100,8 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
             inputs.check_output(&file)?;
             inputs.add("the landmark file", &file);
             inputs.check_output(&args.out)?;
-            let saved = super::landmarks::pick_landmarks(&args.mesh, &file, args.cells.mode())?;
+            let saved =
+                super::landmarks::pick_landmarks(&args.mesh, &file, args.cells.mode(), None)?;
             if !saved {
                 return Err(anyhow!(
                     "no landmarks were saved (:w saves them in the picker); no rig was fitted"

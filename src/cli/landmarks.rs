@@ -45,6 +45,9 @@ pub struct LandmarksArgs {
     /// Braille, half-block or ASCII cells.
     #[command(flatten)]
     pub cells: super::CellsArgs,
+    /// Which way the face stands in the mesh (when its shape would guess wrong).
+    #[command(flatten)]
+    pub facing: super::FacingArgs,
 }
 
 /// Runs `grimace landmarks`.
@@ -53,13 +56,22 @@ pub fn run(args: &LandmarksArgs) -> anyhow::Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| super::fit_rig::beside(&args.mesh));
-    pick_landmarks(&args.mesh, &out, args.cells.mode())?;
+    pick_landmarks(&args.mesh, &out, args.cells.mode(), args.facing.basis()?)?;
     Ok(())
 }
 
-/// Opens the picker on a mesh; `true` when the landmarks were saved to `out`.
-pub fn pick_landmarks(mesh_path: &Path, out: &Path, cells: CellMode) -> anyhow::Result<bool> {
+/// Opens the picker on a mesh, facing the way `facing` says (else as the mesh's shape
+/// suggests); `true` when the landmarks were saved to `out`.
+pub fn pick_landmarks(
+    mesh_path: &Path,
+    out: &Path,
+    cells: CellMode,
+    facing: Option<glam::Mat3>,
+) -> anyhow::Result<bool> {
     let (mut app, session) = prepare(mesh_path, out, cells)?;
+    if let Some(basis) = facing {
+        app.face(basis);
+    }
     pick::run(&mut app, &session)?;
     Ok(app.saved)
 }

@@ -56,6 +56,9 @@ pub struct EditorOptions {
     /// 256, 16 or none.
     #[arg(long, value_name = "MODE", default_value = "auto", value_parser = edit::parse_colors)]
     pub colors: edit::ColorsChoice,
+    /// Which way the face stands in its mesh (when the rig would guess wrong).
+    #[command(flatten)]
+    pub facing: FacingArgs,
 }
 
 impl EditorOptions {
@@ -67,8 +70,52 @@ impl EditorOptions {
             mesh: self.mesh.clone(),
             cells: self.cells,
             colors: self.colors,
+            facing: self.facing,
         }
     }
+}
+
+/// Which way the face stands in its mesh, when the rig (or the mesh's shape) would guess
+/// wrong: `--up AXIS` and `--front AXIS` (x, y, z, -x, -y, -z). Shared by `edit`, `render`
+/// and `landmarks`.
+#[derive(Debug, Clone, Copy, Default, clap::Args)]
+pub struct FacingArgs {
+    /// The mesh axis that is up on the face (e.g. z for a Blender export).
+    #[arg(long, value_name = "AXIS", value_parser = parse_axis, allow_hyphen_values = true)]
+    pub up: Option<glam::Vec3>,
+    /// The mesh axis the face looks along, out of the face (e.g. -y for a Blender export).
+    #[arg(long, value_name = "AXIS", value_parser = parse_axis, allow_hyphen_values = true)]
+    pub front: Option<glam::Vec3>,
+}
+
+impl FacingArgs {
+    /// The face's axes asked for, `None` when neither flag is given.
+    pub fn basis(&self) -> anyhow::Result<Option<glam::Mat3>> {
+        if self.up.is_none() && self.front.is_none() {
+            return Ok(None);
+        }
+        crate::render::framing::facing(self.up, self.front)
+            .map(Some)
+            .ok_or_else(|| {
+                anyhow::anyhow!("--up and --front must be two different axes at right angles")
+            })
+    }
+}
+
+/// Parses an axis: `x`, `y`, `z`, optionally with a sign.
+fn parse_axis(text: &str) -> Result<glam::Vec3, String> {
+    let t = text.trim().to_ascii_lowercase();
+    let (sign, name) = match t.strip_prefix('-') {
+        Some(rest) => (-1.0, rest),
+        None => (1.0, t.strip_prefix('+').unwrap_or(&t)),
+    };
+    let axis = match name {
+        "x" => glam::Vec3::X,
+        "y" => glam::Vec3::Y,
+        "z" => glam::Vec3::Z,
+        _ => return Err(format!("`{text}` is not an axis (x, y, z, -x, -y or -z)")),
+    };
+    Ok(axis * sign)
 }
 
 /// How the face's dots become characters: `--cells MODE`, with `--ascii` and `--half-block`

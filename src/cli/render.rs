@@ -106,6 +106,9 @@ pub struct RenderArgs {
     /// Braille, half-block or ASCII cells for text.
     #[command(flatten)]
     pub cells: super::CellsArgs,
+    /// Which way the face stands in its mesh (when the rig would guess wrong).
+    #[command(flatten)]
+    pub facing: super::FacingArgs,
     /// Colours of text output: auto (on a terminal, what NO_COLOR, TERM, COLORTERM and the
     /// terminal's name say it shows, as the editor reads them; none into a pipe or file),
     /// truecolor, 256 (greys from the 24-step ramp, dithered), 16 or none.
@@ -170,7 +173,8 @@ impl Look {
             bail!("--zoom {}: must be a positive number", args.zoom);
         }
         camera.zoom = args.zoom;
-        let framing = Framing::of_rig(&sources.rig.rig, &sources.rig.mesh);
+        let framing =
+            Framing::of_rig_facing(&sources.rig.rig, &sources.rig.mesh, args.facing.basis()?);
         camera.basis = framing.basis;
         let mode = args.cells.mode();
         let mut overlays = Vec::new();

@@ -53,10 +53,16 @@ impl Framing {
     /// The framing of a rigged mesh: axes from the sphincters' frames (the mouth's first),
     /// the face region from the muscles' points.
     pub fn of_rig(rig: &Rig, mesh: &Mesh) -> Framing {
-        let Some(axes) = face_axes(rig) else {
-            return Framing::of_mesh(mesh);
+        Framing::of_rig_facing(rig, mesh, None)
+    }
+
+    /// [`Framing::of_rig`] with the face's axes given (`--up`, `--front`; see
+    /// [`facing`]) instead of read from the rig.
+    pub fn of_rig_facing(rig: &Rig, mesh: &Mesh, given: Option<Mat3>) -> Framing {
+        let basis = match given.or_else(|| face_axes(rig).map(snap)) {
+            Some(basis) => basis,
+            None => return Framing::of_mesh(mesh),
         };
-        let basis = snap(axes);
         Framing {
             basis,
             focus: face_region(rig, mesh, basis),
@@ -115,6 +121,28 @@ impl Framing {
             1.0
         }
     }
+}
+
+/// The face's axes for a face whose up and front (out of the face) are the given mesh
+/// directions; either may be left out, and is then taken as the usual partner of the other
+/// (y up faces +z, z up faces -y, as glTF and Blender have it). `None` when the two are not
+/// at right angles or not unit axes.
+pub fn facing(up: Option<Vec3>, front: Option<Vec3>) -> Option<Mat3> {
+    let first_across = |given: Vec3, choices: [Vec3; 3]| {
+        choices
+            .into_iter()
+            .find(|c| c.dot(given).abs() < 1e-6)
+            .unwrap_or(Vec3::ZERO)
+    };
+    let (up, front) = match (up, front) {
+        (None, None) => return None,
+        (Some(up), Some(front)) => (up, front),
+        (Some(up), None) => (up, first_across(up, [Vec3::Z, -Vec3::Y, Vec3::X])),
+        (None, Some(front)) => (first_across(front, [Vec3::Y, Vec3::Z, Vec3::X]), front),
+    };
+    let across = up.cross(front);
+    (up.is_normalized() && front.is_normalized() && up.dot(front).abs() < 1e-6)
+        .then(|| Mat3::from_cols(across, up, front).transpose())
 }
 
 /// The face's axes (rows across, up, out) from the rig's sphincters, the mouth's first;
@@ -288,5 +316,31 @@ mod tests {
             focus.len()
         );
         assert_eq!(Framing::of_mesh(&mesh).basis, framing.basis);
+    }
+
+    #[test]
+    fn given_axes_turn_the_view_as_asked() {
+        assert_eq!(facing(None, None), None);
+        assert_eq!(facing(Some(Vec3::Y), None), Some(Mat3::IDENTITY));
+        let z_up = facing(Some(Vec3::Z), None).unwrap();
+        assert_eq!(z_up, Framing::of_mesh(&tall_in_z()).basis);
+        assert_eq!(facing(None, Some(-Vec3::Y)), Some(z_up));
+        assert_eq!(
+            facing(Some(Vec3::Z), Some(Vec3::Z)),
+            None,
+            "not at right angles"
+        );
+        let rig = builtin::default_rig();
+        let mesh = builtin::default_mesh();
+        let turned = Framing::of_rig_facing(&rig, &mesh, Some(z_up));
+        assert_eq!(turned.basis, z_up);
+    }
+
+    fn tall_in_z() -> Mesh {
+        let mut mesh = builtin::default_mesh();
+        for p in &mut mesh.positions {
+            *p = Vec3::new(p.x, -p.z, p.y);
+        }
+        mesh
     }
 }

@@ -47,6 +47,11 @@ impl Scene {
         &self.framing
     }
 
+    /// Shows the face with the axes given (`--up`, `--front`) instead of the rig's.
+    pub fn face(&mut self, basis: glam::Mat3) {
+        self.framing = Framing::of_rig_facing(self.rig(), &self.mesh, Some(basis));
+    }
+
     /// The rest mesh.
     pub fn mesh(&self) -> &Mesh {
         &self.mesh

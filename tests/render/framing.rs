@@ -177,3 +177,23 @@ fn a_fitted_z_up_bust_opens_upright_with_its_face_filling_the_view() {
     let (_, rotation, _) = doc.nodes().next().unwrap().transform().decomposed();
     assert_eq!(rotation, [0.0, 0.0, 0.0, 1.0]);
 }
+
+#[test]
+fn up_and_front_turn_render_and_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| grimace_in(dir.path(), args);
+    // The built-in face told it stands on z: the view turns (the text changes), and back on y
+    // it is the default view.
+    let default = run(&["render"]);
+    let on_y = run(&["render", "--up", "y", "--front", "z"]);
+    let on_z = run(&["render", "--up", "z"]);
+    assert!(default.status.success() && on_y.status.success() && on_z.status.success());
+    assert_eq!(default.stdout, on_y.stdout);
+    assert_ne!(default.stdout, on_z.stdout);
+    let bad = run(&["render", "--up", "z", "--front", "-z"]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("at right angles"));
+    let not_an_axis = run(&["render", "--up", "w"]);
+    assert_eq!(not_an_axis.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&not_an_axis.stderr).contains("is not an axis"));
+}

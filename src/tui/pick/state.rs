@@ -421,6 +421,12 @@ impl PickApp {
         self.rebuild_screen();
     }
 
+    /// Turns the view to the face's axes `basis` (`--up`, `--front`); `v` comes back to them.
+    pub fn face(&mut self, basis: glam::Mat3) {
+        self.camera.basis = basis;
+        self.view_changed();
+    }
+
     /// After the view changed: the cursor back on the vertex it held.
     fn view_changed(&mut self) {
         self.rebuild_screen();
