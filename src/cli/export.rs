@@ -141,7 +141,7 @@ impl From<Targets> for TargetSet {
 }
 
 /// Millimetres per unit of the built-in face (docs/face.md).
-pub const BUILTIN_FACE_MM_PER_UNIT: f32 = 11.5;
+pub const BUILTIN_FACE_MM_PER_UNIT: f32 = crate::face::anthropometry::MM_PER_UNIT as f32;
 
 /// Parses `MUSCLE=VALUE` (split at the last `=`).
 pub fn parse_set(text: &str) -> Result<(String, f32), String> {

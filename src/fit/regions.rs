@@ -174,11 +174,8 @@ impl Opening {
     }
 }
 
-/// Hermite smoothstep: 0 below `a`, 1 above `b`.
-pub fn smoothstep(a: f64, b: f64, x: f64) -> f64 {
-    let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
-}
+/// Hermite smoothstep: 0 below `a`, 1 above `b` (the one the face generator uses).
+pub use crate::face::surface::smoothstep;
 
 /// A closed landmark contour around an opening: the outer lip line and each eye's lids,
 /// by their corners and their landmarks (first to last).
