@@ -31,7 +31,7 @@ pub enum View {
 /// `--colors`: how text output is coloured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ColorChoice {
-    /// On a terminal, what it can show ([`ColorMode::from_env`], as the editor reads it);
+    /// On a terminal, what it can show ([`crate::tui::term::colors_from_env`], as the editor reads it);
     /// none when stdout is not a terminal or NO_COLOR is set.
     Auto,
     /// This mode, terminal or not (`always` is 24-bit, `never` none).
@@ -226,7 +226,7 @@ fn color_mode(choice: ColorChoice) -> ColorMode {
     match choice {
         ColorChoice::Mode(mode) => mode,
         ColorChoice::Auto if !std::io::stdout().is_terminal() => ColorMode::None,
-        ColorChoice::Auto => ColorMode::from_env(),
+        ColorChoice::Auto => crate::tui::term::colors_from_env(),
     }
 }
 

@@ -85,17 +85,6 @@ pub enum ColorMode {
 }
 
 impl ColorMode {
-    /// What a terminal can show, from the environment (see [`ColorMode::detect`]).
-    pub fn from_env() -> ColorMode {
-        let var = |name: &str| std::env::var(name).unwrap_or_default();
-        ColorMode::detect(
-            std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()),
-            &var("TERM"),
-            &var("COLORTERM"),
-            &var("TERM_PROGRAM"),
-        )
-    }
-
     /// What a terminal can show, as most terminal programs read it: none under `NO_COLOR` or
     /// `TERM=dumb`; 24-bit under `COLORTERM=truecolor` (or `24bit`), a `TERM` ending in
     /// `-direct`, or a terminal known to have it (kitty, WezTerm, iTerm2, Alacritty, foot,

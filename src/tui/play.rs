@@ -138,7 +138,7 @@ pub fn run(
         canvas: DotCanvas::new(0, 0),
         grid: CellGrid::default(),
         mode: cells,
-        colors: ColorMode::from_env(),
+        colors: term::colors_from_env(),
     };
     let signals = Signals::register().context("cannot watch for termination signals")?;
     let guard = term::enter().context("cannot open the terminal")?;

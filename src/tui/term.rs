@@ -16,6 +16,19 @@ use crossterm::{cursor, execute, queue};
 /// Whether the terminal is currently set up by us (so restoring twice is harmless).
 static ACTIVE: AtomicBool = AtomicBool::new(false);
 
+/// What this terminal can show, from the environment (`NO_COLOR`, `TERM`, `COLORTERM`,
+/// `TERM_PROGRAM`; see [`crate::render::ColorMode::detect`]). The front ends decide; the
+/// renderer only takes the mode it is given.
+pub fn colors_from_env() -> crate::render::ColorMode {
+    let var = |name: &str| std::env::var(name).unwrap_or_default();
+    crate::render::ColorMode::detect(
+        std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty()),
+        &var("TERM"),
+        &var("COLORTERM"),
+        &var("TERM_PROGRAM"),
+    )
+}
+
 /// Puts the terminal in editor mode; the returned guard restores it when dropped.
 pub fn enter() -> io::Result<TerminalGuard> {
     install_panic_hook();

@@ -147,7 +147,7 @@ pub fn run(app: &mut PickApp, session: &PickSession) -> anyhow::Result<()> {
     let _guard = term::enter()?;
     let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
     let size = terminal.size()?;
-    app.colors = crate::render::ColorMode::from_env();
+    app.colors = term::colors_from_env();
     apply(app, session, PickAction::Resize(size.width, size.height));
     let result = event_loop(app, session, &signals, &mut terminal);
     drop(terminal);
