@@ -113,7 +113,10 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     let rig_bytes = rig_path.as_deref().and_then(|p| std::fs::read(p).ok());
     app.rig_edit = crate::tui::rig::RigEdit::for_file(rig_path, rig_bytes.as_deref());
     app.view = View::new(args.cells.mode());
-    app.view.colors = args.colors.0.unwrap_or_else(crate::tui::term::colors_from_env);
+    app.view.colors = args
+        .colors
+        .0
+        .unwrap_or_else(crate::tui::term::colors_from_env);
     if new_file {
         if let Some(path) = &args.file {
             app.info(format!(
