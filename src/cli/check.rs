@@ -101,17 +101,8 @@ fn check(args: &CheckArgs) -> anyhow::Result<(String, usize)> {
     let bound = export::bind(&rig, args.model.deformation)?;
     let entries = entries(&table, &rig.rig, &mapper)?;
     let mut report = String::new();
-    if !mapper.unknown_muscles().is_empty() {
-        let names: Vec<&str> = mapper
-            .unknown_muscles()
-            .iter()
-            .map(String::as_str)
-            .collect();
-        let _ = writeln!(
-            report,
-            "note: the rig has no muscle {}; the table's entries play without them",
-            names.join(", ")
-        );
+    if let Some(notice) = mapper.unknown_notice() {
+        let _ = writeln!(report, "note: {notice}");
     }
     let _ = write!(
         report,

@@ -123,6 +123,17 @@ impl AuMapper {
         &self.unknown_muscles
     }
 
+    /// The notice every command gives when the table names muscles the rig lacks.
+    pub fn unknown_notice(&self) -> Option<String> {
+        (!self.unknown_muscles.is_empty()).then(|| {
+            let names: Vec<&str> = self.unknown_muscles.iter().map(String::as_str).collect();
+            format!(
+                "the AU table names muscles the rig lacks (ignored): {}",
+                names.join(", ")
+            )
+        })
+    }
+
     /// Whether the table gives this AU (see [`resolve`]).
     pub fn knows(&self, key: AuKey) -> bool {
         resolve(&self.recorded, key) != Resolved::Missing

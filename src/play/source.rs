@@ -121,18 +121,7 @@ pub struct AuFrames {
 impl AuFrames {
     /// A builder for one input named `source` in notices.
     pub fn new(mapper: AuMapper, scale: IntensityScale, source: &str) -> AuFrames {
-        let mut pending = Vec::new();
-        if !mapper.unknown_muscles().is_empty() {
-            let names: Vec<&str> = mapper
-                .unknown_muscles()
-                .iter()
-                .map(String::as_str)
-                .collect();
-            pending.push(format!(
-                "the AU table names muscles the rig lacks (ignored): {}",
-                names.join(", ")
-            ));
-        }
+        let pending: Vec<String> = mapper.unknown_notice().into_iter().collect();
         AuFrames {
             mapper,
             scale,
