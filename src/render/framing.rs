@@ -38,15 +38,9 @@ pub struct Framing {
     /// The rest vertices of the face region, when the face is a small part of the mesh;
     /// `None` fits the whole mesh.
     pub focus: Option<Vec<Vec3>>,
-}
-
-impl Default for Framing {
-    fn default() -> Framing {
-        Framing {
-            basis: Mat3::IDENTITY,
-            focus: None,
-        }
-    }
+    /// The extent of what a view fits, in face coordinates (measured once, so views that
+    /// scale steps and pans with the face pay nothing per frame).
+    extent: Vec3,
 }
 
 impl Framing {
@@ -59,13 +53,9 @@ impl Framing {
     /// [`Framing::of_rig`] with the face's axes given (`--up`, `--front`; see
     /// [`facing`]) instead of read from the rig.
     pub fn of_rig_facing(rig: &Rig, mesh: &Mesh, given: Option<Mat3>) -> Framing {
-        let basis = match given.or_else(|| face_axes(rig).map(snap)) {
-            Some(basis) => basis,
-            None => return Framing::of_mesh(mesh),
-        };
-        Framing {
-            basis,
-            focus: face_region(rig, mesh, basis),
+        match given.or_else(|| face_axes(rig).map(snap)) {
+            Some(basis) => Framing::new(basis, face_region(rig, mesh, basis), mesh),
+            None => Framing::of_mesh(mesh),
         }
     }
 
@@ -74,49 +64,44 @@ impl Framing {
     pub fn of_mesh(mesh: &Mesh) -> Framing {
         let (lo, hi) = mesh.bounds();
         let size = hi - lo;
-        if size.is_finite() && size.z > size.y * 1.05 {
-            Framing {
-                basis: Mat3::from_cols(Vec3::X, Vec3::Z, -Vec3::Y).transpose(),
-                focus: None,
-            }
+        let basis = if size.is_finite() && size.z > size.y * 1.05 {
+            Mat3::from_cols(Vec3::X, Vec3::Z, -Vec3::Y).transpose()
         } else {
-            Framing::default()
-        }
+            Mat3::IDENTITY
+        };
+        Framing::new(basis, None, mesh)
     }
-}
 
-impl Framing {
-    /// The size of what a view fits, for steps and pans that scale with the face: the larger
-    /// of its extents across and up, in mesh units.
-    pub fn size(&self, mesh: &Mesh) -> f32 {
-        let points = self.focus.as_deref().unwrap_or(&mesh.positions);
+    fn new(basis: Mat3, focus: Option<Vec<Vec3>>, mesh: &Mesh) -> Framing {
+        let points = focus.as_deref().unwrap_or(&mesh.positions);
         let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
         for p in points.iter().filter(|p| p.is_finite()) {
-            let f = self.basis * *p;
+            let f = basis * *p;
             lo = lo.min(f);
             hi = hi.max(f);
         }
-        let size = (hi - lo).truncate().max_element();
-        if size.is_finite() {
-            size.max(f32::EPSILON)
-        } else {
-            1.0
+        let extent = hi - lo;
+        Framing {
+            basis,
+            focus,
+            extent: if extent.is_finite() {
+                extent
+            } else {
+                Vec3::ONE
+            },
         }
     }
 
+    /// The size of what a view fits, for steps and pans that scale with the face: the larger
+    /// of its extents across and up, in mesh units.
+    pub fn size(&self) -> f32 {
+        self.extent.truncate().max_element().max(f32::EPSILON)
+    }
+
     /// The face's height (its extent along the face's up), for rig mode's steps.
-    pub fn height(&self, mesh: &Mesh) -> f32 {
-        let points = self.focus.as_deref().unwrap_or(&mesh.positions);
-        let up = self.basis.row(1);
-        let (lo, hi) = points
-            .iter()
-            .filter(|p| p.is_finite())
-            .map(|p| p.dot(up))
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), y| {
-                (lo.min(y), hi.max(y))
-            });
-        if hi > lo {
-            hi - lo
+    pub fn height(&self) -> f32 {
+        if self.extent.y > 0.0 {
+            self.extent.y
         } else {
             1.0
         }
@@ -258,8 +243,11 @@ mod tests {
 
     #[test]
     fn the_built_in_face_is_framed_as_it_is() {
-        let framing = Framing::of_rig(&builtin::default_rig(), &builtin::default_mesh());
-        assert_eq!(framing, Framing::default());
+        let mesh = builtin::default_mesh();
+        let framing = Framing::of_rig(&builtin::default_rig(), &mesh);
+        assert_eq!((framing.basis, &framing.focus), (Mat3::IDENTITY, &None));
+        let (lo, hi) = mesh.bounds();
+        assert_eq!(framing.height(), (hi - lo).y);
     }
 
     #[test]

@@ -352,7 +352,7 @@ fn kind_of(rig: &Rig, row: Row) -> Option<&MuscleKind> {
 
 /// The face's height: the scale of point and length steps.
 fn face_size(app: &App) -> f32 {
-    app.doc.scene.framing().height(app.doc.scene.mesh())
+    app.doc.scene.framing().height()
 }
 
 /// The screen's right and up directions in mesh coordinates, for the current view.

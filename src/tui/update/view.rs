@@ -143,7 +143,7 @@ fn focus_pan(app: &App) -> Option<(f32, f32)> {
     if !lo.is_finite() {
         return None;
     }
-    let extent = framing.size(mesh);
+    let extent = framing.size();
     let offset = (view * focus - (lo + hi) * 0.5).truncate() / extent;
     Some((offset.x.clamp(-1.0, 1.0), offset.y.clamp(-1.0, 1.0)))
 }

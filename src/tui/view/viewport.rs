@@ -41,7 +41,7 @@ struct CacheKey {
 /// directions) derives from this one.
 pub fn camera(app: &App) -> Camera {
     let framing = app.doc.scene.framing();
-    let extent = framing.size(app.doc.scene.mesh());
+    let extent = framing.size();
     Camera {
         yaw: app.view.yaw.to_radians(),
         pitch: app.view.pitch.to_radians(),
