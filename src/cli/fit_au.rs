@@ -101,7 +101,7 @@ pub fn run(args: &FitAuArgs) -> anyhow::Result<()> {
     }
     match &args.table {
         Some(path) => {
-            fit_inputs(args, &loaded).check_output(path)?;
+            fit_inputs(args, &loaded, &jobs).check_output(path)?;
             table_file::save_table(path, &table)?;
             let _ = writeln!(report, "wrote {fitted} AU entries to {}", path.display());
         }
@@ -111,19 +111,14 @@ pub fn run(args: &FitAuArgs) -> anyhow::Result<()> {
 }
 
 /// The files `fit-au` reads besides the table it adds to: what the table may not replace.
-fn fit_inputs(args: &FitAuArgs, rig: &LoadedRig) -> Inputs {
+fn fit_inputs(args: &FitAuArgs, rig: &LoadedRig, jobs: &[(PathBuf, AuKey)]) -> Inputs {
     let mut inputs = Inputs::new();
     inputs.add_rig(rig);
-    if let Some(target) = &args.target {
-        inputs.add("the target shape", target);
-    }
     if let Some(map) = &args.map {
         inputs.add("the shape map", map);
     }
-    if let Ok(jobs) = jobs(args) {
-        for (target, _) in jobs {
-            inputs.add("a target shape", &target);
-        }
+    for (target, _) in jobs {
+        inputs.add("a target shape", target);
     }
     inputs
 }

@@ -115,11 +115,6 @@ impl Inputs {
             )),
         }
     }
-
-    /// Whether no file was added.
-    pub fn is_empty(&self) -> bool {
-        self.files.is_empty()
-    }
 }
 
 #[cfg(test)]
