@@ -322,6 +322,11 @@ pub fn nearest_vertex(positions: &[Vec3], p: Vec3) -> u32 {
 /// Refuses landmark sets that do not span a face, saying why: one far outlier, points past
 /// single precision, a plane, or every point nearly on one point or line.
 pub fn check_shape(points: &[Vec3]) -> Result<(), LandmarkError> {
+    if points.len() != COUNT {
+        return Err(LandmarkError::Count {
+            found: points.len(),
+        });
+    }
     // A point far beyond all the others is never part of the face, whatever the frame says.
     if let outlier @ LandmarkError::Outlier { .. } = why_not_a_face(points) {
         return Err(outlier);
@@ -638,6 +643,7 @@ mod tests {
         ));
         let line: Vec<Vec3> = (0..COUNT).map(|i| Vec3::X * i as f32).collect();
         assert_eq!(check_shape(&line), Err(LandmarkError::Degenerate));
+        assert_eq!(check_shape(&[]), Err(LandmarkError::Count { found: 0 }));
     }
 
     #[test]
