@@ -14,11 +14,12 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context};
 use clap::Args;
 
-use crate::fit::{self, Landmarks, Part, PartOverrides, Template};
+use crate::fit::{self, Part, PartOverrides, Template};
 use crate::io::inputs::Inputs;
-use crate::io::landmarks::{check_against, load_landmarks, parse_landmarks};
-use crate::io::rig_file::{self, LoadedRig, MeshRef};
-use crate::io::{builtin, error::read_text, obj, reference, LoadError, MAX_FILE_BYTES};
+use crate::io::landmarks::{beside, check_against, load_landmarks, parse_landmarks};
+use crate::io::rig_file::{self, LoadedRig};
+use crate::io::{error::read_text, obj, reference, LoadError, MAX_FILE_BYTES};
+use crate::landmarks::{self, Landmarks};
 use crate::model::{Deformation, Mesh};
 
 /// A landmark bend (see [`fit::Fitted::bend`]) from which `fit-rig` warns: public faces of
@@ -177,7 +178,7 @@ fn warn_order(file: &Path, landmarks: &Landmarks, mesh: &Mesh) {
     let Ok(points) = landmarks.positions(mesh) else {
         return;
     };
-    for problem in fit::landmarks::order_problems(&points) {
+    for problem in landmarks::order_problems(&points) {
         eprintln!("warning: {}: {problem}", file.display());
     }
 }
@@ -209,42 +210,10 @@ fn template_landmarks(
 ) -> anyhow::Result<(Vec<glam::Vec3>, PathBuf)> {
     let (landmarks, path) = match &args.template_landmarks {
         Some(path) => (load_landmarks(path)?, path.clone()),
-        None => match rig_file::mesh_ref(&template.path, &template.rig.mesh) {
-            MeshRef::Builtin(name) => {
-                let landmarks = builtin::landmarks(&name).ok_or_else(|| {
-                    anyhow!(
-                        "the built-in mesh `{name}` has no landmarks; give --template-landmarks"
-                    )
-                })?;
-                (
-                    landmarks,
-                    PathBuf::from(format!("builtin:{name}.landmarks.ron")),
-                )
-            }
-            MeshRef::File(mesh) => {
-                let path = beside(&mesh);
-                if !path.is_file() {
-                    return Err(anyhow!(
-                        "the template's mesh {} has no landmarks beside it ({}); give --template-landmarks",
-                        mesh.display(),
-                        path.display()
-                    ));
-                }
-                (load_landmarks(&path)?, path)
-            }
-        },
+        None => crate::io::landmarks::of_rig(template, "--template-landmarks")?,
     };
     let points = check_against(&landmarks, &template.mesh, &path, None)?;
     Ok((points, path))
-}
-
-/// `head.obj` -> `head.landmarks.ron`, in the same folder.
-pub fn beside(mesh: &Path) -> PathBuf {
-    let stem = mesh
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    mesh.with_file_name(format!("{stem}.landmarks.ron"))
 }
 
 /// The mesh as the new rig names it: relative to the rig file's real folder (see

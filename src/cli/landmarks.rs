@@ -10,11 +10,11 @@ use std::path::{Path, PathBuf};
 use anyhow::anyhow;
 use clap::Args;
 
-use crate::fit::Landmarks;
 use crate::io::landmarks::{check_against, parse_landmarks};
 use crate::io::lock::{self, LockOutcome};
 use crate::io::pick_recovery;
 use crate::io::{error::read_text, obj, LoadError, MAX_FILE_BYTES};
+use crate::landmarks::Landmarks;
 use crate::model::Mesh;
 use crate::render::CellMode;
 use crate::tui::pick::state::{Mode, Question};
@@ -55,7 +55,7 @@ pub fn run(args: &LandmarksArgs) -> anyhow::Result<()> {
     let out = args
         .out
         .clone()
-        .unwrap_or_else(|| super::fit_rig::beside(&args.mesh));
+        .unwrap_or_else(|| crate::io::landmarks::beside(&args.mesh));
     pick_landmarks(&args.mesh, &out, args.cells.mode(), args.facing.basis()?)?;
     Ok(())
 }

@@ -7,6 +7,8 @@
 
 use glam::{DMat3, DVec3, Vec3};
 
+use crate::landmarks::rms_spread;
+
 /// A rotation, uniform scale and translation: `x -> scale * rotation * x + translation`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Similarity {
@@ -252,15 +254,6 @@ impl Warp {
             .fold(0.0, f64::max)
             / self.spread.max(1e-300)
     }
-}
-
-/// The root-mean-square distance of points from their centroid.
-pub fn rms_spread(points: &[DVec3]) -> f64 {
-    if points.is_empty() {
-        return 0.0;
-    }
-    let mean = points.iter().copied().sum::<DVec3>() / points.len() as f64;
-    (points.iter().map(|p| p.distance_squared(mean)).sum::<f64>() / points.len() as f64).sqrt()
 }
 
 /// Solves `a x = rhs` (row-major `size` x `size`, three right-hand sides) by Gaussian

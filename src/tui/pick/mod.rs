@@ -28,9 +28,9 @@ use ratatui::Terminal;
 
 use super::keymap;
 use super::term;
-use crate::fit::Landmarks;
 use crate::io::lock::Lock;
 use crate::io::pick_recovery::{self, PickRecovery};
+use crate::landmarks::Landmarks;
 use crate::tui::app::FileStamp;
 pub use state::{PickAction, PickApp, PickEffect};
 
@@ -289,7 +289,7 @@ pub fn write_recovery(app: &mut PickApp, session: &PickSession) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fit::landmarks::mirror;
+    use crate::landmarks::mirror;
 
     #[test]
     fn the_order_starts_with_the_minimal_set_and_holds_every_landmark_once() {

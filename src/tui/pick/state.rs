@@ -9,15 +9,15 @@ use ratatui::layout::Rect;
 
 use super::screen::Screen;
 use super::{layout, order, LEFT, MIDLINE, MINIMAL};
-use crate::fit::landmarks::{mirror, NAMES};
 use crate::fit::propose::{carry, MirrorPlane};
-use crate::fit::Landmarks;
+use crate::landmarks::Landmarks;
+use crate::landmarks::{mirror, NAMES};
 use crate::model::Mesh;
 use crate::render::{Camera, CellMode, ColorMode, Framing, Orientation, Renderer};
 use crate::tui::app::{Message, Severity};
 
 /// Landmark count.
-const COUNT: usize = crate::fit::landmarks::COUNT;
+const COUNT: usize = crate::landmarks::COUNT;
 /// Degrees per turn (`[` `]`) and tilt (`{` `}`).
 pub const TURN_DEGREES: f32 = 15.0;
 /// Degrees per tilt step.
