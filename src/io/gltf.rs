@@ -21,6 +21,7 @@ use serde_json::json;
 
 use super::atomic;
 use super::error::SaveError;
+use crate::model::mesh::bounds_of as bounds;
 use crate::model::Mesh;
 
 /// A morph target: a name and the mesh's positions in that state (not yet displacements).
@@ -394,13 +395,6 @@ fn vec3_bytes(values: &[Vec3]) -> Vec<u8> {
         .flat_map(|v| v.to_array())
         .flat_map(f32::to_le_bytes)
         .collect()
-}
-
-fn bounds(values: &[Vec3]) -> (Vec3, Vec3) {
-    values.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(min, max), v| (min.min(*v), max.max(*v)),
-    )
 }
 
 fn small_to_zero(delta: Vec3) -> Vec3 {
