@@ -65,53 +65,8 @@ pub struct FitRigArgs {
 /// Runs `grimace fit-rig`.
 pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     let mesh = obj::read_obj(&args.mesh)?;
-    for group in args.skin.iter().chain(&args.rigid) {
-        if !mesh.groups.contains_key(group) {
-            let known: Vec<&str> = mesh.groups.keys().map(String::as_str).collect();
-            return Err(anyhow!(LoadError::new(
-                &args.mesh,
-                format!(
-                    "has no group `{group}`; its groups are: {}",
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
-                ),
-            )));
-        }
-    }
-    let landmark_arg = match (&args.landmarks, args.pick) {
-        (Some(l), true) if l == "mediapipe" => {
-            return Err(anyhow!(
-                "--pick saves the picked landmarks to a file: give --landmarks FILE, not mediapipe"
-            ))
-        }
-        (Some(l), false) => l.clone(),
-        (given, true) => {
-            let file = given
-                .as_ref()
-                .map_or_else(|| beside(&args.mesh), PathBuf::from);
-            // The template and the output folder are checked before the picking starts.
-            let template = rig_file::load_rig_ref(&args.template, None)?;
-            mesh_reference(&args.mesh, &args.out)?;
-            let mut inputs = Inputs::new();
-            inputs.add("the mesh to rig", &args.mesh);
-            inputs.add_rig(&template);
-            inputs.check_output(&file)?;
-            inputs.add("the landmark file", &file);
-            inputs.check_output(&args.out)?;
-            let saved =
-                super::landmarks::pick_landmarks(&args.mesh, &file, args.cells.mode(), None)?;
-            if !saved {
-                return Err(anyhow!(
-                    "no landmarks were saved (:w saves them in the picker); no rig was fitted"
-                ));
-            }
-            file.to_string_lossy().into_owned()
-        }
-        (None, false) => return Err(anyhow!("give --landmarks FILE or --pick")),
-    };
+    check_groups(args, &mesh)?;
+    let landmark_arg = landmark_source(args)?;
     let (landmarks, landmark_file) = target_landmarks(&landmark_arg, args, &mesh)?;
     let template = rig_file::load_rig_ref(&args.template, None)?;
     let (template_points, template_file) = template_landmarks(args, &template)?;
@@ -166,6 +121,63 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         );
     }
     super::print(&summary(args, &mesh, &fitted))
+}
+
+/// Refuses `--skin`/`--rigid` groups the mesh does not have, listing those it has.
+fn check_groups(args: &FitRigArgs, mesh: &Mesh) -> anyhow::Result<()> {
+    for group in args.skin.iter().chain(&args.rigid) {
+        if !mesh.groups.contains_key(group) {
+            let known: Vec<&str> = mesh.groups.keys().map(String::as_str).collect();
+            return Err(anyhow!(LoadError::new(
+                &args.mesh,
+                format!(
+                    "has no group `{group}`; its groups are: {}",
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The landmarks argument: `--landmarks` as given, or with `--pick` the file the picker
+/// saved (the template and the outputs are checked before the picking starts).
+fn landmark_source(args: &FitRigArgs) -> anyhow::Result<String> {
+    Ok(match (&args.landmarks, args.pick) {
+        (Some(l), true) if l == "mediapipe" => {
+            return Err(anyhow!(
+                "--pick saves the picked landmarks to a file: give --landmarks FILE, not mediapipe"
+            ))
+        }
+        (Some(l), false) => l.clone(),
+        (given, true) => {
+            let file = given
+                .as_ref()
+                .map_or_else(|| beside(&args.mesh), PathBuf::from);
+            // The template and the output folder are checked before the picking starts.
+            let template = rig_file::load_rig_ref(&args.template, None)?;
+            mesh_reference(&args.mesh, &args.out)?;
+            let mut inputs = Inputs::new();
+            inputs.add("the mesh to rig", &args.mesh);
+            inputs.add_rig(&template);
+            inputs.check_output(&file)?;
+            inputs.add("the landmark file", &file);
+            inputs.check_output(&args.out)?;
+            let saved =
+                super::landmarks::pick_landmarks(&args.mesh, &file, args.cells.mode(), None)?;
+            if !saved {
+                return Err(anyhow!(
+                    "no landmarks were saved (:w saves them in the picker); no rig was fitted"
+                ));
+            }
+            file.to_string_lossy().into_owned()
+        }
+        (None, false) => return Err(anyhow!("give --landmarks FILE or --pick")),
+    })
 }
 
 /// A fitted muscle whose size or strength is more than this many times off the template's
