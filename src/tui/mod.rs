@@ -14,6 +14,7 @@ pub mod play;
 pub mod program;
 pub mod rig;
 pub mod scene;
+pub mod session;
 pub mod table_ops;
 pub mod term;
 pub mod update;
@@ -21,7 +22,7 @@ pub mod view;
 
 use std::fs;
 use std::io::{self, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use crossterm::event::{Event, KeyEventKind, MouseButton, MouseEvent, MouseEventKind};
@@ -30,23 +31,14 @@ use ratatui::layout::{Position, Rect};
 use ratatui::Terminal;
 
 use crate::io::inputs::Inputs;
-use crate::io::lock::Lock;
 use crate::io::recovery::{self, RecoveryState};
 use crate::io::reference;
 use action::{Action, Effect};
 use app::{App, FileStamp, Row};
+use session::Session;
 
 /// How long after the last edit the recovery file is written.
 pub const RECOVERY_DEBOUNCE: Duration = Duration::from_secs(1);
-
-/// What the editor session holds besides the state.
-#[derive(Debug, Default)]
-pub struct Session {
-    /// Where unsaved state is kept, if anywhere.
-    pub recovery: Option<PathBuf>,
-    /// The table's lock, released when the session ends.
-    pub lock: Option<Lock>,
-}
 
 /// Runs the editor until the user quits or a signal stops it.
 pub fn run(app: App, session: Session) -> anyhow::Result<()> {

@@ -17,14 +17,12 @@ pub mod screen;
 pub mod state;
 pub mod view;
 
-use std::path::PathBuf;
-
 use crossterm::event::{Event, KeyEventKind, MouseButton, MouseEventKind};
 use ratatui::layout::Rect;
 
 use super::keymap;
+use super::session::Session;
 use super::term;
-use crate::io::lock::Lock;
 use crate::io::pick_recovery::{self, PickRecovery};
 use crate::landmarks::Landmarks;
 use crate::tui::app::FileStamp;
@@ -121,18 +119,9 @@ pub fn layout(area: Rect) -> PickLayout {
     }
 }
 
-/// The files a picking session keeps besides the state.
-#[derive(Debug, Default)]
-pub struct PickSession {
-    /// Where the picks are kept until saved (none when another picker owns that file).
-    pub recovery: Option<PathBuf>,
-    /// The landmark file's lock.
-    pub lock: Option<Lock>,
-}
-
 /// Runs the picker until the user quits or a signal stops it. Every pick is already in the
 /// recovery file when a signal arrives.
-pub fn run(app: &mut PickApp, session: &PickSession) -> anyhow::Result<()> {
+pub fn run(app: &mut PickApp, session: &Session) -> anyhow::Result<()> {
     app.colors = term::colors_from_env();
     super::program::run(&mut Picker {
         app,
@@ -145,7 +134,7 @@ pub fn run(app: &mut PickApp, session: &PickSession) -> anyhow::Result<()> {
 /// The picker as the event loop runs it.
 struct Picker<'a> {
     app: &'a mut PickApp,
-    session: &'a PickSession,
+    session: &'a Session,
     cache: view::PickCache,
     quit: bool,
 }
@@ -201,7 +190,7 @@ pub fn actions_for(app: &PickApp, ev: &Event) -> Vec<PickAction> {
 }
 
 /// Runs one action and its effects; `true` when the picker should stop.
-pub fn apply(app: &mut PickApp, session: &PickSession, action: PickAction) -> bool {
+pub fn apply(app: &mut PickApp, session: &Session, action: PickAction) -> bool {
     let mut queue = vec![action];
     let mut quit = false;
     while let Some(action) = queue.pop() {
@@ -247,7 +236,7 @@ fn save(app: &mut PickApp, landmarks: &Landmarks, quit_after: bool, force: bool)
 }
 
 /// Writes the picks to the recovery file (a failure is said on the status line).
-pub fn write_recovery(app: &mut PickApp, session: &PickSession) {
+pub fn write_recovery(app: &mut PickApp, session: &Session) {
     let Some(path) = &session.recovery else {
         return;
     };
