@@ -15,8 +15,8 @@ use std::sync::Arc;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use grimace::tui::action::Action;
+use grimace::tui::action::RigAction;
 use grimace::tui::app::{App, ColorMode};
-use grimace::tui::rig::RigAction;
 use grimace::tui::scene::Scene;
 use grimace::tui::update::update;
 use ratatui::backend::CrosstermBackend;

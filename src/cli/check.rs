@@ -239,7 +239,7 @@ fn landmarks(args: &CheckArgs, rig: &LoadedRig) -> anyhow::Result<Landmarks> {
             rig.path.clone(),
         ),
         Some(file) => (load_landmarks(Path::new(file))?, PathBuf::from(file)),
-        None => crate::io::landmarks::of_rig(rig, "--landmarks")?,
+        None => rig.landmarks("--landmarks")?,
     };
     check_against(&landmarks, &rig.mesh, &path, None)
         .with_context(|| format!("the landmarks do not fit {}", rig.path.display()))?;

@@ -379,7 +379,7 @@ fn table_label(sources: &Sources) -> String {
 /// Millimetres per unit estimated from the landmarks of the rig's mesh (see
 /// [`crate::landmarks::mm_per_unit`]); `None` when it has none to read.
 fn mm_per_unit_from_landmarks(rig: &LoadedRig) -> Option<f32> {
-    let (marks, path) = crate::io::landmarks::of_rig(rig, "--landmarks").ok()?;
+    let (marks, path) = rig.landmarks("--landmarks").ok()?;
     let points = crate::io::landmarks::check_against(&marks, &rig.mesh, &path, None).ok()?;
     crate::landmarks::mm_per_unit(&points)
 }

@@ -222,7 +222,7 @@ fn template_landmarks(
 ) -> anyhow::Result<(Vec<glam::Vec3>, PathBuf)> {
     let (landmarks, path) = match &args.template_landmarks {
         Some(path) => (load_landmarks(path)?, path.clone()),
-        None => crate::io::landmarks::of_rig(template, "--template-landmarks")?,
+        None => template.landmarks("--template-landmarks")?,
     };
     let points = check_against(&landmarks, &template.mesh, &path, None)?;
     Ok((points, path))

@@ -18,7 +18,6 @@ use glam::Vec3;
 use serde::Deserialize;
 
 use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
-use super::rig_file::{LoadedRig, MeshRef};
 use super::{atomic, ron_text};
 use crate::landmarks::{LandmarkError, Landmarks, COUNT};
 use crate::model::Mesh;
@@ -51,40 +50,6 @@ pub fn beside(mesh: &Path) -> PathBuf {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     mesh.with_file_name(format!("{stem}.landmarks.ron"))
-}
-
-/// The landmarks of a loaded rig's mesh when none are given: the built-in face's own for a
-/// built-in mesh, else the file [`beside`] the mesh. Gives the landmarks and where they came
-/// from; the error says what is missing and names `flag`, the option that gives them.
-pub fn of_rig(rig: &LoadedRig, flag: &str) -> Result<(Landmarks, PathBuf), LoadError> {
-    match super::rig_file::mesh_ref(&rig.path, &rig.rig.mesh) {
-        MeshRef::Builtin(name) => super::builtin::landmarks(&name)
-            .map(|marks| {
-                (
-                    marks,
-                    PathBuf::from(format!("builtin:{name}.landmarks.ron")),
-                )
-            })
-            .ok_or_else(|| {
-                LoadError::new(
-                    &rig.path,
-                    format!("the built-in mesh `{name}` has no landmarks; give {flag}"),
-                )
-            }),
-        MeshRef::File(mesh) => {
-            let path = beside(&mesh);
-            if !path.is_file() {
-                return Err(LoadError::new(
-                    &mesh,
-                    format!(
-                        "no landmarks beside the mesh ({}); give {flag} FILE",
-                        path.display()
-                    ),
-                ));
-            }
-            Ok((load_landmarks(&path)?, path))
-        }
-    }
 }
 
 /// Reads and checks a landmark file (count, finite points; vertex numbers are checked

@@ -51,6 +51,45 @@ pub struct LoadedRig {
     pub notice: Option<String>,
 }
 
+impl LoadedRig {
+    /// The landmarks of a loaded rig's mesh when none are given: the built-in face's own for a
+    /// built-in mesh, else the file [`beside`] the mesh. Gives the landmarks and where they came
+    /// from; the error says what is missing and names `flag`, the option that gives them.
+    pub fn landmarks(
+        &self,
+        flag: &str,
+    ) -> Result<(crate::landmarks::Landmarks, PathBuf), LoadError> {
+        match mesh_ref(&self.path, &self.rig.mesh) {
+            MeshRef::Builtin(name) => builtin::landmarks(&name)
+                .map(|marks| {
+                    (
+                        marks,
+                        PathBuf::from(format!("builtin:{name}.landmarks.ron")),
+                    )
+                })
+                .ok_or_else(|| {
+                    LoadError::new(
+                        &self.path,
+                        format!("the built-in mesh `{name}` has no landmarks; give {flag}"),
+                    )
+                }),
+            MeshRef::File(mesh) => {
+                let path = super::landmarks::beside(&mesh);
+                if !path.is_file() {
+                    return Err(LoadError::new(
+                        &mesh,
+                        format!(
+                            "no landmarks beside the mesh ({}); give {flag} FILE",
+                            path.display()
+                        ),
+                    ));
+                }
+                Ok((super::landmarks::load_landmarks(&path)?, path))
+            }
+        }
+    }
+}
+
 /// The oldest rig file version this build reads; older files than [`RIG_VERSION`] are
 /// converted on load.
 pub const OLDEST_RIG_VERSION: u32 = 1;

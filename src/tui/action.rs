@@ -3,7 +3,6 @@
 use std::path::PathBuf;
 
 use super::app::{FileStamp, Row, ViewPreset};
-use super::rig::RigAction;
 use crate::facs::AuTable;
 
 /// Something the user (or the outcome of an effect) asks of the editor.
@@ -185,4 +184,49 @@ pub enum Effect {
     ReadTable(PathBuf),
     /// Leave the editor.
     Quit,
+}
+
+/// A rig-mode intent.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RigAction {
+    /// Enter or leave rig mode.
+    Toggle,
+    /// Select the next point of the selected muscle.
+    NextPoint,
+    /// Select the next parameter of the selected muscle.
+    NextParam,
+    /// Move the selected point in the view plane by steps (right, up).
+    Move {
+        /// Steps to the screen's right.
+        right: i8,
+        /// Steps up the screen.
+        up: i8,
+        /// Coarse steps.
+        coarse: bool,
+    },
+    /// Change the selected parameter by steps (an angle turns counter-clockwise on screen).
+    Param {
+        /// Steps (negative: down).
+        by: i8,
+        /// Coarse steps.
+        coarse: bool,
+    },
+    /// Change the held activation by steps of [`HELD_STEP`].
+    Held(i8),
+    /// The rig file was written.
+    Saved {
+        /// Where, as the user gave it.
+        path: PathBuf,
+        /// The file written, absolute: what the table names from now on.
+        file: PathBuf,
+        /// Its new stamp.
+        stamp: FileStamp,
+    },
+    /// Writing the rig file failed (or found it changed on disk).
+    SaveFailed {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        error: String,
+    },
 }

@@ -3,7 +3,9 @@
 use std::path::PathBuf;
 
 use crate::facs::{AuKey, AuTable};
-use crate::model::{Activations, MuscleKind, Rig};
+use glam::Vec3;
+
+use crate::model::{Activations, Jaw, MuscleKind, Rig};
 
 use super::scene::Scene;
 
@@ -365,7 +367,7 @@ pub enum Step {
     /// Activations and the table as they were.
     State(Snapshot),
     /// A rig change: the muscles' or the jaw's parameters as they were (rig mode).
-    Rig(super::rig::RigUndo),
+    Rig(RigUndo),
 }
 
 /// A file's identity when it was loaded or saved: used to notice changes made by others.
@@ -455,7 +457,7 @@ pub struct App {
     /// The status message.
     pub message: Option<Message>,
     /// Rig mode: its state and the rig's file.
-    pub rig_edit: super::rig::RigEdit,
+    pub rig_edit: RigEdit,
 }
 
 impl App {
@@ -484,7 +486,7 @@ impl App {
             history: History::default(),
             mode: Mode::Normal,
             message: None,
-            rig_edit: super::rig::RigEdit::default(),
+            rig_edit: RigEdit::default(),
         }
     }
 
@@ -638,4 +640,124 @@ pub fn group_of(rig: &Rig, row: Row) -> Group {
             .map_or(Group::Linear, |m| Group::of(&m.kind)),
         Row::Jaw => Group::Jaw,
     }
+}
+
+/// What rig mode knows: whether it is on, the rig's file, the selected point and parameter
+/// and the held activation. Its changes are undone with the rest of the editor's edits
+/// ([`crate::tui::app::History`]), each kept as a [`RigUndo`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigEdit {
+    /// Rig mode is on.
+    pub on: bool,
+    /// The rig file `:w` writes; `None` for a built-in rig (`:w` asks for a name).
+    pub path: Option<PathBuf>,
+    /// The rig file as loaded or last saved, to notice changes made by others.
+    pub stamp: Option<FileStamp>,
+    /// The rig as loaded or last saved, once it has been edited.
+    pub saved: Option<Rig>,
+    /// Index of the selected point of the selected muscle (`Tab` cycles).
+    pub point: usize,
+    /// Index of the selected parameter of the selected muscle (`p` cycles).
+    pub param: usize,
+    /// The activation the selected muscle is held at.
+    pub held: f32,
+    /// What the face shows: the row held, its activation and the scene generation after
+    /// deforming, so a change made elsewhere is noticed and the hold applied again.
+    pub(crate) shown: Option<(Row, f32, u64)>,
+}
+
+impl Default for RigEdit {
+    fn default() -> RigEdit {
+        RigEdit {
+            on: false,
+            path: None,
+            stamp: None,
+            saved: None,
+            point: 0,
+            param: 0,
+            held: 1.0,
+            shown: None,
+        }
+    }
+}
+
+impl RigEdit {
+    /// Rig mode for a rig loaded from `path` (`None`: built in) with these file contents.
+    pub fn for_file(path: Option<PathBuf>, contents: Option<&[u8]>) -> RigEdit {
+        RigEdit {
+            path,
+            stamp: contents.map(FileStamp::of),
+            ..RigEdit::default()
+        }
+    }
+
+    /// True when the rig differs from its file.
+    pub fn dirty(&self, rig: &Rig) -> bool {
+        self.saved.as_ref().is_some_and(|saved| saved != rig)
+    }
+}
+
+/// The jaw's pose: what rig mode changes of the jaw (its weights stay).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JawPose {
+    /// The point the jaw turns about.
+    pub pivot: Vec3,
+    /// The axis it turns about.
+    pub axis: Vec3,
+    /// Degrees per unit of jaw activation.
+    pub degrees_per_unit: f32,
+}
+
+impl JawPose {
+    pub(crate) fn of(jaw: &Jaw) -> JawPose {
+        JawPose {
+            pivot: jaw.pivot,
+            axis: jaw.axis,
+            degrees_per_unit: jaw.degrees_per_unit,
+        }
+    }
+}
+
+/// Parts of a rig, as rig mode changes them and undo puts them back.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RigParts {
+    /// Muscles' kinds with their parameters, by index (a muscle and its mirror partner).
+    Muscles(Vec<(usize, MuscleKind)>),
+    /// The jaw's pose.
+    Jaw(JawPose),
+    /// A whole rig (one put back from a recovery file).
+    Whole(Box<Rig>),
+}
+
+impl RigParts {
+    /// The same parts as they are in `rig` now.
+    pub(crate) fn current(&self, rig: &Rig) -> RigParts {
+        match self {
+            RigParts::Muscles(list) => RigParts::Muscles(
+                list.iter()
+                    .filter_map(|(i, _)| Some((*i, rig.muscles.get(*i)?.kind.clone())))
+                    .collect(),
+            ),
+            RigParts::Jaw(pose) => RigParts::Jaw(rig.jaw.as_ref().map_or(*pose, JawPose::of)),
+            RigParts::Whole(_) => RigParts::Whole(Box::new(rig.clone())),
+        }
+    }
+
+    /// Puts the parts into the scene's rig, binding again only what they touch.
+    pub(crate) fn apply(self, scene: &mut Scene) -> Result<(), String> {
+        match self {
+            RigParts::Muscles(list) => scene.rebind_muscles(list),
+            RigParts::Jaw(p) => scene.rebind_jaw(p.pivot, p.axis, p.degrees_per_unit),
+            RigParts::Whole(rig) => scene.set_rig(*rig),
+        }
+    }
+}
+
+/// A rig change as the editor's history keeps it: what changed, and the parts to put back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigUndo {
+    /// What the change was to, for the message line (`L_Zygomatic_Major attachment`).
+    pub what: String,
+    /// The parts as they were before the change.
+    pub parts: RigParts,
 }

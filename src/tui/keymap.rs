@@ -4,8 +4,8 @@
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
 use super::action::Action;
+use super::action::RigAction;
 use super::app::{App, Mode, ViewPreset};
-use super::rig::RigAction;
 
 pub mod pick;
 

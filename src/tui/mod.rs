@@ -5,7 +5,6 @@
 
 pub mod action;
 pub mod app;
-pub(crate) mod command;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;

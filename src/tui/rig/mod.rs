@@ -9,12 +9,13 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 
-use super::action::{Action, Effect};
-use super::app::{App, FileStamp, Input, InputKind, Mode, Row, Step};
+use super::action::{Action, Effect, RigAction};
+use super::app::{App, Input, InputKind, Mode, Row, Step};
 use crate::io::rig_file::check_rig;
-use crate::model::{Activations, Jaw, MuscleKind, Rig};
+use crate::model::{Activations, MuscleKind, Rig};
 
 mod params;
+pub use super::app::{JawPose, RigEdit, RigParts, RigUndo};
 use params::{kind_of, param_mut, params, Change, Unit};
 pub use params::{param_names, point, point_names};
 
@@ -28,171 +29,6 @@ pub const UNSAVED_RIG: &str =
 
 /// Step of the held activation (`<` and `>`).
 pub const HELD_STEP: f32 = 0.25;
-
-/// What rig mode knows: whether it is on, the rig's file, the selected point and parameter
-/// and the held activation. Its changes are undone with the rest of the editor's edits
-/// ([`crate::tui::app::History`]), each kept as a [`RigUndo`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct RigEdit {
-    /// Rig mode is on.
-    pub on: bool,
-    /// The rig file `:w` writes; `None` for a built-in rig (`:w` asks for a name).
-    pub path: Option<PathBuf>,
-    /// The rig file as loaded or last saved, to notice changes made by others.
-    pub stamp: Option<FileStamp>,
-    /// The rig as loaded or last saved, once it has been edited.
-    pub saved: Option<Rig>,
-    /// Index of the selected point of the selected muscle (`Tab` cycles).
-    pub point: usize,
-    /// Index of the selected parameter of the selected muscle (`p` cycles).
-    pub param: usize,
-    /// The activation the selected muscle is held at.
-    pub held: f32,
-    /// What the face shows: the row held, its activation and the scene generation after
-    /// deforming, so a change made elsewhere is noticed and the hold applied again.
-    shown: Option<(Row, f32, u64)>,
-}
-
-impl Default for RigEdit {
-    fn default() -> RigEdit {
-        RigEdit {
-            on: false,
-            path: None,
-            stamp: None,
-            saved: None,
-            point: 0,
-            param: 0,
-            held: 1.0,
-            shown: None,
-        }
-    }
-}
-
-impl RigEdit {
-    /// Rig mode for a rig loaded from `path` (`None`: built in) with these file contents.
-    pub fn for_file(path: Option<PathBuf>, contents: Option<&[u8]>) -> RigEdit {
-        RigEdit {
-            path,
-            stamp: contents.map(FileStamp::of),
-            ..RigEdit::default()
-        }
-    }
-
-    /// True when the rig differs from its file.
-    pub fn dirty(&self, rig: &Rig) -> bool {
-        self.saved.as_ref().is_some_and(|saved| saved != rig)
-    }
-}
-
-/// A rig-mode intent.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RigAction {
-    /// Enter or leave rig mode.
-    Toggle,
-    /// Select the next point of the selected muscle.
-    NextPoint,
-    /// Select the next parameter of the selected muscle.
-    NextParam,
-    /// Move the selected point in the view plane by steps (right, up).
-    Move {
-        /// Steps to the screen's right.
-        right: i8,
-        /// Steps up the screen.
-        up: i8,
-        /// Coarse steps.
-        coarse: bool,
-    },
-    /// Change the selected parameter by steps (an angle turns counter-clockwise on screen).
-    Param {
-        /// Steps (negative: down).
-        by: i8,
-        /// Coarse steps.
-        coarse: bool,
-    },
-    /// Change the held activation by steps of [`HELD_STEP`].
-    Held(i8),
-    /// The rig file was written.
-    Saved {
-        /// Where, as the user gave it.
-        path: PathBuf,
-        /// The file written, absolute: what the table names from now on.
-        file: PathBuf,
-        /// Its new stamp.
-        stamp: FileStamp,
-    },
-    /// Writing the rig file failed (or found it changed on disk).
-    SaveFailed {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        error: String,
-    },
-}
-
-/// The jaw's pose: what rig mode changes of the jaw (its weights stay).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct JawPose {
-    /// The point the jaw turns about.
-    pub pivot: Vec3,
-    /// The axis it turns about.
-    pub axis: Vec3,
-    /// Degrees per unit of jaw activation.
-    pub degrees_per_unit: f32,
-}
-
-impl JawPose {
-    fn of(jaw: &Jaw) -> JawPose {
-        JawPose {
-            pivot: jaw.pivot,
-            axis: jaw.axis,
-            degrees_per_unit: jaw.degrees_per_unit,
-        }
-    }
-}
-
-/// Parts of a rig, as rig mode changes them and undo puts them back.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RigParts {
-    /// Muscles' kinds with their parameters, by index (a muscle and its mirror partner).
-    Muscles(Vec<(usize, MuscleKind)>),
-    /// The jaw's pose.
-    Jaw(JawPose),
-    /// A whole rig (one put back from a recovery file).
-    Whole(Box<Rig>),
-}
-
-impl RigParts {
-    /// The same parts as they are in `rig` now.
-    fn current(&self, rig: &Rig) -> RigParts {
-        match self {
-            RigParts::Muscles(list) => RigParts::Muscles(
-                list.iter()
-                    .filter_map(|(i, _)| Some((*i, rig.muscles.get(*i)?.kind.clone())))
-                    .collect(),
-            ),
-            RigParts::Jaw(pose) => RigParts::Jaw(rig.jaw.as_ref().map_or(*pose, JawPose::of)),
-            RigParts::Whole(_) => RigParts::Whole(Box::new(rig.clone())),
-        }
-    }
-
-    /// Puts the parts into the scene's rig, binding again only what they touch.
-    fn apply(self, scene: &mut super::scene::Scene) -> Result<(), String> {
-        match self {
-            RigParts::Muscles(list) => scene.rebind_muscles(list),
-            RigParts::Jaw(p) => scene.rebind_jaw(p.pivot, p.axis, p.degrees_per_unit),
-            RigParts::Whole(rig) => scene.set_rig(*rig),
-        }
-    }
-}
-
-/// A rig change as the editor's history keeps it: what changed, and the parts to put back.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RigUndo {
-    /// What the change was to, for the message line (`L_Zygomatic_Major attachment`).
-    pub what: String,
-    /// The parts as they were before the change.
-    pub parts: RigParts,
-}
 
 /// The face's height: the scale of point and length steps.
 fn face_size(app: &App) -> f32 {

@@ -16,9 +16,10 @@ use crate::tui::app::{
     App, CellMode, Focus, Input, InputKind, Mode, Question, Row, TableItem, ViewPreset, FINE_STEP,
     STEP_RESOLUTION,
 };
-use crate::tui::command;
+
 use crate::tui::table_ops;
 
+pub(crate) mod command;
 pub(crate) mod edit;
 pub(crate) mod prompt;
 pub(crate) mod table;

@@ -6,7 +6,8 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Widget};
 
 use super::theme::Theme;
-use crate::tui::{command, keymap};
+use crate::tui::keymap;
+use crate::tui::update::command;
 
 /// The width of the key column, in characters.
 const KEY_COLUMN: usize = 18;

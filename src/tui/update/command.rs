@@ -4,9 +4,9 @@
 
 use std::path::PathBuf;
 
-use super::action::{Action, Effect};
-use super::app::{App, Mode, Row, Style, ViewPreset};
-use super::update::{self as up, edit, prompt, table};
+use super::{self as up, edit, prompt, table};
+use crate::tui::action::{Action, Effect};
+use crate::tui::app::{App, Mode, Row, Style, ViewPreset};
 
 /// A command line split after its command word.
 #[derive(Debug, Clone, PartialEq, Eq)]
