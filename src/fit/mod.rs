@@ -8,6 +8,7 @@
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh;
 //! - [`transport`]: the whole fit ([`fit_rig`]);
+//! - [`lsq`]: the one bounded least-squares solver (`fit-au`, `capture`);
 //! - [`solve`]: activations that best reproduce a target shape ([`fit_au`]);
 //! - [`quality`]: tears, lids and jaw of a deformed face (`grimace check`).
 //!
@@ -15,6 +16,7 @@
 
 pub mod jaw;
 pub mod landmarks;
+pub mod lsq;
 pub mod nearest;
 pub mod parts;
 pub mod propose;
