@@ -13,6 +13,7 @@
 //!  cli (the commands)          tui (ratatui + crossterm editor)    [feature `tui`]
 //!              \                  /
 //!   play   (frame sources, tracker intensities, playback clock)
+//!   capture (muscle activations solved from tracked 3D landmarks)
 //!   render (camera, raster to a dot canvas, text, svg, png)
 //!   fit    (rigs carried to other faces by landmarks, AU entries fitted to shapes, quality)
 //!   face   (the generator of the built-in default face and its rigs)
@@ -23,6 +24,7 @@
 
 #![warn(missing_docs)]
 
+pub mod capture;
 #[cfg(feature = "tui")]
 pub mod cli;
 pub mod export;

@@ -250,6 +250,9 @@ mod tests {
         }
         .apply(&mut gram, &mut c);
         let x = box_least_squares(&gram, &c, &lo, &hi);
-        assert!((x[0] - 0.5).abs() < 1e-9 && (x[1] - 2.0).abs() < 1e-9, "{x:?}");
+        assert!(
+            (x[0] - 0.5).abs() < 1e-9 && (x[1] - 2.0).abs() < 1e-9,
+            "{x:?}"
+        );
     }
 }

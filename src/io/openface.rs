@@ -77,7 +77,9 @@ pub struct LandmarkColumns {
 pub const LANDMARK_COUNT: usize = 68;
 
 /// The pose column names, in [`OpenFaceColumns::pose`] order.
-const POSE_NAMES: [&str; 6] = ["pose_Tx", "pose_Ty", "pose_Tz", "pose_Rx", "pose_Ry", "pose_Rz"];
+const POSE_NAMES: [&str; 6] = [
+    "pose_Tx", "pose_Ty", "pose_Tz", "pose_Rx", "pose_Ry", "pose_Rz",
+];
 
 /// The reason a header line is unusable.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -309,7 +311,7 @@ fn au_intensity_number(name: &str) -> Option<u8> {
 }
 
 /// Splits a CSV line on commas, trimming each field; each field comes with its 1-based column.
-fn split_fields(text: &str) -> Vec<(usize, &str)> {
+pub(crate) fn split_fields(text: &str) -> Vec<(usize, &str)> {
     let mut fields = Vec::new();
     let mut column = 1;
     for raw in text.split(',') {
@@ -322,13 +324,13 @@ fn split_fields(text: &str) -> Vec<(usize, &str)> {
 }
 
 /// A finite decimal number (OpenFace writes plain decimals; `nan` and `inf` are refused).
-fn parse_number(field: &str) -> Option<f64> {
+pub(crate) fn parse_number(field: &str) -> Option<f64> {
     let value: f64 = field.parse().ok()?;
     value.is_finite().then_some(value)
 }
 
 /// The first characters of a field, for messages.
-fn shorten(field: &str) -> String {
+pub(crate) fn shorten(field: &str) -> String {
     const MAX: usize = 24;
     if field.chars().count() <= MAX {
         field.to_string()
@@ -427,8 +429,7 @@ impl<R: BufRead> OpenFaceReader<R> {
                 break line;
             }
         };
-        let columns = scan(&header.text)
-            .map_err(|e| error(Some(header.number), e.to_string()))?;
+        let columns = scan(&header.text).map_err(|e| error(Some(header.number), e.to_string()))?;
         Ok(OpenFaceReader {
             lines,
             path: path.to_path_buf(),
@@ -688,11 +689,9 @@ mod tests {
 
     #[test]
     fn a_header_without_3d_landmarks_names_what_capture_needs() {
-        let e = OpenFaceReader::with_landmarks(
-            &b"frame, x_0, y_0, AU01_r\n"[..],
-            Path::new("2d.csv"),
-        )
-        .unwrap_err();
+        let e =
+            OpenFaceReader::with_landmarks(&b"frame, x_0, y_0, AU01_r\n"[..], Path::new("2d.csv"))
+                .unwrap_err();
         assert!(
             e.to_string()
                 .starts_with("2d.csv:1: the header lacks 204 of the 204 3D landmark columns (first missing: X_0)"),
@@ -708,7 +707,11 @@ mod tests {
             OpenFaceReader::with_landmarks(text.as_bytes(), Path::new("n.csv")).unwrap();
         assert!(matches!(
             reader.next_row().unwrap(),
-            Some(RowOutcome::Malformed(RowError { line: 2, column: Some(_), .. }))
+            Some(RowOutcome::Malformed(RowError {
+                line: 2,
+                column: Some(_),
+                ..
+            }))
         ));
     }
 
