@@ -1,0 +1,453 @@
+//! `grimace capture RECORDING.csv --out ACTS.csv [--rig RIG] [--aus] [--neutral N] [--live]`:
+//! each tracked frame's muscle activations and jaw, solved from OpenFace's 3D landmarks on
+//! the rig ([`crate::capture`]), written as an activation CSV ([`crate::io::acts`]) that
+//! `play` and `render --acts` replay on any fitted head.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{anyhow, bail, Context};
+use clap::Args;
+use glam::Vec3;
+
+use crate::capture::{
+    AuProjection, Captured, LandmarkModel, NeutralSource, Regularisation, Session,
+};
+use crate::io::inputs::Inputs;
+use crate::io::openface::{OpenFaceReader, RowOutcome};
+use crate::io::rig_file::{self, LoadedRig, MeshRef};
+use crate::io::{acts, atomic, builtin, landmarks, table_file, LoadError};
+use crate::model::{BoundRig, Deformation};
+use crate::play::skips::Skips;
+
+/// Arguments of `grimace capture`.
+#[derive(Debug, Args)]
+pub struct CaptureArgs {
+    /// OpenFace 2.0 FeatureExtraction CSV with the 3D landmarks (X_0..Z_67); `-` with --live
+    /// reads rows from stdin.
+    #[arg(value_name = "RECORDING.csv")]
+    pub recording: PathBuf,
+    /// The activation CSV to write (`-` for stdout).
+    #[arg(long, value_name = "ACTS.csv")]
+    pub out: PathBuf,
+    /// The rig to solve on (a *.rig.ron, builtin:default or builtin:paper).
+    #[arg(long, value_name = "RIG", default_value = "builtin:default")]
+    pub rig: PathBuf,
+    /// The 68 landmarks of the rig's mesh, when it is not built in and has no
+    /// MESH.landmarks.ron beside it.
+    #[arg(long, value_name = "FILE")]
+    pub rig_landmarks: Option<PathBuf>,
+    /// The AU table for --aus (default: the built-in default table).
+    #[arg(long, value_name = "TABLE")]
+    pub table: Option<PathBuf>,
+    /// Also write AU intensities (AU01_r ..., 0-5) derived from the activations.
+    #[arg(long)]
+    pub aus: bool,
+    /// The frame number (OpenFace's `frame`) of a neutral face; default: estimated from the
+    /// recording (with --live: the first tracked frame).
+    #[arg(long, value_name = "N")]
+    pub neutral: Option<u64>,
+    /// Read rows as they arrive (a running OpenFace piped to stdin) and write each frame at
+    /// once.
+    #[arg(long)]
+    pub live: bool,
+}
+
+/// One tracked row of the recording.
+struct Tracked {
+    frame: u64,
+    timestamp: f64,
+    landmarks: Vec<Vec3>,
+}
+
+/// The rig and what the solve needs of it.
+struct Prepared {
+    bound: BoundRig,
+    model: LandmarkModel,
+    projection: Option<AuProjection>,
+    loaded: LoadedRig,
+}
+
+/// Runs `grimace capture`.
+pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let prepared = prepare(args)?;
+    if args.live {
+        return live(args, &prepared);
+    }
+    let mut inputs = Inputs::new();
+    inputs.add_rig(&prepared.loaded);
+    inputs.add("the recording", &args.recording);
+    if args.out != Path::new("-") {
+        inputs.check_output(&args.out)?;
+    }
+    let file = File::open(&args.recording)
+        .with_context(|| format!("cannot open {}", args.recording.display()))?;
+    let mut reader = OpenFaceReader::with_landmarks(BufReader::new(file), &args.recording)?;
+    let (rows, skips) = read_rows(&mut reader)?;
+    let (mut session, neutral) = file_session(args, &prepared, &rows)?;
+    let mut text = String::new();
+    text.push_str(&header(&prepared));
+    text.push('\n');
+    let mut explained = Vec::new();
+    let mut unusable = 0;
+    let mut last_frame = None;
+    for row in &rows {
+        if last_frame.is_some_and(|f: u64| row.frame > f + 1) {
+            session.gap();
+        }
+        last_frame = Some(row.frame);
+        let Some(captured) = session.frame(&row.landmarks) else {
+            unusable += 1;
+            continue;
+        };
+        explained.extend(captured.explained);
+        text.push_str(&line(&prepared, row, &captured));
+        text.push('\n');
+    }
+    if rows.len() == unusable {
+        bail!("{}: no frame has a usable face", args.recording.display());
+    }
+    write_out(&args.out, &text)?;
+    let written = rows.len() - unusable;
+    let summary = Summary {
+        written,
+        unusable,
+        explained,
+        neutral,
+        skips,
+        seconds: started.elapsed().as_secs_f64(),
+    };
+    if args.out != Path::new("-") {
+        write_manifest(args, &summary)?;
+    }
+    eprint!("{}", summary.text(args));
+    Ok(())
+}
+
+/// Loads and binds the rig, finds its landmark vertices, and the AU projection.
+fn prepare(args: &CaptureArgs) -> anyhow::Result<Prepared> {
+    let loaded = rig_file::load_rig_ref(&args.rig, None)?;
+    let bound = Deformation::default()
+        .bind(&loaded.rig, &loaded.mesh)
+        .map_err(|e| anyhow!(LoadError::new(&args.rig, e.to_string())))?;
+    let vertices = rig_landmarks(args, &loaded)?;
+    let model = LandmarkModel::new(&bound, &vertices);
+    let projection = if args.aus {
+        let table = match &args.table {
+            Some(path) => table_file::load_table_ref_for(path, &loaded.rig)?,
+            None => builtin::default_table(),
+        };
+        Some(AuProjection::new(&table, &loaded.rig))
+    } else {
+        None
+    };
+    Ok(Prepared {
+        bound,
+        model,
+        projection,
+        loaded,
+    })
+}
+
+/// The vertex of each of the 68 landmarks on the rig's mesh: given, built in, or
+/// `MESH.landmarks.ron` beside the rig's mesh.
+fn rig_landmarks(args: &CaptureArgs, loaded: &LoadedRig) -> anyhow::Result<Vec<u32>> {
+    let (set, path) = match &args.rig_landmarks {
+        Some(path) => (landmarks::load_landmarks(path)?, path.clone()),
+        None => match rig_file::mesh_ref(&loaded.path, &loaded.rig.mesh) {
+            MeshRef::Builtin(name) => {
+                let set = builtin::landmarks(&name).ok_or_else(|| {
+                    anyhow!("the built-in mesh `{name}` has no landmarks; give --rig-landmarks")
+                })?;
+                (set, PathBuf::from(format!("builtin:{name}.landmarks.ron")))
+            }
+            MeshRef::File(mesh) => {
+                let path = super::fit_rig::beside(&mesh);
+                if !path.is_file() {
+                    bail!(
+                        "the rig's mesh {} has no landmarks beside it ({}); give --rig-landmarks",
+                        mesh.display(),
+                        path.display()
+                    );
+                }
+                (landmarks::load_landmarks(&path)?, path)
+            }
+        },
+    };
+    landmarks::check_against(&set, &loaded.mesh, &path, None)?;
+    Ok(set.vertices(&loaded.mesh))
+}
+
+/// Every row of the recording: the tracked ones kept, the others counted (malformed rows
+/// named while few, as `play` does).
+fn read_rows<R: BufRead>(reader: &mut OpenFaceReader<R>) -> anyhow::Result<(Vec<Tracked>, Skips)> {
+    let mut rows = Vec::new();
+    let mut skips = Skips::default();
+    let name = reader.path().display().to_string();
+    while let Some(outcome) = reader.next_row()? {
+        match outcome {
+            RowOutcome::Malformed(e) => {
+                if let Some(message) = skips.malformed(&format!("{name}:{e}")) {
+                    eprintln!("warning: {message}");
+                }
+            }
+            RowOutcome::Row(row) if !row.success => skips.untracked(),
+            RowOutcome::Row(row) => {
+                let frame = row
+                    .frame
+                    .map_or(rows.len() as u64 + 1, |f| f.max(0.0) as u64);
+                let timestamp = row.timestamp.unwrap_or(0.0);
+                rows.push(Tracked {
+                    frame,
+                    timestamp,
+                    landmarks: row.landmarks,
+                });
+            }
+        }
+    }
+    Ok((rows, skips))
+}
+
+/// The session for a whole file: its neutral given (`--neutral N`) or estimated.
+fn file_session<'a>(
+    args: &CaptureArgs,
+    prepared: &'a Prepared,
+    rows: &[Tracked],
+) -> anyhow::Result<(Session<'a>, NeutralSource)> {
+    let at =
+        |e: crate::capture::CaptureError| anyhow!(LoadError::new(&args.recording, e.to_string()));
+    let session = match args.neutral {
+        Some(n) => {
+            let row = rows.iter().find(|r| r.frame == n).ok_or_else(|| {
+                anyhow!(LoadError::new(
+                    &args.recording,
+                    format!("--neutral {n}: no tracked frame {n} in the recording")
+                ))
+            })?;
+            Session::from_frame(
+                &prepared.bound,
+                &prepared.model,
+                &row.landmarks,
+                NeutralSource::Frame(n),
+                Regularisation::default(),
+            )
+            .map_err(at)?
+        }
+        None => {
+            let frames: Vec<&[Vec3]> = rows.iter().map(|r| r.landmarks.as_slice()).collect();
+            let (neutral, source) = crate::capture::pose::estimate_neutral(&frames)
+                .ok_or(crate::capture::CaptureError::NoUsableFrames)
+                .map_err(at)?;
+            Session::new(
+                &prepared.bound,
+                &prepared.model,
+                neutral,
+                source,
+                Regularisation::default(),
+            )
+            .map_err(at)?
+        }
+    };
+    let source = session.source.clone();
+    Ok((session, source))
+}
+
+/// The output's header line.
+fn header(prepared: &Prepared) -> String {
+    let muscles: Vec<String> = prepared
+        .loaded
+        .rig
+        .muscles
+        .iter()
+        .map(|m| m.name.clone())
+        .collect();
+    let aus = prepared
+        .projection
+        .as_ref()
+        .map(AuProjection::names)
+        .unwrap_or_default();
+    acts::header_line(&muscles, &aus)
+}
+
+/// One frame's output line.
+fn line(prepared: &Prepared, row: &Tracked, captured: &Captured) -> String {
+    let aus = prepared
+        .projection
+        .as_ref()
+        .map(|p| p.intensities(&captured.activations))
+        .unwrap_or_default();
+    acts::row_line(
+        row.frame,
+        row.timestamp,
+        captured.explained,
+        &captured.activations,
+        &aus,
+    )
+}
+
+/// Writes the output atomically, or to stdout for `-`.
+fn write_out(out: &Path, text: &str) -> anyhow::Result<()> {
+    if out == Path::new("-") {
+        return super::print(text);
+    }
+    atomic::write_atomic(out, text.as_bytes())
+        .with_context(|| format!("cannot write {}", out.display()))
+}
+
+/// What a run did.
+struct Summary {
+    written: usize,
+    unusable: usize,
+    explained: Vec<f64>,
+    neutral: NeutralSource,
+    skips: Skips,
+    seconds: f64,
+}
+
+impl Summary {
+    fn median_explained(&self) -> Option<f64> {
+        let mut v = self.explained.clone();
+        v.sort_by(f64::total_cmp);
+        (!v.is_empty()).then(|| v[v.len() / 2])
+    }
+
+    fn text(&self, args: &CaptureArgs) -> String {
+        let mut out = format!(
+            "{}: {} frames solved in {:.2} s; neutral: {}\n",
+            args.out.display(),
+            self.written,
+            self.seconds,
+            self.neutral
+        );
+        match self.median_explained() {
+            Some(m) => out.push_str(&format!(
+                "  median explained {:.3} over {} frames that moved above the noise floor\n",
+                m,
+                self.explained.len()
+            )),
+            None => out.push_str("  no frame moved above the landmarks' noise floor\n"),
+        }
+        if self.unusable > 0 {
+            out.push_str(&format!(
+                "  skipped {} frames whose landmarks are not a usable face (non-finite or degenerate)\n",
+                self.unusable
+            ));
+        }
+        if let Some(s) = self.skips.summary() {
+            out.push_str(&format!("  {s}\n"));
+        }
+        out
+    }
+}
+
+/// `ACTS.csv` -> `ACTS.capture.txt`: how the file was made (the neutral, the counts), kept
+/// beside it so the CSV itself stays readable by OpenFace tools.
+pub fn manifest_path(out: &Path) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    out.with_file_name(format!("{stem}.capture.txt"))
+}
+
+fn write_manifest(args: &CaptureArgs, summary: &Summary) -> anyhow::Result<()> {
+    let text = format!(
+        "grimace capture\nrecording: {}\nrig: {}\n{}",
+        args.recording.display(),
+        args.rig.display(),
+        summary.text(args)
+    );
+    let path = manifest_path(&args.out);
+    atomic::write_atomic(&path, text.as_bytes())
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// `--live`: rows from stdin, each frame written as it is solved; the neutral is frame
+/// `--neutral N` (frames before it are skipped) or the first tracked frame.
+fn live(args: &CaptureArgs, prepared: &Prepared) -> anyhow::Result<()> {
+    if args.recording != Path::new("-") {
+        bail!("--live reads rows from stdin: give `-` as the recording");
+    }
+    let stdin = std::io::stdin().lock();
+    let mut reader = OpenFaceReader::with_landmarks(stdin, Path::new("-"))?;
+    let mut out: Box<dyn Write> = if args.out == Path::new("-") {
+        Box::new(std::io::stdout().lock())
+    } else {
+        Box::new(
+            File::create(&args.out)
+                .with_context(|| format!("cannot create {}", args.out.display()))?,
+        )
+    };
+    writeln!(out, "{}", header(prepared))?;
+    out.flush()?;
+    let mut session: Option<Session> = None;
+    let mut skips = Skips::default();
+    let mut single = Vec::new();
+    loop {
+        let (rows, more) = next_tracked(&mut reader, &mut skips)?;
+        single.clear();
+        single.extend(rows);
+        for row in &single {
+            if session.is_none() && args.neutral.is_none_or(|n| n == row.frame) {
+                let source = match args.neutral {
+                    Some(n) => NeutralSource::Frame(n),
+                    None => NeutralSource::FirstFrame(row.frame),
+                };
+                session = Session::from_frame(
+                    &prepared.bound,
+                    &prepared.model,
+                    &row.landmarks,
+                    source,
+                    Regularisation::default(),
+                )
+                .ok();
+            }
+            let Some(captured) = session.as_mut().and_then(|s| s.frame(&row.landmarks)) else {
+                continue;
+            };
+            writeln!(out, "{}", line(prepared, row, &captured))?;
+            out.flush()?;
+        }
+        if !more {
+            break;
+        }
+    }
+    if let Some(s) = skips.summary() {
+        eprintln!("{s}");
+    }
+    Ok(())
+}
+
+/// The next tracked row, if any, and whether the stream goes on.
+fn next_tracked<R: BufRead>(
+    reader: &mut OpenFaceReader<R>,
+    skips: &mut Skips,
+) -> anyhow::Result<(Option<Tracked>, bool)> {
+    let Some(outcome) = reader.next_row()? else {
+        return Ok((None, false));
+    };
+    let row = match outcome {
+        RowOutcome::Malformed(e) => {
+            if let Some(message) = skips.malformed(&format!("-:{e}")) {
+                eprintln!("warning: {message}");
+            }
+            return Ok((None, true));
+        }
+        RowOutcome::Row(row) if !row.success => {
+            skips.untracked();
+            return Ok((None, true));
+        }
+        RowOutcome::Row(row) => row,
+    };
+    Ok((
+        Some(Tracked {
+            frame: row.frame.map_or(0, |f| f.max(0.0) as u64),
+            timestamp: row.timestamp.unwrap_or(0.0),
+            landmarks: row.landmarks,
+        }),
+        true,
+    ))
+}
