@@ -29,7 +29,7 @@ use crate::model::{Activations, BoundRig};
 
 /// A frame whose non-rigid motion is below this many times its noise (the stable points'
 /// misfit after alignment) has no explained fraction: there is nothing to explain.
-pub const NOISE_FACTOR: f64 = 2.0;
+pub const NOISE_FACTOR: f64 = 3.0;
 
 /// Why capture cannot start.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -113,7 +113,7 @@ impl<'a> Session<'a> {
         let motion = self.to_rig.motion(&aligned.points, &self.neutral);
         let solution = self.solver.solve(&motion);
         let weights = self.solver.weights();
-        let weight: f64 = weights.iter().sum();
+        let weight: f64 = weights.iter().map(|w| w.element_sum() / 3.0).sum();
         let rms = (solution.motion / weight).sqrt();
         let floor = NOISE_FACTOR * aligned.noise * self.to_rig.scale;
         let explained = (rms > floor).then(|| solution.explained());

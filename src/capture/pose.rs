@@ -22,6 +22,18 @@ pub fn is_contour(i: usize) -> bool {
 /// Weight of a jaw-line landmark's motion against the others' 1.
 pub const CONTOUR_WEIGHT: f64 = 0.3;
 
+/// Weight of motion along the rig's depth axis (out of the face) against the others' 1: a
+/// single camera sees depth only through the tracker's face model, so the landmarks'
+/// non-rigid depth is the least measured of their coordinates.
+pub const DEPTH_WEIGHT: f64 = 0.25;
+
+/// The weight of each axis of landmark `i`'s motion in the rig's space (x across, y up, z
+/// out of the face).
+pub fn landmark_weight(i: usize) -> DVec3 {
+    let w = if is_contour(i) { CONTOUR_WEIGHT } else { 1.0 };
+    DVec3::new(w, w, w * DEPTH_WEIGHT)
+}
+
 /// One frame with its head pose removed: the landmarks in the neutral's coordinates.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Aligned {
@@ -150,7 +162,8 @@ fn median_shape(shapes: &[&[DVec3]]) -> Vec<DVec3> {
 }
 
 /// The map of the subject's motion into the rig's space: per landmark, the Jacobian of the
-/// subject-to-rig warp at the subject's neutral landmark.
+/// subject-to-rig warp (fitted on every landmark but the jaw line's sides) at the subject's
+/// neutral landmark.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ToRig {
     jacobians: Vec<DMat3>,
@@ -162,8 +175,12 @@ impl ToRig {
     /// The map from the subject's `neutral` to the rig's rest landmarks; `None` when the
     /// warp cannot be fitted (a neutral with no spread).
     pub fn new(neutral: &[DVec3], rig: &[DVec3]) -> Option<ToRig> {
-        let from: Vec<Vec3> = neutral.iter().map(|p| p.as_vec3()).collect();
-        let to: Vec<Vec3> = rig.iter().map(|p| p.as_vec3()).collect();
+        // The jaw line is the silhouette: where the tracker puts it depends on the head's
+        // turn in the neutral frame, so it would bend the warp; the chin is kept.
+        let kept = (0..neutral.len().min(rig.len())).filter(|&i| !is_contour(i));
+        let (from, to): (Vec<Vec3>, Vec<Vec3>) = kept
+            .map(|i| (neutral[i].as_vec3(), rig[i].as_vec3()))
+            .unzip();
         let warp = Warp::fit(&from, &to)?;
         let jacobians = neutral.iter().map(|&p| warp.jacobian(p)).collect();
         Some(ToRig {

@@ -11,7 +11,7 @@
 
 use glam::{DVec3, Vec3};
 
-use super::pose::{is_contour, CONTOUR_WEIGHT};
+use super::pose::landmark_weight;
 use super::rig_model::LandmarkModel;
 use crate::fit::lsq::{activation_bounds, box_least_squares, Penalties};
 use crate::model::{Activations, BoundRig};
@@ -21,15 +21,16 @@ use crate::model::{Activations, BoundRig};
 pub struct Regularisation {
     /// The temporal weight as a fraction of the mean muscle's own weight (`J_i W J_i`).
     pub temporal: f64,
-    /// The sparsity term's pull, in activation units: a muscle acting alone comes out this
-    /// much lower than it would without the term, so noise does not wake it.
+    /// The sparsity term's pull, in activation units: a muscle of average strength acting
+    /// alone comes out this much lower than it would without the term, so noise does not
+    /// wake it; the price per unit is the same for every muscle.
     pub sparsity: f64,
 }
 
 impl Default for Regularisation {
     fn default() -> Regularisation {
         Regularisation {
-            temporal: 0.05,
+            temporal: 0.02,
             sparsity: 0.01,
         }
     }
@@ -65,7 +66,7 @@ impl Solution {
 pub struct FrameSolver<'a> {
     bound: &'a BoundRig,
     model: &'a LandmarkModel,
-    weights: Vec<f64>,
+    weights: Vec<DVec3>,
     /// `J_m W J_n` over the muscles (row-major, muscles x muscles).
     muscle_gram: Vec<f64>,
     lo: Vec<f64>,
@@ -83,9 +84,7 @@ impl<'a> FrameSolver<'a> {
         model: &'a LandmarkModel,
         regularisation: Regularisation,
     ) -> FrameSolver<'a> {
-        let weights: Vec<f64> = (0..model.rest().len())
-            .map(|i| if is_contour(i) { CONTOUR_WEIGHT } else { 1.0 })
-            .collect();
+        let weights: Vec<DVec3> = (0..model.rest().len()).map(landmark_weight).collect();
         let m = model.muscle_count();
         let mut muscle_gram = vec![0.0; m * m];
         for i in 0..m {
@@ -99,14 +98,9 @@ impl<'a> FrameSolver<'a> {
         let diagonal: Vec<f64> = (0..m).map(|i| muscle_gram[i * m + i]).collect();
         let live = diagonal.iter().filter(|&&g| g > 0.0).count().max(1);
         let mean = diagonal.iter().sum::<f64>() / live as f64;
-        let mut sparsity: Vec<f64> = diagonal
-            .iter()
-            .map(|g| 2.0 * regularisation.sparsity * g)
-            .collect();
-        if model.has_jaw() {
-            // The jaw's column changes along its range; its pull is set from the mean muscle.
-            sparsity.push(2.0 * regularisation.sparsity * mean);
-        }
+        // One price per unit of activation for every variable, set from the mean muscle:
+        // a muscle that moves the landmarks little is not a cheaper way to explain them.
+        let sparsity = vec![2.0 * regularisation.sparsity * mean; lo.len()];
         FrameSolver {
             bound,
             model,
@@ -126,8 +120,8 @@ impl<'a> FrameSolver<'a> {
         self.previous = None;
     }
 
-    /// The landmark weights (jaw-line points count less).
-    pub fn weights(&self) -> &[f64] {
+    /// The landmark weights per axis of the rig (see [`landmark_weight`]).
+    pub fn weights(&self) -> &[DVec3] {
         &self.weights
     }
 
@@ -239,20 +233,20 @@ impl<'a> FrameSolver<'a> {
     }
 }
 
-/// `sum w_i a_i . b_i`.
-fn weighted_dot(weights: &[f64], a: &[DVec3], b: &[DVec3]) -> f64 {
+/// `sum_i w_i . (a_i * b_i)`: each axis weighted.
+pub fn weighted_dot(weights: &[DVec3], a: &[DVec3], b: &[DVec3]) -> f64 {
     weights
         .iter()
         .zip(a.iter().zip(b))
-        .map(|(w, (a, b))| w * a.dot(*b))
+        .map(|(w, (a, b))| w.dot(*a * *b))
         .sum()
 }
 
-/// `sum w_i |a_i - b_i|^2`.
-fn weighted_distance(weights: &[f64], a: &[DVec3], b: &[DVec3]) -> f64 {
+/// `sum_i w_i . (a_i - b_i)^2`.
+fn weighted_distance(weights: &[DVec3], a: &[DVec3], b: &[DVec3]) -> f64 {
     weights
         .iter()
         .zip(a.iter().zip(b))
-        .map(|(w, (a, b))| w * a.distance_squared(*b))
+        .map(|(w, (a, b))| w.dot((*a - *b) * (*a - *b)))
         .sum()
 }

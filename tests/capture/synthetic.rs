@@ -1,0 +1,334 @@
+//! Synthetic recordings: known activations deform the built-in face; its landmark vertices,
+//! turned, moved, scaled to millimetres, noised and put in OpenFace's camera coordinates
+//! (x right, y down, z away from the camera), are written as an OpenFace CSV.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use glam::{DVec3, Quat, Vec3};
+use grimace::capture::{pose, LandmarkModel, Regularisation, Session};
+use grimace::io::openface::{OpenFaceReader, RowOutcome};
+use grimace::model::{Activations, BoundRig, Deformation};
+
+use crate::common;
+
+struct Face {
+    bound: BoundRig,
+    vertices: Vec<u32>,
+}
+
+fn face() -> Face {
+    let mesh = grimace::io::builtin::default_mesh();
+    let rig = grimace::io::builtin::default_rig();
+    let bound = Deformation::default().bind(&rig, &mesh).unwrap();
+    let vertices = grimace::io::builtin::landmarks("default")
+        .unwrap()
+        .vertices(&mesh);
+    Face { bound, vertices }
+}
+
+fn act(face: &Face, muscles: &[(&str, f32)], jaw: f32) -> Activations {
+    let rig = face.bound.rig();
+    let mut a = Activations::zero(rig);
+    for (name, value) in muscles {
+        a.muscles[rig.muscle_index(name).unwrap()] = *value;
+    }
+    a.jaw = jaw;
+    a
+}
+
+/// A small deterministic noise source, -1 to 1.
+struct Noise(u64);
+
+impl Noise {
+    fn next(&mut self) -> f32 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    }
+}
+
+/// The landmarks of `act` under a head pose `t` (0-1 through the recording) in camera mm.
+fn tracked(face: &Face, act: &Activations, t: f32, noise_mm: f32, noise: &mut Noise) -> Vec<Vec3> {
+    let mut out = Vec::new();
+    face.bound.deform(act, &mut out).unwrap();
+    let turn = Quat::from_euler(
+        glam::EulerRot::YXZ,
+        0.3 * (t * 6.0).sin(),
+        0.2 * (t * 4.0).cos(),
+        0.1 * t,
+    );
+    // The built-in face is about 13 units across the cheeks: 12.5 mm per unit.
+    let scale = 12.5;
+    let place = Vec3::new(20.0 * t, -10.0, 600.0 - 80.0 * t);
+    face.vertices
+        .iter()
+        .map(|&v| {
+            let p = turn * out[v as usize] * scale;
+            let camera = Vec3::new(p.x, -p.y, -p.z) + place;
+            camera + Vec3::new(noise.next(), noise.next(), noise.next()) * noise_mm
+        })
+        .collect()
+}
+
+/// An OpenFace CSV of the frames (`None`: an untracked row), with an AU column as real
+/// files have.
+fn csv(frames: &[Option<Vec<Vec3>>]) -> String {
+    let mut text = String::from("frame, face_id, timestamp, confidence, success");
+    for axis in ["X", "Y", "Z"] {
+        for i in 0..68 {
+            let _ = write!(text, ", {axis}_{i}");
+        }
+    }
+    text.push_str(", AU12_r\n");
+    for (k, frame) in frames.iter().enumerate() {
+        let success = u8::from(frame.is_some());
+        let _ = write!(
+            text,
+            "{}, 0, {:.3}, 0.98, {success}",
+            k + 1,
+            k as f64 / 30.0
+        );
+        let points = frame.clone().unwrap_or_else(|| vec![Vec3::ZERO; 68]);
+        for axis in 0..3 {
+            for p in &points {
+                let _ = write!(text, ", {:.3}", p[axis]);
+            }
+        }
+        text.push_str(", 0\n");
+    }
+    text
+}
+
+/// The tracked rows of a CSV, read as capture reads them.
+fn read(text: &str) -> Vec<Vec<Vec3>> {
+    let mut reader = OpenFaceReader::with_landmarks(text.as_bytes(), Path::new("s.csv")).unwrap();
+    let mut rows = Vec::new();
+    while let Some(outcome) = reader.next_row().unwrap() {
+        if let RowOutcome::Row(row) = outcome {
+            if row.success {
+                rows.push(row.landmarks);
+            }
+        }
+    }
+    rows
+}
+
+/// Solves every frame with an estimated neutral.
+fn solve(face: &Face, rows: &[Vec<Vec3>]) -> Vec<Option<grimace::capture::Captured>> {
+    let model = LandmarkModel::new(&face.bound, &face.vertices);
+    let frames: Vec<&[Vec3]> = rows.iter().map(Vec::as_slice).collect();
+    let (neutral, _) = pose::estimate_neutral(&frames).unwrap();
+    let mut session = Session::new(
+        &face.bound,
+        &model,
+        neutral,
+        grimace::capture::NeutralSource::Frame(1),
+        Regularisation::default(),
+    )
+    .unwrap();
+    rows.iter().map(|r| session.frame(r)).collect()
+}
+
+/// The recording: neutral frames, then each pose held for a few frames.
+fn poses(face: &Face) -> Vec<(Activations, &'static str)> {
+    let mut list = vec![(act(face, &[], 0.0), "neutral"); 12];
+    let held: [(&[(&str, f32)], f32, &str); 5] = [
+        (&[("L_Zygomatic_Major", 0.8)], 0.0, "left smile"),
+        (&[("R_Zygomatic_Major", 0.5)], 0.0, "right smile"),
+        (
+            &[("L_Frontalis_Inner", 1.0), ("R_Frontalis_Inner", 1.0)],
+            0.0,
+            "inner brows",
+        ),
+        (&[], 2.0, "jaw"),
+        (
+            &[("R_Angular_Depressor", 1.2)],
+            1.0,
+            "right depressor and jaw",
+        ),
+    ];
+    for (muscles, jaw, what) in held {
+        for _ in 0..4 {
+            list.push((act(face, muscles, jaw), what));
+        }
+    }
+    list
+}
+
+/// Muscles whose landmark column is closer than this (cosine) to another muscle's cannot be
+/// told apart by the 68 landmarks; only their joint motion is checked.
+const CONFUSABLE: f64 = 0.9;
+
+#[test]
+fn known_activations_are_solved_back_through_pose_and_noise() {
+    let face = face();
+    let poses = poses(&face);
+    let mut noise = Noise(7);
+    let frames: Vec<Option<Vec<Vec3>>> = poses
+        .iter()
+        .enumerate()
+        .map(|(k, (a, _))| {
+            Some(tracked(
+                &face,
+                a,
+                k as f32 / poses.len() as f32,
+                0.02,
+                &mut noise,
+            ))
+        })
+        .collect();
+    let solved = solve(&face, &read(&csv(&frames)));
+    let names: Vec<&str> = face
+        .bound
+        .rig()
+        .muscles
+        .iter()
+        .map(|m| m.name.as_str())
+        .collect();
+    let confusion = confusion(&face);
+    for (k, ((want, what), got)) in poses.iter().zip(&solved).enumerate() {
+        let got = got.as_ref().expect("every synthetic frame is usable");
+        if what != &"neutral" {
+            let e = got
+                .explained
+                .expect("a moving frame has an explained fraction");
+            assert!(e > 0.97, "{what}: explained {e}");
+        }
+        // The temporal term lags a step change by design: a pose is checked once held.
+        if k < 2 || poses[k - 2].1 != *what {
+            continue;
+        }
+        for (i, (w, g)) in want
+            .muscles
+            .iter()
+            .zip(&got.activations.muscles)
+            .enumerate()
+        {
+            if confusion[i].0 < CONFUSABLE {
+                assert!(
+                    (w - g).abs() < 0.05,
+                    "{what}: {} wanted {w}, solved {g}",
+                    names[i]
+                );
+            }
+        }
+        let jaw = (want.jaw, got.activations.jaw);
+        assert!((jaw.0 - jaw.1).abs() < 0.05, "{what}: jaw {jaw:?}");
+    }
+}
+
+#[test]
+fn pose_alone_gives_activations_near_zero() {
+    let face = face();
+    let rest = act(&face, &[], 0.0);
+    let mut noise = Noise(11);
+    let frames: Vec<Option<Vec<Vec3>>> = (0..30)
+        .map(|k| Some(tracked(&face, &rest, k as f32 / 30.0, 0.05, &mut noise)))
+        .collect();
+    for got in solve(&face, &read(&csv(&frames))) {
+        let got = got.unwrap();
+        let most = got
+            .activations
+            .muscles
+            .iter()
+            .fold(got.activations.jaw / 2.0, |m, a| m.max(*a));
+        assert!(most < 0.05, "pose alone woke a muscle to {most}");
+        assert_eq!(got.explained, None, "a still face is below the noise floor");
+    }
+}
+
+#[test]
+fn garbage_frames_are_skipped_and_counted_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let face = face();
+    let rest = act(&face, &[], 0.0);
+    let smile = act(&face, &[("L_Zygomatic_Major", 1.0)], 0.0);
+    let mut noise = Noise(3);
+    let mut frames: Vec<Option<Vec<Vec3>>> = (0..12)
+        .map(|k| {
+            Some(tracked(
+                &face,
+                if k < 8 { &rest } else { &smile },
+                0.0,
+                0.02,
+                &mut noise,
+            ))
+        })
+        .collect();
+    frames.push(None);
+    frames.push(Some(vec![Vec3::new(1.0, 2.0, 500.0); 68]));
+    let mut text = csv(&frames);
+    // A NaN landmark, and a truncated last row.
+    let nan_row = text
+        .lines()
+        .nth(2)
+        .unwrap()
+        .replacen(", 0.98, 1, ", ", 0.98, 1, nan, ", 1);
+    let nan_row = nan_row
+        .rsplit_once(", ")
+        .map(|(a, _)| a.rsplit_once(", ").unwrap().0.to_string() + ", 0")
+        .unwrap();
+    text.push_str(&nan_row);
+    text.push('\n');
+    text.push_str("99, 0, 3.3, 0.9, 1, 1.0, 2.0");
+    std::fs::write(dir.path().join("rec.csv"), &text).unwrap();
+    let out = common::grimace_in(dir.path(), &["capture", "rec.csv", "--out", "acts.csv"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("skipped 1 frames whose landmarks are not a usable face"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("1 untracked") && stderr.contains("2 malformed"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("cut short"),
+        "the truncated row is named: {stderr}"
+    );
+    let acts = std::fs::read_to_string(dir.path().join("acts.csv")).unwrap();
+    assert_eq!(acts.lines().count(), 1 + 12, "{acts}");
+    let manifest = std::fs::read_to_string(dir.path().join("acts.capture.txt")).unwrap();
+    assert!(manifest.contains("neutral: estimated"), "{manifest}");
+    let _ = DVec3::ZERO;
+}
+
+#[test]
+fn a_recording_without_3d_landmarks_says_which_columns_are_needed() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("2d.csv"),
+        "frame, success, x_0, y_0, AU12_r\n1, 1, 3, 4, 0\n",
+    )
+    .unwrap();
+    let out = common::grimace_in(dir.path(), &["capture", "2d.csv", "--out", "a.csv"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr.contains("2d.csv:1: the header lacks 204 of the 204 3D landmark columns"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("X_0..X_67"), "{stderr}");
+}
+
+/// For each muscle, the largest cosine between its landmark column and another muscle's
+/// (weighted as the solve weighs): near 1, the landmarks cannot tell the two apart.
+fn confusion(face: &Face) -> Vec<(f64, usize)> {
+    let model = LandmarkModel::new(&face.bound, &face.vertices);
+    let w: Vec<DVec3> = (0..68).map(pose::landmark_weight).collect();
+    let dot = |a: usize, b: usize| {
+        grimace::capture::solver::weighted_dot(&w, model.column(a), model.column(b))
+    };
+    (0..model.muscle_count())
+        .map(|i| {
+            (0..model.muscle_count())
+                .filter(|&j| j != i && dot(j, j) > 0.0 && dot(i, i) > 0.0)
+                .map(|j| (dot(i, j) / (dot(i, i) * dot(j, j)).sqrt(), j))
+                .fold((0.0, i), |m, c| if c.0 > m.0 { c } else { m })
+        })
+        .collect()
+}
