@@ -52,6 +52,8 @@ pub struct Captured {
     pub activations: Activations,
     /// The fraction of the non-rigid motion explained, `None` below the noise floor.
     pub explained: Option<f64>,
+    /// The landmarks' motion the activations make, in the rig's space.
+    pub motion: Vec<DVec3>,
 }
 
 /// A recording's capture: the subject's neutral, the map into the rig's space and the
@@ -120,6 +122,7 @@ impl<'a> Session<'a> {
         Some(Captured {
             activations: solution.activations,
             explained,
+            motion: solution.predicted,
         })
     }
 

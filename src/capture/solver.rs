@@ -48,6 +48,8 @@ pub struct Solution {
     pub residual: f64,
     /// `|motion|^2_W`: the frame's non-rigid motion.
     pub motion: f64,
+    /// The landmarks' motion the activations make (rig space).
+    pub predicted: Vec<DVec3>,
 }
 
 impl Solution {
@@ -154,6 +156,7 @@ impl<'a> FrameSolver<'a> {
             activations: self.activations(&x),
             residual,
             motion: total,
+            predicted,
         }
     }
 

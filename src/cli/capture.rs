@@ -140,7 +140,7 @@ fn prepare(args: &CaptureArgs) -> anyhow::Result<Prepared> {
             Some(path) => table_file::load_table_ref_for(path, &loaded.rig)?,
             None => builtin::default_table(),
         };
-        Some(AuProjection::new(&table, &loaded.rig))
+        Some(AuProjection::new(&table, &bound, &model))
     } else {
         None
     };
@@ -277,7 +277,7 @@ fn line(prepared: &Prepared, row: &Tracked, captured: &Captured) -> String {
     let aus = prepared
         .projection
         .as_ref()
-        .map(|p| p.intensities(&captured.activations))
+        .map(|p| p.intensities(&captured.motion))
         .unwrap_or_default();
     acts::row_line(
         row.frame,
