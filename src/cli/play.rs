@@ -202,6 +202,7 @@ fn open_source(
             mapper: mapper.clone(),
             scale,
             fps: args.fps,
+            muscles: rig.muscles.iter().map(|m| m.name.clone()).collect(),
         };
         return Ok(open_file(path, &options)?);
     }

@@ -271,6 +271,27 @@ impl MuscleMap {
     }
 }
 
+/// The activations of frame `frame` (the `frame` column; the 1-based row without one) of
+/// the activation CSV at `path`, on a rig with these muscles.
+pub fn read_frame(path: &Path, frame: u64, muscles: &[String]) -> Result<Activations, LoadError> {
+    let file =
+        std::fs::File::open(path).map_err(|e| LoadError::new(path, format!("cannot open: {e}")))?;
+    let mut reader = ActsReader::new(std::io::BufReader::new(file), path)?;
+    let map = MuscleMap::new(reader.columns(), muscles);
+    let mut ordinal = 0u64;
+    while let Some(row) = reader.next_row()? {
+        ordinal += 1;
+        let Ok(row) = row else { continue };
+        if row.frame.map_or(ordinal, |f| f as u64) == frame {
+            return Ok(map.activations(&row, muscles.len()));
+        }
+    }
+    Err(LoadError::new(
+        path,
+        format!("no frame {frame} in the file"),
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
