@@ -7,7 +7,8 @@
 //! - [`rig_model`]: the rig's landmark Jacobian on the deformation it is bound with;
 //! - [`solver`]: bounded least squares per frame ([`crate::fit::lsq`]) with temporal and
 //!   sparsity terms, refined on the deformation itself;
-//! - [`aus`]: AU intensities from the activations, through an AU table.
+//! - [`aus`]: AU intensities from the activations, through an AU table;
+//! - [`synthetic`]: recordings made by the rig itself (tests, benches, self-checks).
 //!
 //! `docs/capture.md` describes the method and its limits. Nothing here reads files.
 
@@ -15,6 +16,7 @@ pub mod aus;
 pub mod pose;
 pub mod rig_model;
 pub mod solver;
+pub mod synthetic;
 
 use glam::{DVec3, Vec3};
 use thiserror::Error;

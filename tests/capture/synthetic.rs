@@ -2,10 +2,10 @@
 //! turned, moved, scaled to millimetres, noised and put in OpenFace's camera coordinates
 //! (x right, y down, z away from the camera), are written as an OpenFace CSV.
 
-use std::fmt::Write as _;
 use std::path::Path;
 
-use glam::{DVec3, Quat, Vec3};
+use glam::{DVec3, Vec3};
+use grimace::capture::synthetic::{self, Motion};
 use grimace::capture::{pose, LandmarkModel, Regularisation, Session};
 use grimace::io::openface::{OpenFaceReader, RowOutcome};
 use grimace::model::{Activations, BoundRig, Deformation};
@@ -35,71 +35,6 @@ fn act(face: &Face, muscles: &[(&str, f32)], jaw: f32) -> Activations {
     }
     a.jaw = jaw;
     a
-}
-
-/// A small deterministic noise source, -1 to 1.
-struct Noise(u64);
-
-impl Noise {
-    fn next(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
-    }
-}
-
-/// The landmarks of `act` under a head pose `t` (0-1 through the recording) in camera mm.
-fn tracked(face: &Face, act: &Activations, t: f32, noise_mm: f32, noise: &mut Noise) -> Vec<Vec3> {
-    let mut out = Vec::new();
-    face.bound.deform(act, &mut out).unwrap();
-    let turn = Quat::from_euler(
-        glam::EulerRot::YXZ,
-        0.3 * (t * 6.0).sin(),
-        0.2 * (t * 4.0).cos(),
-        0.1 * t,
-    );
-    // The built-in face is about 13 units across the cheeks: 12.5 mm per unit.
-    let scale = 12.5;
-    let place = Vec3::new(20.0 * t, -10.0, 600.0 - 80.0 * t);
-    face.vertices
-        .iter()
-        .map(|&v| {
-            let p = turn * out[v as usize] * scale;
-            let camera = Vec3::new(p.x, -p.y, -p.z) + place;
-            camera + Vec3::new(noise.next(), noise.next(), noise.next()) * noise_mm
-        })
-        .collect()
-}
-
-/// An OpenFace CSV of the frames (`None`: an untracked row), with an AU column as real
-/// files have.
-fn csv(frames: &[Option<Vec<Vec3>>]) -> String {
-    let mut text = String::from("frame, face_id, timestamp, confidence, success");
-    for axis in ["X", "Y", "Z"] {
-        for i in 0..68 {
-            let _ = write!(text, ", {axis}_{i}");
-        }
-    }
-    text.push_str(", AU12_r\n");
-    for (k, frame) in frames.iter().enumerate() {
-        let success = u8::from(frame.is_some());
-        let _ = write!(
-            text,
-            "{}, 0, {:.3}, 0.98, {success}",
-            k + 1,
-            k as f64 / 30.0
-        );
-        let points = frame.clone().unwrap_or_else(|| vec![Vec3::ZERO; 68]);
-        for axis in 0..3 {
-            for p in &points {
-                let _ = write!(text, ", {:.3}", p[axis]);
-            }
-        }
-        text.push_str(", 0\n");
-    }
-    text
 }
 
 /// The tracked rows of a CSV, read as capture reads them.
@@ -166,21 +101,9 @@ const CONFUSABLE: f64 = 0.9;
 fn known_activations_are_solved_back_through_pose_and_noise() {
     let face = face();
     let poses = poses(&face);
-    let mut noise = Noise(7);
-    let frames: Vec<Option<Vec<Vec3>>> = poses
-        .iter()
-        .enumerate()
-        .map(|(k, (a, _))| {
-            Some(tracked(
-                &face,
-                a,
-                k as f32 / poses.len() as f32,
-                0.02,
-                &mut noise,
-            ))
-        })
-        .collect();
-    let solved = solve(&face, &read(&csv(&frames)));
+    let acts: Vec<Option<Activations>> = poses.iter().map(|(a, _)| Some(a.clone())).collect();
+    let frames = synthetic::landmarks(&face.bound, &face.vertices, &acts, Motion::default());
+    let solved = solve(&face, &read(&synthetic::csv(&frames)));
     let names: Vec<&str> = face
         .bound
         .rig()
@@ -224,11 +147,13 @@ fn known_activations_are_solved_back_through_pose_and_noise() {
 fn pose_alone_gives_activations_near_zero() {
     let face = face();
     let rest = act(&face, &[], 0.0);
-    let mut noise = Noise(11);
-    let frames: Vec<Option<Vec<Vec3>>> = (0..30)
-        .map(|k| Some(tracked(&face, &rest, k as f32 / 30.0, 0.05, &mut noise)))
-        .collect();
-    for got in solve(&face, &read(&csv(&frames))) {
+    let motion = Motion {
+        noise: 0.05,
+        seed: 11,
+        ..Motion::default()
+    };
+    let frames = synthetic::landmarks(&face.bound, &face.vertices, &vec![Some(rest); 30], motion);
+    for got in solve(&face, &read(&synthetic::csv(&frames))) {
         let got = got.unwrap();
         let most = got
             .activations
@@ -246,32 +171,23 @@ fn garbage_frames_are_skipped_and_counted_not_a_panic() {
     let face = face();
     let rest = act(&face, &[], 0.0);
     let smile = act(&face, &[("L_Zygomatic_Major", 1.0)], 0.0);
-    let mut noise = Noise(3);
-    let mut frames: Vec<Option<Vec<Vec3>>> = (0..12)
-        .map(|k| {
-            Some(tracked(
-                &face,
-                if k < 8 { &rest } else { &smile },
-                0.0,
-                0.02,
-                &mut noise,
-            ))
-        })
+    let poses: Vec<Option<Activations>> = (0..12)
+        .map(|k| Some(if k < 8 { rest.clone() } else { smile.clone() }))
         .collect();
+    let mut frames = synthetic::landmarks(&face.bound, &face.vertices, &poses, Motion::default());
     frames.push(None);
     frames.push(Some(vec![Vec3::new(1.0, 2.0, 500.0); 68]));
-    let mut text = csv(&frames);
+    let mut text = synthetic::csv(&frames);
     // A NaN landmark, and a truncated last row.
-    let nan_row = text
+    let mut fields: Vec<String> = text
         .lines()
         .nth(2)
         .unwrap()
-        .replacen(", 0.98, 1, ", ", 0.98, 1, nan, ", 1);
-    let nan_row = nan_row
-        .rsplit_once(", ")
-        .map(|(a, _)| a.rsplit_once(", ").unwrap().0.to_string() + ", 0")
-        .unwrap();
-    text.push_str(&nan_row);
+        .split(", ")
+        .map(String::from)
+        .collect();
+    fields[5] = "nan".into();
+    text.push_str(&fields.join(", "));
     text.push('\n');
     text.push_str("99, 0, 3.3, 0.9, 1, 1.0, 2.0");
     std::fs::write(dir.path().join("rec.csv"), &text).unwrap();
@@ -331,4 +247,66 @@ fn confusion(face: &Face) -> Vec<(f64, usize)> {
                 .fold((0.0, i), |m, c| if c.0 > m.0 { c } else { m })
         })
         .collect()
+}
+
+#[test]
+fn a_capture_replays_in_play_and_render_by_muscle_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let face = face();
+    let smile = act(&face, &[("L_Zygomatic_Major", 1.0)], 0.0);
+    let poses: Vec<Option<Activations>> = (0..12)
+        .map(|k| {
+            Some(if k < 8 {
+                act(&face, &[], 0.0)
+            } else {
+                smile.clone()
+            })
+        })
+        .collect();
+    let frames = synthetic::landmarks(&face.bound, &face.vertices, &poses, Motion::default());
+    std::fs::write(dir.path().join("rec.csv"), synthetic::csv(&frames)).unwrap();
+    let out = common::grimace_in(
+        dir.path(),
+        &["capture", "rec.csv", "--out", "acts.csv", "--aus"],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let acts = std::fs::read_to_string(dir.path().join("acts.csv")).unwrap();
+    assert!(
+        acts.lines().next().unwrap().contains(", jaw, AU01_r"),
+        "{acts}"
+    );
+    let play = common::grimace_in(dir.path(), &["play", "acts.csv", "--headless"]);
+    let shown = String::from_utf8_lossy(&play.stdout);
+    assert!(
+        play.status.success(),
+        "{}",
+        String::from_utf8_lossy(&play.stderr)
+    );
+    let last = shown.lines().filter(|l| l.contains(" | ")).last().unwrap();
+    assert!(
+        last.contains("L_Zygomatic_Major=1.0") || last.contains("L_Zygomatic_Major=0.9"),
+        "{shown}"
+    );
+    assert!(
+        !last.contains("R_Zygomatic_Major"),
+        "the right side stays still: {last}"
+    );
+    let render = common::grimace_in(
+        dir.path(),
+        &["render", "--acts", "acts.csv", "--frame", "12"],
+    );
+    assert!(
+        render.status.success(),
+        "{}",
+        String::from_utf8_lossy(&render.stderr)
+    );
+    let missing = common::grimace_in(
+        dir.path(),
+        &["render", "--acts", "acts.csv", "--frame", "99"],
+    );
+    assert!(String::from_utf8_lossy(&missing.stderr).contains("acts.csv: no frame 99"));
 }
