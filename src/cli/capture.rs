@@ -385,35 +385,36 @@ fn live(args: &CaptureArgs, prepared: &Prepared) -> anyhow::Result<()> {
     out.flush()?;
     let mut session: Option<Session> = None;
     let mut skips = Skips::default();
-    let mut single = Vec::new();
-    loop {
-        let (rows, more) = next_tracked(&mut reader, &mut skips)?;
-        single.clear();
-        single.extend(rows);
-        for row in &single {
-            if session.is_none() && args.neutral.is_none_or(|n| n == row.frame) {
-                let source = match args.neutral {
-                    Some(n) => NeutralSource::Frame(n),
-                    None => NeutralSource::FirstFrame(row.frame),
-                };
-                session = Session::from_frame(
-                    &prepared.bound,
-                    &prepared.model,
-                    &row.landmarks,
-                    source,
-                    Regularisation::default(),
-                )
-                .ok();
-            }
-            let Some(captured) = session.as_mut().and_then(|s| s.frame(&row.landmarks)) else {
-                continue;
+    let mut unusable = 0usize;
+    while let Some(next) = next_tracked(&mut reader, &mut skips)? {
+        let Some(row) = next else { continue };
+        if session.is_none() && args.neutral.is_none_or(|n| n == row.frame) {
+            let source = match args.neutral {
+                Some(n) => NeutralSource::Frame(n),
+                None => NeutralSource::FirstFrame(row.frame),
             };
-            writeln!(out, "{}", line(prepared, row, &captured))?;
-            out.flush()?;
+            let regularisation = Regularisation::default();
+            session = Session::from_frame(
+                &prepared.bound,
+                &prepared.model,
+                &row.landmarks,
+                source,
+                regularisation,
+            )
+            .ok();
         }
-        if !more {
-            break;
-        }
+        let Some(session) = session.as_mut() else {
+            continue;
+        };
+        let Some(captured) = session.frame(&row.landmarks) else {
+            unusable += 1;
+            continue;
+        };
+        writeln!(out, "{}", line(prepared, &row, &captured))?;
+        out.flush()?;
+    }
+    if unusable > 0 {
+        eprintln!("skipped {unusable} frames whose landmarks are not a usable face");
     }
     if let Some(s) = skips.summary() {
         eprintln!("{s}");
@@ -421,33 +422,30 @@ fn live(args: &CaptureArgs, prepared: &Prepared) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The next tracked row, if any, and whether the stream goes on.
+/// The next row of a stream: `None` at its end, `Some(None)` for a row skipped (untracked or
+/// malformed, counted), `Some(Some(row))` for a tracked one.
 fn next_tracked<R: BufRead>(
     reader: &mut OpenFaceReader<R>,
     skips: &mut Skips,
-) -> anyhow::Result<(Option<Tracked>, bool)> {
+) -> anyhow::Result<Option<Option<Tracked>>> {
     let Some(outcome) = reader.next_row()? else {
-        return Ok((None, false));
+        return Ok(None);
     };
-    let row = match outcome {
+    Ok(Some(match outcome {
         RowOutcome::Malformed(e) => {
             if let Some(message) = skips.malformed(&format!("-:{e}")) {
                 eprintln!("warning: {message}");
             }
-            return Ok((None, true));
+            None
         }
         RowOutcome::Row(row) if !row.success => {
             skips.untracked();
-            return Ok((None, true));
+            None
         }
-        RowOutcome::Row(row) => row,
-    };
-    Ok((
-        Some(Tracked {
+        RowOutcome::Row(row) => Some(Tracked {
             frame: row.frame.map_or(0, |f| f.max(0.0) as u64),
             timestamp: row.timestamp.unwrap_or(0.0),
             landmarks: row.landmarks,
         }),
-        true,
-    ))
+    }))
 }

@@ -310,3 +310,53 @@ fn a_capture_replays_in_play_and_render_by_muscle_name() {
     );
     assert!(String::from_utf8_lossy(&missing.stderr).contains("acts.csv: no frame 99"));
 }
+
+#[test]
+fn live_reads_stdin_and_writes_each_frame() {
+    use std::io::Write as _;
+    let face = face();
+    let smile = act(&face, &[("R_Zygomatic_Major", 0.8)], 0.0);
+    let poses: Vec<Option<Activations>> = (0..10)
+        .map(|k| match k {
+            3 => None,
+            0..=4 => Some(act(&face, &[], 0.0)),
+            _ => Some(smile.clone()),
+        })
+        .collect();
+    let frames = synthetic::landmarks(&face.bound, &face.vertices, &poses, Motion::default());
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_grimace"))
+        .args(["capture", "-", "--live", "--out", "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let text = synthetic::csv(&frames);
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(text.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(
+        lines.len(),
+        1 + 9,
+        "a header and one row per tracked frame: {stdout}"
+    );
+    let header: Vec<&str> = lines[0].split(", ").collect();
+    let right = header
+        .iter()
+        .position(|n| *n == "R_Zygomatic_Major")
+        .unwrap();
+    let last: f64 = lines[9].split(", ").nth(right).unwrap().parse().unwrap();
+    assert!((last - 0.8).abs() < 0.1, "{}", lines[9]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("1 untracked"));
+}
