@@ -47,8 +47,11 @@ fn pearson(a: &[f64], b: &[f64]) -> Option<f64> {
     (va > 0.0 && vb > 0.0).then(|| cov / (va * vb).sqrt())
 }
 
-/// The recording's tracked rows: landmarks and OpenFace's AU intensities by number.
-fn tracked(path: &Path) -> (Vec<Vec<Vec3>>, Vec<Vec<(u8, f64)>>) {
+/// One frame's AU intensities, by AU number.
+type Intensities = Vec<(u8, f64)>;
+
+/// The recording's tracked rows: landmarks and OpenFace's AU intensities.
+fn tracked(path: &Path) -> (Vec<Vec<Vec3>>, Vec<Intensities>) {
     let file = std::fs::File::open(path).unwrap();
     let mut reader = OpenFaceReader::with_landmarks(std::io::BufReader::new(file), path).unwrap();
     let numbers: Vec<u8> = reader.columns().aus.iter().map(|c| c.number).collect();

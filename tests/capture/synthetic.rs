@@ -67,10 +67,13 @@ fn solve(face: &Face, rows: &[Vec<Vec3>]) -> Vec<Option<grimace::capture::Captur
     rows.iter().map(|r| session.frame(r)).collect()
 }
 
+/// Muscle names and activations.
+type Muscles<'a> = &'a [(&'a str, f32)];
+
 /// The recording: neutral frames, then each pose held for a few frames.
 fn poses(face: &Face) -> Vec<(Activations, &'static str)> {
     let mut list = vec![(act(face, &[], 0.0), "neutral"); 12];
-    let held: [(&[(&str, f32)], f32, &str); 5] = [
+    let held: [(Muscles, f32, &str); 5] = [
         (&[("L_Zygomatic_Major", 0.8)], 0.0, "left smile"),
         (&[("R_Zygomatic_Major", 0.5)], 0.0, "right smile"),
         (
@@ -286,7 +289,7 @@ fn a_capture_replays_in_play_and_render_by_muscle_name() {
         "{}",
         String::from_utf8_lossy(&play.stderr)
     );
-    let last = shown.lines().filter(|l| l.contains(" | ")).last().unwrap();
+    let last = shown.lines().rfind(|l| l.contains(" | ")).unwrap();
     assert!(
         last.contains("L_Zygomatic_Major=1.0") || last.contains("L_Zygomatic_Major=0.9"),
         "{shown}"
