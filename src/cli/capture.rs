@@ -55,6 +55,10 @@ pub struct CaptureArgs {
     pub live: bool,
 }
 
+/// The most tracked frames a file may hold (about nine hours at 30 frames a second): every
+/// frame's landmarks are kept until the neutral is known.
+pub const MAX_FRAMES: usize = 1_000_000;
+
 /// One tracked row of the recording.
 struct Tracked {
     frame: u64,
@@ -82,6 +86,10 @@ pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
     inputs.add("the recording", &args.recording);
     if args.out != Path::new("-") {
         inputs.check_output(&args.out)?;
+        inputs.check_output(&manifest_path(&args.out))?;
+    }
+    if let Some(reason) = crate::io::error::not_a_file(&args.recording) {
+        bail!("{}: {reason}", args.recording.display());
     }
     let file = File::open(&args.recording)
         .with_context(|| format!("cannot open {}", args.recording.display()))?;
@@ -138,7 +146,8 @@ fn prepare(args: &CaptureArgs) -> anyhow::Result<Prepared> {
     let projection = if args.aus {
         let table = match &args.table {
             Some(path) => table_file::load_table_ref_for(path, &loaded.rig)?,
-            None => builtin::default_table(),
+            None => table_file::load_table_ref_for(Path::new("builtin:default"), &loaded.rig)
+                .context("the built-in AU table does not fit this rig; give --table")?,
         };
         Some(AuProjection::new(&table, &bound, &model))
     } else {
@@ -195,6 +204,9 @@ fn read_rows<R: BufRead>(reader: &mut OpenFaceReader<R>) -> anyhow::Result<(Vec<
                 }
             }
             RowOutcome::Row(row) if !row.success => skips.untracked(),
+            RowOutcome::Row(_) if rows.len() >= MAX_FRAMES => bail!(
+                "{name}: more than {MAX_FRAMES} tracked frames; capture a recording this long in parts, or with --live"
+            ),
             RowOutcome::Row(row) => {
                 let frame = row
                     .frame
