@@ -31,7 +31,7 @@ use crate::model::{Activations, BoundRig};
 
 /// A frame whose non-rigid motion is below this many times its noise (the stable points'
 /// misfit after alignment) has no explained fraction: there is nothing to explain.
-pub const NOISE_FACTOR: f64 = 3.0;
+pub const NOISE_FACTOR: f64 = 2.0;
 
 /// Why capture cannot start.
 #[derive(Debug, Clone, PartialEq, Error)]

@@ -39,12 +39,13 @@ pub fn landmark_weight(i: usize) -> DVec3 {
 pub struct Aligned {
     /// The 68 landmarks after the similarity that best aligns the stable points.
     pub points: Vec<DVec3>,
-    /// The RMS distance of the stable points from the neutral's after alignment: what
-    /// tracking noise and the stable points' own small motion amount to in this frame.
+    /// The RMS distance from the neutral's, after alignment, of the landmarks the pose was
+    /// fitted on (the half that moved least): what tracking noise amounts to in this frame.
     pub noise: f64,
 }
 
-/// Aligns a frame's landmarks to `neutral` on the [`STABLE`] points; `None` when the frame
+/// Aligns a frame's landmarks to `neutral`: a similarity fitted on the [`STABLE`] points,
+/// then fitted again on the half of all 68 that moved least under it; `None` when the frame
 /// is not a usable face (non-finite, or the stable points do not span space).
 pub fn align(frame: &[Vec3], neutral: &[DVec3]) -> Option<Aligned> {
     if frame.len() != COUNT || neutral.len() != COUNT || !frame.iter().all(|p| p.is_finite()) {
@@ -52,16 +53,30 @@ pub fn align(frame: &[Vec3], neutral: &[DVec3]) -> Option<Aligned> {
     }
     let from: Vec<DVec3> = STABLE.iter().map(|&i| frame[i].as_dvec3()).collect();
     let to: Vec<DVec3> = STABLE.iter().map(|&i| neutral[i]).collect();
-    let similarity = Similarity::fit(&from, &to)?;
+    let first = Similarity::fit(&from, &to)?;
+    // Then again on the half of the landmarks that moved least under the first fit: the
+    // points no muscle moved in this frame, wherever they are, hold the pose far better
+    // than eight points between the eyes do at the chin.
+    let mut moved: Vec<(f64, usize)> = frame
+        .iter()
+        .zip(neutral)
+        .enumerate()
+        .map(|(i, (p, q))| (first.apply(p.as_dvec3()).distance_squared(*q), i))
+        .collect();
+    moved.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let calm = &moved[..COUNT / 2];
+    let from: Vec<DVec3> = calm.iter().map(|&(_, i)| frame[i].as_dvec3()).collect();
+    let to: Vec<DVec3> = calm.iter().map(|&(_, i)| neutral[i]).collect();
+    let similarity = Similarity::fit(&from, &to).unwrap_or(first);
     let points: Vec<DVec3> = frame
         .iter()
         .map(|p| similarity.apply(p.as_dvec3()))
         .collect();
-    let noise = (STABLE
+    let noise = (calm
         .iter()
-        .map(|&i| points[i].distance_squared(neutral[i]))
+        .map(|&(_, i)| points[i].distance_squared(neutral[i]))
         .sum::<f64>()
-        / STABLE.len() as f64)
+        / calm.len() as f64)
         .sqrt();
     Some(Aligned { points, noise })
 }
