@@ -29,8 +29,9 @@ pub use solver::{FrameSolver, Regularisation, Solution};
 use crate::fit::landmarks::COUNT;
 use crate::model::{Activations, BoundRig};
 
-/// A frame whose non-rigid motion is below this many times its noise (the stable points'
-/// misfit after alignment) has no explained fraction: there is nothing to explain.
+/// A frame whose non-rigid motion is below this many times its noise (the misfit of the
+/// landmarks its pose was fitted on, [`pose::Aligned::noise`]) has no explained fraction:
+/// there is nothing to explain.
 pub const NOISE_FACTOR: f64 = 2.0;
 
 /// Why capture cannot start.
