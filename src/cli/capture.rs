@@ -27,8 +27,8 @@ use crate::play::skips::Skips;
 pub struct CaptureArgs {
     /// OpenFace 2.0 FeatureExtraction CSV with the 3D landmarks (X_0..Z_67); `-` with --live
     /// reads rows from stdin.
-    #[arg(value_name = "RECORDING.csv")]
-    pub recording: PathBuf,
+    #[arg(value_name = "RECORDING.csv", required_unless_present = "udp")]
+    pub recording: Option<PathBuf>,
     /// The activation CSV to write (`-` for stdout).
     #[arg(long, value_name = "ACTS.csv")]
     pub out: PathBuf,
@@ -53,6 +53,15 @@ pub struct CaptureArgs {
     /// once.
     #[arg(long)]
     pub live: bool,
+    /// With --live: read the rows from UDP datagrams on this loopback address (the header
+    /// line first; each datagram one or more lines) instead of stdin.
+    #[arg(
+        long,
+        value_name = "ADDR",
+        requires = "live",
+        conflicts_with = "recording"
+    )]
+    pub udp: Option<String>,
 }
 
 /// The most tracked frames a file may hold (about nine hours at 30 frames a second): every
@@ -81,21 +90,24 @@ pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
     if args.live {
         return live(args, &prepared);
     }
+    let Some(recording) = &args.recording else {
+        bail!("give the recording (a file), or --live with --udp ADDR");
+    };
     let mut inputs = Inputs::new();
     inputs.add_rig(&prepared.loaded);
-    inputs.add("the recording", &args.recording);
+    inputs.add("the recording", recording);
     if args.out != Path::new("-") {
         inputs.check_output(&args.out)?;
         inputs.check_output(&manifest_path(&args.out))?;
     }
-    if let Some(reason) = crate::io::error::not_a_file(&args.recording) {
-        bail!("{}: {reason}", args.recording.display());
+    if let Some(reason) = crate::io::error::not_a_file(recording) {
+        bail!("{}: {reason}", recording.display());
     }
-    let file = File::open(&args.recording)
-        .with_context(|| format!("cannot open {}", args.recording.display()))?;
-    let mut reader = OpenFaceReader::with_landmarks(BufReader::new(file), &args.recording)?;
+    let file =
+        File::open(recording).with_context(|| format!("cannot open {}", recording.display()))?;
+    let mut reader = OpenFaceReader::with_landmarks(BufReader::new(file), recording)?;
     let (rows, skips) = read_rows(&mut reader)?;
-    let (mut session, neutral) = file_session(args, &prepared, &rows)?;
+    let (mut session, neutral) = file_session(args, recording, &prepared, &rows)?;
     let mut text = String::new();
     text.push_str(&header(&prepared));
     text.push('\n');
@@ -116,7 +128,7 @@ pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
         text.push('\n');
     }
     if rows.len() == unusable {
-        bail!("{}: no frame has a usable face", args.recording.display());
+        bail!("{}: no frame has a usable face", recording.display());
     }
     write_out(&args.out, &text)?;
     let written = rows.len() - unusable;
@@ -129,7 +141,7 @@ pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
         seconds: started.elapsed().as_secs_f64(),
     };
     if args.out != Path::new("-") {
-        write_manifest(args, &summary)?;
+        write_manifest(args, recording, &summary)?;
     }
     eprint!("{}", summary.text(args));
     Ok(())
@@ -226,16 +238,16 @@ fn read_rows<R: BufRead>(reader: &mut OpenFaceReader<R>) -> anyhow::Result<(Vec<
 /// The session for a whole file: its neutral given (`--neutral N`) or estimated.
 fn file_session<'a>(
     args: &CaptureArgs,
+    recording: &Path,
     prepared: &'a Prepared,
     rows: &[Tracked],
 ) -> anyhow::Result<(Session<'a>, NeutralSource)> {
-    let at =
-        |e: crate::capture::CaptureError| anyhow!(LoadError::new(&args.recording, e.to_string()));
+    let at = |e: crate::capture::CaptureError| anyhow!(LoadError::new(recording, e.to_string()));
     let session = match args.neutral {
         Some(n) => {
             let row = rows.iter().find(|r| r.frame == n).ok_or_else(|| {
                 anyhow!(LoadError::new(
-                    &args.recording,
+                    recording,
                     format!("--neutral {n}: no tracked frame {n} in the recording")
                 ))
             })?;
@@ -365,10 +377,10 @@ pub fn manifest_path(out: &Path) -> PathBuf {
     out.with_file_name(format!("{stem}.capture.txt"))
 }
 
-fn write_manifest(args: &CaptureArgs, summary: &Summary) -> anyhow::Result<()> {
+fn write_manifest(args: &CaptureArgs, recording: &Path, summary: &Summary) -> anyhow::Result<()> {
     let text = format!(
         "grimace capture\nrecording: {}\nrig: {}\n{}",
-        args.recording.display(),
+        recording.display(),
         args.rig.display(),
         summary.text(args)
     );
@@ -377,14 +389,48 @@ fn write_manifest(args: &CaptureArgs, summary: &Summary) -> anyhow::Result<()> {
         .with_context(|| format!("cannot write {}", path.display()))
 }
 
-/// `--live`: rows from stdin, each frame written as it is solved; the neutral is frame
-/// `--neutral N` (frames before it are skipped) or the first tracked frame.
+/// `--live`: rows from stdin or loopback UDP, each frame written as it is solved; the
+/// neutral is frame `--neutral N` (frames before it are skipped) or the first tracked frame.
 fn live(args: &CaptureArgs, prepared: &Prepared) -> anyhow::Result<()> {
-    if args.recording != Path::new("-") {
-        bail!("--live reads rows from stdin: give `-` as the recording");
+    if let Some(address) = &args.udp {
+        let address = crate::play::live::loopback_address(address)?;
+        let socket = std::net::UdpSocket::bind(address)
+            .with_context(|| format!("cannot listen on udp {address}"))?;
+        eprintln!("listening on udp {}", socket.local_addr()?);
+        // Room for the largest datagram, so none is cut.
+        let input = BufReader::with_capacity(1 << 17, Datagrams { socket });
+        let reader = OpenFaceReader::with_landmarks(input, Path::new("udp"))?;
+        return live_rows(args, prepared, reader);
     }
-    let stdin = std::io::stdin().lock();
-    let mut reader = OpenFaceReader::with_landmarks(stdin, Path::new("-"))?;
+    if args.recording.as_deref() != Some(Path::new("-")) {
+        bail!("--live reads rows from stdin (give `-` as the recording) or from --udp ADDR");
+    }
+    let reader = OpenFaceReader::with_landmarks(std::io::stdin().lock(), Path::new("-"))?;
+    live_rows(args, prepared, reader)
+}
+
+/// UDP datagrams read as one stream of lines (a datagram without a final line end gets one).
+struct Datagrams {
+    socket: std::net::UdpSocket,
+}
+
+impl std::io::Read for Datagrams {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.socket.recv(buf)?;
+        if n > 0 && n < buf.len() && buf[n - 1] != b'\n' {
+            buf[n] = b'\n';
+            return Ok(n + 1);
+        }
+        Ok(n)
+    }
+}
+
+/// Solves and writes each row of a live stream as it arrives.
+fn live_rows<R: BufRead>(
+    args: &CaptureArgs,
+    prepared: &Prepared,
+    mut reader: OpenFaceReader<R>,
+) -> anyhow::Result<()> {
     let mut out: Box<dyn Write> = if args.out == Path::new("-") {
         Box::new(std::io::stdout().lock())
     } else {

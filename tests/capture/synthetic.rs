@@ -363,3 +363,51 @@ fn live_reads_stdin_and_writes_each_frame() {
     assert!((last - 0.8).abs() < 0.1, "{}", lines[9]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("1 untracked"));
 }
+
+#[test]
+fn live_reads_udp_datagrams_on_loopback() {
+    use std::io::{BufRead, BufReader};
+    let face = face();
+    let poses: Vec<Option<Activations>> = (0..4)
+        .map(|k| Some(act(&face, &[("L_Zygomatic_Major", 0.3 * k as f32)], 0.0)))
+        .collect();
+    let frames = synthetic::landmarks(&face.bound, &face.vertices, &poses, Motion::default());
+    let text = synthetic::csv(&frames);
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_grimace"))
+        .args(["capture", "--live", "--udp", "127.0.0.1:0", "--out", "-"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut first = String::new();
+    stderr.read_line(&mut first).unwrap();
+    let address = first
+        .trim()
+        .strip_prefix("listening on udp ")
+        .unwrap()
+        .to_string();
+    let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    for line in text.lines() {
+        socket.send_to(line.as_bytes(), &address).unwrap();
+    }
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let mut lines = Vec::new();
+    for _ in 0..5 {
+        let mut line = String::new();
+        stdout.read_line(&mut line).unwrap();
+        lines.push(line);
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        lines[0].starts_with("frame, timestamp, explained, "),
+        "{lines:?}"
+    );
+    assert!(lines[4].starts_with("4, 0.100, "), "{lines:?}");
+    let refused = common::grimace_in(
+        std::path::Path::new("."),
+        &["capture", "--live", "--udp", "8.8.8.8:9000", "--out", "-"],
+    );
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("only loopback"));
+}
