@@ -445,7 +445,13 @@ fn live_rows<R: BufRead>(
     let mut skips = Skips::default();
     let mut unusable = 0usize;
     while let Some(next) = next_tracked(&mut reader, &mut skips)? {
-        let Some(row) = next else { continue };
+        let Some(row) = next else {
+            // A lost frame: the next is solved afresh, not held near the one before.
+            if let Some(session) = session.as_mut() {
+                session.gap();
+            }
+            continue;
+        };
         if session.is_none() && args.neutral.is_none_or(|n| n == row.frame) {
             let source = match args.neutral {
                 Some(n) => NeutralSource::Frame(n),
