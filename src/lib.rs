@@ -12,7 +12,8 @@
 //! ```text
 //!  cli/        the commands, one module each; `edit` starts the editor   [feature `tui`]
 //!  tui/        the editor, the player's view, the landmark picker       [feature `tui`]
-//!  render/     camera, framing, raster to a dot canvas; text, SVG, PNG   play/ frame sources, clock
+//!  render/ play/ capture/   drawing (camera, framing, raster; text, SVG, PNG); frame sources
+//!              and the playback clock; muscles solved from tracked 3D landmarks
 //!  io/         files: RON rigs and tables, OBJ, glTF and its morph targets, landmark files,
 //!              classic Waters import, OpenFace CSV, atomic save, recovery, lock, the
 //!              built-in face embedded (`io::builtin`) and written (`io::presets`)
@@ -25,6 +26,7 @@
 
 #![warn(missing_docs)]
 
+pub mod capture;
 #[cfg(feature = "tui")]
 pub mod cli;
 pub mod face;

@@ -13,6 +13,7 @@ use clap::{Parser, Subcommand};
 use crate::io::printable::printable;
 use crate::render::CellMode;
 
+pub(crate) mod capture;
 pub(crate) mod check;
 pub(crate) mod completions;
 pub mod edit;
@@ -180,6 +181,8 @@ pub enum Command {
     Landmarks(landmarks::LandmarksArgs),
     /// Fit AU entries to target shapes of a rig's mesh (blendshapes, scans).
     FitAu(fit_au::FitAuArgs),
+    /// Solve each frame's muscles from an OpenFace recording's 3D landmarks (capture).
+    Capture(capture::CaptureArgs),
     /// Deform every AU and expression of a table and report tears, lids that stay open and
     /// a jaw that does not open (exits 1 when one is found).
     Check(check::CheckArgs),
@@ -206,6 +209,7 @@ pub fn main() -> ExitCode {
             Command::Completions(args) => completions::run(&args),
             Command::FitRig(args) => finish("fit-rig", fit_rig::run(&args)),
             Command::FitAu(args) => finish("fit-au", fit_au::run(&args)),
+            Command::Capture(args) => finish("capture", capture::run(&args)),
             Command::Check(args) => check::run(&args),
             Command::Landmarks(args) => finish("landmarks", landmarks::run(&args)),
         },

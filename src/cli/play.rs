@@ -32,7 +32,8 @@ INPUT:
   FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped),
                       or a Live Link Face recording (Timecode,BlendShapeCount, then ARKit
                       weights 0-1, played through presets/arkit.map.ron; timecodes at --fps,
-                      default 60)
+                      default 60), or an activation CSV from `grimace capture` (muscles by
+                      name onto the rig)
   FILE.timeline.ron   keyframes of AU combinations or activations (see docs/formats.md)
   --stdin             one frame per line: a CSV header line (OpenFace or Live Link Face)
                       then rows, or JSON objects
@@ -57,7 +58,7 @@ fn after_help() -> String {
 #[derive(Debug, Clone, Args)]
 #[command(after_help = after_help())]
 pub struct PlayArgs {
-    /// An OpenFace CSV file or a `*.timeline.ron` file.
+    /// An OpenFace CSV file, a `grimace capture` activation CSV or a `*.timeline.ron` file.
     #[arg(value_name = "FILE", required_unless_present_any = ["stdin", "udp"], conflicts_with_all = ["stdin", "udp"])]
     pub file: Option<PathBuf>,
     /// Read frames from stdin (CSV with a header line, or one JSON object per line).
@@ -202,6 +203,7 @@ fn open_source(
             mapper: mapper.clone(),
             scale,
             fps: args.fps,
+            muscles: rig.muscles.iter().map(|m| m.name.clone()).collect(),
         };
         return Ok(open_file(path, &options)?);
     }

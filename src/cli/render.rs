@@ -74,6 +74,13 @@ pub struct RenderArgs {
     /// The state to show (the rest state when none is given).
     #[command(flatten)]
     pub state: StateArgs,
+    /// An activation CSV (`grimace capture`'s output): render its frame --frame N, its
+    /// muscles taken by name onto the rig.
+    #[arg(long, value_name = "ACTS.csv", requires = "frame", conflicts_with_all = ["au", "expr", "combo", "set", "jaw", "all"])]
+    pub acts: Option<PathBuf>,
+    /// The frame of --acts to render (its `frame` column).
+    #[arg(long, value_name = "N", requires = "acts")]
+    pub frame: Option<u64>,
     /// Render every AU and expression of the table into the folder given by --out.
     #[arg(long, requires = "out", conflicts_with_all = ["au", "expr", "combo", "set", "jaw"])]
     pub all: bool,
@@ -314,7 +321,19 @@ pub fn state_positions(
     sources: &Sources,
     bound: &BoundRig,
 ) -> anyhow::Result<Vec<Vec3>> {
-    let act = export::activations(&args.state, sources)?;
+    let act = match (&args.acts, args.frame) {
+        (Some(path), Some(frame)) => {
+            let muscles: Vec<String> = sources
+                .rig
+                .rig
+                .muscles
+                .iter()
+                .map(|m| m.name.clone())
+                .collect();
+            crate::io::acts::read_frame(path, frame, &muscles)?
+        }
+        _ => export::activations(&args.state, sources)?,
+    };
     deform(bound, &act)
 }
 

@@ -8,12 +8,14 @@
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh;
 //! - [`transport`]: the whole fit ([`fit_rig`]);
+//! - [`lsq`]: the one bounded least-squares solver (`fit-au`, `capture`);
 //! - [`solve`]: activations that best reproduce a target shape ([`fit_au`]);
 //! - [`quality`]: tears, lids and jaw of a deformed face (`grimace check`).
 //!
 //! Nothing here reads files or knows about terminals.
 
 pub mod jaw;
+pub mod lsq;
 pub mod nearest;
 pub mod parts;
 pub mod propose;

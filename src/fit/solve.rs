@@ -5,7 +5,7 @@
 //! For the paper's bare model and a fixed jaw activation the deformation is affine in the
 //! muscle activations (each vertex's jaw blend is an affine map of its post-muscle position),
 //! so the muscles come from a box-constrained linear least-squares problem solved exactly by
-//! an active-set method, and the jaw from a scan and a golden-section search over its range.
+//! the active-set method of [`super::lsq`], and the jaw from a scan and a golden-section search over its range.
 //! The skin rules make the deformation nonlinear: that linear solution is then the start of
 //! projected Gauss-Newton iterations on the deformation itself (a forward-difference
 //! Jacobian at the current estimate, the same bounded least squares for the step, a
@@ -14,6 +14,7 @@
 use glam::{DMat3, DVec3, Vec3};
 use thiserror::Error;
 
+use super::lsq::{activation_bounds, box_least_squares};
 use crate::model::{Activations, BoundRig, JAW_RANGE, MUSCLE_RANGE};
 
 /// Why a target cannot be fitted.
@@ -100,10 +101,7 @@ type Column = Vec<(u32, DVec3)>;
 impl<'a> Refine<'a> {
     fn new(bound: &'a BoundRig, target: &'a [Vec3]) -> Refine<'a> {
         let muscles = bound.muscle_count();
-        let mut hi = vec![f64::from(*MUSCLE_RANGE.end()); muscles];
-        if bound.rig().jaw.is_some() {
-            hi.push(f64::from(*JAW_RANGE.end()));
-        }
+        let (_, hi) = activation_bounds(muscles, bound.rig().jaw.is_some());
         Refine {
             bound,
             target,
@@ -423,8 +421,7 @@ impl Problem {
                 }
             }
         }
-        let lo = vec![0.0; m];
-        let hi = vec![f64::from(*MUSCLE_RANGE.end()); m];
+        let (lo, hi) = activation_bounds(m, false);
         let x = box_least_squares(&gram, &rhs, &lo, &hi);
         // |r|^2 = constant - 2 x.rhs + x G x
         let mut quad = 0.0;
@@ -435,166 +432,5 @@ impl Problem {
         }
         let lin: f64 = x.iter().zip(&rhs).map(|(a, b)| a * b).sum();
         (x, (constant - 2.0 * lin + quad).max(0.0))
-    }
-}
-
-/// Minimises `x G x / 2 - c x` over `lo <= x <= hi` (per variable; G symmetric positive
-/// semi-definite) by a primal active-set method; a tiny ridge makes indistinguishable
-/// muscles share.
-fn box_least_squares(gram: &[f64], c: &[f64], lo: &[f64], hi: &[f64]) -> Vec<f64> {
-    let m = c.len();
-    let trace: f64 = (0..m).map(|i| gram[i * m + i]).sum();
-    let ridge = 1e-10 * trace.max(1e-300) / m.max(1) as f64;
-    let g = |i: usize, j: usize| gram[i * m + j] + if i == j { ridge } else { 0.0 };
-    // Muscles that move nothing stay at 0.
-    let live: Vec<bool> = (0..m).map(|i| gram[i * m + i] > 0.0).collect();
-    let mut x = lo.to_vec();
-    // free[i]: not held at a bound.
-    let mut free: Vec<bool> = vec![false; m];
-    for _ in 0..(4 * m + 20) {
-        // Release the bound variable whose gradient most wants to move inward.
-        let grad: Vec<f64> = (0..m)
-            .map(|i| (0..m).map(|j| g(i, j) * x[j]).sum::<f64>() - c[i])
-            .collect();
-        let scale = 1e-12 * (1.0 + c.iter().fold(0.0f64, |a, v| a.max(v.abs())));
-        let release = (0..m)
-            .filter(|&i| live[i] && !free[i])
-            .filter(|&i| (x[i] <= lo[i] && grad[i] < -scale) || (x[i] >= hi[i] && grad[i] > scale))
-            .max_by(|&a, &b| grad[a].abs().total_cmp(&grad[b].abs()));
-        let Some(i) = release else {
-            if free.iter().any(|&f| f) && !inner(&g, c, &mut x, &mut free, lo, hi) {
-                continue;
-            }
-            return x;
-        };
-        free[i] = true;
-        while !inner(&g, c, &mut x, &mut free, lo, hi) {}
-    }
-    x
-}
-
-/// Solves for the free variables with the others held; if the solution leaves the box, steps
-/// toward it until the first variable hits a bound, holds that one and returns `false`.
-fn inner(
-    g: &dyn Fn(usize, usize) -> f64,
-    c: &[f64],
-    x: &mut [f64],
-    free: &mut [bool],
-    lo: &[f64],
-    hi: &[f64],
-) -> bool {
-    let ids: Vec<usize> = (0..x.len()).filter(|&i| free[i]).collect();
-    if ids.is_empty() {
-        return true;
-    }
-    let k = ids.len();
-    let mut a = vec![0.0; k * k];
-    let mut b = vec![0.0; k];
-    for (r, &i) in ids.iter().enumerate() {
-        b[r] = c[i]
-            - (0..x.len())
-                .filter(|&j| !free[j])
-                .map(|j| g(i, j) * x[j])
-                .sum::<f64>();
-        for (s, &j) in ids.iter().enumerate() {
-            a[r * k + s] = g(i, j);
-        }
-    }
-    let Some(solution) = cholesky_solve(a, b, k) else {
-        // Singular even with the ridge: hold the last released variable where it is.
-        if let Some(&last) = ids.last() {
-            free[last] = false;
-        }
-        return true;
-    };
-    let mut step = 1.0f64;
-    let mut blocking = None;
-    for (r, &i) in ids.iter().enumerate() {
-        let target = solution[r];
-        let delta = target - x[i];
-        if target < lo[i] && delta < 0.0 {
-            let t = (lo[i] - x[i]) / delta;
-            if t < step {
-                step = t;
-                blocking = Some((i, lo[i]));
-            }
-        } else if target > hi[i] && delta > 0.0 {
-            let t = (hi[i] - x[i]) / delta;
-            if t < step {
-                step = t;
-                blocking = Some((i, hi[i]));
-            }
-        }
-    }
-    for (r, &i) in ids.iter().enumerate() {
-        x[i] += step.max(0.0) * (solution[r] - x[i]);
-    }
-    match blocking {
-        Some((i, bound)) => {
-            x[i] = bound;
-            free[i] = false;
-            false
-        }
-        None => true,
-    }
-}
-
-/// Solves a symmetric positive definite system by Cholesky; `None` when not definite.
-fn cholesky_solve(mut a: Vec<f64>, mut b: Vec<f64>, n: usize) -> Option<Vec<f64>> {
-    for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
-        }
-        if d.is_nan() || d <= 0.0 {
-            return None;
-        }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = s / d;
-        }
-    }
-    for i in 0..n {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= a[i * n + k] * b[k];
-        }
-        b[i] = s / a[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let mut s = b[i];
-        for k in i + 1..n {
-            s -= a[k * n + i] * b[k];
-        }
-        b[i] = s / a[i * n + i];
-    }
-    Some(b)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn box_least_squares_clamps_and_solves() {
-        // G = I: the solution is c clamped to the box.
-        let g = vec![1.0, 0.0, 0.0, 1.0];
-        let (lo, hi) = ([0.0; 2], [2.0; 2]);
-        let x = box_least_squares(&g, &[0.5, 3.0], &lo, &hi);
-        assert!(
-            (x[0] - 0.5).abs() < 1e-9 && (x[1] - 2.0).abs() < 1e-9,
-            "{x:?}"
-        );
-        let x = box_least_squares(&g, &[-1.0, 1.0], &lo, &hi);
-        assert!(x[0].abs() < 1e-9 && (x[1] - 1.0).abs() < 1e-9, "{x:?}");
-        // Coupled: G = [[2,1],[1,2]], c = [3, 0]: unconstrained (2,-1); with x2 >= 0: x1 = 1.5.
-        let g = vec![2.0, 1.0, 1.0, 2.0];
-        let x = box_least_squares(&g, &[3.0, 0.0], &lo, &hi);
-        assert!((x[0] - 1.5).abs() < 1e-9 && x[1].abs() < 1e-9, "{x:?}");
     }
 }

@@ -4,6 +4,7 @@
 //! ([`LoadError`]). No input makes a loader panic; every file is size-checked before it is
 //! read. Saves go through [`atomic::write_atomic`], which never leaves a partial file.
 
+pub mod acts;
 pub mod arkit;
 pub mod atomic;
 pub mod builtin;

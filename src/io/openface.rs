@@ -6,6 +6,10 @@
 //! - older column layouts: only `AUxx_r` intensity columns are required; `frame`,
 //!   `timestamp` and `success` are used when present (without `success`, every row counts);
 //!   everything else (`AUxx_c` presence, gaze, pose, landmarks, `face_id`) is ignored.
+//! - for `grimace capture` ([`OpenFaceReader::with_landmarks`]): the 68 3D landmarks
+//!   `X_0..X_67`, `Y_*`, `Z_*` (millimetres, camera coordinates; the lower-case `x_*`, `y_*`
+//!   are the 2D image points) and the head pose `pose_Tx..pose_Rz` when present; the AU
+//!   columns are then optional.
 //!
 //! Rows are read one at a time, so the same reader serves a file and a live stream on stdin.
 //! A row that cannot be read is reported as [`RowOutcome::Malformed`] with its line number and
@@ -14,6 +18,7 @@
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
+use glam::Vec3;
 use thiserror::Error;
 
 use super::error::LoadError;
@@ -52,9 +57,29 @@ pub struct OpenFaceColumns {
     pub success: Option<usize>,
     /// The `AUxx_r` intensity columns, in header order.
     pub aus: Vec<AuColumn>,
+    /// The 3D landmark columns, when read ([`OpenFaceReader::with_landmarks`]).
+    pub landmarks: Option<LandmarkColumns>,
+    /// `pose_Tx, pose_Ty, pose_Tz, pose_Rx, pose_Ry, pose_Rz`, when read with the landmarks
+    /// and all present.
+    pub pose: Option<[usize; 6]>,
     /// The number of fields every row must have.
     pub field_count: usize,
 }
+
+/// The field indices of the 68 3D landmarks (`X_i`, `Y_i`, `Z_i`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LandmarkColumns {
+    /// `[X_i, Y_i, Z_i]` for landmark `i`.
+    pub xyz: Vec<[usize; 3]>,
+}
+
+/// Number of 3D landmarks OpenFace writes (the iBUG 68-point scheme).
+pub const LANDMARK_COUNT: usize = 68;
+
+/// The pose column names, in [`OpenFaceColumns::pose`] order.
+const POSE_NAMES: [&str; 6] = [
+    "pose_Tx", "pose_Ty", "pose_Tz", "pose_Rx", "pose_Ry", "pose_Rz",
+];
 
 /// The reason a header line is unusable.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -65,20 +90,71 @@ pub enum HeaderError {
     /// A column name appears twice.
     #[error("column `{0}` appears twice in the header")]
     Duplicate(String),
+    /// 3D landmarks were asked for, and some or all of their columns are missing.
+    #[error(
+        "the header lacks {missing} of the 204 3D landmark columns (first missing: {first}); \
+         capture needs X_0..X_67, Y_0..Y_67, Z_0..Z_67 in millimetres: run OpenFace's \
+         FeatureExtraction with its default outputs or with -3Dfp"
+    )]
+    NoLandmarks {
+        /// How many are missing.
+        missing: usize,
+        /// The first missing name.
+        first: String,
+    },
 }
 
 impl OpenFaceColumns {
     /// Finds the used columns in a header line (`frame, face_id, timestamp, ...`).
     pub fn from_header(line: &str) -> Result<OpenFaceColumns, HeaderError> {
-        let line = line
-            .trim_end_matches(['\r', '\n'])
-            .trim_start_matches('\u{feff}');
-        let names: Vec<&str> = line.split(',').map(str::trim).collect();
+        let columns = OpenFaceColumns::scan(line)?;
+        if columns.aus.is_empty() {
+            return Err(HeaderError::NoAuColumns);
+        }
+        Ok(columns)
+    }
+
+    /// Finds the used columns and the 3D landmarks (all 204 required) and pose (optional);
+    /// the AU columns are optional.
+    pub fn from_header_3d(line: &str) -> Result<OpenFaceColumns, HeaderError> {
+        let mut columns = OpenFaceColumns::scan(line)?;
+        let names = header_names(line);
+        let find = |wanted: &str| names.iter().position(|n| *n == wanted);
+        let mut xyz = Vec::with_capacity(LANDMARK_COUNT);
+        let mut missing = Vec::new();
+        for i in 0..LANDMARK_COUNT {
+            let mut point = [0; 3];
+            for (axis, slot) in ["X", "Y", "Z"].iter().zip(&mut point) {
+                let name = format!("{axis}_{i}");
+                match find(&name) {
+                    Some(index) => *slot = index,
+                    None => missing.push(name),
+                }
+            }
+            xyz.push(point);
+        }
+        if let Some(first) = missing.first() {
+            return Err(HeaderError::NoLandmarks {
+                missing: missing.len(),
+                first: first.clone(),
+            });
+        }
+        columns.landmarks = Some(LandmarkColumns { xyz });
+        let pose: Option<Vec<usize>> = POSE_NAMES.iter().map(|n| find(n)).collect();
+        columns.pose = pose.and_then(|p| p.try_into().ok());
+        Ok(columns)
+    }
+
+    /// The columns every reader uses: frame, timestamp, success and the AU intensities.
+    fn scan(line: &str) -> Result<OpenFaceColumns, HeaderError> {
+        let names = header_names(line);
         let mut columns = OpenFaceColumns {
             frame: None,
             timestamp: None,
             success: None,
             aus: Vec::new(),
+            landmarks: None,
+            pose: None,
             field_count: names.len(),
         };
         for (index, name) in names.iter().enumerate() {
@@ -100,9 +176,6 @@ impl OpenFaceColumns {
                 return Err(HeaderError::Duplicate(name.to_string()));
             }
             *slot = Some(index);
-        }
-        if columns.aus.is_empty() {
-            return Err(HeaderError::NoAuColumns);
         }
         Ok(columns)
     }
@@ -180,14 +253,43 @@ impl OpenFaceColumns {
                 intensities.push(value);
             }
         }
+        let mut landmarks = Vec::new();
+        let mut pose = None;
+        if let (true, Some(columns)) = (success, &self.landmarks) {
+            landmarks.reserve(LANDMARK_COUNT);
+            for (i, [x, y, z]) in columns.xyz.iter().enumerate() {
+                let axis = |index: usize, name: &str| {
+                    number(index, &format!("{name}_{i}")).map(|v| v as f32)
+                };
+                landmarks.push(Vec3::new(axis(*x, "X")?, axis(*y, "Y")?, axis(*z, "Z")?));
+            }
+            if let Some(indices) = &self.pose {
+                let mut values = [0.0; 6];
+                for ((value, &index), name) in values.iter_mut().zip(indices).zip(POSE_NAMES) {
+                    *value = number(index, name)?;
+                }
+                pose = Some(values);
+            }
+        }
         Ok(OpenFaceRow {
             line,
             frame,
             timestamp,
             success,
             intensities,
+            landmarks,
+            pose,
         })
     }
+}
+
+/// The trimmed names of a header line.
+fn header_names(line: &str) -> Vec<&str> {
+    line.trim_end_matches(['\r', '\n'])
+        .trim_start_matches('\u{feff}')
+        .split(',')
+        .map(str::trim)
+        .collect()
 }
 
 /// `AU12_r` -> 12 (any case); other names -> `None`.
@@ -209,7 +311,7 @@ fn au_intensity_number(name: &str) -> Option<u8> {
 }
 
 /// Splits a CSV line on commas, trimming each field; each field comes with its 1-based column.
-fn split_fields(text: &str) -> Vec<(usize, &str)> {
+pub(crate) fn split_fields(text: &str) -> Vec<(usize, &str)> {
     let mut fields = Vec::new();
     let mut column = 1;
     for raw in text.split(',') {
@@ -222,13 +324,13 @@ fn split_fields(text: &str) -> Vec<(usize, &str)> {
 }
 
 /// A finite decimal number (OpenFace writes plain decimals; `nan` and `inf` are refused).
-fn parse_number(field: &str) -> Option<f64> {
+pub(crate) fn parse_number(field: &str) -> Option<f64> {
     let value: f64 = field.parse().ok()?;
     value.is_finite().then_some(value)
 }
 
 /// The first characters of a field, for messages.
-fn shorten(field: &str) -> String {
+pub(crate) fn shorten(field: &str) -> String {
     const MAX: usize = 24;
     if field.chars().count() <= MAX {
         field.to_string()
@@ -251,6 +353,12 @@ pub struct OpenFaceRow {
     pub success: bool,
     /// Raw intensities, one per [`OpenFaceColumns::aus`] entry (empty when not `success`).
     pub intensities: Vec<f32>,
+    /// The 68 3D landmarks in millimetres, camera coordinates (empty unless read with
+    /// [`OpenFaceReader::with_landmarks`], and when not `success`).
+    pub landmarks: Vec<Vec3>,
+    /// `pose_Tx, pose_Ty, pose_Tz` (mm) and `pose_Rx, pose_Ry, pose_Rz` (radians), when read
+    /// with the landmarks.
+    pub pose: Option<[f64; 6]>,
 }
 
 /// A data row that cannot be read.
@@ -286,6 +394,20 @@ impl<R: BufRead> OpenFaceReader<R> {
     /// Reads the header line (blank lines before it are skipped); `path` names the input in
     /// messages (`-` for stdin).
     pub fn new(input: R, path: &Path) -> Result<OpenFaceReader<R>, OpenFaceError> {
+        OpenFaceReader::open(input, path, OpenFaceColumns::from_header)
+    }
+
+    /// [`OpenFaceReader::new`] for a recording whose rows must carry the 68 3D landmarks
+    /// (`grimace capture`); a header without them is an error that names the columns.
+    pub fn with_landmarks(input: R, path: &Path) -> Result<OpenFaceReader<R>, OpenFaceError> {
+        OpenFaceReader::open(input, path, OpenFaceColumns::from_header_3d)
+    }
+
+    fn open(
+        input: R,
+        path: &Path,
+        scan: fn(&str) -> Result<OpenFaceColumns, HeaderError>,
+    ) -> Result<OpenFaceReader<R>, OpenFaceError> {
         let mut lines = LineReader::new(input, MAX_LINE_BYTES);
         let error = |line: Option<usize>, message: String| OpenFaceError {
             path: path.to_path_buf(),
@@ -307,8 +429,7 @@ impl<R: BufRead> OpenFaceReader<R> {
                 break line;
             }
         };
-        let columns = OpenFaceColumns::from_header(&header.text)
-            .map_err(|e| error(Some(header.number), e.to_string()))?;
+        let columns = scan(&header.text).map_err(|e| error(Some(header.number), e.to_string()))?;
         Ok(OpenFaceReader {
             lines,
             path: path.to_path_buf(),
@@ -451,7 +572,9 @@ mod tests {
                 frame: None,
                 timestamp: None,
                 success: false,
-                intensities: vec![]
+                intensities: vec![],
+                landmarks: vec![],
+                pose: None,
             })
         );
         assert!(matches!(&rows[1], RowOutcome::Row(r) if r.success && r.intensities == [2.0]));
@@ -532,6 +655,64 @@ mod tests {
                 index: 1
             }]
         );
+    }
+
+    fn landmark_header(extra: &str) -> String {
+        let mut names = vec!["frame".to_string(), "success".into(), "x_0".into()];
+        for axis in ["X", "Y", "Z"] {
+            names.extend((0..LANDMARK_COUNT).map(|i| format!("{axis}_{i}")));
+        }
+        names.push(extra.to_string());
+        names.join(", ")
+    }
+
+    #[test]
+    fn landmarks_are_read_in_3d_and_only_when_asked() {
+        let header = landmark_header("AU12_r");
+        let mut row: Vec<String> = vec!["1".into(), "1".into(), "99".into()];
+        row.extend((0..3 * LANDMARK_COUNT).map(|k| format!("{k}.5")));
+        row.push("2.0".into());
+        let text = format!("{header}\n{}\n", row.join(", "));
+        let mut reader =
+            OpenFaceReader::with_landmarks(text.as_bytes(), Path::new("l.csv")).unwrap();
+        assert_eq!(reader.columns().pose, None);
+        let Some(RowOutcome::Row(r)) = reader.next_row().unwrap() else {
+            panic!()
+        };
+        assert_eq!(r.landmarks.len(), LANDMARK_COUNT);
+        assert_eq!(r.landmarks[1], Vec3::new(1.5, 69.5, 137.5));
+        assert_eq!(r.intensities, vec![2.0]);
+        let (columns, rows) = read_all(&text);
+        assert_eq!(columns.landmarks, None);
+        assert!(matches!(&rows[0], RowOutcome::Row(r) if r.landmarks.is_empty()));
+    }
+
+    #[test]
+    fn a_header_without_3d_landmarks_names_what_capture_needs() {
+        let e =
+            OpenFaceReader::with_landmarks(&b"frame, x_0, y_0, AU01_r\n"[..], Path::new("2d.csv"))
+                .unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("2d.csv:1: the header lacks 204 of the 204 3D landmark columns (first missing: X_0)"),
+            "{e}"
+        );
+        // Without AU columns the landmarks are enough; a NaN landmark is a malformed row.
+        let header = landmark_header("confidence");
+        let mut row: Vec<String> = vec!["1".into(), "1".into(), "0".into()];
+        row.extend((0..3 * LANDMARK_COUNT).map(|_| "nan".to_string()));
+        row.push("0.9".into());
+        let text = format!("{header}\n{}\n", row.join(","));
+        let mut reader =
+            OpenFaceReader::with_landmarks(text.as_bytes(), Path::new("n.csv")).unwrap();
+        assert!(matches!(
+            reader.next_row().unwrap(),
+            Some(RowOutcome::Malformed(RowError {
+                line: 2,
+                column: Some(_),
+                ..
+            }))
+        ));
     }
 
     #[test]

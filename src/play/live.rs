@@ -462,8 +462,8 @@ fn json_au_key(name: &str) -> Option<AuKey> {
     rest.parse().ok()
 }
 
-/// Resolves an address and refuses anything but loopback.
-fn loopback_address(text: &str) -> Result<SocketAddr, SourceError> {
+/// Resolves an address and refuses anything but loopback (also `capture --live --udp`).
+pub fn loopback_address(text: &str) -> Result<SocketAddr, SourceError> {
     let addresses: Vec<SocketAddr> = text
         .to_socket_addrs()
         .map_err(|_| SourceError::BadAddress(text.to_string()))?

@@ -1,7 +1,8 @@
 //! Playback: frames of AU intensities or activations from files and live streams, mapped
 //! through an AU table, on a clock that keeps the source's frame rate.
 //!
-//! - [`source`]: OpenFace CSV files and timelines; [`live`]: stdin (CSV, Live Link Face or
+//! - [`source`]: OpenFace CSV files and timelines; [`acts`]: activation CSVs from
+//!   `grimace capture`, played by muscle name; [`live`]: stdin (CSV, Live Link Face or
 //!   JSON lines) and loopback UDP JSON; [`open`]: a file read once, its format told from its
 //!   first line;
 //! - [`rules`]: what every source keeps to: finite, bounded, monotonic time, bounded memory
@@ -12,6 +13,7 @@
 //! - [`json`]: the flat `{"AU1": 0.0, ...}` objects live streams send;
 //! - [`skips`]: the rows skipped, named while few and counted by kind at the end.
 
+pub mod acts;
 pub mod clock;
 pub mod json;
 pub mod live;

@@ -1,11 +1,12 @@
 //! Opening a recording: the file is opened and read once, its format told from its first line
-//! (a Live Link Face header, else OpenFace CSV), and the same reader handed on, so a pipe, a
+//! (a Live Link Face header, an activation CSV, else OpenFace CSV), and the same reader handed on, so a pipe, a
 //! FIFO or `<(...)` loses nothing to the sniff.
 
 use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
+use super::acts::ActsSource;
 use super::livelink::{LiveLinkSource, LIVELINK_FRAME_RATE};
 use super::map::{AuMapper, IntensityScale};
 use super::source::{FrameSource, Input, OpenFaceSource, SourceError, DEFAULT_FRAME_RATE};
@@ -23,10 +24,12 @@ pub struct RecordingOptions {
     pub scale: IntensityScale,
     /// The frame rate given (`--fps`), else each format's own default.
     pub fps: Option<f64>,
+    /// The playing rig's muscle names, for activation CSVs (`grimace capture`'s output).
+    pub muscles: Vec<String>,
 }
 
 /// Opens the recording at `path`: a Live Link Face take when its first line is that header,
-/// else an OpenFace CSV.
+/// an activation CSV when it has `explained` and `jaw` columns, else an OpenFace CSV.
 pub fn open_file(
     path: &Path,
     options: &RecordingOptions,
@@ -49,6 +52,14 @@ pub fn open_file(
         return Ok(Box::new(source));
     }
     let fps = options.fps.unwrap_or(DEFAULT_FRAME_RATE);
+    if crate::io::acts::is_header(&first) {
+        return Ok(Box::new(ActsSource::new(
+            input,
+            path,
+            &options.muscles,
+            fps,
+        )?));
+    }
     let source = OpenFaceSource::new(input, path, options.mapper.clone(), options.scale, fps)?;
     Ok(Box::new(source))
 }

@@ -1,0 +1,8 @@
+//! `grimace capture`: muscles solved back from synthetic OpenFace recordings made by the rig
+//! itself, the pose removed, bad frames skipped, and the real samples measured.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod samples;
+mod synthetic;
