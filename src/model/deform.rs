@@ -23,6 +23,7 @@ use super::muscle::MuscleKind;
 use super::rig::{Combine, Rig};
 
 mod checks;
+mod sample;
 mod skin;
 mod spread;
 

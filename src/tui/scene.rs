@@ -2,11 +2,18 @@
 //!
 //! All deformation is done by the core library ([`crate::model::BoundRig`]); this module only
 //! keeps the results.
+//!
+//! A big mesh has levels of detail ([`Lod`]): the viewport draws one of them, so only its
+//! vertices are deformed for a frame ([`Scene::sample`]); the whole mesh's positions are
+//! computed when something asks for them ([`Scene::positions`]). A small mesh (no levels)
+//! keeps its whole deformation up to date, one muscle's region at a time.
+
+use std::cell::OnceCell;
 
 use glam::Vec3;
 
 use crate::model::{Activations, BoundRig, Deformation, Mesh, MuscleKind, Rig};
-use crate::render::Framing;
+use crate::render::{Framing, Level, Lod};
 
 /// The face being edited: bound rig, rest mesh and the deformed positions for the current
 /// activations.
@@ -14,7 +21,12 @@ use crate::render::Framing;
 pub struct Scene {
     bound: BoundRig,
     mesh: Mesh,
-    positions: Vec<Vec3>,
+    /// The whole mesh's deformed positions: always there without levels of detail, else
+    /// computed on first use after each change.
+    positions: OnceCell<Vec<Vec3>>,
+    /// The activations of the last deformation (what [`Scene::sample`] deforms by).
+    activations: Activations,
+    lod: Lod,
     generation: u64,
     framing: Framing,
 }
@@ -25,16 +37,38 @@ impl Scene {
         let bound = Deformation::default()
             .bind(&rig, &mesh)
             .map_err(|e| format!("the rig does not fit its mesh: {e}"))?;
-        let positions = mesh.positions.clone();
+        let positions = OnceCell::from(mesh.positions.clone());
         // Once, from the rig as loaded: rig-mode edits do not move the view.
         let framing = Framing::of_rig(&rig, &mesh);
+        let lod = Lod::of_rig(&rig, &mesh, &framing);
         Ok(Scene {
+            activations: Activations::zero(&rig),
             bound,
             mesh,
             positions,
+            lod,
             generation: 0,
             framing,
         })
+    }
+
+    /// The levels of detail the viewport draws from (none for a small mesh).
+    pub fn lod(&self) -> &Lod {
+        &self.lod
+    }
+
+    /// The deformed positions of `level`'s vertices for the last activations given: the
+    /// whole deformation's where it is there, else only those vertices deformed.
+    pub fn sample(&self, level: &Level, out: &mut Vec<Vec3>) {
+        if let Some(full) = self.positions.get() {
+            level.gather(full, out);
+        } else if self
+            .bound
+            .deform_at(&self.activations, &level.source, out)
+            .is_err()
+        {
+            level.gather(&self.mesh.positions, out);
+        }
     }
 
     /// The rig.
@@ -57,9 +91,16 @@ impl Scene {
         &self.mesh
     }
 
-    /// The deformed vertex positions for the last activations given.
+    /// The deformed vertex positions for the last activations given (computed here for a
+    /// mesh with levels of detail, the first time after a change).
     pub fn positions(&self) -> &[Vec3] {
-        &self.positions
+        self.positions.get_or_init(|| {
+            let mut out = Vec::new();
+            if self.bound.deform(&self.activations, &mut out).is_err() {
+                out.clone_from(&self.mesh.positions);
+            }
+            out
+        })
     }
 
     /// Counts changes of the positions, so a view can tell whether it must draw the face again.
@@ -71,7 +112,13 @@ impl Scene {
     /// them in range, so this does not happen) leave the face as it was.
     pub fn deform(&mut self, activations: &Activations) {
         self.generation += 1;
-        let _ = self.bound.deform(activations, &mut self.positions);
+        self.activations.clone_from(activations);
+        if !self.lod.is_empty() {
+            // Deformed when asked for: a frame deforms only the level it draws.
+            self.positions = OnceCell::new();
+        } else if let Some(positions) = self.positions.get_mut() {
+            let _ = self.bound.deform(activations, positions);
+        }
     }
 
     /// Checks that `rig` binds to this scene's mesh, saying why not.
@@ -85,7 +132,8 @@ impl Scene {
         self.bound = Deformation::default()
             .bind(&rig, &self.mesh)
             .map_err(|e| e.to_string())?;
-        self.positions.clone_from(&self.mesh.positions);
+        self.positions = OnceCell::from(self.mesh.positions.clone());
+        self.activations = Activations::zero(self.bound.rig());
         self.generation += 1;
         Ok(())
     }
@@ -120,13 +168,13 @@ impl Scene {
     /// `activations` changed in that muscle only.
     pub fn update_muscle(&mut self, activations: &Activations, muscle: Option<usize>) {
         self.generation += 1;
-        let updated = match muscle {
-            Some(i) => self
-                .bound
-                .update_muscle(activations, i, &mut self.positions)
-                .is_ok(),
-            None => false,
+        let updated = match (muscle, self.positions.get_mut()) {
+            (Some(i), Some(positions)) => {
+                self.bound.update_muscle(activations, i, positions).is_ok()
+            }
+            _ => false,
         };
+        self.activations.clone_from(activations);
         if !updated {
             self.deform(activations);
         }

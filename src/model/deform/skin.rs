@@ -582,6 +582,22 @@ impl Guard {
         }
     }
 
+    /// [`Guard::vertex_scale`] of guarded vertex `g` with its triangles' scales computed
+    /// from the positions before the bound that `at` gives per vertex (the same arithmetic
+    /// as [`Guard::triangle_scales`]): for deforming only some vertices.
+    pub(super) fn scale_at(&self, g: usize, rest: &[Vec3], at: impl Fn(usize) -> Vec3) -> f32 {
+        let tris = self.triangles_of(g);
+        let mut sum = 0.0f32;
+        for &t in tris {
+            let [i0, i1, i2] = self.triangles[t as usize].map(|i| i as usize);
+            let p0 = at(i0) - rest[i0];
+            let d1 = at(i1) - rest[i1] - p0;
+            let d2 = at(i2) - rest[i2] - p0;
+            sum += self.shapes[t as usize].scale(d1, d2);
+        }
+        sum / tris.len() as f32
+    }
+
     /// The scale of guarded vertex `g`'s displacement: the mean of its checked triangles'
     /// scales. (The smallest instead of the mean scales neighbouring vertices so differently
     /// that other triangles collapse.)
