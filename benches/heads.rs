@@ -238,11 +238,17 @@ fn frames(
         return;
     };
     let mut positions = Vec::new();
+    let start = Instant::now();
+    let sampler = bound.sampler(&level.source).expect("level vertices");
+    eprintln!(
+        "  sampler for the level: {:.1} ms",
+        start.elapsed().as_secs_f64() * 1e3
+    );
     report(
         &format!("deform the level ({} vertices)", level.source.len()),
         time(runs, || {
             bound
-                .deform_at(act, &level.source, &mut positions)
+                .deform_sampled(act, &sampler, &mut positions)
                 .expect("deforms")
         }),
     );
@@ -262,7 +268,7 @@ fn frames(
             &format!("key press {COLS}x{ROWS} {style}: deform the level + draw"),
             time(runs, || {
                 bound
-                    .deform_at(act, &level.source, &mut positions)
+                    .deform_sampled(act, &sampler, &mut positions)
                     .expect("deforms");
                 let mut scene =
                     Scene::new(&level.mesh, &positions).with_rest(&level.mesh.positions);

@@ -12,7 +12,7 @@ use std::cell::OnceCell;
 
 use glam::Vec3;
 
-use crate::model::{Activations, BoundRig, Deformation, Mesh, MuscleKind, Rig};
+use crate::model::{Activations, BoundRig, Deformation, Mesh, MuscleKind, Rig, Sampler};
 use crate::render::{Framing, Level, Lod};
 
 /// The face being edited: bound rig, rest mesh and the deformed positions for the current
@@ -27,6 +27,9 @@ pub struct Scene {
     /// The activations of the last deformation (what [`Scene::sample`] deforms by).
     activations: Activations,
     lod: Lod,
+    /// Per level of detail: what deforming its vertices reads, found on first use after
+    /// each bind.
+    samplers: Vec<OnceCell<Sampler>>,
     generation: u64,
     framing: Framing,
 }
@@ -42,6 +45,7 @@ impl Scene {
         let framing = Framing::of_rig(&rig, &mesh);
         let lod = Lod::of_rig(&rig, &mesh, &framing);
         Ok(Scene {
+            samplers: vec![OnceCell::new(); lod.levels().len()],
             activations: Activations::zero(&rig),
             bound,
             mesh,
@@ -60,13 +64,30 @@ impl Scene {
     /// The deformed positions of `level`'s vertices for the last activations given: the
     /// whole deformation's where it is there, else only those vertices deformed.
     pub fn sample(&self, level: &Level, out: &mut Vec<Vec3>) {
-        if let Some(full) = self.positions.get() {
-            level.gather(full, out);
-        } else if self
-            .bound
-            .deform_at(&self.activations, &level.source, out)
-            .is_err()
-        {
+        let index = self
+            .lod
+            .levels()
+            .iter()
+            .position(|l| std::ptr::eq(l, level));
+        let sampler = index.and_then(|i| {
+            let cell = self.samplers.get(i)?;
+            Some(cell.get_or_init(|| self.bound.sampler(&level.source).unwrap_or_default()))
+        });
+        let deformed = match (self.positions.get(), sampler) {
+            (Some(full), _) => {
+                level.gather(full, out);
+                true
+            }
+            (None, Some(sampler)) if sampler.len() == level.source.len() => self
+                .bound
+                .deform_sampled(&self.activations, sampler, out)
+                .is_ok(),
+            (None, _) => self
+                .bound
+                .deform_at(&self.activations, &level.source, out)
+                .is_ok(),
+        };
+        if !deformed {
             level.gather(&self.mesh.positions, out);
         }
     }
@@ -134,6 +155,7 @@ impl Scene {
             .map_err(|e| e.to_string())?;
         self.positions = OnceCell::from(self.mesh.positions.clone());
         self.activations = Activations::zero(self.bound.rig());
+        self.samplers.iter_mut().for_each(|s| *s = OnceCell::new());
         self.generation += 1;
         Ok(())
     }
@@ -145,6 +167,7 @@ impl Scene {
         self.bound
             .rebind_muscles(changes)
             .map_err(|e| e.to_string())?;
+        self.samplers.iter_mut().for_each(|s| *s = OnceCell::new());
         self.generation += 1;
         Ok(())
     }
@@ -160,6 +183,7 @@ impl Scene {
         self.bound
             .rebind_jaw(pivot, axis, degrees_per_unit)
             .map_err(|e| e.to_string())?;
+        self.samplers.iter_mut().for_each(|s| *s = OnceCell::new());
         self.generation += 1;
         Ok(())
     }

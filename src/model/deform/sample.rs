@@ -8,23 +8,60 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{BoundRig, JawTurn, NO_ROW, PARALLEL_CHUNK};
+use super::{BoundRig, NO_ROW, PARALLEL_CHUNK};
 use crate::model::activations::{ActivationError, Activations};
 use crate::model::rig::Combine;
 
 /// Lists of at least this many vertices are deformed in parallel chunks.
 const PARALLEL_MIN: usize = 8_192;
 
+/// What deforming a fixed list of vertices reads, found once: each vertex's CSR row and jaw
+/// weight, and, for the vertices under the skin's area bound, their checked triangles'
+/// vertices. Valid for the [`BoundRig`] it was made by until that is bound again.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Sampler {
+    /// The vertices whose positions before the area bound are needed, sorted: the list and
+    /// the vertices of its guarded vertices' checked triangles.
+    needed: Vec<u32>,
+    /// Per needed vertex: its CSR row or [`NO_ROW`], and its jaw weight.
+    rows: Vec<u32>,
+    jaw: Vec<f32>,
+    /// Per listed vertex: its place in `needed`.
+    at: Vec<u32>,
+    /// Per listed vertex, its checked triangles (CSR): the triangle, and its vertices'
+    /// places in `needed`.
+    tri_start: Vec<u32>,
+    tris: Vec<(u32, [u32; 3])>,
+}
+
+impl Sampler {
+    /// Number of vertices listed.
+    pub fn len(&self) -> usize {
+        self.at.len()
+    }
+
+    /// True when no vertex is listed.
+    pub fn is_empty(&self) -> bool {
+        self.at.is_empty()
+    }
+}
+
 impl BoundRig {
     /// The positions [`BoundRig::deform`] gives at `vertices`, bit for bit, into `out`
-    /// (resized to `vertices.len()`). A vertex number beyond the mesh is an error.
+    /// (resized to `vertices.len()`). A vertex number beyond the mesh is an error. For a
+    /// list deformed again and again, make its [`BoundRig::sampler`] once.
     pub fn deform_at(
         &self,
         act: &Activations,
         vertices: &[u32],
         out: &mut Vec<Vec3>,
     ) -> Result<(), ActivationError> {
-        act.validate(&self.rig)?;
+        let sampler = self.sampler(vertices)?;
+        self.deform_sampled(act, &sampler, out)
+    }
+
+    /// Prepares deforming `vertices` only ([`BoundRig::deform_sampled`]).
+    pub fn sampler(&self, vertices: &[u32]) -> Result<Sampler, ActivationError> {
         let n = self.rest.len();
         if let Some(&v) = vertices.iter().find(|&&v| v as usize >= n) {
             return Err(ActivationError::VertexCount {
@@ -32,58 +69,131 @@ impl BoundRig {
                 expected: n,
             });
         }
-        out.clear();
-        out.resize(vertices.len(), Vec3::ZERO);
+        let guarded = |v: u32| {
+            let g = self.guard.index_of(v as usize);
+            (g != NO_ROW).then(|| self.guard.triangles_of(g as usize))
+        };
+        let mut needed = vertices.to_vec();
+        for &v in vertices {
+            for &t in guarded(v).unwrap_or(&[]) {
+                needed.extend(self.guard.triangles[t as usize]);
+            }
+        }
+        needed.par_sort_unstable();
+        needed.dedup();
+        let place = |v: u32| needed.binary_search(&v).unwrap_or(0) as u32;
+        let rows = needed
+            .par_iter()
+            .map(|v| {
+                self.row_vertex
+                    .binary_search(v)
+                    .map_or(NO_ROW, |r| r as u32)
+            })
+            .collect();
+        let jaw = needed
+            .par_iter()
+            .map(|v| match &self.jaw {
+                Some(jaw) => jaw
+                    .vertices
+                    .binary_search(v)
+                    .map_or(0.0, |i| jaw.weights[i]),
+                None => 0.0,
+            })
+            .collect();
+        let mut tri_start = vec![0u32];
+        let mut tris = Vec::new();
+        for &v in vertices {
+            for &t in guarded(v).unwrap_or(&[]) {
+                tris.push((t, self.guard.triangles[t as usize].map(place)));
+            }
+            tri_start.push(tris.len() as u32);
+        }
+        let at = vertices.iter().map(|&v| place(v)).collect();
+        Ok(Sampler {
+            needed,
+            rows,
+            jaw,
+            at,
+            tri_start,
+            tris,
+        })
+    }
+
+    /// [`BoundRig::deform_at`] of the vertices `sampler` lists (made by this rig as bound
+    /// now): their positions, bit for bit those of a whole deformation, into `out`.
+    pub fn deform_sampled(
+        &self,
+        act: &Activations,
+        sampler: &Sampler,
+        out: &mut Vec<Vec3>,
+    ) -> Result<(), ActivationError> {
+        act.validate(&self.rig)?;
         let average = self.rig.combine == Combine::Average;
         let turn = self.jaw.as_ref().and(self.jaw_turn(act.jaw));
-        let one = |v: u32| self.sampled(v as usize, &act.muscles, average, turn);
-        if vertices.len() >= PARALLEL_MIN {
-            out.par_chunks_mut(PARALLEL_CHUNK)
-                .zip(vertices.par_chunks(PARALLEL_CHUNK))
-                .for_each(|(o, vs)| o.iter_mut().zip(vs).for_each(|(p, &v)| *p = one(v)));
-        } else {
-            out.iter_mut().zip(vertices).for_each(|(p, &v)| *p = one(v));
-        }
+        let muscles = &act.muscles[..];
+        let before_one = |i: usize| {
+            let v = sampler.needed[i] as usize;
+            let row = sampler.rows[i];
+            let mut p = if row == NO_ROW {
+                self.rest[v]
+            } else if average {
+                self.row_position::<true>(row as usize, v, muscles)
+            } else {
+                self.row_position::<false>(row as usize, v, muscles)
+            };
+            let w = sampler.jaw[i];
+            if let Some(turn) = turn.filter(|_| w > 0.0) {
+                p = turn.apply(p, w);
+            }
+            p
+        };
+        let mut before = vec![Vec3::ZERO; sampler.needed.len()];
+        chunked(&mut before, |start, chunk| {
+            for (k, p) in chunk.iter_mut().enumerate() {
+                *p = before_one(start + k);
+            }
+        });
+        out.clear();
+        out.resize(sampler.len(), Vec3::ZERO);
+        let after_one = |k: usize| self.bounded(sampler, &before, k);
+        chunked(out, |start, chunk| {
+            for (k, p) in chunk.iter_mut().enumerate() {
+                *p = after_one(start + k);
+            }
+        });
         Ok(())
     }
 
-    /// Vertex `v` as a whole deformation leaves it: muscles, jaw, then the area bound.
-    fn sampled(&self, v: usize, muscles: &[f32], average: bool, turn: Option<JawTurn>) -> Vec3 {
-        let p = self.before_bound(v, muscles, average, turn);
-        let g = self.guard.index_of(v);
-        if self.guard.is_empty() || g == NO_ROW {
+    /// Listed vertex `k` after the area bound, from the positions `before` it.
+    #[inline]
+    fn bounded(&self, sampler: &Sampler, before: &[Vec3], k: usize) -> Vec3 {
+        let i = sampler.at[k] as usize;
+        let v = sampler.needed[i] as usize;
+        let p = before[i];
+        let tris = &sampler.tris[sampler.tri_start[k] as usize..sampler.tri_start[k + 1] as usize];
+        if tris.is_empty() {
             return p;
         }
-        let scale = self.guard.scale_at(g as usize, &self.rest, |w| {
-            if w == v {
-                p
-            } else {
-                self.before_bound(w, muscles, average, turn)
-            }
-        });
-        self.scaled(v, p, scale)
-    }
-
-    /// Vertex `v` after the muscles and the jaw, before the area bound, found without the
-    /// per-vertex tables a guard keeps (the same arithmetic as [`BoundRig::deform`]).
-    fn before_bound(
-        &self,
-        v: usize,
-        muscles: &[f32],
-        average: bool,
-        turn: Option<JawTurn>,
-    ) -> Vec3 {
-        let mut p = match self.row_vertex.binary_search(&(v as u32)) {
-            Err(_) => self.rest[v],
-            Ok(row) if average => self.row_position::<true>(row, v, muscles),
-            Ok(row) => self.row_position::<false>(row, v, muscles),
-        };
-        if let (Some(turn), Some(jaw)) = (turn, &self.jaw) {
-            if let Ok(i) = jaw.vertices.binary_search(&(v as u32)) {
-                p = turn.apply(p, jaw.weights[i]);
-            }
+        let moved = |j: u32| before[j as usize] - self.rest[sampler.needed[j as usize] as usize];
+        let mut sum = 0.0f32;
+        for &(t, [a, b, c]) in tris {
+            let p0 = moved(a);
+            let d1 = moved(b) - p0;
+            let d2 = moved(c) - p0;
+            sum += self.guard.triangle_scale(t as usize, d1, d2);
         }
-        p
+        self.scaled(v, p, sum / tris.len() as f32)
+    }
+}
+
+/// Runs `f(start, chunk)` over `out` in chunks, in parallel when it is long.
+fn chunked(out: &mut [Vec3], f: impl Fn(usize, &mut [Vec3]) + Sync) {
+    if out.len() >= PARALLEL_MIN {
+        out.par_chunks_mut(PARALLEL_CHUNK)
+            .enumerate()
+            .for_each(|(i, chunk)| f(i * PARALLEL_CHUNK, chunk));
+    } else {
+        f(0, out);
     }
 }
 

@@ -546,7 +546,7 @@ impl Guard {
         self.index.get(v).copied().unwrap_or(NO_ROW)
     }
 
-    fn triangles_of(&self, g: usize) -> &[u32] {
+    pub(super) fn triangles_of(&self, g: usize) -> &[u32] {
         &self.tri_list[self.tri_start[g] as usize..self.tri_start[g + 1] as usize]
     }
 
@@ -582,20 +582,11 @@ impl Guard {
         }
     }
 
-    /// [`Guard::vertex_scale`] of guarded vertex `g` with its triangles' scales computed
-    /// from the positions before the bound that `at` gives per vertex (the same arithmetic
-    /// as [`Guard::triangle_scales`]): for deforming only some vertices.
-    pub(super) fn scale_at(&self, g: usize, rest: &[Vec3], at: impl Fn(usize) -> Vec3) -> f32 {
-        let tris = self.triangles_of(g);
-        let mut sum = 0.0f32;
-        for &t in tris {
-            let [i0, i1, i2] = self.triangles[t as usize].map(|i| i as usize);
-            let p0 = at(i0) - rest[i0];
-            let d1 = at(i1) - rest[i1] - p0;
-            let d2 = at(i2) - rest[i2] - p0;
-            sum += self.shapes[t as usize].scale(d1, d2);
-        }
-        sum / tris.len() as f32
+    /// The scale of checked triangle `t` for displacements of its second and third vertices
+    /// differing by `d1`, `d2` from its first's (what [`Guard::triangle_scales`] computes).
+    #[inline]
+    pub(super) fn triangle_scale(&self, t: usize, d1: Vec3, d2: Vec3) -> f32 {
+        self.shapes[t].scale(d1, d2)
     }
 
     /// The scale of guarded vertex `g`'s displacement: the mean of its checked triangles'
