@@ -241,8 +241,9 @@ fn frames(
     let start = Instant::now();
     let sampler = bound.sampler(&level.source).expect("level vertices");
     eprintln!(
-        "  sampler for the level: {:.1} ms",
-        start.elapsed().as_secs_f64() * 1e3
+        "  sampler for the level: {:.1} ms ({} vertices read)",
+        start.elapsed().as_secs_f64() * 1e3,
+        sampler.reads()
     );
     report(
         &format!("deform the level ({} vertices)", level.source.len()),

@@ -11,7 +11,7 @@ use grimace::render::{
 };
 
 /// The built-in face with each triangle split into four at its edge midpoints, twice
-/// (54 913 vertices); old vertices keep their numbers (so the built-in rig binds), groups
+/// (69 474 vertices); old vertices keep their numbers (so the built-in rig binds), groups
 /// keep the new vertices between their members.
 fn big_head() -> (Mesh, Rig) {
     let mut mesh = builtin::default_mesh();
@@ -49,10 +49,9 @@ fn split(mesh: &Mesh) -> Mesh {
     out
 }
 
-/// The lit cells of a grid.
-fn lit(grid: &CellGrid) -> Vec<Vec<bool>> {
-    grimace::render::to_text(grid)
-        .lines()
+/// The lit cells of a picture's text.
+fn lit(text: &str) -> Vec<Vec<bool>> {
+    text.lines()
         .map(|l| l.chars().map(|c| c != ' ' && c != '\u{2800}').collect())
         .collect()
 }
@@ -90,14 +89,14 @@ impl Views<'_> {
         sampled: &[Vec3],
         camera: &Camera,
         (cols, rows): (usize, usize),
-    ) -> (Vec<Vec<bool>>, Vec<Vec<bool>>) {
+    ) -> (String, String) {
         let mode = CellMode::Braille;
         let draw = |scene: Scene| {
             let mut canvas = mode.canvas(cols, rows);
             Renderer::new(scene.mesh).render(&scene, camera, Style::Lines, &mut canvas);
             let mut grid = CellGrid::default();
             grid.fill(&canvas, mode, ColorMode::None);
-            lit(&grid)
+            grimace::render::to_text(&grid)
         };
         let whole = draw(Scene::new(self.mesh, full).with_framing(self.framing));
         let simple = draw(Scene {
@@ -119,6 +118,7 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
     open.jaw = 2.5;
     let states = [Activations::zero(&rig), open];
     let (mut worst_added, mut sum_added, mut count) = (1.0f32, 0.0f32, 0);
+    let mut screens = Vec::new();
     let views = Views {
         mesh: &mesh,
         framing: &framing,
@@ -136,14 +136,21 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
             let canvas = CellMode::Braille.canvas(size.0, size.1);
             let level = lod
                 .choose(&camera, canvas.width(), canvas.height(), canvas.dot_aspect)
-                .expect("a 55k-vertex head is drawn from a level at terminal sizes");
+                .expect("a 69k-vertex head is drawn from a level at terminal sizes");
             assert!(level.source.len() * 2 < mesh.vertex_count());
             for (s, act) in states.iter().enumerate() {
                 let (mut full, mut sampled) = (Vec::new(), Vec::new());
                 bound.deform(act, &mut full).unwrap();
                 bound.deform_at(act, &level.source, &mut sampled).unwrap();
                 let (whole, simple) = views.pair(level, &full, &sampled, &camera, size);
-                let (kept, added) = (covered(&whole, &simple), covered(&simple, &whole));
+                let (whole_lit, simple_lit) = (lit(&whole), lit(&simple));
+                let (kept, added) = (
+                    covered(&whole_lit, &simple_lit),
+                    covered(&simple_lit, &whole_lit),
+                );
+                if s == 1 && name == "front" && size != (200, 60) {
+                    screens.push((size, level.source.len(), whole, simple));
+                }
                 let what = format!(
                     "{size:?} {name}, state {s}, {} of {} vertices",
                     level.source.len(),
@@ -168,4 +175,44 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
         sum_added / count as f32
     );
     assert!(sum_added / count as f32 >= 0.88);
+    if std::env::var("GRIMACE_WRITE_GALLERY").is_ok_and(|v| v == "1") {
+        write_gallery(mesh.vertex_count(), &screens);
+    }
 }
+
+/// Replaces the big-head section at the end of `docs/gallery.md` (from its heading on) with
+/// these screens: the full mesh and the level drawn, the same size, state and view.
+fn write_gallery(vertices: usize, screens: &[((usize, usize), usize, String, String)]) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/gallery.md");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let keep = text
+        .find(GALLERY_HEADING)
+        .map_or(&text[..], |at| &text[..at]);
+    let mut out = keep.trim_end().to_string();
+    out.push_str("\n\n");
+    out.push_str(GALLERY_HEADING);
+    out.push_str(&format!(
+        "\n\nA big head ({vertices} vertices: the built-in face split twice at its edges' \
+         midpoints) smiling with the jaw open (`happiness`, jaw 2.5), three-quarter view, \
+         feature lines. Before: every triangle of the full mesh drawn; after: the level of \
+         detail the editor and `render --format txt` draw at that size. Regenerate with \
+         `GRIMACE_WRITE_GALLERY=1 cargo test --test render lod::`.\n"
+    ));
+    for ((cols, rows), count, whole, simple) in screens {
+        for (what, art) in [
+            (format!("full mesh, {vertices} vertices"), whole),
+            (format!("level of detail, {count} vertices"), simple),
+        ] {
+            out.push_str(&format!("\n### {cols}x{rows}, {what}\n\n```text\n"));
+            for line in art.lines() {
+                out.push_str(line.trim_end());
+                out.push('\n');
+            }
+            out.push_str("```\n");
+        }
+    }
+    std::fs::write(&path, out).unwrap();
+}
+
+/// The heading of the gallery's big-head section (kept last in the file).
+pub const GALLERY_HEADING: &str = "## Big heads: the full mesh and its level of detail";

@@ -44,6 +44,12 @@ impl Sampler {
     pub fn is_empty(&self) -> bool {
         self.at.is_empty()
     }
+
+    /// Number of vertices whose positions a deformation computes: the list and the
+    /// vertices its guarded vertices' scales read.
+    pub fn reads(&self) -> usize {
+        self.needed.len()
+    }
 }
 
 impl BoundRig {

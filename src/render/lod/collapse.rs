@@ -7,8 +7,9 @@
 //! * the edge is at most the level's length, and so is every edge the collapse makes;
 //! * the two vertices have the same signature (named groups, part label): part boundaries
 //!   and the mouth's and eyes' parts stay where they were;
-//! * a border vertex moves only along a border edge onto a border vertex: mouth slit, eye
-//!   openings and rim stay chains of border edges;
+//! * a border vertex moves only along a border edge onto a border vertex, and a crease
+//!   vertex only along a crease or border edge onto a crease or border vertex: mouth slit,
+//!   eye openings, rim and the creases the renderer draws stay chains of edges;
 //! * the link condition holds (the two vertices share exactly the neighbours of the
 //!   triangles on their edge), so no edge gets a third triangle and no hole opens;
 //! * no triangle turns over or degenerates, so no silhouette appears across the face.
@@ -30,6 +31,22 @@ pub(super) struct Collapser<'a> {
     /// Per vertex: still in the mesh.
     kept: Vec<bool>,
     border: Vec<bool>,
+    crease: Vec<bool>,
+    /// The cosine of the crease angle.
+    cos_crease: f32,
+    /// Scratch lists reused by every collapse (nothing is allocated per edge).
+    scratch: Scratch,
+}
+
+/// The lists one collapse looks at: the triangles around its two vertices, those on its
+/// edge, and the two vertices' rings.
+#[derive(Default)]
+struct Scratch {
+    tv: Vec<u32>,
+    tu: Vec<u32>,
+    shared: Vec<u32>,
+    ring_v: Vec<u32>,
+    ring_u: Vec<u32>,
 }
 
 impl<'a> Collapser<'a> {
@@ -39,7 +56,7 @@ impl<'a> Collapser<'a> {
         positions: &'a [Vec3],
         triangles: &[[u32; 3]],
         signature: &'a [u64],
-        border: Vec<bool>,
+        (border, crease): (Vec<bool>, Vec<bool>),
     ) -> Collapser<'a> {
         let mut around = vec![Vec::new(); positions.len()];
         let mut tris = Vec::with_capacity(triangles.len());
@@ -60,6 +77,9 @@ impl<'a> Collapser<'a> {
             around,
             kept: vec![true; positions.len()],
             border,
+            crease,
+            cos_crease: super::CREASE_DEGREES.to_radians().cos(),
+            scratch: Scratch::default(),
         }
     }
 
@@ -107,46 +127,64 @@ impl<'a> Collapser<'a> {
         edges.into_iter().map(|(_, a, b)| (a, b)).collect()
     }
 
-    /// The live triangles around `v` (dropping dead ones from its list).
-    fn live(&mut self, v: u32) -> Vec<u32> {
+    /// Drops dead triangles from `v`'s list.
+    fn prune(&mut self, v: u32) {
         let alive = &self.alive;
-        let list = &mut self.around[v as usize];
-        list.retain(|&t| alive[t as usize]);
-        list.clone()
+        self.around[v as usize].retain(|&t| alive[t as usize]);
     }
 
     /// Moves `v` onto `u` when the rules allow; true when done.
     fn try_collapse(&mut self, v: u32, u: u32, limit: f32) -> bool {
         let (vi, ui) = (v as usize, u as usize);
-        if self.signature[vi] != self.signature[ui] {
+        if self.signature[vi] != self.signature[ui] || (self.border[vi] && !self.border[ui]) {
             return false;
         }
-        if self.border[vi] && !self.border[ui] {
+        if self.crease[vi] && !(self.crease[ui] || self.border[ui]) {
             return false;
         }
-        let tv = self.live(v);
-        let tu = self.live(u);
-        let shared: Vec<u32> = tv
-            .iter()
-            .copied()
-            .filter(|t| self.triangles[*t as usize].contains(&u))
-            .collect();
-        if shared.is_empty() || shared.len() > 2 {
+        self.prune(v);
+        self.prune(u);
+        let mut sc = std::mem::take(&mut self.scratch);
+        let ok = self.allowed(v, u, limit, &mut sc);
+        if ok {
+            self.apply(v, u, &sc);
+        }
+        self.scratch = sc;
+        ok
+    }
+
+    /// Whether moving `v` onto `u` keeps every rule (the lists in `sc` are filled here).
+    fn allowed(&self, v: u32, u: u32, limit: f32, sc: &mut Scratch) -> bool {
+        let tris = &self.triangles;
+        sc.tv.clear();
+        sc.tv.extend_from_slice(&self.around[v as usize]);
+        sc.tu.clear();
+        sc.tu.extend_from_slice(&self.around[u as usize]);
+        sc.shared.clear();
+        sc.shared.extend(
+            sc.tv
+                .iter()
+                .copied()
+                .filter(|t| tris[*t as usize].contains(&u)),
+        );
+        // one triangle on a border edge, two inside; a border vertex slides only along its
+        // border
+        let want = if self.border[v as usize] { 1 } else { 2 };
+        if sc.shared.is_empty() || sc.shared.len() > 2 || (want == 1 && sc.shared.len() != 1) {
             return false;
         }
-        // a border vertex slides only along its border
-        if self.border[vi] && shared.len() != 1 {
+        if self.crease[v as usize] && sc.shared.len() == 2 && !self.is_crease(sc) {
             return false;
         }
-        if !self.link_holds(v, u, &tv, &tu, &shared) {
+        if !self.link_holds(v, u, sc) {
             return false;
         }
-        let pu = self.positions[ui];
-        for &t in &tv {
-            if shared.contains(&t) {
+        let pu = self.positions[u as usize];
+        for &t in &sc.tv {
+            if sc.shared.contains(&t) {
                 continue;
             }
-            let tri = self.triangles[t as usize];
+            let tri = tris[t as usize];
             let old = tri.map(|i| self.positions[i as usize]);
             let new = tri.map(|i| {
                 if i == v {
@@ -165,10 +203,24 @@ impl<'a> Collapser<'a> {
                 return false;
             }
         }
-        for &t in &shared {
+        true
+    }
+
+    /// Whether the edge of the two triangles in `sc.shared` is a crease.
+    fn is_crease(&self, sc: &Scratch) -> bool {
+        let normal = |t: u32| {
+            let [a, b, c] = self.triangles[t as usize].map(|v| self.positions[v as usize]);
+            (b - a).cross(c - a).normalize_or_zero()
+        };
+        normal(sc.shared[0]).dot(normal(sc.shared[1])) < self.cos_crease
+    }
+
+    /// Moves `v` onto `u`: the triangles on their edge go, `v`'s others now use `u`.
+    fn apply(&mut self, v: u32, u: u32, sc: &Scratch) {
+        for &t in &sc.shared {
             self.alive[t as usize] = false;
         }
-        for &t in &tv {
+        for &t in &sc.tv {
             if !self.alive[t as usize] {
                 continue;
             }
@@ -177,36 +229,47 @@ impl<'a> Collapser<'a> {
                     *i = u;
                 }
             }
-            self.around[ui].push(t);
+            self.around[u as usize].push(t);
         }
-        self.around[vi].clear();
-        self.kept[vi] = false;
-        true
+        self.around[v as usize].clear();
+        self.kept[v as usize] = false;
     }
 
     /// The link condition: the vertices next to both `v` and `u` are exactly the third
     /// vertices of the triangles on their edge.
-    fn link_holds(&self, v: u32, u: u32, tv: &[u32], tu: &[u32], shared: &[u32]) -> bool {
-        let ring = |tris: &[u32], me: u32| -> Vec<u32> {
-            let mut r: Vec<u32> = tris
-                .iter()
-                .flat_map(|&t| self.triangles[t as usize])
-                .filter(|&w| w != me)
-                .collect();
-            r.sort_unstable();
-            r.dedup();
-            r
+    fn link_holds(&self, v: u32, u: u32, sc: &mut Scratch) -> bool {
+        let tris = &self.triangles;
+        let ring = |list: &[u32], me: u32, out: &mut Vec<u32>| {
+            out.clear();
+            out.extend(
+                list.iter()
+                    .flat_map(|&t| tris[t as usize])
+                    .filter(|&w| w != me),
+            );
+            out.sort_unstable();
+            out.dedup();
         };
-        let (rv, ru) = (ring(tv, v), ring(tu, u));
-        let common = rv.iter().filter(|w| ru.binary_search(w).is_ok()).count();
-        let mut opposite: Vec<u32> = shared
+        ring(&sc.tv, v, &mut sc.ring_v);
+        ring(&sc.tu, u, &mut sc.ring_u);
+        let common = sc
+            .ring_v
             .iter()
-            .flat_map(|&t| self.triangles[t as usize])
-            .filter(|&w| w != v && w != u)
-            .collect();
-        opposite.sort_unstable();
-        opposite.dedup();
-        common == opposite.len()
+            .filter(|w| **w != u && sc.ring_u.binary_search(w).is_ok())
+            .count();
+        // the third vertices of the edge's triangles: one or two, all different
+        let mut opposite = [u32::MAX; 2];
+        for (k, &t) in sc.shared.iter().enumerate() {
+            opposite[k] = tris[t as usize]
+                .into_iter()
+                .find(|&w| w != v && w != u)
+                .unwrap_or(u32::MAX);
+        }
+        let distinct = if sc.shared.len() == 2 && opposite[0] != opposite[1] {
+            2
+        } else {
+            1
+        };
+        common == distinct
     }
 
     /// The simplified mesh: per vertex left its input vertex, per input vertex its new

@@ -248,33 +248,55 @@ fn mean_edge(mesh: &Mesh) -> f32 {
     }
 }
 
-/// Per vertex, whether it lies on a mesh border (an edge with one triangle).
-fn border_vertices(mesh: &Mesh) -> Vec<bool> {
-    let mut edges: Vec<u64> = mesh
+/// The renderer's default crease: edges whose faces meet at more than this many degrees
+/// are drawn, so a level keeps them as chains of edges.
+const CREASE_DEGREES: f32 = 40.0;
+
+/// Per vertex: whether it lies on a mesh border (an edge with one triangle), and whether it
+/// lies on a crease (an edge whose two faces meet at more than [`CREASE_DEGREES`]).
+fn feature_vertices(mesh: &Mesh) -> (Vec<bool>, Vec<bool>) {
+    let mut edges: Vec<(u64, u32)> = mesh
         .triangles
         .par_iter()
-        .flat_map_iter(|t| {
+        .enumerate()
+        .flat_map_iter(|(k, t)| {
             [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
                 .into_iter()
                 .filter(|(a, b)| a != b)
-                .map(|(a, b)| (u64::from(a.min(b)) << 32) | u64::from(a.max(b)))
+                .map(move |(a, b)| ((u64::from(a.min(b)) << 32) | u64::from(a.max(b)), k as u32))
         })
         .collect();
     edges.par_sort_unstable();
-    let mut border = vec![false; mesh.positions.len()];
+    let normal = |k: u32| {
+        let [a, b, c] = mesh.triangles[k as usize].map(|v| mesh.positions[v as usize]);
+        (b - a).cross(c - a).normalize_or_zero()
+    };
+    let cos = CREASE_DEGREES.to_radians().cos();
+    let (mut border, mut crease) = (
+        vec![false; mesh.positions.len()],
+        vec![false; mesh.positions.len()],
+    );
     let mut i = 0;
     while i < edges.len() {
         let mut j = i + 1;
-        while j < edges.len() && edges[j] == edges[i] {
+        while j < edges.len() && edges[j].0 == edges[i].0 {
             j += 1;
         }
-        if j - i == 1 {
-            border[(edges[i] >> 32) as usize] = true;
-            border[(edges[i] & 0xffff_ffff) as usize] = true;
+        let ends = [
+            (edges[i].0 >> 32) as usize,
+            (edges[i].0 & 0xffff_ffff) as usize,
+        ];
+        let mark = match j - i {
+            1 => Some(&mut border),
+            2 if normal(edges[i].1).dot(normal(edges[i + 1].1)) < cos => Some(&mut crease),
+            _ => None,
+        };
+        if let Some(flags) = mark {
+            ends.iter().for_each(|&v| flags[v] = true);
         }
         i = j;
     }
-    border
+    (border, crease)
 }
 
 /// The grid cell of `p` (cells of `cell` from `lo`), packed in 63 bits.
@@ -298,7 +320,7 @@ fn simplify(
         &mesh.positions,
         &mesh.triangles,
         signature,
-        border_vertices(mesh),
+        feature_vertices(mesh),
     );
     collapser.run(cell);
     let (kept, number, triangles) = collapser.finish();
