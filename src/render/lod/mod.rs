@@ -84,6 +84,11 @@ pub struct Lod {
 }
 
 impl Lod {
+    /// No levels: the mesh is drawn whole.
+    pub const fn none() -> Lod {
+        Lod { levels: Vec::new() }
+    }
+
     /// Builds the levels of `mesh`. `frame` is what views fit (the face region, or the whole
     /// rest pose) and sets the grids' scale; `parts` labels vertices that must not cluster
     /// together (for example 1 for what the jaw turns, 0 for the rest; empty: no labels).
