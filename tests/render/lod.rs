@@ -118,6 +118,7 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
     open.jaw = 2.5;
     let states = [Activations::zero(&rig), open];
     let (mut worst_added, mut sum_added, mut count) = (1.0f32, 0.0f32, 0);
+    let mut worst_kept = 1.0f32;
     let mut screens = Vec::new();
     let views = Views {
         mesh: &mesh,
@@ -165,13 +166,15 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
                     "{what}: {added} of the level's cells near a full one"
                 );
                 worst_added = worst_added.min(added);
+                worst_kept = worst_kept.min(kept);
                 sum_added += added;
                 count += 1;
             }
         }
     }
     eprintln!(
-        "cells of the level near a full one: worst {worst_added}, mean {}",
+        "full cells kept: worst {worst_kept}; cells of the level near a full one: worst \
+         {worst_added}, mean {}",
         sum_added / count as f32
     );
     assert!(sum_added / count as f32 >= 0.88);
@@ -193,10 +196,13 @@ fn write_gallery(vertices: usize, screens: &[((usize, usize), usize, String, Str
     out.push_str(GALLERY_HEADING);
     out.push_str(&format!(
         "\n\nA big head ({vertices} vertices: the built-in face split twice at its edges' \
-         midpoints) smiling with the jaw open (`happiness`, jaw 2.5), three-quarter view, \
+         midpoints) smiling with the jaw open (`happiness`, jaw 2.5), front view, \
          feature lines. Before: every triangle of the full mesh drawn; after: the level of \
          detail the editor and `render --format txt` draw at that size. Regenerate with \
-         `GRIMACE_WRITE_GALLERY=1 cargo test --test render lod::`.\n"
+         `GRIMACE_WRITE_GALLERY=1 cargo test --test render lod::`. The head's triangles are \
+         flat quarters of the built-in face's, so both pictures draw the open mouth's inside \
+         and the lower face's facing contours densely; the level adds specks around the eyes \
+         and nose, where its larger triangles cross those flat facets.\n"
     ));
     for ((cols, rows), count, whole, simple) in screens {
         for (what, art) in [
