@@ -18,7 +18,7 @@ use glam::Vec3;
 
 /// Passes over the edges, shortest first; later passes find collapses that earlier ones
 /// made possible.
-const PASSES: usize = 4;
+const PASSES: usize = 2;
 
 /// The mesh being simplified.
 pub(super) struct Collapser<'a> {
@@ -176,9 +176,6 @@ impl<'a> Collapser<'a> {
         if self.crease[v as usize] && sc.shared.len() == 2 && !self.is_crease(sc) {
             return false;
         }
-        if !self.link_holds(v, u, sc) {
-            return false;
-        }
         let pu = self.positions[u as usize];
         for &t in &sc.tv {
             if sc.shared.contains(&t) {
@@ -203,7 +200,8 @@ impl<'a> Collapser<'a> {
                 return false;
             }
         }
-        true
+        // last, as the dearest check
+        self.link_holds(v, u, sc)
     }
 
     /// Whether the edge of the two triangles in `sc.shared` is a crease.
