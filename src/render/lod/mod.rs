@@ -46,7 +46,7 @@ pub const LOD_MIN_VERTICES: usize = 16_384;
 /// what the built-in face's does.
 pub const CELL_DOTS: f32 = 4.0;
 
-/// Finest and coarsest grids: cells of `extent / 2^k`.
+/// Finest and coarsest levels: edges up to `extent / 2^k` long.
 const FINEST: i32 = 10;
 const COARSEST: i32 = 5;
 
@@ -90,7 +90,7 @@ impl Lod {
     }
 
     /// Builds the levels of `mesh`. `frame` is what views fit (the face region, or the whole
-    /// rest pose) and sets the grids' scale; `parts` labels vertices that must not cluster
+    /// rest pose) and sets the edges' scale; `parts` labels vertices that must not merge
     /// together (for example 1 for what the jaw turns, 0 for the rest; empty: no labels).
     pub fn build(mesh: &Mesh, parts: &[u32], frame: &[Vec3]) -> Lod {
         let n = mesh.positions.len();
@@ -138,7 +138,7 @@ impl Lod {
         Lod { levels }
     }
 
-    /// The levels of a rigged mesh as every front end builds them: grids scaled to
+    /// The levels of a rigged mesh as every front end builds them: edge lengths scaled to
     /// `framing`'s region, and vertices kept apart where the rig moves them apart (what the
     /// jaw turns and what it does not, the masks' regions such as the two lips).
     pub fn of_rig(rig: &Rig, mesh: &Mesh, framing: &Framing) -> Lod {
@@ -161,7 +161,7 @@ impl Lod {
         }
         for (m, mask) in rig.masks.iter().enumerate() {
             for &(v, w) in &mask.weights {
-                // four bands of weight: a mask's soft edge may cluster, its sides not
+                // four bands of weight: a mask's soft edge may merge, its sides not
                 let band = (w.clamp(0.0, 1.0) * 3.0).round() as u64;
                 label(v, mix(m as u64 + 2) ^ band);
             }
@@ -209,7 +209,7 @@ impl Lod {
 }
 
 /// Per vertex, a hash of its named groups and its part label: vertices with different
-/// signatures never cluster together.
+/// signatures never merge.
 fn signatures(mesh: &Mesh, parts: &[u32]) -> Vec<u64> {
     let mut sig: Vec<u64> = (0..mesh.positions.len())
         .map(|v| mix(u64::from(parts.get(v).copied().unwrap_or(0))))
@@ -233,7 +233,7 @@ fn mix(mut x: u64) -> u64 {
     x ^ (x >> 31)
 }
 
-/// The mean length of the first triangles' edges (a sample is enough to pick a grid).
+/// The mean length of some triangles' edges (a sample is enough to pick the first level).
 fn mean_edge(mesh: &Mesh) -> f32 {
     let step = (mesh.triangles.len() / 4096).max(1);
     let (mut sum, mut count) = (0.0f64, 0usize);
