@@ -14,7 +14,7 @@ use crate::io::atomic::{replace_unsynced, write_atomic};
 use crate::model::{Activations, BoundRig, Mesh};
 use crate::render::{
     muscle_overlays, png, svg, to_ansi, Camera, CellGrid, CellMode, ColorMode, DisplacementLegend,
-    Framing, Overlay, Palette, Renderer, Scene, Style,
+    Framing, Level, Lod, Overlay, Palette, Renderer, Scene, Style,
 };
 
 /// Preset views.
@@ -212,15 +212,74 @@ impl Look {
         })
     }
 
-    fn scene<'a>(&'a self, mesh: &'a Mesh, positions: &'a [Vec3]) -> Scene<'a> {
+    fn scene<'a>(&'a self, drawn: &Drawn<'a>) -> Scene<'a> {
+        let scene = Scene::new(drawn.mesh, drawn.positions)
+            .with_rest(&drawn.mesh.positions)
+            .with_overlays(&self.overlays)
+            .with_framing(&self.framing);
         Scene {
             ghost: self.ghost,
             displacement: self.displacement,
             mm_per_unit: self.mm_per_unit,
-            ..Scene::new(mesh, positions)
-                .with_rest(&mesh.positions)
-                .with_overlays(&self.overlays)
-                .with_framing(&self.framing)
+            focus: drawn.focus.or(scene.focus),
+            ..scene
+        }
+    }
+
+    /// The level of detail text of `size` cells is drawn from, like the editor's frame of
+    /// that size (`None`: the full mesh; images always draw the full mesh).
+    fn level<'l>(&self, lod: &'l Lod, format: Format, (w, h): (usize, usize)) -> Option<&'l Level> {
+        if format != Format::Txt {
+            return None;
+        }
+        let canvas = self.mode.canvas(w, h);
+        lod.choose(
+            &self.camera,
+            canvas.width(),
+            canvas.height(),
+            canvas.dot_aspect,
+        )
+    }
+}
+
+/// What a picture draws: a mesh (the full one or a level of detail), its pose, and the
+/// points the view fits when they are not the framing's.
+struct Drawn<'a> {
+    mesh: &'a Mesh,
+    positions: &'a [Vec3],
+    focus: Option<&'a [Vec3]>,
+}
+
+/// The levels of detail of the rig's mesh, for text output (none for images).
+fn text_lod(format: Format, sources: &Sources, look: &Look) -> Lod {
+    match format {
+        Format::Txt => Lod::of_rig(&sources.rig.rig, &sources.rig.mesh, &look.framing),
+        Format::Svg | Format::Png => Lod::default(),
+    }
+}
+
+/// The positions `act` gives the mesh `level` draws: its vertices only, or the whole mesh.
+fn deform_for(
+    bound: &BoundRig,
+    act: &Activations,
+    level: Option<&Level>,
+) -> anyhow::Result<Vec<Vec3>> {
+    match level {
+        Some(level) => {
+            let mut positions = Vec::new();
+            bound.deform_at(act, &level.source, &mut positions)?;
+            Ok(positions)
+        }
+        None => deform(bound, act),
+    }
+}
+
+impl<'a> Drawn<'a> {
+    fn of(mesh: &'a Mesh, level: Option<&'a Level>, positions: &'a [Vec3]) -> Drawn<'a> {
+        Drawn {
+            mesh: level.map_or(mesh, |l| &l.mesh),
+            positions,
+            focus: level.map(|l| &l.frame[..]),
         }
     }
 }
@@ -274,13 +333,12 @@ fn size(args: &RenderArgs, format: Format) -> anyhow::Result<(usize, usize)> {
 fn picture(
     look: &Look,
     renderer: &mut Renderer,
-    mesh: &Mesh,
-    positions: &[Vec3],
+    drawn: &Drawn,
     format: Format,
     (w, h): (usize, usize),
     colors: ColorMode,
 ) -> anyhow::Result<Vec<u8>> {
-    let scene = look.scene(mesh, positions);
+    let scene = look.scene(drawn);
     Ok(match format {
         Format::Txt => {
             let mut canvas = look.mode.canvas(w, h);
@@ -344,37 +402,28 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.all {
         return render_all(args, &sources, &bound, &look);
     }
-    let positions = state_positions(args, &sources, &bound)?;
-    let mesh = &sources.rig.mesh;
-    let mut renderer = Renderer::new(mesh);
+    let act = export::activations(&args.state, &sources)?;
+    let format = match &args.out {
+        None => Format::Txt,
+        Some(path) => format_of(path)?,
+    };
+    let size = size(args, format)?;
+    if let Some(path) = &args.out {
+        sources.inputs().check_output(path)?;
+    }
+    let lod = text_lod(format, &sources, &look);
+    let level = look.level(&lod, format, size);
+    let positions = deform_for(&bound, &act, level)?;
+    let drawn = Drawn::of(&sources.rig.mesh, level, &positions);
+    let mut renderer = Renderer::new(drawn.mesh);
     match &args.out {
         None => {
-            let size = size(args, Format::Txt)?;
-            let text = picture(
-                &look,
-                &mut renderer,
-                mesh,
-                &positions,
-                Format::Txt,
-                size,
-                look.colors,
-            )?;
+            let text = picture(&look, &mut renderer, &drawn, format, size, look.colors)?;
             super::print_raw(&text)?;
         }
         Some(path) => {
-            let format = format_of(path)?;
-            let size = size(args, format)?;
-            sources.inputs().check_output(path)?;
             // Files never carry colour escapes.
-            let bytes = picture(
-                &look,
-                &mut renderer,
-                mesh,
-                &positions,
-                format,
-                size,
-                ColorMode::None,
-            )?;
+            let bytes = picture(&look, &mut renderer, &drawn, format, size, ColorMode::None)?;
             write_atomic(path, &bytes).map_err(|e| crate::io::SaveError::io(path, &e))?;
         }
     }
@@ -443,20 +492,15 @@ fn render_all(
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
     let size = size(args, args.format)?;
-    let mesh = &sources.rig.mesh;
+    let lod = text_lod(args.format, sources, look);
+    let level = look.level(&lod, args.format, size);
+    let mesh = level.map_or(&sources.rig.mesh, |l| &l.mesh);
     jobs.par_iter().try_for_each_init(
         || Renderer::new(mesh),
         |renderer, job| -> anyhow::Result<()> {
-            let positions = deform(bound, &job.act)?;
-            let bytes = picture(
-                look,
-                renderer,
-                mesh,
-                &positions,
-                args.format,
-                size,
-                ColorMode::None,
-            )?;
+            let positions = deform_for(bound, &job.act, level)?;
+            let drawn = Drawn::of(&sources.rig.mesh, level, &positions);
+            let bytes = picture(look, renderer, &drawn, args.format, size, ColorMode::None)?;
             let path = dir.join(&job.file);
             // A folder of regenerated pictures: each replaced whole, without the two fsyncs
             // per file a synced save costs (they dominated the run time).

@@ -23,10 +23,12 @@ use super::muscle::MuscleKind;
 use super::rig::{Combine, Rig};
 
 mod checks;
+mod sample;
 mod skin;
 mod spread;
 
 use checks::{check_budget, check_reach, mask_scales};
+pub use sample::Sampler;
 pub use skin::Skin;
 use skin::{Adjacency, Guard, Patch};
 use spread::Surface;

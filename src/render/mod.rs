@@ -81,6 +81,7 @@ pub mod canvas;
 pub mod cells;
 pub mod framing;
 pub mod legend;
+pub mod lod;
 pub mod png;
 pub mod raster;
 pub mod scene;
@@ -95,6 +96,7 @@ pub use cells::{
 };
 pub use framing::Framing;
 pub use legend::DisplacementLegend;
+pub use lod::{Level, Lod};
 pub use raster::{render, LitTriangle, Renderer, Run};
 pub use scene::{
     displacement_ramp, muscle_overlays, Orientation, Overlay, Palette, Scene, Shape, Style,

@@ -2,11 +2,22 @@
 //!
 //! All deformation is done by the core library ([`crate::model::BoundRig`]); this module only
 //! keeps the results.
+//!
+//! A big mesh has levels of detail ([`Lod`]), made on a thread of their own so the first
+//! screen does not wait for them (until they are there the full mesh is drawn): the viewport
+//! draws one of them, so only its vertices are deformed for a frame ([`Scene::sample`]);
+//! the whole mesh's positions are computed when something asks for them
+//! ([`Scene::positions`]). A small mesh keeps its whole deformation up to date, one
+//! muscle's region at a time.
+
+use std::cell::OnceCell;
+use std::sync::{Arc, OnceLock};
 
 use glam::Vec3;
 
-use crate::model::{Activations, BoundRig, Deformation, Mesh, MuscleKind, Rig};
-use crate::render::Framing;
+use crate::model::{Activations, BoundRig, Deformation, Mesh, MuscleKind, Rig, Sampler};
+use crate::render::lod::LOD_MIN_VERTICES;
+use crate::render::{Framing, Level, Lod};
 
 /// The face being edited: bound rig, rest mesh and the deformed positions for the current
 /// activations.
@@ -14,7 +25,19 @@ use crate::render::Framing;
 pub struct Scene {
     bound: BoundRig,
     mesh: Mesh,
-    positions: Vec<Vec3>,
+    /// The whole mesh's deformed positions: always there without levels of detail, else
+    /// computed on first use after each change.
+    positions: OnceCell<Vec<Vec3>>,
+    /// The activations of the last deformation (what [`Scene::sample`] deforms by).
+    activations: Activations,
+    /// The levels of detail, once made (a small mesh's are there at once: none).
+    lod: Arc<OnceLock<Lod>>,
+    /// Whether the mesh is big enough for levels of detail (its whole deformation is then
+    /// computed only when asked for).
+    big: bool,
+    /// Per level of detail: what deforming its vertices reads, found on first use after
+    /// each bind.
+    samplers: OnceCell<Vec<OnceCell<Sampler>>>,
     generation: u64,
     framing: Framing,
 }
@@ -25,16 +48,74 @@ impl Scene {
         let bound = Deformation::default()
             .bind(&rig, &mesh)
             .map_err(|e| format!("the rig does not fit its mesh: {e}"))?;
-        let positions = mesh.positions.clone();
+        let positions = OnceCell::from(mesh.positions.clone());
         // Once, from the rig as loaded: rig-mode edits do not move the view.
         let framing = Framing::of_rig(&rig, &mesh);
+        let big = mesh.positions.len() >= LOD_MIN_VERTICES;
+        let lod = Arc::new(OnceLock::new());
+        if big {
+            let (cell, rig, mesh, framing) =
+                (Arc::clone(&lod), rig.clone(), mesh.clone(), framing.clone());
+            std::thread::spawn(move || cell.set(Lod::of_rig(&rig, &mesh, &framing)));
+        } else {
+            let _ = lod.set(Lod::default());
+        }
         Ok(Scene {
+            samplers: OnceCell::new(),
+            big,
+            activations: Activations::zero(&rig),
             bound,
             mesh,
             positions,
+            lod,
             generation: 0,
             framing,
         })
+    }
+
+    /// The levels of detail the viewport draws from (none for a small mesh).
+    pub fn lod(&self) -> &Lod {
+        static NONE: Lod = Lod::none();
+        self.lod.get().unwrap_or(&NONE)
+    }
+
+    /// Waits until the levels of detail are made (for tests and benchmarks).
+    pub fn wait_for_lod(&self) -> &Lod {
+        while self.lod.get().is_none() {
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        self.lod()
+    }
+
+    /// The deformed positions of `level`'s vertices for the last activations given: the
+    /// whole deformation's where it is there, else only those vertices deformed.
+    pub fn sample(&self, level: &Level, out: &mut Vec<Vec3>) {
+        let levels = self.lod().levels();
+        let index = levels.iter().position(|l| std::ptr::eq(l, level));
+        let samplers = self
+            .samplers
+            .get_or_init(|| vec![OnceCell::new(); levels.len()]);
+        let sampler = index.and_then(|i| {
+            let cell = samplers.get(i)?;
+            Some(cell.get_or_init(|| self.bound.sampler(&level.source).unwrap_or_default()))
+        });
+        let deformed = match (self.positions.get(), sampler) {
+            (Some(full), _) => {
+                level.gather(full, out);
+                true
+            }
+            (None, Some(sampler)) if sampler.len() == level.source.len() => self
+                .bound
+                .deform_sampled(&self.activations, sampler, out)
+                .is_ok(),
+            (None, _) => self
+                .bound
+                .deform_at(&self.activations, &level.source, out)
+                .is_ok(),
+        };
+        if !deformed {
+            level.gather(&self.mesh.positions, out);
+        }
     }
 
     /// The rig.
@@ -57,9 +138,16 @@ impl Scene {
         &self.mesh
     }
 
-    /// The deformed vertex positions for the last activations given.
+    /// The deformed vertex positions for the last activations given (computed here for a
+    /// mesh with levels of detail, the first time after a change).
     pub fn positions(&self) -> &[Vec3] {
-        &self.positions
+        self.positions.get_or_init(|| {
+            let mut out = Vec::new();
+            if self.bound.deform(&self.activations, &mut out).is_err() {
+                out.clone_from(&self.mesh.positions);
+            }
+            out
+        })
     }
 
     /// Counts changes of the positions, so a view can tell whether it must draw the face again.
@@ -71,7 +159,13 @@ impl Scene {
     /// them in range, so this does not happen) leave the face as it was.
     pub fn deform(&mut self, activations: &Activations) {
         self.generation += 1;
-        let _ = self.bound.deform(activations, &mut self.positions);
+        self.activations.clone_from(activations);
+        if self.big {
+            // Deformed when asked for: a frame deforms only the level it draws.
+            self.positions = OnceCell::new();
+        } else if let Some(positions) = self.positions.get_mut() {
+            let _ = self.bound.deform(activations, positions);
+        }
     }
 
     /// Checks that `rig` binds to this scene's mesh, saying why not.
@@ -85,7 +179,9 @@ impl Scene {
         self.bound = Deformation::default()
             .bind(&rig, &self.mesh)
             .map_err(|e| e.to_string())?;
-        self.positions.clone_from(&self.mesh.positions);
+        self.positions = OnceCell::from(self.mesh.positions.clone());
+        self.activations = Activations::zero(self.bound.rig());
+        self.samplers = OnceCell::new();
         self.generation += 1;
         Ok(())
     }
@@ -97,6 +193,7 @@ impl Scene {
         self.bound
             .rebind_muscles(changes)
             .map_err(|e| e.to_string())?;
+        self.samplers = OnceCell::new();
         self.generation += 1;
         Ok(())
     }
@@ -112,6 +209,7 @@ impl Scene {
         self.bound
             .rebind_jaw(pivot, axis, degrees_per_unit)
             .map_err(|e| e.to_string())?;
+        self.samplers = OnceCell::new();
         self.generation += 1;
         Ok(())
     }
@@ -120,15 +218,77 @@ impl Scene {
     /// `activations` changed in that muscle only.
     pub fn update_muscle(&mut self, activations: &Activations, muscle: Option<usize>) {
         self.generation += 1;
-        let updated = match muscle {
-            Some(i) => self
-                .bound
-                .update_muscle(activations, i, &mut self.positions)
-                .is_ok(),
-            None => false,
+        let updated = match (muscle, self.positions.get_mut()) {
+            (Some(i), Some(positions)) => {
+                self.bound.update_muscle(activations, i, positions).is_ok()
+            }
+            _ => false,
         };
+        self.activations.clone_from(activations);
         if !updated {
             self.deform(activations);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+
+    use super::*;
+    use crate::io::builtin;
+
+    /// The built-in face with each triangle split into four (old vertices keep their
+    /// numbers, so the built-in rig binds): big enough for levels of detail.
+    fn big_face() -> Mesh {
+        let face = builtin::default_mesh();
+        let mut positions = face.positions.clone();
+        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut triangles = Vec::new();
+        for &[a, b, c] in &face.triangles {
+            let mut at = |x: u32, y: u32| {
+                *mid.entry((x.min(y), x.max(y))).or_insert_with(|| {
+                    positions.push(0.5 * (positions[x as usize] + positions[y as usize]));
+                    positions.len() as u32 - 1
+                })
+            };
+            let (ab, bc, ca) = (at(a, b), at(b, c), at(c, a));
+            triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        Mesh::new(positions, triangles).unwrap()
+    }
+
+    fn bits(p: &[Vec3]) -> Vec<[u32; 3]> {
+        p.iter().map(|v| v.to_array().map(f32::to_bits)).collect()
+    }
+
+    #[test]
+    fn a_big_mesh_is_drawn_from_its_level_deformed_as_the_whole_mesh_is() {
+        let rig = builtin::default_rig();
+        let mut scene = Scene::new(rig.clone(), big_face()).unwrap();
+        assert!(!scene.wait_for_lod().is_empty());
+        let bound = Deformation::default().bind(&rig, scene.mesh()).unwrap();
+        let mut act = builtin::default_table()
+            .expression_activations("happiness", &rig)
+            .unwrap();
+        act.jaw = 2.0;
+        let level = scene.lod().levels()[0].clone();
+        let (mut sampled, mut gathered, mut whole) = (Vec::new(), Vec::new(), Vec::new());
+        for step in 0..3 {
+            if step == 2 {
+                // one muscle changed after the whole mesh was computed: kept in step
+                act.muscles[0] = 0.7;
+                scene.update_muscle(&act, Some(0));
+            } else {
+                scene.deform(&act);
+            }
+            // the level alone (the whole mesh not computed yet on the first two steps), from
+            // the scene's own levels (their samplers are kept)
+            scene.sample(&scene.lod().levels()[0], &mut sampled);
+            bound.deform(&act, &mut whole).unwrap();
+            level.gather(&whole, &mut gathered);
+            assert_eq!(bits(&sampled), bits(&gathered), "step {step}");
+            assert_eq!(bits(scene.positions()), bits(&whole), "step {step}");
         }
     }
 }

@@ -16,3 +16,4 @@ mod files;
 mod framing;
 mod geometry;
 mod ghost;
+mod lod;

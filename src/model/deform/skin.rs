@@ -546,7 +546,7 @@ impl Guard {
         self.index.get(v).copied().unwrap_or(NO_ROW)
     }
 
-    fn triangles_of(&self, g: usize) -> &[u32] {
+    pub(super) fn triangles_of(&self, g: usize) -> &[u32] {
         &self.tri_list[self.tri_start[g] as usize..self.tri_start[g + 1] as usize]
     }
 
@@ -580,6 +580,13 @@ impl Guard {
                 }
             }
         }
+    }
+
+    /// The scale of checked triangle `t` for displacements of its second and third vertices
+    /// differing by `d1`, `d2` from its first's (what [`Guard::triangle_scales`] computes).
+    #[inline]
+    pub(super) fn triangle_scale(&self, t: usize, d1: Vec3, d2: Vec3) -> f32 {
+        self.shapes[t].scale(d1, d2)
     }
 
     /// The scale of guarded vertex `g`'s displacement: the mean of its checked triangles'

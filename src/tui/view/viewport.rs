@@ -23,6 +23,8 @@ pub struct RenderCache {
     canvas: Option<DotCanvas>,
     grid: CellGrid,
     overlays: Vec<Overlay>,
+    /// The deformed positions of the level of detail drawn (a big mesh's).
+    sampled: Vec<glam::Vec3>,
 }
 
 /// Everything the picture depends on.
@@ -125,9 +127,9 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
         canvas,
         grid,
         overlays,
+        sampled,
     } = &mut *cache;
     let mesh = app.doc.scene.mesh();
-    let renderer = renderer.get_or_insert_with(|| Renderer::new(mesh));
     let canvas = canvas.get_or_insert_with(|| DotCanvas::new(0, 0));
     let mode = app.view.drawn_cells();
     mode.prepare(canvas, usize::from(inner.width), usize::from(inner.height));
@@ -139,11 +141,28 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
     if app.rig_edit.on {
         super::rig::zone_overlays(app, overlays);
     }
-    let mut scene = Scene::new(mesh, app.doc.scene.positions())
-        .with_overlays(overlays)
-        .with_framing(app.doc.scene.framing());
+    let camera = camera(app);
+    let level =
+        app.doc
+            .scene
+            .lod()
+            .choose(&camera, canvas.width(), canvas.height(), canvas.dot_aspect);
+    // A big mesh is drawn from the level of detail this view needs, only its vertices
+    // deformed; a small one (or a close zoom) whole.
+    let mut scene = match level {
+        Some(level) => {
+            app.doc.scene.sample(level, sampled);
+            Scene {
+                focus: Some(&level.frame),
+                ..Scene::new(&level.mesh, sampled)
+            }
+        }
+        None => Scene::new(mesh, app.doc.scene.positions()).with_framing(app.doc.scene.framing()),
+    }
+    .with_overlays(overlays);
     scene.ghost = app.view.show_ghost;
     scene.displacement = app.view.show_displacement;
-    renderer.render(&scene, &camera(app), app.view.style, canvas);
+    let renderer = renderer.get_or_insert_with(|| Renderer::new(scene.mesh));
+    renderer.render(&scene, &camera, app.view.style, canvas);
     grid.fill(canvas, mode, app.view.colors);
 }

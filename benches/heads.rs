@@ -1,0 +1,299 @@
+//! Big heads: what a frame, a key press, loading, binding and fitting cost on heads of
+//! tens and hundreds of thousands of vertices, drawing the full mesh ("full") against the
+//! level of detail the editor and `render --format txt` draw ("lod"), in the same run.
+//!
+//! The heads are the built-in face with every edge split into `k` parts (new vertices on
+//! the flat triangles, old vertices keeping their numbers, so the built-in landmarks still
+//! name them), the default rig fitted to each with `fit_rig`. Nothing big is committed: the
+//! heads are made here and written to a temporary folder for the load measurement.
+//!
+//! Run: `cargo bench --bench heads`. `GRIMACE_HEADS=3,10` sets the splits (default 3 and
+//! 12: 30 763 and 475 840 vertices); `GRIMACE_BENCH_RUNS=N` the frames per measurement
+//! (default 30). Times are wall-clock medians (and minimums) over the runs, each run on the
+//! whole rayon pool as the editor uses it.
+
+use std::collections::HashMap;
+use std::time::Instant;
+
+use grimace::fit::{fit_rig, PartOverrides, Template};
+use grimace::io::{builtin, obj};
+use grimace::model::{Activations, BoundRig, Deformation, Mesh};
+use grimace::render::{
+    Camera, CellGrid, CellMode, ColorMode, Framing, Lod, Renderer, Scene, Style,
+};
+
+const COLS: usize = 200;
+const ROWS: usize = 60;
+
+/// The mesh with each edge split into `k` parts and each triangle into `k * k`; old
+/// vertices keep their numbers, groups keep the new vertices between their members.
+fn split(mesh: &Mesh, k: u32) -> Mesh {
+    let mut positions = mesh.positions.clone();
+    let mut origin: Vec<Vec<u32>> = Vec::new();
+    let mut on_edge: HashMap<(u32, u32, u32), u32> = HashMap::new();
+    let mut triangles = Vec::with_capacity(mesh.triangles.len() * (k * k) as usize);
+    let kf = k as f32;
+    for &[a, b, c] in &mesh.triangles {
+        let [pa, pb, pc] = [a, b, c].map(|i| mesh.positions[i as usize]);
+        let mut grid = vec![0u32; ((k + 1) * (k + 2) / 2) as usize];
+        let slot = |i: u32, j: u32| (j * (k + 1) - j * (j.saturating_sub(1)) / 2 + i) as usize;
+        for j in 0..=k {
+            for i in 0..=k - j {
+                let id = match (i, j) {
+                    (0, 0) => a,
+                    (i, 0) if i == k => b,
+                    (0, j) if j == k => c,
+                    _ => {
+                        let edge = if j == 0 {
+                            Some((a, b, i))
+                        } else if i == 0 {
+                            Some((a, c, j))
+                        } else if i + j == k {
+                            Some((b, c, j))
+                        } else {
+                            None
+                        };
+                        let p = pa + (pb - pa) * (i as f32 / kf) + (pc - pa) * (j as f32 / kf);
+                        let corners = match edge {
+                            Some((x, y, _)) => vec![x, y],
+                            None => vec![a, b, c],
+                        };
+                        let mut make = || {
+                            positions.push(p);
+                            origin.push(corners.clone());
+                            positions.len() as u32 - 1
+                        };
+                        match edge {
+                            Some((x, y, t)) => {
+                                let key = if x < y { (x, y, t) } else { (y, x, k - t) };
+                                *on_edge.entry(key).or_insert_with(make)
+                            }
+                            None => make(),
+                        }
+                    }
+                };
+                grid[slot(i, j)] = id;
+            }
+        }
+        for j in 0..k {
+            for i in 0..k - j {
+                triangles.push([grid[slot(i, j)], grid[slot(i + 1, j)], grid[slot(i, j + 1)]]);
+                if i + j + 1 < k {
+                    triangles.push([
+                        grid[slot(i + 1, j)],
+                        grid[slot(i + 1, j + 1)],
+                        grid[slot(i, j + 1)],
+                    ]);
+                }
+            }
+        }
+    }
+    let mut out = Mesh::new(positions, triangles).expect("split mesh");
+    let old = mesh.positions.len() as u32;
+    for (name, members) in &mesh.groups {
+        let mut new = members.clone();
+        for (n, corners) in origin.iter().enumerate() {
+            if corners.iter().all(|c| members.binary_search(c).is_ok()) {
+                new.push(old + n as u32);
+            }
+        }
+        new.sort_unstable();
+        out.groups.insert(name.clone(), new);
+    }
+    out
+}
+
+/// Median and minimum wall-clock milliseconds of `runs` calls of `f`.
+fn time(runs: usize, mut f: impl FnMut()) -> (f64, f64) {
+    f();
+    let mut t: Vec<f64> = (0..runs.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            f();
+            start.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    (t[t.len() / 2], t[0])
+}
+
+fn report(what: &str, (median, min): (f64, f64)) {
+    eprintln!("  {what}: {median:.3} ms (min {min:.3})");
+}
+
+fn peak_rss_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+/// One head: fit, load, bind, level of detail, deform, frames.
+fn head(k: u32, runs: usize) {
+    let face = builtin::default_mesh();
+    let rig = builtin::default_rig();
+    let landmarks = builtin::landmarks("face").expect("built-in landmarks");
+    let points = landmarks.positions(&face).expect("landmarks on the face");
+    let mesh = split(&face, k);
+    let n = mesh.vertex_count();
+    eprintln!(
+        "head k={k}: {n} vertices, {} triangles",
+        mesh.triangles.len()
+    );
+    let start = Instant::now();
+    let fitted = fit_rig(
+        Template {
+            rig: &rig,
+            mesh: &face,
+            landmarks: &points,
+        },
+        &mesh,
+        &landmarks,
+        "head.obj".into(),
+        &PartOverrides::default(),
+    )
+    .expect("fits");
+    eprintln!("  fit_rig: {:.0} ms", start.elapsed().as_secs_f64() * 1e3);
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let path = dir.path().join("head.obj");
+    std::fs::write(&path, obj::write_obj(&mesh, &mesh.positions)).expect("write obj");
+    report(
+        "load OBJ",
+        time(3, || drop(obj::read_obj(&path).expect("reads"))),
+    );
+    let start = Instant::now();
+    let bound = Deformation::Skin.bind(&fitted.rig, &mesh).expect("binds");
+    eprintln!(
+        "  bind (skin): {:.0} ms",
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    let framing = Framing::of_rig(&fitted.rig, &mesh);
+    let start = Instant::now();
+    let lod = Lod::of_rig(&fitted.rig, &mesh, &framing);
+    eprintln!(
+        "  level of detail built: {:.0} ms",
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    for level in lod.levels() {
+        eprintln!(
+            "    level: {} vertices, {} triangles",
+            level.source.len(),
+            level.mesh.triangles.len()
+        );
+    }
+    let act = builtin::default_table()
+        .expression_activations("happiness", &fitted.rig)
+        .expect("happiness");
+    frames(&mesh, &bound, &framing, &lod, &act, runs);
+    eprintln!("  peak RSS so far: {:.0} MB", peak_rss_mb());
+}
+
+/// Deform and draw at 200x60, full mesh against the level of detail.
+fn frames(
+    mesh: &Mesh,
+    bound: &BoundRig,
+    framing: &Framing,
+    lod: &Lod,
+    act: &Activations,
+    runs: usize,
+) {
+    let mut camera = Camera::three_quarter();
+    camera.basis = framing.basis;
+    let mode = CellMode::Braille;
+    let mut canvas = mode.canvas(COLS, ROWS);
+    let level = lod.choose(&camera, canvas.width(), canvas.height(), canvas.dot_aspect);
+    for l in lod.levels() {
+        let proj = camera.fit_points(&l.frame, canvas.width(), canvas.height(), canvas.dot_aspect);
+        eprintln!(
+            "    level of {} vertices: cell {:.2} dots",
+            l.source.len(),
+            l.cell * proj.scale_x.max(proj.scale_y)
+        );
+    }
+    let mut full = Vec::new();
+    report(
+        "deform full",
+        time(runs, || bound.deform(act, &mut full).expect("deforms")),
+    );
+    let mut grid = CellGrid::default();
+    let mut renderer = Renderer::new(mesh);
+    for style in [Style::Lines, Style::Shaded] {
+        let scene = Scene::new(mesh, &full)
+            .with_rest(&mesh.positions)
+            .with_framing(framing);
+        report(
+            &format!("frame {COLS}x{ROWS} {style}, full mesh, drawn only"),
+            time(runs, || {
+                renderer.render(&scene, &camera, style, &mut canvas);
+                grid.fill(&canvas, mode, ColorMode::TrueColor);
+            }),
+        );
+    }
+    let Some(level) = level else {
+        eprintln!("  no level of detail at this size: the full mesh is drawn");
+        return;
+    };
+    let mut positions = Vec::new();
+    let start = Instant::now();
+    let sampler = bound.sampler(&level.source).expect("level vertices");
+    eprintln!(
+        "  sampler for the level: {:.1} ms ({} vertices read)",
+        start.elapsed().as_secs_f64() * 1e3,
+        sampler.reads()
+    );
+    report(
+        &format!("deform the level ({} vertices)", level.source.len()),
+        time(runs, || {
+            bound
+                .deform_sampled(act, &sampler, &mut positions)
+                .expect("deforms")
+        }),
+    );
+    let mut renderer = Renderer::new(&level.mesh);
+    for style in [Style::Lines, Style::Shaded] {
+        report(
+            &format!("frame {COLS}x{ROWS} {style}, level, drawn only"),
+            time(runs, || {
+                let mut scene =
+                    Scene::new(&level.mesh, &positions).with_rest(&level.mesh.positions);
+                scene.focus = Some(&level.frame);
+                renderer.render(&scene, &camera, style, &mut canvas);
+                grid.fill(&canvas, mode, ColorMode::TrueColor);
+            }),
+        );
+        report(
+            &format!("key press {COLS}x{ROWS} {style}: deform the level + draw"),
+            time(runs, || {
+                bound
+                    .deform_sampled(act, &sampler, &mut positions)
+                    .expect("deforms");
+                let mut scene =
+                    Scene::new(&level.mesh, &positions).with_rest(&level.mesh.positions);
+                scene.focus = Some(&level.frame);
+                renderer.render(&scene, &camera, style, &mut canvas);
+                grid.fill(&canvas, mode, ColorMode::TrueColor);
+            }),
+        );
+    }
+}
+
+fn main() {
+    if std::env::args().any(|a| a == "--list") {
+        return;
+    }
+    let splits: Vec<u32> = std::env::var("GRIMACE_HEADS")
+        .ok()
+        .map(|s| s.split(',').filter_map(|k| k.trim().parse().ok()).collect())
+        .unwrap_or_else(|| vec![3, 10]);
+    let runs = std::env::var("GRIMACE_BENCH_RUNS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(30);
+    for k in splits {
+        head(k, runs);
+    }
+}
