@@ -23,6 +23,7 @@
 
 #![warn(missing_docs)]
 
+pub mod batch;
 #[cfg(feature = "tui")]
 pub mod cli;
 pub mod export;
