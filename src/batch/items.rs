@@ -37,6 +37,8 @@ pub struct Item {
     pub face: usize,
     /// Index into the face's states.
     pub state: usize,
+    /// The state's place among every face's states (the unit shards split).
+    pub group: usize,
     /// The file format.
     pub output: Output,
     /// The view (pictures only).
@@ -127,8 +129,10 @@ fn items(plan: &Plan, states: &[Vec<State>]) -> Result<Vec<Item>, LoadError> {
     };
     let mut items = Vec::new();
     let mut ids = HashSet::new();
+    let mut group = 0;
     for (face, (spec, face_states)) in f.faces.iter().zip(states).enumerate() {
         for (state, st) in face_states.iter().enumerate() {
+            group += 1;
             for &output in &f.outputs {
                 let pictures: Vec<Option<(ViewSpec, StyleName, (u32, u32))>> =
                     if output.is_picture() {
@@ -164,6 +168,7 @@ fn items(plan: &Plan, states: &[Vec<State>]) -> Result<Vec<Item>, LoadError> {
                         id,
                         face,
                         state,
+                        group: group - 1,
                         output,
                         view: picture.map(|p| p.0),
                         style: picture.map(|p| p.1),
@@ -414,9 +419,10 @@ fn random_combos(spec: &RandomSpec, keys: &[AuKey]) -> Result<Vec<Combo>, String
     Ok(out)
 }
 
-/// A fixed, balanced share of the items: shard `index` of `count` takes the items whose
-/// position in plan order is `index` modulo `count` (counts differ by at most one, and each
-/// face, state and output is spread over every shard).
+/// A fixed, balanced share of the items: shard `index` of `count` takes the states whose
+/// place in plan order is `index` modulo `count`, with all their files (every state has the
+/// same number of files, so counts differ by at most one state's; the face is deformed once
+/// for all of them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
     /// This shard, from 0.
@@ -443,9 +449,9 @@ impl Shard {
         Ok(Shard { index, count })
     }
 
-    /// Whether the item at `position` in plan order is this shard's.
-    pub fn takes(&self, position: usize) -> bool {
-        position % self.count == self.index
+    /// Whether the state at `group` (its place among all states) is this shard's.
+    pub fn takes(&self, group: usize) -> bool {
+        group % self.count == self.index
     }
 
     /// The file name of this shard's labels.

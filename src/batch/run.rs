@@ -23,7 +23,9 @@ use crate::io::gltf::{write_glb, Placement};
 use crate::io::obj::write_obj;
 use crate::io::LoadedRig;
 use crate::model::BoundRig;
-use crate::render::{png, render_text, svg, Camera, CellMode, Framing, Scene};
+use crate::render::{
+    png, svg, to_text, Camera, CellGrid, CellMode, ColorMode, Framing, Renderer, Scene,
+};
 
 /// A face of the batch, loaded and bound.
 #[derive(Debug)]
@@ -146,13 +148,31 @@ impl Batch {
         text
     }
 
-    /// Deforms and draws one item: the file's bytes.
-    pub fn draw(&self, item: &Item, positions: &mut Vec<Vec3>) -> Result<Vec<u8>, BatchError> {
+    /// Deforms a face into a state.
+    pub fn deform(
+        &self,
+        face: usize,
+        state: usize,
+        positions: &mut Vec<Vec3>,
+    ) -> Result<(), BatchError> {
+        self.faces[face]
+            .bound
+            .deform(&self.expanded.states[face][state].act, positions)
+            .map_err(|e| {
+                BatchError::new(format!("face `{}`: {e}", self.plan.file.faces[face].name))
+            })
+    }
+
+    /// Draws one item from its face's deformed positions with a renderer of that face's
+    /// mesh: the file's bytes.
+    pub fn draw(
+        &self,
+        item: &Item,
+        positions: &[Vec3],
+        renderer: &mut Renderer,
+    ) -> Result<Vec<u8>, BatchError> {
         let face = &self.faces[item.face];
         let mesh = &face.rig.mesh;
-        face.bound
-            .deform(&self.state(item).act, positions)
-            .map_err(|e| BatchError::new(format!("{}: {e}", item.id)))?;
         let (w, h) = item.size.map_or((0, 0), |(w, h)| (w as usize, h as usize));
         let mut camera = Camera::front();
         if let Some(view) = item.view {
@@ -164,25 +184,37 @@ impl Batch {
             .with_rest(&mesh.positions)
             .with_framing(&face.framing);
         let style = item.style.map(|s| s.style()).unwrap_or_default();
+        let failed = |e: &dyn std::fmt::Display| BatchError::new(format!("{}: {e}", item.file));
         Ok(match item.output {
-            Output::Png => png::render_png(&scene, &camera, style, w, h)
-                .map_err(|e| BatchError::new(format!("{}: {e}", item.file)))?,
+            Output::Png => png::render_png_with(renderer, &scene, &camera, style, (w, h))
+                .map_err(|e| failed(&e))?,
             Output::Svg => svg::render_svg(&scene, &camera, style, w, h).into_bytes(),
             Output::Txt => {
-                render_text(&scene, &camera, style, CellMode::Braille, w, h).into_bytes()
+                let mut canvas = CellMode::Braille.canvas(w, h);
+                renderer.render(&scene, &camera, style, &mut canvas);
+                let mut grid = CellGrid::default();
+                grid.fill(&canvas, CellMode::Braille, ColorMode::None);
+                to_text(&grid).into_bytes()
             }
             Output::Obj => write_obj(mesh, positions).into_bytes(),
             Output::Glb => {
                 let mut posed = mesh.clone();
-                posed.positions.clone_from(positions);
+                posed.positions = positions.to_vec();
                 let placement = Placement {
                     metres_per_unit: face.metres_per_unit,
                     rotation: Quat::from_mat3(&face.framing.basis),
                 };
-                write_glb(&posed, &[], placement)
-                    .map_err(|e| BatchError::new(format!("{}: {e}", item.file)))?
+                write_glb(&posed, &[], placement).map_err(|e| failed(&e))?
             }
         })
+    }
+
+    /// A renderer for each face's mesh.
+    pub fn renderers(&self) -> Vec<Renderer> {
+        self.faces
+            .iter()
+            .map(|f| Renderer::new(&f.rig.mesh))
+            .collect()
     }
 
     /// The positions in plan order of a shard's items.
@@ -204,18 +236,15 @@ impl Batch {
         let labels_path = dir.join(labels::SHARD_FOLDER).join(shard.labels_name());
         let finished = self.resume(dir, &labels_path, &mine)?;
         sweep_temporaries(dir, &self.expanded.items, &mine);
-        let todo: Vec<usize> = mine
-            .iter()
-            .copied()
-            .filter(|&i| !finished.contains(&self.expanded.items[i].id))
-            .collect();
+        let todo = self.unfinished_groups(&mine, &finished);
+        let todo_items: usize = todo.iter().map(Vec::len).sum();
         let mut out = OpenOptions::new()
             .append(true)
             .open(&labels_path)
             .map_err(|e| BatchError::io(&labels_path, "cannot open", &e))?;
         let mut progress = Progress {
             total: mine.len(),
-            skipped: mine.len() - todo.len(),
+            skipped: mine.len() - todo_items,
             made: 0,
             elapsed: Duration::ZERO,
         };
@@ -226,20 +255,19 @@ impl Batch {
         let start = Instant::now();
         let mut bytes = 0;
         (options.progress)(&progress);
-        for group in todo.chunks(options.jobs.max(1) * 8) {
+        for groups in todo.chunks(options.jobs.max(1) * 2) {
             if options.stop.load(Ordering::Relaxed) {
                 break;
             }
-            let made = pool.install(|| self.make_group(dir, group, options.stop));
+            let made = pool.install(|| self.make_groups(dir, groups, options.stop));
             let mut first_error = None;
             for result in made {
                 match result {
-                    Ok(Some((line, size))) => {
+                    Ok((line, size)) => {
                         write_row(&mut out, &labels_path, &line)?;
                         progress.made += 1;
                         bytes += size;
                     }
-                    Ok(None) => {}
                     Err(e) => {
                         first_error.get_or_insert(e);
                     }
@@ -259,29 +287,69 @@ impl Batch {
         })
     }
 
-    /// Makes a group of items in parallel: each one's label line and size, `None` when
-    /// stopped before it started.
-    fn make_group(
+    /// The shard's unfinished items, by state (each group one state's items).
+    fn unfinished_groups(&self, mine: &[usize], finished: &HashSet<String>) -> Vec<Vec<usize>> {
+        let items = &self.expanded.items;
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for &i in mine.iter().filter(|&&i| !finished.contains(&items[i].id)) {
+            match groups.last_mut() {
+                Some(last) if items[last[0]].group == items[i].group => last.push(i),
+                _ => groups.push(vec![i]),
+            }
+        }
+        groups
+    }
+
+    /// Makes groups of items in parallel, one state deformed once for its group: each item's
+    /// label line and size; a group not started when `stop` was set gives nothing.
+    fn make_groups(
         &self,
         dir: &Path,
-        group: &[usize],
+        groups: &[Vec<usize>],
         stop: &AtomicBool,
-    ) -> Vec<Result<Option<(String, u64)>, BatchError>> {
-        group
+    ) -> Vec<Result<(String, u64), BatchError>> {
+        let made: Vec<Vec<Result<(String, u64), BatchError>>> = groups
             .par_iter()
-            .map_init(Vec::new, |positions, &i| {
-                if stop.load(Ordering::Relaxed) {
-                    return Ok(None);
-                }
-                let item = &self.expanded.items[i];
-                let bytes = self.draw(item, positions)?;
-                let path = dir.join(&item.file);
-                write_item(&path, &bytes)?;
-                let mut fields = self.planned_fields(item);
-                fields.push(sha256_hex(&bytes));
-                Ok(Some((csv_line(&fields), bytes.len() as u64)))
-            })
-            .collect()
+            .map_init(
+                || (Vec::new(), self.renderers()),
+                |(positions, renderers), group| {
+                    if stop.load(Ordering::Relaxed) {
+                        return Vec::new();
+                    }
+                    let first = &self.expanded.items[group[0]];
+                    if let Err(e) = self.deform(first.face, first.state, positions) {
+                        return vec![Err(e)];
+                    }
+                    group
+                        .iter()
+                        .map(|&i| {
+                            self.make_item(
+                                dir,
+                                &self.expanded.items[i],
+                                positions,
+                                &mut renderers[first.face],
+                            )
+                        })
+                        .collect()
+                },
+            )
+            .collect();
+        made.into_iter().flatten().collect()
+    }
+
+    /// Draws and writes one item: its label line and size.
+    fn make_item(
+        &self,
+        dir: &Path,
+        item: &Item,
+        positions: &[Vec3],
+        renderer: &mut Renderer,
+    ) -> Result<(String, u64), BatchError> {
+        let bytes = self.draw(item, positions, renderer)?;
+        write_item(&dir.join(&item.file), &bytes)?;
+        let mut fields = self.planned_fields(item);
+        fields.push(sha256_hex(&bytes));
+        Ok((csv_line(&fields), bytes.len() as u64))
     }
 
     /// Makes the output folder and records the plan in it (`plan.ron`, `items.csv`); a

@@ -241,8 +241,13 @@ fn dry_run(batch: &Batch, shard: Shard) -> anyhow::Result<()> {
     let start = Instant::now();
     let mut bytes = 0;
     let mut positions = Vec::new();
+    let mut renderers = batch.renderers();
     for &i in &samples {
-        bytes += batch.draw(&items[i], &mut positions)?.len();
+        let item = &items[i];
+        batch.deform(item.face, item.state, &mut positions)?;
+        bytes += batch
+            .draw(item, &positions, &mut renderers[item.face])?
+            .len();
     }
     let per_item = start.elapsed().as_secs_f64() / samples.len().max(1) as f64;
     let per_bytes = bytes as f64 / samples.len().max(1) as f64;

@@ -1,0 +1,1 @@
+//! A real single-node Slurm cluster (see examples/slurm/cluster-test.sh).
