@@ -502,6 +502,30 @@ mod tests {
     }
 
     #[test]
+    fn item_ids_are_the_documented_hash() {
+        let front = ViewSpec {
+            yaw: 0.0,
+            pitch: 0.0,
+        };
+        let key = item_key(
+            "default",
+            "",
+            Output::Png,
+            Some((front, StyleName::Shaded, (128, 128))),
+        );
+        assert_eq!(
+            key,
+            "grimace-batch-item-v1\nface=default\nstate=\noutput=png\nyaw=0\npitch=0\nstyle=shaded\nsize=128x128\n"
+        );
+        assert_eq!(&sha256_hex(key.as_bytes())[..16], "790eb6cfb811af09");
+        let mesh = item_key("default", "1C+2C", Output::Obj, None);
+        assert_eq!(
+            mesh,
+            "grimace-batch-item-v1\nface=default\nstate=1C+2C\noutput=obj\n"
+        );
+    }
+
+    #[test]
     fn sha256_matches_the_standard_vector() {
         assert_eq!(
             sha256_hex(b"abc"),
