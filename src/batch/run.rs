@@ -252,6 +252,7 @@ impl Batch {
             .num_threads(options.jobs.max(1))
             .build()
             .map_err(|e| BatchError::new(format!("cannot start {} threads: {e}", options.jobs)))?;
+        let spare = Spare::default();
         let start = Instant::now();
         let mut bytes = 0;
         (options.progress)(&progress);
@@ -259,7 +260,7 @@ impl Batch {
             if options.stop.load(Ordering::Relaxed) {
                 break;
             }
-            let made = pool.install(|| self.make_groups(dir, groups, options.stop));
+            let made = pool.install(|| self.make_groups(dir, groups, options.stop, &spare));
             let mut first_error = None;
             for result in made {
                 match result {
@@ -307,11 +308,12 @@ impl Batch {
         dir: &Path,
         groups: &[Vec<usize>],
         stop: &AtomicBool,
+        spare: &Spare,
     ) -> Vec<Result<(String, u64), BatchError>> {
         let made: Vec<Vec<Result<(String, u64), BatchError>>> = groups
             .par_iter()
             .map_init(
-                || (Vec::new(), self.renderers()),
+                || (Vec::new(), spare.take(self)),
                 |(positions, renderers), group| {
                     if stop.load(Ordering::Relaxed) {
                         return Vec::new();
@@ -327,7 +329,7 @@ impl Batch {
                                 dir,
                                 &self.expanded.items[i],
                                 positions,
-                                &mut renderers[first.face],
+                                &mut renderers.0[first.face],
                             )
                         })
                         .collect()
@@ -404,6 +406,30 @@ impl Batch {
         write_atomic_no_backup(path, text.as_bytes())
             .map_err(|e| BatchError::io(path, "cannot save", &e))?;
         Ok(finished)
+    }
+}
+
+/// Renderers kept between groups of items: building one (a mesh's edges and tones) costs
+/// as much as drawing a picture, and rayon asks for a new one on every split of the work.
+#[derive(Default)]
+struct Spare(std::sync::Mutex<Vec<Vec<Renderer>>>);
+
+impl Spare {
+    /// A set of renderers (one per face), given back when dropped.
+    fn take<'a>(&'a self, batch: &Batch) -> Lent<'a> {
+        let spare = self.0.lock().ok().and_then(|mut v| v.pop());
+        Lent(spare.unwrap_or_else(|| batch.renderers()), self)
+    }
+}
+
+/// Renderers lent by [`Spare`].
+struct Lent<'a>(Vec<Renderer>, &'a Spare);
+
+impl Drop for Lent<'_> {
+    fn drop(&mut self) {
+        if let Ok(mut spare) = self.1 .0.lock() {
+            spare.push(std::mem::take(&mut self.0));
+        }
     }
 }
 
