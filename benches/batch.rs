@@ -111,7 +111,7 @@ fn cpu_seconds() -> Option<f64> {
     };
     // SAFETY: clock_gettime writes one timespec into the struct passed.
     let ok = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) } == 0;
-    ok.then(|| t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9)
+    ok.then_some(t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9)
 }
 
 /// Milliseconds of CPU (wall clock where CPU time cannot be read) per call of `f` over the

@@ -51,6 +51,9 @@ pub struct Item {
     pub file: String,
 }
 
+/// How a picture is drawn: the view, the style and the size.
+pub type Picture = (ViewSpec, StyleName, (u32, u32));
+
 /// A face as the expansion needs it.
 #[derive(Debug, Clone, Copy)]
 pub struct FaceRef<'a> {
@@ -81,12 +84,7 @@ pub fn expand(plan: &Plan, faces: &[FaceRef]) -> Result<Expanded, LoadError> {
 }
 
 /// The text an item's ID is the hash of (documented in docs/batch.md).
-pub fn item_key(
-    face: &str,
-    code: &str,
-    output: Output,
-    picture: Option<(ViewSpec, StyleName, (u32, u32))>,
-) -> String {
+pub fn item_key(face: &str, code: &str, output: Output, picture: Option<Picture>) -> String {
     let mut key = format!(
         "grimace-batch-item-v1\nface={face}\nstate={code}\noutput={}\n",
         output.ext()
@@ -134,20 +132,19 @@ fn items(plan: &Plan, states: &[Vec<State>]) -> Result<Vec<Item>, LoadError> {
         for (state, st) in face_states.iter().enumerate() {
             group += 1;
             for &output in &f.outputs {
-                let pictures: Vec<Option<(ViewSpec, StyleName, (u32, u32))>> =
-                    if output.is_picture() {
-                        let size = if output == Output::Txt {
-                            f.text_size
-                        } else {
-                            f.size
-                        };
-                        views
-                            .iter()
-                            .flat_map(|&v| styles.iter().map(move |&s| Some((v, s, size))))
-                            .collect()
+                let pictures: Vec<Option<Picture>> = if output.is_picture() {
+                    let size = if output == Output::Txt {
+                        f.text_size
                     } else {
-                        vec![None]
+                        f.size
                     };
+                    views
+                        .iter()
+                        .flat_map(|&v| styles.iter().map(move |&s| Some((v, s, size))))
+                        .collect()
+                } else {
+                    vec![None]
+                };
                 for picture in pictures {
                     let id = sha256_hex(item_key(&spec.name, &st.code, output, picture).as_bytes())
                         [..16]
@@ -193,7 +190,7 @@ fn face_states(plan: &Plan, name: &str, face: FaceRef) -> Result<Vec<State>, Loa
             .map(|l| intensity_letter(l))
             .collect()
     };
-    let mut combos: Vec<(Combo, &str)> = Vec::new();
+    let mut combos: Vec<(Combo, &'static str)> = Vec::new();
     for show in &plan.file.show {
         match show {
             Show::Neutral => combos.push((Combo::default(), "show")),
@@ -307,11 +304,11 @@ fn plan_keys(
 }
 
 /// Every `size`-subset of `keys` (in the order given), at each letter (`None`: as recorded).
-fn lettered<'p>(
+fn lettered(
     keys: &[AuKey],
     size: usize,
     letters: &[Option<char>],
-    out: &mut Vec<(Combo, &'p str)>,
+    out: &mut Vec<(Combo, &'static str)>,
 ) {
     for subset in subsets(keys.len(), size) {
         for &letter in letters {
