@@ -233,7 +233,7 @@ fn face_states(plan: &Plan, name: &str, face: FaceRef) -> Result<Vec<State>, Loa
                 let spec = show.random().unwrap_or_default();
                 let keys = plan_keys(plan, name, face, "aus", &spec.aus)?;
                 for combo in
-                    random_combos(&spec, &keys).map_err(|m| plan.error_at("count", "", m))?
+                    random_combos(&spec, &keys).map_err(|m| plan.field_error("count", m))?
                 {
                     combos.push((combo, "aus"));
                 }

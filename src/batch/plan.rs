@@ -94,13 +94,17 @@ pub enum Show {
     /// Every triple of these AUs.
     Triples(Vec<String>),
     /// Combinations drawn at random (reproducibly, from the seed); see [`RandomSpec`].
-    #[allow(missing_docs)]
     Random {
+        /// How many combinations.
         count: u32,
+        /// The seed.
         seed: u64,
+        /// The AUs to draw from.
         aus: Vec<String>,
+        /// The least and most AUs in a combination (default 2 to 3).
         #[serde(default = "default_terms")]
         terms: (u32, u32),
+        /// The intensity letters to draw from (default `"ABCDE"`).
         #[serde(default = "default_letters")]
         letters: String,
     },
@@ -262,7 +266,7 @@ impl Plan {
     }
 
     /// An error at a field (or about the whole file when it is not written).
-    fn field_error(&self, field: &str, message: impl Into<String>) -> LoadError {
+    pub fn field_error(&self, field: &str, message: impl Into<String>) -> LoadError {
         match ron_text::find_field(&self.text, 0, field) {
             Some(offset) => LoadError::at_offset(&self.path, &self.text, offset, message),
             None => LoadError::new(&self.path, message),

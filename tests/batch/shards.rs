@@ -211,3 +211,56 @@ fn dry_run_counts_and_writes_nothing() {
     );
     assert!(!out_dir.exists());
 }
+
+#[test]
+fn ctrl_c_stops_after_the_items_being_drawn_and_a_rerun_finishes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let plan = small_example(tmp.path());
+    let out_dir = tmp.path().join("out");
+    let args = [
+        plan.as_os_str(),
+        "--out".as_ref(),
+        out_dir.as_os_str(),
+        "--shard".as_ref(),
+        "0/2".as_ref(),
+        "--jobs".as_ref(),
+        "1".as_ref(),
+    ];
+    let child = batch(&args)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let rows = out_dir.join("labels/shard-00000-of-00002.csv");
+    let start = Instant::now();
+    while std::fs::read_to_string(&rows).map_or(0, |t| t.lines().count()) < 3 {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the shard made nothing"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let interrupted = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(interrupted.success());
+    let out = child.wait_with_output().unwrap();
+    let text = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("stopped early"), "{text}");
+    let made: usize = text
+        .split("shard 0/2: ")
+        .last()
+        .and_then(|t| t.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{text}"));
+    let kept = std::fs::read_to_string(&rows).unwrap().lines().count() - 1;
+    assert_eq!(kept, made, "every item made has its row: {text}");
+    let again = run(&args);
+    assert!(again.status.success(), "{}", stderr(&again));
+    assert!(
+        stderr(&again).contains(&format!("{made} already done")),
+        "{}",
+        stderr(&again)
+    );
+}
