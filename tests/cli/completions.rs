@@ -20,7 +20,7 @@ fn completions(shell: &str) -> String {
 }
 
 /// Every subcommand, as `grimace --help` lists them (without `help`).
-const SUBCOMMANDS: [&str; 13] = [
+const SUBCOMMANDS: [&str; 14] = [
     "edit",
     "gen-face",
     "import-waters",
@@ -33,6 +33,7 @@ const SUBCOMMANDS: [&str; 13] = [
     "landmarks",
     "fit-au",
     "check",
+    "batch",
     "completions",
 ];
 
