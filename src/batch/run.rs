@@ -88,8 +88,8 @@ pub struct Summary {
 }
 
 impl Batch {
-    /// Expands the plan on its faces.
-    pub fn new(plan: Plan, faces: Vec<Face>) -> Result<Batch, BatchError> {
+    /// Expands the plan on its faces (errors name the place in the plan).
+    pub fn new(plan: Plan, faces: Vec<Face>) -> Result<Batch, crate::io::LoadError> {
         let refs: Vec<FaceRef> = faces
             .iter()
             .map(|f| FaceRef {

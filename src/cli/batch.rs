@@ -15,6 +15,8 @@ use clap::{Args, Subcommand};
 
 use super::export::{self, SourceArgs};
 use crate::batch::{Batch, Face, Plan, Progress, RunOptions, Shard};
+use crate::io::LoadError;
+use crate::model::Deformation;
 use crate::render::Framing;
 
 /// Arguments of `grimace batch`.
@@ -90,9 +92,7 @@ fn run_plan(args: &BatchArgs) -> anyhow::Result<()> {
         .as_deref()
         .ok_or_else(|| anyhow!("give a plan file"))?;
     let shard = shard_from(&args.shard, &|name| std::env::var(name).ok())?;
-    let plan = Plan::load(plan_path)?;
-    let faces = load_faces(&plan, args)?;
-    let batch = Batch::new(plan, faces)?;
+    let batch = load(plan_path, args.model.deformation)?;
     let jobs = match args.jobs {
         Some(0) => bail!("--jobs 0: give at least 1"),
         Some(n) => n,
@@ -136,9 +136,17 @@ fn run_plan(args: &BatchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Reads a plan, loads its faces and expands it: every error is a [`LoadError`] naming the
+/// place in the plan (also for `grimace validate`).
+pub fn load(path: &Path, deformation: Deformation) -> Result<Batch, LoadError> {
+    let plan = Plan::load(path)?;
+    let faces = load_faces(&plan, deformation)?;
+    Batch::new(plan, faces)
+}
+
 /// Loads every face of the plan as `render` loads a rig and table, errors naming the face's
 /// place in the plan.
-fn load_faces(plan: &Plan, args: &BatchArgs) -> anyhow::Result<Vec<Face>> {
+fn load_faces(plan: &Plan, deformation: Deformation) -> Result<Vec<Face>, LoadError> {
     let mut faces = Vec::new();
     for spec in &plan.file.faces {
         let at = |e: anyhow::Error| {
@@ -155,7 +163,7 @@ fn load_faces(plan: &Plan, args: &BatchArgs) -> anyhow::Result<Vec<Face>> {
                 "the rig's muscles are not the built-in table's: give its table (`table: \"...\"`)"
             ))
         })?;
-        let bound = export::bind(&sources.rig, args.model.deformation).map_err(at)?;
+        let bound = export::bind(&sources.rig, deformation).map_err(at)?;
         let mm = if export::is_builtin_face(&sources.rig) {
             export::BUILTIN_FACE_MM_PER_UNIT
         } else {

@@ -89,3 +89,35 @@ fn a_folder_of_another_plan_is_refused_and_merge_names_a_non_batch() {
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr(&out).contains("items.csv"), "{}", stderr(&out));
 }
+
+#[test]
+fn validate_checks_a_plan_against_its_faces() {
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/example.plan.ron");
+    let out = Command::new(env!("CARGO_BIN_EXE_grimace"))
+        .arg("validate")
+        .arg(&example)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && text.contains("167 states, 334 items"),
+        "{text}{}",
+        stderr(&out)
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let bad = plan(
+        tmp.path(),
+        &TINY.replacen(r#"Aus(["1", "12"])"#, r#"Aus(["1", "3"])"#, 1),
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_grimace"))
+        .arg("validate")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("test.plan.ron:4:22: face `face`: AU 3 is not in its table"),
+        "{}",
+        stderr(&out)
+    );
+}
