@@ -267,9 +267,10 @@ fn dry_run(batch: &Batch, shard: Shard) -> anyhow::Result<()> {
     let faces = batch.faces.len();
     let mine = batch.shard_items(shard).len();
     println!(
-        "{} items ({}) over {faces} faces; shard {shard} takes {mine}",
+        "{} items ({}) over {faces} face{}; shard {shard} takes {mine}",
         items.len(),
-        by_output.join(", ")
+        by_output.join(", "),
+        if faces == 1 { "" } else { "s" }
     );
     println!(
         "about {} of files, {:.0} CPU-seconds ({:.1} ms an item, from {} drawn here)",
