@@ -20,8 +20,9 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use grimace::batch::items::sha256_hex;
 use grimace::batch::{Batch, Face, Plan};
-use grimace::fit::{fit_rig, Landmarks, PartOverrides, Template};
+use grimace::fit::{fit_rig, PartOverrides, Template};
 use grimace::io::{builtin, LoadedRig};
+use grimace::landmarks::Landmarks;
 use grimace::model::{BoundRig, Mesh, Rig};
 use grimace::render::{png, svg, Camera, DotCanvas, Framing, Scene, Style};
 

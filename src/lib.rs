@@ -7,18 +7,21 @@
 //! model, FACS, formats, fitting, playback sources and renderer, without ratatui,
 //! crossterm or clap.
 //!
-//! Layers, arrows pointing down only:
+//! Layers (docs/architecture.md): a module uses only the rows below its own.
 //!
 //! ```text
-//!  cli (the commands)          tui (ratatui + crossterm editor)    [feature `tui`]
-//!              \                  /
-//!   play   (frame sources, tracker intensities, playback clock)
-//!   render (camera, raster to a dot canvas, text, svg, png)
-//!   fit    (rigs carried to other faces by landmarks, AU entries fitted to shapes, quality)
-//!   face   (the generator of the built-in default face and its rigs)
-//!   io     (RON rig and table files, OBJ, classic Waters import, OpenFace CSV, atomic save)
-//!   facs   (AU keys and catalogue, AU tables, combination strings, the AU mapper)
-//!   model  (mesh, muscles, jaw, rig, fields, deform, the one deformation)
+//!  cli/        the commands, one module each; `edit` starts the editor   [feature `tui`]
+//!  tui/        the editor, the player's view, the landmark picker       [feature `tui`]
+//!  batch/      batch plans, items and their stable IDs, shards, resumable runs, labels
+//!  render/     camera, framing, raster to a dot canvas; text, SVG, PNG   play/ frame sources, clock
+//!  io/         files: RON rigs and tables, OBJ, glTF and its morph targets, landmark files,
+//!              classic Waters import, OpenFace CSV, atomic save, recovery, lock, the
+//!              built-in face embedded (`io::builtin`) and written (`io::presets`)
+//!  face/       the generator of the default face, its rigs, its named vertex groups
+//!  fit/        rigs carried to other faces by landmarks; AU entries fitted to shapes; quality
+//!  facs/       AU keys, FACS catalogue, AU tables, combination strings, the AU mapper
+//!  landmarks/  the 68-point iBUG scheme, its checks, the face's frame, the mm estimate
+//!  model/      mesh, muscles, jaw, rig, fields, deform, the one deformation
 //! ```
 
 #![warn(missing_docs)]
@@ -26,11 +29,11 @@
 pub mod batch;
 #[cfg(feature = "tui")]
 pub mod cli;
-pub mod export;
 pub mod face;
 pub mod facs;
 pub mod fit;
 pub mod io;
+pub mod landmarks;
 pub mod model;
 pub mod play;
 pub mod render;

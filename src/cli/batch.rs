@@ -164,11 +164,9 @@ fn load_faces(plan: &Plan, deformation: Deformation) -> Result<Vec<Face>, LoadEr
             ))
         })?;
         let bound = export::bind(&sources.rig, deformation).map_err(at)?;
-        let mm = if export::is_builtin_face(&sources.rig) {
-            export::BUILTIN_FACE_MM_PER_UNIT
-        } else {
-            1.0
-        };
+        // As `export --gltf` scales without --unit-mm: the built-in face's known scale, else
+        // a millimetre per unit.
+        let mm = crate::io::builtin::mm_per_unit(&sources.rig.mesh).unwrap_or(1.0);
         faces.push(Face {
             framing: Framing::of_rig(&sources.rig.rig, &sources.rig.mesh),
             rig: sources.rig,

@@ -13,10 +13,10 @@ use super::export::{self, ModelArgs};
 use crate::facs::combo::parse_combo;
 use crate::facs::{AuKey, AuMapper, AuTable};
 use crate::fit::quality::{Expect, Eyes, Gauge, Quality};
-use crate::fit::Landmarks;
 use crate::io::landmarks::{check_against, load_landmarks};
-use crate::io::rig_file::{self, LoadedRig, MeshRef};
+use crate::io::rig_file::{self, LoadedRig};
 use crate::io::{builtin, table_file, LoadError};
+use crate::landmarks::Landmarks;
 use crate::model::{Activations, Rig, Side};
 
 /// Arguments of `grimace check`.
@@ -92,8 +92,7 @@ fn check(args: &CheckArgs) -> anyhow::Result<(String, usize)> {
     let unit_mm = match args.unit_mm {
         Some(mm) if mm.is_finite() && mm > 0.0 => Some(mm),
         Some(mm) => bail!("--unit-mm must be a positive number of millimetres (got {mm})"),
-        None if export::is_builtin_face(&rig) => Some(export::BUILTIN_FACE_MM_PER_UNIT),
-        None => None,
+        None => crate::io::builtin::mm_per_unit(&rig.mesh),
     };
     let landmarks = landmarks(args, &rig)?;
     let gauge = Gauge::new(&rig.mesh, &landmarks.vertices(&rig.mesh), unit_mm)
@@ -240,25 +239,7 @@ fn landmarks(args: &CheckArgs, rig: &LoadedRig) -> anyhow::Result<Landmarks> {
             rig.path.clone(),
         ),
         Some(file) => (load_landmarks(Path::new(file))?, PathBuf::from(file)),
-        None => match rig_file::mesh_ref(&rig.path, &rig.rig.mesh) {
-            MeshRef::Builtin(name) => (
-                builtin::landmarks(&name).ok_or_else(|| {
-                    anyhow!("the built-in mesh `{name}` has no landmarks; give --landmarks")
-                })?,
-                PathBuf::from(format!("builtin:{name}.landmarks.ron")),
-            ),
-            MeshRef::File(mesh) => {
-                let path = super::fit_rig::beside(&mesh);
-                if !path.is_file() {
-                    bail!(
-                        "{}: no landmarks beside the mesh ({}); give --landmarks FILE",
-                        mesh.display(),
-                        path.display()
-                    );
-                }
-                (load_landmarks(&path)?, path)
-            }
-        },
+        None => crate::io::landmarks::of_rig(rig, "--landmarks")?,
     };
     check_against(&landmarks, &rig.mesh, &path, None)
         .with_context(|| format!("the landmarks do not fit {}", rig.path.display()))?;

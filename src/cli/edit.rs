@@ -8,14 +8,14 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::facs::{AuTable, TABLE_VERSION};
-use crate::io::lock::{self, LockOutcome};
 use crate::io::rig_file::load_rig_ref;
 use crate::io::table_file::rig_ref;
 use crate::io::{recovery, reference};
 use crate::model::{Mesh, Rig};
+use crate::tui;
 use crate::tui::app::{App, ColorMode, FileStamp, Mode, Question, Recovered, View};
 use crate::tui::scene::Scene;
-use crate::tui::{self, Session};
+use crate::tui::session::{self, Session};
 
 /// The notes at the end of `grimace edit --help`.
 pub const AFTER_HELP: &str = "\
@@ -128,76 +128,46 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     if let Some(notice) = notice {
         app.warn(notice);
     }
-    let mut session = Session {
-        recovery: recovery::recovery_path(args.file.as_deref()),
-        lock: None,
-    };
-    if let Some(path) = &args.file {
-        match lock::acquire(path) {
-            LockOutcome::Acquired(lock) => session.lock = Some(lock),
-            LockOutcome::HeldBy { pid } => {
-                // The other editor's recovery file is its own: neither offered, removed nor
-                // overwritten here.
-                session.recovery = None;
-                app.warn(format!(
-                    "{} is already open in another grimace (process {pid}); its recovery file is left alone, changes here are not kept for recovery, and saving here may undo its changes",
-                    path.display()
-                ));
-            }
-            LockOutcome::Unavailable(why) => app.warn(format!("no lock file: {why}")),
-        }
+    let (mut session, warning) = Session::start(
+        args.file.as_deref(),
+        recovery::recovery_path(args.file.as_deref()),
+        "changes",
+    );
+    if let Some(warning) = warning {
+        app.warn(warning);
     }
     if let Some(path) = session.recovery.clone() {
-        if !offer_recovery(&mut app, &path) {
-            session.recovery = None;
-        }
+        offer_recovery(&mut app, &mut session, &path);
     }
     Ok((app, session))
 }
 
-/// Offers a recovery file back; `false` when it belongs to another grimace that still runs
-/// (then it is left alone, and this editor keeps no recovery file of its own).
-fn offer_recovery(app: &mut App, path: &Path) -> bool {
+/// Offers a recovery file back; one that belongs to another grimace that still runs is left
+/// alone (and this editor keeps no recovery file of its own).
+fn offer_recovery(app: &mut App, session: &mut Session, path: &Path) {
     match recovery::read(path) {
         Ok(Some(state)) => {
             if let Some(owner) = state.live_owner() {
-                app.warn(format!(
-                    "{} belongs to another grimace (process {owner}) that is still running; it is left alone, and changes here are not kept for recovery",
-                    path.display()
-                ));
-                return false;
+                app.warn(session.yield_recovery(owner, "changes"));
+                return;
             }
             let activations = state.activations(app.rig());
             let rig = state.rig.filter(|rig| rig != app.rig());
             if activations == app.doc.activations && state.table == app.doc.table && rig.is_none() {
                 // Nothing that differs from what is on disk: nothing to offer.
                 let _ = recovery::remove(path);
-                return true;
+                return;
             }
             app.mode = Mode::Confirm(Question::Recover(Box::new(Recovered {
                 activations,
                 table: state.table,
-                when: describe_age(state.written_at),
+                when: session::describe_age(state.written_at),
                 base: state.base.map(|(len, hash)| FileStamp { len, hash }),
                 rig,
             })));
         }
         Ok(None) => {}
         Err(e) => app.warn(format!("the recovery file cannot be read: {e}")),
-    }
-    true
-}
-
-fn describe_age(written_at: u64) -> String {
-    let now = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    let age = now.saturating_sub(written_at);
-    match age {
-        0..=59 => format!("{age} s ago"),
-        60..=3599 => format!("{} min ago", age / 60),
-        3600..=86399 => format!("{} h ago", age / 3600),
-        _ => format!("{} days ago", age / 86400),
     }
 }
 

@@ -10,11 +10,11 @@ use std::path::PathBuf;
 use anyhow::{anyhow, bail};
 use clap::Args;
 
-use crate::export::{morph_targets, target_states, TargetSet, TargetStates};
 use crate::facs::combo::Combo;
 use crate::facs::{AuKey, AuTable};
 use crate::io::arkit::ArkitMap;
 use crate::io::inputs::Inputs;
+use crate::io::morph::{morph_targets, target_states, TargetSet, TargetStates};
 use crate::io::rig_file::{self, LoadedRig};
 use crate::io::table_file;
 use crate::io::{gltf, obj};
@@ -139,9 +139,6 @@ impl From<Targets> for TargetSet {
         }
     }
 }
-
-/// Millimetres per unit of the built-in face (docs/face.md).
-pub const BUILTIN_FACE_MM_PER_UNIT: f32 = crate::face::anthropometry::MM_PER_UNIT as f32;
 
 /// Parses `MUSCLE=VALUE` (split at the last `=`).
 pub fn parse_set(text: &str) -> Result<(String, f32), String> {
@@ -320,17 +317,19 @@ fn export_gltf(args: &ExportArgs, sources: &Sources, path: &std::path::Path) -> 
             "--unit-mm {mm}: too small for a node scale (it would be written as 0 metres per unit)"
         ),
         Some(mm) => bail!("--unit-mm must be a positive number of millimetres (got {mm})"),
-        None if is_builtin_face(&sources.rig) => BUILTIN_FACE_MM_PER_UNIT,
-        None => {
-            if let Some(guess) = mm_per_unit_from_eyes(rig) {
-                if !(0.5..=2.0).contains(&guess) {
-                    eprintln!(
-                        "grimace export: --unit-mm not given, so 1 mm per unit is written; the eyes' spacing suggests about {guess:.3} mm per unit (pass --unit-mm {guess:.3} if so)"
+        None => match crate::io::builtin::mm_per_unit(&sources.rig.mesh) {
+            Some(mm) => mm,
+            None => {
+                if let Some(guess) = mm_per_unit_from_landmarks(&sources.rig) {
+                    if !(0.5..=2.0).contains(&guess) {
+                        eprintln!(
+                        "grimace export: --unit-mm not given, so 1 mm per unit is written; the landmarks' outer eye corners suggest about {guess:.3} mm per unit (pass --unit-mm {guess:.3} if so)"
                     );
+                    }
                 }
+                1.0
             }
-            1.0
-        }
+        },
     };
     let TargetStates { states, silent } =
         target_states(args.targets.into(), rig, table, &ArkitMap::builtin())
@@ -377,35 +376,12 @@ fn table_label(sources: &Sources) -> String {
         .unwrap_or_default()
 }
 
-/// Millimetres per unit guessed from the distance between the eye sphincters' centres, taking
-/// it as the built-in face's (in millimetres); `None` without two eye sphincters.
-fn mm_per_unit_from_eyes(rig: &crate::model::Rig) -> Option<f32> {
-    let eyes = |rig: &crate::model::Rig| -> Option<f32> {
-        let centres: Vec<glam::Vec3> = rig
-            .muscles
-            .iter()
-            .filter_map(|m| match &m.kind {
-                crate::model::MuscleKind::Sphincter(s)
-                    if s.convergence == crate::model::Convergence::MajorAxis =>
-                {
-                    Some(s.centre)
-                }
-                _ => None,
-            })
-            .collect();
-        let spread = centres
-            .iter()
-            .flat_map(|a| centres.iter().map(move |b| a.distance(*b)))
-            .fold(0.0f32, f32::max);
-        (spread.is_finite() && spread > 0.0).then_some(spread)
-    };
-    let template = eyes(&crate::io::builtin::default_rig())? * BUILTIN_FACE_MM_PER_UNIT;
-    Some(template / eyes(rig)?)
-}
-
-/// Whether the rig's mesh is the embedded default face (no `--mesh` given).
-pub fn is_builtin_face(rig: &LoadedRig) -> bool {
-    rig.mesh_path.is_none() && rig.rig.mesh == std::path::Path::new("builtin:face")
+/// Millimetres per unit estimated from the landmarks of the rig's mesh (see
+/// [`crate::landmarks::mm_per_unit`]); `None` when it has none to read.
+fn mm_per_unit_from_landmarks(rig: &LoadedRig) -> Option<f32> {
+    let (marks, path) = crate::io::landmarks::of_rig(rig, "--landmarks").ok()?;
+    let points = crate::io::landmarks::check_against(&marks, &rig.mesh, &path, None).ok()?;
+    crate::landmarks::mm_per_unit(&points)
 }
 
 #[cfg(test)]

@@ -14,11 +14,12 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context};
 use clap::Args;
 
-use crate::fit::{self, Landmarks, Part, PartOverrides, Template};
+use crate::fit::{self, Part, PartOverrides, Template};
 use crate::io::inputs::Inputs;
-use crate::io::landmarks::{check_against, load_landmarks, parse_landmarks};
-use crate::io::rig_file::{self, LoadedRig, MeshRef};
-use crate::io::{builtin, error::read_text, obj, reference, LoadError, MAX_FILE_BYTES};
+use crate::io::landmarks::{beside, check_against, load_landmarks, parse_landmarks};
+use crate::io::rig_file::{self, LoadedRig};
+use crate::io::{error::read_text, obj, reference, LoadError, MAX_FILE_BYTES};
+use crate::landmarks::{self, Landmarks};
 use crate::model::{Deformation, Mesh};
 
 /// A landmark bend (see [`fit::Fitted::bend`]) from which `fit-rig` warns: public faces of
@@ -64,53 +65,8 @@ pub struct FitRigArgs {
 /// Runs `grimace fit-rig`.
 pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     let mesh = obj::read_obj(&args.mesh)?;
-    for group in args.skin.iter().chain(&args.rigid) {
-        if !mesh.groups.contains_key(group) {
-            let known: Vec<&str> = mesh.groups.keys().map(String::as_str).collect();
-            return Err(anyhow!(LoadError::new(
-                &args.mesh,
-                format!(
-                    "has no group `{group}`; its groups are: {}",
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
-                ),
-            )));
-        }
-    }
-    let landmark_arg = match (&args.landmarks, args.pick) {
-        (Some(l), true) if l == "mediapipe" => {
-            return Err(anyhow!(
-                "--pick saves the picked landmarks to a file: give --landmarks FILE, not mediapipe"
-            ))
-        }
-        (Some(l), false) => l.clone(),
-        (given, true) => {
-            let file = given
-                .as_ref()
-                .map_or_else(|| beside(&args.mesh), PathBuf::from);
-            // The template and the output folder are checked before the picking starts.
-            let template = rig_file::load_rig_ref(&args.template, None)?;
-            mesh_reference(&args.mesh, &args.out)?;
-            let mut inputs = Inputs::new();
-            inputs.add("the mesh to rig", &args.mesh);
-            inputs.add_rig(&template);
-            inputs.check_output(&file)?;
-            inputs.add("the landmark file", &file);
-            inputs.check_output(&args.out)?;
-            let saved =
-                super::landmarks::pick_landmarks(&args.mesh, &file, args.cells.mode(), None)?;
-            if !saved {
-                return Err(anyhow!(
-                    "no landmarks were saved (:w saves them in the picker); no rig was fitted"
-                ));
-            }
-            file.to_string_lossy().into_owned()
-        }
-        (None, false) => return Err(anyhow!("give --landmarks FILE or --pick")),
-    };
+    check_groups(args, &mesh)?;
+    let landmark_arg = landmark_source(args)?;
     let (landmarks, landmark_file) = target_landmarks(&landmark_arg, args, &mesh)?;
     let template = rig_file::load_rig_ref(&args.template, None)?;
     let (template_points, template_file) = template_landmarks(args, &template)?;
@@ -167,6 +123,63 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     super::print(&summary(args, &mesh, &fitted))
 }
 
+/// Refuses `--skin`/`--rigid` groups the mesh does not have, listing those it has.
+fn check_groups(args: &FitRigArgs, mesh: &Mesh) -> anyhow::Result<()> {
+    for group in args.skin.iter().chain(&args.rigid) {
+        if !mesh.groups.contains_key(group) {
+            let known: Vec<&str> = mesh.groups.keys().map(String::as_str).collect();
+            return Err(anyhow!(LoadError::new(
+                &args.mesh,
+                format!(
+                    "has no group `{group}`; its groups are: {}",
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The landmarks argument: `--landmarks` as given, or with `--pick` the file the picker
+/// saved (the template and the outputs are checked before the picking starts).
+fn landmark_source(args: &FitRigArgs) -> anyhow::Result<String> {
+    Ok(match (&args.landmarks, args.pick) {
+        (Some(l), true) if l == "mediapipe" => {
+            return Err(anyhow!(
+                "--pick saves the picked landmarks to a file: give --landmarks FILE, not mediapipe"
+            ))
+        }
+        (Some(l), false) => l.clone(),
+        (given, true) => {
+            let file = given
+                .as_ref()
+                .map_or_else(|| beside(&args.mesh), PathBuf::from);
+            // The template and the output folder are checked before the picking starts.
+            let template = rig_file::load_rig_ref(&args.template, None)?;
+            mesh_reference(&args.mesh, &args.out)?;
+            let mut inputs = Inputs::new();
+            inputs.add("the mesh to rig", &args.mesh);
+            inputs.add_rig(&template);
+            inputs.check_output(&file)?;
+            inputs.add("the landmark file", &file);
+            inputs.check_output(&args.out)?;
+            let saved =
+                super::landmarks::pick_landmarks(&args.mesh, &file, args.cells.mode(), None)?;
+            if !saved {
+                return Err(anyhow!(
+                    "no landmarks were saved (:w saves them in the picker); no rig was fitted"
+                ));
+            }
+            file.to_string_lossy().into_owned()
+        }
+        (None, false) => return Err(anyhow!("give --landmarks FILE or --pick")),
+    })
+}
+
 /// A fitted muscle whose size or strength is more than this many times off the template's
 /// (times the face's scale) is warned about.
 const OUTLIER_FACTOR: f64 = 2.0;
@@ -177,7 +190,7 @@ fn warn_order(file: &Path, landmarks: &Landmarks, mesh: &Mesh) {
     let Ok(points) = landmarks.positions(mesh) else {
         return;
     };
-    for problem in fit::landmarks::order_problems(&points) {
+    for problem in landmarks::order_problems(&points) {
         eprintln!("warning: {}: {problem}", file.display());
     }
 }
@@ -209,42 +222,10 @@ fn template_landmarks(
 ) -> anyhow::Result<(Vec<glam::Vec3>, PathBuf)> {
     let (landmarks, path) = match &args.template_landmarks {
         Some(path) => (load_landmarks(path)?, path.clone()),
-        None => match rig_file::mesh_ref(&template.path, &template.rig.mesh) {
-            MeshRef::Builtin(name) => {
-                let landmarks = builtin::landmarks(&name).ok_or_else(|| {
-                    anyhow!(
-                        "the built-in mesh `{name}` has no landmarks; give --template-landmarks"
-                    )
-                })?;
-                (
-                    landmarks,
-                    PathBuf::from(format!("builtin:{name}.landmarks.ron")),
-                )
-            }
-            MeshRef::File(mesh) => {
-                let path = beside(&mesh);
-                if !path.is_file() {
-                    return Err(anyhow!(
-                        "the template's mesh {} has no landmarks beside it ({}); give --template-landmarks",
-                        mesh.display(),
-                        path.display()
-                    ));
-                }
-                (load_landmarks(&path)?, path)
-            }
-        },
+        None => crate::io::landmarks::of_rig(template, "--template-landmarks")?,
     };
     let points = check_against(&landmarks, &template.mesh, &path, None)?;
     Ok((points, path))
-}
-
-/// `head.obj` -> `head.landmarks.ron`, in the same folder.
-pub fn beside(mesh: &Path) -> PathBuf {
-    let stem = mesh
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    mesh.with_file_name(format!("{stem}.landmarks.ron"))
 }
 
 /// The mesh as the new rig names it: relative to the rig file's real folder (see

@@ -33,9 +33,11 @@ pub fn run(args: &GenFaceArgs) -> ExitCode {
 
 fn generate(args: &GenFaceArgs) -> anyhow::Result<()> {
     let mesh = face::generate();
-    write(&args.out, &face::presets::mesh_file(&mesh))?;
+    write(&args.out, &crate::io::presets::mesh_file(&mesh))?;
     if let Some(dir) = &args.presets {
-        for (name, text) in face::presets::preset_files(&mesh).context("cannot place the rigs")? {
+        for (name, text) in
+            crate::io::presets::preset_files(&mesh).context("cannot place the rigs")?
+        {
             write(&dir.join(name), &text)?;
         }
     }

@@ -10,9 +10,9 @@ use anyhow::{bail, Context};
 use clap::Args;
 
 use crate::face::classic;
-use crate::fit::Landmarks;
 use crate::io::waters::{self, ExtraMuscles, ImportOptions};
 use crate::io::{atomic, builtin, landmarks, obj, rig_file};
+use crate::landmarks::Landmarks;
 
 /// Arguments of `grimace import-waters`.
 #[derive(Debug, Args)]

@@ -10,15 +10,15 @@ use std::path::{Path, PathBuf};
 use anyhow::anyhow;
 use clap::Args;
 
-use crate::fit::Landmarks;
 use crate::io::landmarks::{check_against, parse_landmarks};
-use crate::io::lock::{self, LockOutcome};
 use crate::io::pick_recovery;
 use crate::io::{error::read_text, obj, LoadError, MAX_FILE_BYTES};
+use crate::landmarks::Landmarks;
 use crate::model::Mesh;
 use crate::render::CellMode;
 use crate::tui::pick::state::{Mode, Question};
-use crate::tui::pick::{self, PickApp, PickSession};
+use crate::tui::pick::{self, PickApp};
+use crate::tui::session::Session;
 
 /// The notes at the end of `grimace landmarks --help`.
 pub const AFTER_HELP: &str = "\
@@ -55,7 +55,7 @@ pub fn run(args: &LandmarksArgs) -> anyhow::Result<()> {
     let out = args
         .out
         .clone()
-        .unwrap_or_else(|| super::fit_rig::beside(&args.mesh));
+        .unwrap_or_else(|| crate::io::landmarks::beside(&args.mesh));
     pick_landmarks(&args.mesh, &out, args.cells.mode(), args.facing.basis()?)?;
     Ok(())
 }
@@ -82,7 +82,7 @@ pub fn prepare(
     mesh_path: &Path,
     out: &Path,
     cells: CellMode,
-) -> anyhow::Result<(PickApp, PickSession)> {
+) -> anyhow::Result<(PickApp, Session)> {
     let mesh = obj::read_obj(mesh_path)?;
     check_mesh(&mesh, mesh_path)?;
     let mut inputs = crate::io::inputs::Inputs::new();
@@ -126,20 +126,9 @@ pub fn prepare(
             out.display()
         ));
     }
-    let mut session = PickSession {
-        recovery: pick_recovery::path_for(out),
-        lock: None,
-    };
-    match lock::acquire(out) {
-        LockOutcome::Acquired(lock) => session.lock = Some(lock),
-        LockOutcome::HeldBy { pid } => {
-            session.recovery = None;
-            app.warn(format!(
-                "{} is already open in another grimace (process {pid}); picks here are not kept for recovery",
-                out.display()
-            ));
-        }
-        LockOutcome::Unavailable(why) => app.warn(format!("no lock file: {why}")),
+    let (mut session, warning) = Session::start(Some(out), pick_recovery::path_for(out), "picks");
+    if let Some(warning) = warning {
+        app.warn(warning);
     }
     if let Some(path) = session.recovery.clone() {
         offer_recovery(&mut app, &mut session, &path);
@@ -178,15 +167,11 @@ fn existing_picks(out: &Path, mesh: &Mesh) -> anyhow::Result<Option<Landmarks>> 
 
 /// Offers picks kept by a session that stopped; a file another running picker owns is left
 /// alone (and this session keeps none).
-fn offer_recovery(app: &mut PickApp, session: &mut PickSession, path: &Path) {
+fn offer_recovery(app: &mut PickApp, session: &mut Session, path: &Path) {
     match pick_recovery::read(path) {
         Ok(Some(state)) => {
             if let Some(owner) = state.live_owner() {
-                app.warn(format!(
-                    "{} belongs to another grimace (process {owner}) that is still running; picks here are not kept for recovery",
-                    path.display()
-                ));
-                session.recovery = None;
+                app.warn(session.yield_recovery(owner, "picks"));
                 return;
             }
             if let Err(e) = state.check(path, app.mesh.vertex_count()) {
@@ -200,23 +185,10 @@ fn offer_recovery(app: &mut PickApp, session: &mut PickSession, path: &Path) {
             app.mode = Mode::Confirm(Question::Recover {
                 picks: state.picks.clone(),
                 skipped: state.skipped.clone(),
-                when: describe_age(state.written_at),
+                when: crate::tui::session::describe_age(state.written_at),
             });
         }
         Ok(None) => {}
         Err(e) => app.warn(format!("the recovery file cannot be read: {e}")),
-    }
-}
-
-fn describe_age(written_at: u64) -> String {
-    let now = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    let age = now.saturating_sub(written_at);
-    match age {
-        0..=59 => format!("{age} s ago"),
-        60..=3599 => format!("{} min ago", age / 60),
-        3600..=86399 => format!("{} h ago", age / 3600),
-        _ => format!("{} days ago", age / 86400),
     }
 }

@@ -154,6 +154,8 @@ struct Look {
     overlays: Vec<Overlay>,
     ghost: bool,
     displacement: bool,
+    /// The mesh's scale when known, for the displacement legend.
+    mm_per_unit: Option<f32>,
 }
 
 impl Look {
@@ -190,6 +192,7 @@ impl Look {
             overlays,
             ghost: args.ghost,
             displacement: args.displacement,
+            mm_per_unit: crate::io::builtin::mm_per_unit(&sources.rig.mesh),
         })
     }
 
@@ -206,6 +209,7 @@ impl Look {
         Scene {
             ghost: self.ghost,
             displacement: self.displacement,
+            mm_per_unit: self.mm_per_unit,
             ..Scene::new(mesh, positions)
                 .with_rest(&mesh.positions)
                 .with_overlays(&self.overlays)

@@ -26,9 +26,9 @@ use glam::Vec3;
 use thiserror::Error;
 
 use super::rigs::{self, round3, rounded};
-use super::surface::smoothstep;
 use super::topology;
 use crate::fit::propose::carry;
+use crate::fit::regions::smoothstep;
 use crate::model::{Convergence, Frame, Jaw, Mesh, Muscle, MuscleKind, Sheet, Side, Sphincter};
 
 /// Jaw rotation in degrees per unit of jaw activation on the classic face. The paper's 1

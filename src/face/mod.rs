@@ -2,7 +2,7 @@
 //!
 //! [`generate`] builds the mesh from published facial proportions ([`anthropometry`]) and
 //! smooth anatomical features ([`surface`]); [`rigs`] places the paper's and the default rig on
-//! it, [`au_table`] holds the default AU table and [`presets`] writes them all as files.
+//! it and [`au_table`] holds the default AU table ([`crate::io::presets`] writes them all as files).
 
 pub mod anthropometry;
 pub mod au_table;
@@ -10,7 +10,6 @@ pub mod classic;
 pub mod generator;
 pub mod groups;
 pub mod mouth;
-pub mod presets;
 pub mod rigs;
 pub mod surface;
 pub mod topology;

@@ -848,9 +848,7 @@ pub(crate) fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 
 }
 
 /// The point reflected across the face's midline (x = 0).
-pub(crate) fn mirror(p: Vec3) -> Vec3 {
-    Vec3::new(-p.x, p.y, p.z)
-}
+pub(crate) use crate::model::muscle::mirror_x as mirror;
 
 /// Rounds to 3 decimals so rig files stay readable (0.001 units is 0.01 mm).
 pub(crate) fn round3(v: f32) -> f32 {

@@ -8,6 +8,8 @@
 use std::f64::consts::PI;
 
 use super::anthropometry::*;
+/// Hermite smoothstep (the one fitting uses too).
+pub use crate::fit::regions::smoothstep;
 
 /// Angle (radians) of the outermost column: the mesh reaches round to the side of the head,
 /// where the ears begin.
@@ -249,12 +251,6 @@ pub fn gauss(t: f64) -> f64 {
 /// A two-dimensional Gaussian bump of unit height.
 pub fn gauss2(a: f64, b: f64) -> f64 {
     (-(a * a + b * b)).exp()
-}
-
-/// Hermite smoothstep from 0 at `a` to 1 at `b`.
-pub fn smoothstep(a: f64, b: f64, t: f64) -> f64 {
-    let s = ((t - a) / (b - a)).clamp(0.0, 1.0);
-    s * s * (3.0 - 2.0 * s)
 }
 
 /// 1 inside `[lo, hi]`, falling smoothly to 0 over `soft` outside it.

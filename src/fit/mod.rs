@@ -1,7 +1,7 @@
 //! Fitting: carrying a muscle rig to any face from its landmarks, and fitting AU entries to
 //! target shapes.
 //!
-//! - [`landmarks`]: the 68-point iBUG scheme, the face's own frame, MediaPipe's numbering;
+//! - the landmarks it fits from are in [`crate::landmarks`];
 //! - [`warp`]: the similarity and thin-plate spline from one face to another;
 //! - [`propose`]: landmarks proposed from some of them (a warp, a mirror plane);
 //! - [`parts`]: which parts of a mesh are skin, still, or turn with the jaw;
@@ -14,7 +14,6 @@
 //! Nothing here reads files or knows about terminals.
 
 pub mod jaw;
-pub mod landmarks;
 pub mod nearest;
 pub mod parts;
 pub mod propose;
@@ -24,7 +23,6 @@ pub mod solve;
 pub mod transport;
 pub mod warp;
 
-pub use landmarks::{LandmarkError, Landmarks};
 pub use parts::{Part, PartOverrides, Parts};
 pub use solve::{fit_au, AuFit, SolveError};
 pub use transport::{fit_rig, FitError, Fitted, Template};

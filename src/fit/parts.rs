@@ -17,7 +17,7 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::landmarks::{FaceFrame, CHIN, INNER_LOWER, INNER_UPPER, MOUTH_CORNERS};
+use crate::landmarks::{FaceFrame, CHIN, INNER_LOWER, INNER_UPPER, MOUTH_CORNERS};
 use crate::model::Mesh;
 
 /// What a vertex is for fitting.

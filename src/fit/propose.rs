@@ -7,8 +7,8 @@
 
 use glam::{DMat3, DVec3, Vec3};
 
-use super::landmarks::COUNT;
 use super::warp::{outer, symmetric_eigen, Warp};
+use crate::landmarks::COUNT;
 
 /// The template's landmarks carried onto a target known at some of them: `template` holds
 /// the template's 68 landmark points, `known` pairs landmark numbers with their points on

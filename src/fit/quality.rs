@@ -3,7 +3,7 @@
 //! Everything is measured against the rest mesh, on the skin: the connected pieces of the
 //! mesh that carry a landmark (eyeballs, teeth and helper geometry carry none). Lengths are in
 //! millimetres, from the mesh's units when they are known, else from the outer canthal
-//! distance (landmarks 36-45) taken as [`CANTHAL_MM`], a typical adult's.
+//! distance (landmarks 36-45) taken as [`CANTHAL_MM`](crate::landmarks::CANTHAL_MM), a typical adult's.
 //!
 //! - **Turned triangles**: skin triangles whose deformed normal points against the rest
 //!   normal (a fold or a tear in the rendered surface).
@@ -20,10 +20,9 @@
 use glam::Vec3;
 
 use super::parts::components;
+use crate::landmarks::{mm_per_unit as estimate_mm_per_unit, CANTHAL_MM};
 use crate::model::Mesh;
 
-/// The outer canthal distance of an adult face, in mm: the scale when units are unknown.
-pub const CANTHAL_MM: f32 = 90.0;
 /// A skin edge stretched beyond this many times its rest length is a tear.
 pub const MAX_STRETCH: f32 = 2.5;
 /// A closing lid leaving this fraction of its rest opening or more does not close.
@@ -200,13 +199,11 @@ impl Gauge {
         }
         let rest = mesh.positions.clone();
         let at = |i: usize| rest[landmarks[i] as usize];
-        let canthal = at(36).distance(at(45));
-        if !(canthal.is_finite() && canthal > 0.0) {
-            return Err(GaugeError::NoScale);
-        }
-        let mm_per_unit = mm_per_unit
-            .filter(|m| m.is_finite() && *m > 0.0)
-            .unwrap_or(CANTHAL_MM / canthal);
+        let landmark_points: Vec<Vec3> = landmarks.iter().map(|&v| rest[v as usize]).collect();
+        let mm_per_unit = match mm_per_unit.filter(|m| m.is_finite() && *m > 0.0) {
+            Some(mm) => mm,
+            None => estimate_mm_per_unit(&landmark_points).ok_or(GaugeError::NoScale)?,
+        };
         let across = (at(45) - at(36)).normalize();
         let down = at(8) - at(27);
         let down = (down - across * down.dot(across)).normalize_or_zero();

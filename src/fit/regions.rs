@@ -7,7 +7,7 @@
 
 use glam::{DVec3, Vec3};
 
-use super::landmarks::{
+use crate::landmarks::{
     FaceFrame, INNER_LOWER, INNER_UPPER, LEFT_EYE_LOWER, LEFT_EYE_UPPER, RIGHT_EYE_LOWER,
     RIGHT_EYE_UPPER,
 };
@@ -174,8 +174,11 @@ impl Opening {
     }
 }
 
-/// Hermite smoothstep: 0 below `a`, 1 above `b` (the one the face generator uses).
-pub use crate::face::surface::smoothstep;
+/// Hermite smoothstep from 0 at `a` to 1 at `b` (the one the face generator uses too).
+pub fn smoothstep(a: f64, b: f64, t: f64) -> f64 {
+    let s = ((t - a) / (b - a)).clamp(0.0, 1.0);
+    s * s * (3.0 - 2.0 * s)
+}
 
 /// A closed landmark contour around an opening: the outer lip line and each eye's lids,
 /// by their corners and their landmarks (first to last).

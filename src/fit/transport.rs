@@ -13,10 +13,10 @@ use std::path::PathBuf;
 use glam::{DMat3, DVec3, Vec3};
 use thiserror::Error;
 
-use super::landmarks::{check_shape, order_problems, FaceFrame, LandmarkError, Landmarks};
 use super::parts::{find_parts, Part, PartOverrides, Parts};
 use super::regions::{Extent, Opening, Side, CONTOURS};
 use super::warp::Warp;
+use crate::landmarks::{check_shape, order_problems, FaceFrame, LandmarkError, Landmarks};
 use crate::model::{
     Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Sphincter,
 };

@@ -6,6 +6,9 @@
 //! small regularisation so repeated or nearly repeated landmarks do not make it singular.
 
 use glam::{DMat3, DVec3, Vec3};
+use nalgebra::{DMatrix, Matrix3};
+
+use crate::landmarks::rms_spread;
 
 /// A rotation, uniform scale and translation: `x -> scale * rotation * x + translation`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,80 +72,41 @@ pub(crate) fn outer(a: DVec3, b: DVec3) -> DMat3 {
     DMat3::from_cols(a * b.x, a * b.y, a * b.z)
 }
 
-/// Singular value decomposition of a 3x3 matrix, `m = u diag(s) v^T`, by Jacobi iterations
-/// on `m^T m`. Singular values are sorted, largest first.
-fn svd3(m: DMat3) -> (DMat3, DVec3, DMat3) {
-    let (values, v) = symmetric_eigen(m.transpose() * m);
-    let mut order = [0usize, 1, 2];
-    order.sort_by(|&a, &b| values[b].total_cmp(&values[a]));
-    let v = DMat3::from_cols(v.col(order[0]), v.col(order[1]), v.col(order[2]));
-    let s = DVec3::new(
-        values[order[0]].max(0.0).sqrt(),
-        values[order[1]].max(0.0).sqrt(),
-        values[order[2]].max(0.0).sqrt(),
-    );
-    // u's columns are m v_i / s_i; complete the basis where a singular value vanishes.
-    let mut cols = [DVec3::ZERO; 3];
-    for i in 0..3 {
-        let c = m * v.col(i);
-        cols[i] = if s[i] > 1e-12 * s[0].max(1e-300) {
-            c / s[i]
-        } else {
-            DVec3::ZERO
-        };
-    }
-    if cols[1] == DVec3::ZERO {
-        cols[1] = cols[0].any_orthonormal_vector();
-    }
-    if cols[2] == DVec3::ZERO || cols[2].length() < 0.5 {
-        cols[2] = cols[0].cross(cols[1]).normalize_or_zero();
-    }
-    (DMat3::from_cols(cols[0], cols[1], cols[2]), s, v)
+fn to_matrix(m: DMat3) -> Matrix3<f64> {
+    Matrix3::from_column_slice(&m.to_cols_array())
 }
 
-/// Eigenvalues and eigenvectors (columns) of a symmetric 3x3 matrix (cyclic Jacobi).
-#[allow(clippy::needless_range_loop)]
+fn to_dmat3(m: &Matrix3<f64>) -> DMat3 {
+    DMat3::from_cols_slice(m.as_slice())
+}
+
+/// Singular value decomposition of a 3x3 matrix, `m = u diag(s) v^T`, singular values
+/// sorted largest first (nalgebra's SVD; `u` and `v` are orthogonal).
+fn svd3(m: DMat3) -> (DMat3, DVec3, DMat3) {
+    let svd = to_matrix(m).svd(true, true);
+    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
+        unreachable!("u and v were asked for");
+    };
+    let values = svd.singular_values;
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| values[b].total_cmp(&values[a]));
+    let (u, v) = (to_dmat3(&u), to_dmat3(&v_t.transpose()));
+    (
+        DMat3::from_cols(u.col(order[0]), u.col(order[1]), u.col(order[2])),
+        DVec3::new(values[order[0]], values[order[1]], values[order[2]]),
+        DMat3::from_cols(v.col(order[0]), v.col(order[1]), v.col(order[2])),
+    )
+}
+
+/// Eigenvalues and unit eigenvectors (columns) of a symmetric 3x3 matrix (nalgebra's
+/// symmetric eigen-decomposition), in no particular order.
 pub(crate) fn symmetric_eigen(m: DMat3) -> ([f64; 3], DMat3) {
-    let mut a = m.to_cols_array_2d();
-    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    for _ in 0..64 {
-        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
-        if off < 1e-300 {
-            break;
-        }
-        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
-            if a[p][q].abs() < 1e-300 {
-                continue;
-            }
-            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-            let t = if theta == 0.0 { 1.0 } else { t };
-            let c = 1.0 / (t * t + 1.0).sqrt();
-            let s = t * c;
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = c * akp - s * akq;
-                a[k][q] = s * akp + c * akq;
-            }
-            for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
-                a[p][k] = c * apk - s * aqk;
-                a[q][k] = s * apk + c * aqk;
-            }
-            for row in &mut v {
-                let (vp, vq) = (row[p], row[q]);
-                row[p] = c * vp - s * vq;
-                row[q] = s * vp + c * vq;
-            }
-        }
-    }
-    // `v` holds eigenvectors as columns in row-major storage.
-    let vecs = DMat3::from_cols(
-        DVec3::new(v[0][0], v[1][0], v[2][0]),
-        DVec3::new(v[0][1], v[1][1], v[2][1]),
-        DVec3::new(v[0][2], v[1][2], v[2][2]),
-    );
-    ([a[0][0], a[1][1], a[2][2]], vecs)
+    let eigen = to_matrix(m).symmetric_eigen();
+    let values = eigen.eigenvalues;
+    (
+        [values[0], values[1], values[2]],
+        to_dmat3(&eigen.eigenvectors),
+    )
 }
 
 /// The template-to-target map: a similarity followed by a thin-plate spline correction.
@@ -254,59 +218,27 @@ impl Warp {
     }
 }
 
-/// The root-mean-square distance of points from their centroid.
-pub fn rms_spread(points: &[DVec3]) -> f64 {
-    if points.is_empty() {
-        return 0.0;
-    }
-    let mean = points.iter().copied().sum::<DVec3>() / points.len() as f64;
-    (points.iter().map(|p| p.distance_squared(mean)).sum::<f64>() / points.len() as f64).sqrt()
-}
-
-/// Solves `a x = rhs` (row-major `size` x `size`, three right-hand sides) by Gaussian
-/// elimination with partial pivoting; `None` when singular.
-#[allow(clippy::needless_range_loop)]
-fn solve_dense(mut a: Vec<f64>, mut rhs: Vec<[f64; 3]>, size: usize) -> Option<Vec<[f64; 3]>> {
+/// Solves `a x = rhs` (row-major `size` x `size`, three right-hand sides) by LU with partial
+/// pivoting; `None` when singular (a pivot under 1e-13 of the largest entry) or not finite.
+fn solve_dense(a: Vec<f64>, rhs: Vec<[f64; 3]>, size: usize) -> Option<Vec<[f64; 3]>> {
     let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    for col in 0..size {
-        let pivot = (col..size)
-            .max_by(|&i, &j| a[i * size + col].abs().total_cmp(&a[j * size + col].abs()))?;
-        if a[pivot * size + col].abs().is_nan() || a[pivot * size + col].abs() <= 1e-13 * scale {
-            return None;
-        }
-        if pivot != col {
-            for k in 0..size {
-                a.swap(pivot * size + k, col * size + k);
-            }
-            rhs.swap(pivot, col);
-        }
-        let p = a[col * size + col];
-        for row in col + 1..size {
-            let f = a[row * size + col] / p;
-            if f == 0.0 {
-                continue;
-            }
-            for k in col..size {
-                a[row * size + k] -= f * a[col * size + k];
-            }
-            for c in 0..3 {
-                rhs[row][c] -= f * rhs[col][c];
-            }
-        }
+    let lu = DMatrix::from_row_slice(size, size, &a).lu();
+    let smallest = lu
+        .u()
+        .diagonal()
+        .iter()
+        .fold(f64::INFINITY, |m, v| m.min(v.abs()));
+    if smallest.is_nan() || smallest <= 1e-13 * scale {
+        return None;
     }
-    let mut x = vec![[0.0; 3]; size];
-    for row in (0..size).rev() {
-        for c in 0..3 {
-            let mut s = rhs[row][c];
-            for k in row + 1..size {
-                s -= a[row * size + k] * x[k][c];
-            }
-            x[row][c] = s / a[row * size + row];
-        }
-    }
-    x.iter()
+    let b = DMatrix::from_row_iterator(size, 3, rhs.iter().flatten().copied());
+    let x = lu.solve(&b)?;
+    let rows: Vec<[f64; 3]> = (0..size)
+        .map(|i| [x[(i, 0)], x[(i, 1)], x[(i, 2)]])
+        .collect();
+    rows.iter()
         .all(|r| r.iter().all(|v| v.is_finite()))
-        .then_some(x)
+        .then_some(rows)
 }
 
 #[cfg(test)]

@@ -33,9 +33,23 @@ pub const DEFAULT_LANDMARKS: &str = include_str!("../../presets/default.landmark
 /// # Panics
 /// Never in a correctly built binary: the embedded file is checked by the tests.
 pub fn default_mesh() -> Mesh {
+    face_mesh().clone()
+}
+
+/// The default face, parsed once.
+fn face_mesh() -> &'static Mesh {
     static MESH: OnceLock<Mesh> = OnceLock::new();
     MESH.get_or_init(|| load_mesh().unwrap_or_else(|e| panic!("embedded face: {e}")))
-        .clone()
+}
+
+/// Millimetres per mesh unit when `mesh` is the built-in face at rest (its scale is known:
+/// [`crate::face::anthropometry::MM_PER_UNIT`]), else `None`: other meshes' units are their
+/// own, and commands estimate them from the landmarks (`grimace check`) or take `--unit-mm`.
+/// Compared by rest positions, so a copy of the face loaded from a file counts too.
+pub fn mm_per_unit(mesh: &Mesh) -> Option<f32> {
+    let face = face_mesh();
+    (face.positions.len() == mesh.positions.len() && face.positions == mesh.positions)
+        .then_some(crate::face::anthropometry::MM_PER_UNIT as f32)
 }
 
 /// The default rig: the paper's muscles plus those needed for the AUs face trackers report.
@@ -76,7 +90,7 @@ pub fn default_table() -> AuTable {
 ///
 /// # Panics
 /// Never in a correctly built binary: the embedded file is checked by the tests.
-pub fn landmarks(name: &str) -> Option<crate::fit::Landmarks> {
+pub fn landmarks(name: &str) -> Option<crate::landmarks::Landmarks> {
     matches!(name, "face" | "default" | "paper").then(|| {
         super::landmarks::parse_landmarks(DEFAULT_LANDMARKS, &embedded("default.landmarks.ron"))
             .unwrap_or_else(|e| panic!("embedded landmarks: {e}"))

@@ -21,6 +21,7 @@ use serde_json::json;
 
 use super::atomic;
 use super::error::SaveError;
+use crate::model::mesh::bounds_of as bounds;
 use crate::model::Mesh;
 
 /// A morph target: a name and the mesh's positions in that state (not yet displacements).
@@ -92,34 +93,10 @@ fn write_glb_within(
     let normal = builder.dense_vec3(&rest_normals, None);
     let indices = builder.indices(&mesh.triangles);
 
-    let mut morphs = Vec::with_capacity(targets.len());
-    for target in targets {
-        assert_eq!(
-            target.positions.len(),
-            mesh.positions.len(),
-            "morph target `{}` has another vertex count than the mesh",
-            target.name
-        );
-        let moved: Vec<Vec3> = target
-            .positions
-            .iter()
-            .zip(&mesh.positions)
-            .map(|(p, r)| small_to_zero(*p - *r))
-            .collect();
-        let normals = unit_or_up(&mesh.vertex_normals(&target.positions));
-        let turned: Vec<Vec3> = normals
-            .iter()
-            .zip(&rest_normals)
-            .map(|(n, r)| small_to_zero(*n - *r))
-            .collect();
-        let position = builder.delta_vec3(&moved, true);
-        let normal = builder.delta_vec3(&turned, false);
-        morphs.push(json::mesh::MorphTarget {
-            positions: Some(position),
-            normals: Some(normal),
-            tangents: None,
-        });
-    }
+    let morphs: Vec<_> = targets
+        .iter()
+        .map(|target| morph(&mut builder, mesh, &rest_normals, target))
+        .collect();
 
     let names: Vec<&str> = targets.iter().map(|t| t.name.as_str()).collect();
     let primitive = json::mesh::Primitive {
@@ -167,6 +144,38 @@ fn write_glb_within(
     });
     builder.root.scene = Some(scene);
     builder.finish()
+}
+
+/// One target's accessors: position and normal deltas from rest (tiny ones written as 0).
+fn morph(
+    builder: &mut Builder,
+    mesh: &Mesh,
+    rest_normals: &[Vec3],
+    target: &MorphTarget,
+) -> json::mesh::MorphTarget {
+    assert_eq!(
+        target.positions.len(),
+        mesh.positions.len(),
+        "morph target `{}` has another vertex count than the mesh",
+        target.name
+    );
+    let moved: Vec<Vec3> = target
+        .positions
+        .iter()
+        .zip(&mesh.positions)
+        .map(|(p, r)| small_to_zero(*p - *r))
+        .collect();
+    let normals = unit_or_up(&mesh.vertex_normals(&target.positions));
+    let turned: Vec<Vec3> = normals
+        .iter()
+        .zip(rest_normals)
+        .map(|(n, r)| small_to_zero(*n - *r))
+        .collect();
+    json::mesh::MorphTarget {
+        positions: Some(builder.delta_vec3(&moved, true)),
+        normals: Some(builder.delta_vec3(&turned, false)),
+        tangents: None,
+    }
 }
 
 fn too_big(bytes: u64) -> String {
@@ -394,13 +403,6 @@ fn vec3_bytes(values: &[Vec3]) -> Vec<u8> {
         .flat_map(|v| v.to_array())
         .flat_map(f32::to_le_bytes)
         .collect()
-}
-
-fn bounds(values: &[Vec3]) -> (Vec3, Vec3) {
-    values.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(min, max), v| (min.min(*v), max.max(*v)),
-    )
 }
 
 fn small_to_zero(delta: Vec3) -> Vec3 {

@@ -12,14 +12,15 @@
 //! column: of the entry for a bad landmark, of the list for a wrong count. The format is in
 //! `docs/formats.md`.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use serde::Deserialize;
 
 use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
+use super::rig_file::{LoadedRig, MeshRef};
 use super::{atomic, ron_text};
-use crate::fit::landmarks::{LandmarkError, Landmarks, COUNT};
+use crate::landmarks::{LandmarkError, Landmarks, COUNT};
 use crate::model::Mesh;
 
 /// The landmark file format version this build reads and writes.
@@ -40,6 +41,50 @@ fn bare_some<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>>(
     d: D,
 ) -> Result<Option<T>, D::Error> {
     T::deserialize(d).map(Some)
+}
+
+/// Where a mesh's landmarks are looked for: `head.obj` -> `head.landmarks.ron`, in the same
+/// folder.
+pub fn beside(mesh: &Path) -> PathBuf {
+    let stem = mesh
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    mesh.with_file_name(format!("{stem}.landmarks.ron"))
+}
+
+/// The landmarks of a loaded rig's mesh when none are given: the built-in face's own for a
+/// built-in mesh, else the file [`beside`] the mesh. Gives the landmarks and where they came
+/// from; the error says what is missing and names `flag`, the option that gives them.
+pub fn of_rig(rig: &LoadedRig, flag: &str) -> Result<(Landmarks, PathBuf), LoadError> {
+    match super::rig_file::mesh_ref(&rig.path, &rig.rig.mesh) {
+        MeshRef::Builtin(name) => super::builtin::landmarks(&name)
+            .map(|marks| {
+                (
+                    marks,
+                    PathBuf::from(format!("builtin:{name}.landmarks.ron")),
+                )
+            })
+            .ok_or_else(|| {
+                LoadError::new(
+                    &rig.path,
+                    format!("the built-in mesh `{name}` has no landmarks; give {flag}"),
+                )
+            }),
+        MeshRef::File(mesh) => {
+            let path = beside(&mesh);
+            if !path.is_file() {
+                return Err(LoadError::new(
+                    &mesh,
+                    format!(
+                        "no landmarks beside the mesh ({}); give {flag} FILE",
+                        path.display()
+                    ),
+                ));
+            }
+            Ok((load_landmarks(&path)?, path))
+        }
+    }
 }
 
 /// Reads and checks a landmark file (count, finite points; vertex numbers are checked

@@ -11,7 +11,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use serde::{Deserialize, Serialize};
 
-use crate::fit::landmarks::COUNT;
+use crate::landmarks::COUNT;
 
 /// The picker recovery format version.
 pub const PICK_RECOVERY_VERSION: u32 = 1;

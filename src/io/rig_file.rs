@@ -338,9 +338,8 @@ fn find_name_field(text: &str, from: usize, name: &str) -> Option<usize> {
 /// Writes a rig as pretty RON in the stable layout of `docs/formats.md`. Every number is
 /// written so that it reads back as exactly the same `f32`.
 pub fn rig_to_ron(rig: &Rig) -> String {
-    use ron_text::{float, point, string};
-    // Destructured in full so that a field added to the model fails to compile here rather
-    // than being silently dropped from saved files.
+    // Destructured in full (here and in each part's writer) so that a field added to the
+    // model fails to compile here rather than being silently dropped from saved files.
     let Rig {
         version,
         mesh,
@@ -352,143 +351,164 @@ pub fn rig_to_ron(rig: &Rig) -> String {
     let mut out = String::new();
     out.push_str("// grimace rig: muscles placed on a mesh; see docs/formats.md\n(\n");
     out.push_str(&format!("    version: {version},\n"));
-    out.push_str(&format!("    mesh: {},\n", string(&mesh.to_string_lossy())));
+    out.push_str(&format!(
+        "    mesh: {},\n",
+        ron_text::string(&mesh.to_string_lossy())
+    ));
     out.push_str(&format!("    combine: {combine:?},\n"));
     out.push_str("    muscles: [\n");
     for muscle in muscles {
-        let Muscle {
-            name,
-            side,
-            mirror,
-            kind,
-        } = muscle;
-        out.push_str("        (\n");
-        out.push_str(&format!("            name: {},\n", string(name)));
-        out.push_str(&format!("            side: {side:?},\n"));
-        if let Some(mirror) = mirror {
-            out.push_str(&format!("            mirror: {},\n", string(mirror)));
-        }
-        let fields: Vec<(&str, String)> = match kind {
-            MuscleKind::Linear(Linear {
-                attachment,
-                insertion,
-                zone,
-                falloff_start,
-                falloff_end,
-            }) => vec![
-                ("attachment", point(*attachment)),
-                ("insertion", point(*insertion)),
-                ("zone", float(*zone)),
-                ("falloff_start", float(*falloff_start)),
-                ("falloff_end", float(*falloff_end)),
-            ],
-            MuscleKind::Sphincter(Sphincter {
-                centre,
-                semi_major,
-                semi_minor,
-                convergence,
-                bulge,
-                frame,
-            }) => {
-                let mut fields = vec![
-                    ("centre", point(*centre)),
-                    ("semi_major", float(*semi_major)),
-                    ("semi_minor", float(*semi_minor)),
-                    ("convergence", format!("{convergence:?}")),
-                    ("bulge", float(*bulge)),
-                ];
-                if !frame.is_identity() {
-                    let Frame { x, y } = frame;
-                    fields.push(("frame", format!("(x: {}, y: {})", point(*x), point(*y))));
-                }
-                fields
-            }
-            MuscleKind::Sheet(Sheet {
-                attachment,
-                insertion,
-                length,
-                width,
-            }) => vec![
-                (
-                    "attachment",
-                    format!("({}, {})", point(attachment[0]), point(attachment[1])),
-                ),
-                (
-                    "insertion",
-                    format!("({}, {})", point(insertion[0]), point(insertion[1])),
-                ),
-                ("length", float(*length)),
-                ("width", float(*width)),
-            ],
-        };
-        out.push_str(&format!("            kind: {}(\n", kind_name(kind)));
-        for (field, value) in fields {
-            out.push_str(&format!("                {field}: {value},\n"));
-        }
-        out.push_str("            ),\n        ),\n");
+        write_muscle(&mut out, muscle);
     }
     out.push_str("    ],\n");
-    if let Some(Jaw {
-        pivot,
-        degrees_per_unit,
-        weights,
-        axis,
-        slide,
-    }) = jaw
-    {
-        out.push_str("    jaw: (\n");
-        out.push_str(&format!("        pivot: {},\n", point(*pivot)));
-        if *axis != Vec3::X {
-            out.push_str(&format!("        axis: {},\n", point(*axis)));
-        }
-        out.push_str(&format!(
-            "        degrees_per_unit: {},\n",
-            float(*degrees_per_unit)
-        ));
-        if *slide != Vec3::ZERO {
-            out.push_str(&format!("        slide: {},\n", point(*slide)));
-        }
-        out.push_str("        weights: [\n");
-        // Six `(vertex, weight)` pairs per line keep a dense jaw readable.
-        for chunk in weights.chunks(6) {
-            let pairs: Vec<String> = chunk
-                .iter()
-                .map(|(v, w)| format!("({v}, {})", float(*w)))
-                .collect();
-            out.push_str(&format!("            {},\n", pairs.join(", ")));
-        }
-        out.push_str("        ],\n    ),\n");
+    if let Some(jaw) = jaw {
+        write_jaw(&mut out, jaw);
     }
     if !masks.is_empty() {
         out.push_str("    masks: [\n");
-        for Mask {
-            muscles,
-            gain,
-            weights,
-        } in masks
-        {
-            out.push_str("        (\n            muscles: [\n");
-            for name in muscles {
-                out.push_str(&format!("                {},\n", string(name)));
-            }
-            out.push_str("            ],\n");
-            if *gain != 1.0 {
-                out.push_str(&format!("            gain: {},\n", float(*gain)));
-            }
-            out.push_str("            weights: [\n");
-            for chunk in weights.chunks(6) {
-                let pairs: Vec<String> = chunk
-                    .iter()
-                    .map(|(v, w)| format!("({v}, {})", float(*w)))
-                    .collect();
-                out.push_str(&format!("                {},\n", pairs.join(", ")));
-            }
-            out.push_str("            ],\n        ),\n");
+        for mask in masks {
+            write_mask(&mut out, mask);
         }
         out.push_str("    ],\n");
     }
     out.push_str(")\n");
     out
+}
+
+fn write_muscle(out: &mut String, muscle: &Muscle) {
+    use ron_text::string;
+    let Muscle {
+        name,
+        side,
+        mirror,
+        kind,
+    } = muscle;
+    out.push_str("        (\n");
+    out.push_str(&format!("            name: {},\n", string(name)));
+    out.push_str(&format!("            side: {side:?},\n"));
+    if let Some(mirror) = mirror {
+        out.push_str(&format!("            mirror: {},\n", string(mirror)));
+    }
+    out.push_str(&format!("            kind: {}(\n", kind_name(kind)));
+    for (field, value) in kind_fields(kind) {
+        out.push_str(&format!("                {field}: {value},\n"));
+    }
+    out.push_str("            ),\n        ),\n");
+}
+
+/// A muscle kind's parameters as `(field, RON value)`, in the file's order.
+fn kind_fields(kind: &MuscleKind) -> Vec<(&'static str, String)> {
+    use ron_text::{float, point};
+    match kind {
+        MuscleKind::Linear(Linear {
+            attachment,
+            insertion,
+            zone,
+            falloff_start,
+            falloff_end,
+        }) => vec![
+            ("attachment", point(*attachment)),
+            ("insertion", point(*insertion)),
+            ("zone", float(*zone)),
+            ("falloff_start", float(*falloff_start)),
+            ("falloff_end", float(*falloff_end)),
+        ],
+        MuscleKind::Sphincter(Sphincter {
+            centre,
+            semi_major,
+            semi_minor,
+            convergence,
+            bulge,
+            frame,
+        }) => {
+            let mut fields = vec![
+                ("centre", point(*centre)),
+                ("semi_major", float(*semi_major)),
+                ("semi_minor", float(*semi_minor)),
+                ("convergence", format!("{convergence:?}")),
+                ("bulge", float(*bulge)),
+            ];
+            if !frame.is_identity() {
+                let Frame { x, y } = frame;
+                fields.push(("frame", format!("(x: {}, y: {})", point(*x), point(*y))));
+            }
+            fields
+        }
+        MuscleKind::Sheet(Sheet {
+            attachment,
+            insertion,
+            length,
+            width,
+        }) => vec![
+            (
+                "attachment",
+                format!("({}, {})", point(attachment[0]), point(attachment[1])),
+            ),
+            (
+                "insertion",
+                format!("({}, {})", point(insertion[0]), point(insertion[1])),
+            ),
+            ("length", float(*length)),
+            ("width", float(*width)),
+        ],
+    }
+}
+
+fn write_jaw(out: &mut String, jaw: &Jaw) {
+    use ron_text::{float, point};
+    let Jaw {
+        pivot,
+        degrees_per_unit,
+        weights,
+        axis,
+        slide,
+    } = jaw;
+    out.push_str("    jaw: (\n");
+    out.push_str(&format!("        pivot: {},\n", point(*pivot)));
+    if *axis != Vec3::X {
+        out.push_str(&format!("        axis: {},\n", point(*axis)));
+    }
+    out.push_str(&format!(
+        "        degrees_per_unit: {},\n",
+        float(*degrees_per_unit)
+    ));
+    if *slide != Vec3::ZERO {
+        out.push_str(&format!("        slide: {},\n", point(*slide)));
+    }
+    out.push_str("        weights: [\n");
+    write_weights(out, weights, "            ");
+    out.push_str("        ],\n    ),\n");
+}
+
+fn write_mask(out: &mut String, mask: &Mask) {
+    use ron_text::{float, string};
+    let Mask {
+        muscles,
+        gain,
+        weights,
+    } = mask;
+    out.push_str("        (\n            muscles: [\n");
+    for name in muscles {
+        out.push_str(&format!("                {},\n", string(name)));
+    }
+    out.push_str("            ],\n");
+    if *gain != 1.0 {
+        out.push_str(&format!("            gain: {},\n", float(*gain)));
+    }
+    out.push_str("            weights: [\n");
+    write_weights(out, weights, "                ");
+    out.push_str("            ],\n        ),\n");
+}
+
+/// `(vertex, weight)` pairs, six per line: a dense jaw or mask stays readable.
+fn write_weights(out: &mut String, weights: &[(u32, f32)], indent: &str) {
+    for chunk in weights.chunks(6) {
+        let pairs: Vec<String> = chunk
+            .iter()
+            .map(|(v, w)| format!("({v}, {})", ron_text::float(*w)))
+            .collect();
+        out.push_str(&format!("{indent}{},\n", pairs.join(", ")));
+    }
 }
 
 fn kind_name(kind: &MuscleKind) -> &'static str {

@@ -177,10 +177,7 @@ pub fn build_face(
     }
     let mut corners: Vec<[Vec3; 3]> = Vec::with_capacity(polygons.len() * 4);
     let at = |i: u32| half[i as usize];
-    let mirrored = |i: u32| {
-        let p = half[i as usize];
-        Vec3::new(-p.x, p.y, p.z)
-    };
+    let mirrored = |i: u32| crate::model::muscle::mirror_x(half[i as usize]);
     let mut emit = |[p, q, r]: [u32; 3]| {
         corners.push([at(p), at(q), at(r)]);
         corners.push([mirrored(q), mirrored(p), mirrored(r)]);

@@ -193,13 +193,17 @@ impl Mesh {
     }
 }
 
-/// The axis-aligned bounding box of a set of points, as `(min, max)`; zero for no points.
+/// The axis-aligned bounding box of the finite points of a set, as `(min, max)`; zero when
+/// there are none. The one bounding box: a deformed pose drawn mid-edit may hold a NaN, which
+/// must not spoil the box of the rest.
 pub fn bounds_of(points: &[Vec3]) -> (Vec3, Vec3) {
-    if points.is_empty() {
-        return (Vec3::ZERO, Vec3::ZERO);
-    }
-    points.iter().fold(
+    let (lo, hi) = points.iter().filter(|p| p.is_finite()).fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    )
+    );
+    if lo.is_finite() {
+        (lo, hi)
+    } else {
+        (Vec3::ZERO, Vec3::ZERO)
+    }
 }

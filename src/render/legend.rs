@@ -1,12 +1,8 @@
 //! The displacement colours' legend: the colour ramp with the distances it stands for.
 
-use glam::Vec3;
-
 use super::cells::{Cell, CellGrid, ColorMode};
 use super::raster::finite_bounds_of;
 use super::scene::{displacement_ramp, Scene};
-use crate::face::anthropometry::MM_PER_UNIT;
-use crate::io::builtin;
 
 /// What the displacement colours of a scene mean: the distance drawn in the hottest colour.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -19,13 +15,14 @@ pub struct DisplacementLegend {
 
 impl DisplacementLegend {
     /// The legend of `scene`'s displacement colours: its full-colour fraction of the rest
-    /// pose's bounding-box diagonal, in millimetres on the built-in face, else mesh units.
+    /// pose's bounding-box diagonal, in millimetres when the scene's scale is known
+    /// ([`Scene::mm_per_unit`]), else mesh units.
     pub fn of(scene: &Scene) -> DisplacementLegend {
         let rest = scene.rest_positions();
         let (lo, hi) = finite_bounds_of(rest);
         DisplacementLegend {
             full: scene.displacement_full * (hi - lo).length(),
-            mm_per_unit: is_builtin_face(rest).then_some(MM_PER_UNIT as f32),
+            mm_per_unit: scene.mm_per_unit,
         }
     }
 
@@ -68,25 +65,23 @@ impl DisplacementLegend {
     }
 }
 
-/// Whether `rest` is the built-in default face's rest pose (whose scale is known).
-fn is_builtin_face(rest: &[Vec3]) -> bool {
-    let face = builtin::default_mesh();
-    face.positions.len() == rest.len() && face.positions == rest
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::model::Mesh;
+    use glam::Vec3;
 
     #[test]
-    fn the_builtin_face_is_labelled_in_millimetres_and_others_in_units() {
-        let face = builtin::default_mesh();
-        let legend = DisplacementLegend::of(&Scene::new(&face, &face.positions));
-        let (lo, hi) = face.bounds();
+    fn a_known_scale_is_labelled_in_millimetres_else_in_units() {
+        let other = Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]).unwrap();
+        let scaled = Scene {
+            mm_per_unit: Some(11.5),
+            ..Scene::new(&other, &other.positions)
+        };
+        let legend = DisplacementLegend::of(&scaled);
+        let (lo, hi) = other.bounds();
         assert!((legend.full - 0.04 * (hi - lo).length()).abs() < 1e-5);
         assert_eq!(legend.label(1.0), "11.5 mm");
-        let other = Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]).unwrap();
         let legend = DisplacementLegend::of(&Scene::new(&other, &other.positions));
         assert_eq!(legend.mm_per_unit, None);
         assert_eq!(legend.label(0.5), "0.50 units");

@@ -245,6 +245,9 @@ pub struct Scene<'a> {
     /// Feature lines: iso-lines of how squarely the surface faces the viewer (the cosine
     /// between vertex normal and view direction, 0 at the silhouette, 1 facing).
     pub facing_contours: &'a [f32],
+    /// Millimetres per mesh unit when the caller knows the mesh's scale (the legend then
+    /// speaks in millimetres); `None`: mesh units.
+    pub mm_per_unit: Option<f32>,
 }
 
 impl<'a> Scene<'a> {
@@ -264,6 +267,7 @@ impl<'a> Scene<'a> {
             crease_degrees: 40.0,
             contours: 0,
             facing_contours: DEFAULT_FACING_CONTOURS,
+            mm_per_unit: None,
         }
     }
 

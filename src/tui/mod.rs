@@ -11,8 +11,10 @@ mod fixture;
 pub mod keymap;
 pub mod pick;
 pub mod play;
+pub mod program;
 pub mod rig;
 pub mod scene;
+pub mod session;
 pub mod table_ops;
 pub mod term;
 pub mod update;
@@ -20,139 +22,103 @@ pub mod view;
 
 use std::fs;
 use std::io::{self, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
-use crossterm::event::{self, Event, KeyEventKind, MouseButton, MouseEvent, MouseEventKind};
+use crossterm::event::{Event, KeyEventKind, MouseButton, MouseEvent, MouseEventKind};
 use ratatui::backend::CrosstermBackend;
 use ratatui::layout::{Position, Rect};
 use ratatui::Terminal;
 
 use crate::io::inputs::Inputs;
-use crate::io::lock::Lock;
 use crate::io::recovery::{self, RecoveryState};
 use crate::io::reference;
 use action::{Action, Effect};
 use app::{App, FileStamp, Row};
+use session::Session;
 
 /// How long after the last edit the recovery file is written.
 pub const RECOVERY_DEBOUNCE: Duration = Duration::from_secs(1);
 
-/// What the editor session holds besides the state.
-#[derive(Debug, Default)]
-pub struct Session {
-    /// Where unsaved state is kept, if anywhere.
-    pub recovery: Option<PathBuf>,
-    /// The table's lock, released when the session ends.
-    pub lock: Option<Lock>,
-}
-
 /// Runs the editor until the user quits or a signal stops it.
-pub fn run(mut app: App, mut session: Session) -> anyhow::Result<()> {
-    use std::io::IsTerminal;
-    if !io::stdin().is_terminal() || !io::stdout().is_terminal() {
-        anyhow::bail!(
-            "the editor needs a terminal: run it with standard input and output on a terminal"
-        );
-    }
-    let signals = term::Signals::register()?;
-    let _guard = term::enter()?;
-    let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
-    let size = terminal.size()?;
-    app.view.size = (size.width, size.height);
-    let mut loop_state = LoopState::default();
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        event_loop(
-            &mut app,
-            &mut session,
-            &signals,
-            &mut terminal,
-            &mut loop_state,
-        )
-    }));
-    let result = match result {
-        Ok(result) => result,
-        Err(panic) => {
-            // Keep the unsaved state before the panic goes on (the hook restored the terminal).
-            if app.history.edits > 0 {
-                write_recovery(&mut app, &session);
-            }
-            std::panic::resume_unwind(panic);
-        }
-    };
-    if loop_state.recovery_due.is_some() {
-        // Leaving with unwritten state (signal or error): keep it.
-        write_recovery(&mut app, &session);
-    }
-    drop(terminal);
-    term::restore();
-    result
+pub fn run(app: App, session: Session) -> anyhow::Result<()> {
+    program::run(&mut Editor {
+        app,
+        session,
+        state: LoopState::default(),
+    })
 }
 
 #[derive(Debug, Default)]
 struct LoopState {
     /// The face's render buffers, kept between frames.
     cache: view::viewport::RenderCache,
-    redraw: bool,
     recovery_due: Option<Instant>,
     quit: bool,
     drag: Option<(u16, u16)>,
 }
 
-fn event_loop<W: Write>(
-    app: &mut App,
-    session: &mut Session,
-    signals: &term::Signals,
-    terminal: &mut Terminal<CrosstermBackend<W>>,
-    state: &mut LoopState,
-) -> anyhow::Result<()> {
-    state.redraw = true;
-    loop {
-        if state.redraw {
-            draw(terminal, app, &mut state.cache)?;
-            state.redraw = false;
+/// The editor as the event loop runs it: the state, the session's files, the loop's own.
+struct Editor {
+    app: App,
+    session: Session,
+    state: LoopState,
+}
+
+impl program::Program for Editor {
+    const NAME: &'static str = "the editor";
+
+    fn draw(&mut self, frame: &mut ratatui::Frame) {
+        view::draw(&self.app, &mut self.state.cache, frame);
+    }
+
+    fn event(&mut self, ev: &Event) -> anyhow::Result<bool> {
+        let actions = actions_for(&self.app, ev, &mut self.state.drag);
+        let changed = !actions.is_empty();
+        for action in actions {
+            apply(&mut self.app, &mut self.session, &mut self.state, action);
         }
-        if let Some(stop) = signals.pending() {
-            if state.recovery_due.is_some() {
-                write_recovery(app, session);
-                state.recovery_due = None;
-            }
-            let _ = stop;
-            return Ok(());
+        Ok(changed)
+    }
+
+    fn tick(&mut self, now: Instant) -> anyhow::Result<bool> {
+        if self.state.recovery_due.is_none_or(|due| now < due) {
+            return Ok(false);
         }
-        let timeout = match state.recovery_due {
-            Some(due) => due.saturating_duration_since(Instant::now()),
-            None => Duration::from_millis(200),
-        };
-        if event::poll(timeout.min(Duration::from_millis(200)))? {
-            // Handle everything already waiting before drawing: typing ahead (or pasting)
-            // over a slow link costs one frame, not one per key.
-            loop {
-                let ev = event::read()?;
-                for action in actions_for(app, &ev, &mut state.drag) {
-                    apply(app, session, state, action);
-                }
-                if matches!(ev, Event::Resize(..)) {
-                    terminal.autoresize()?;
-                    state.redraw = true;
-                }
-                // A tiny timeout rather than zero: crossterm returns events it has already
-                // parsed only from a wait that has time left.
-                if state.quit || !event::poll(Duration::from_micros(1))? {
-                    break;
-                }
-            }
+        let before = self.app.message.clone();
+        write_recovery(&mut self.app, &self.session);
+        self.state.recovery_due = None;
+        // Redraw only if writing had something to say (an idle editor sends nothing).
+        Ok(self.app.message != before)
+    }
+
+    fn wait(&self, now: Instant) -> Duration {
+        let idle = Duration::from_millis(200);
+        self.state
+            .recovery_due
+            .map_or(idle, |due| due.saturating_duration_since(now).min(idle))
+    }
+
+    fn signalled(&mut self) {
+        self.left();
+    }
+
+    fn panicked(&mut self) {
+        // Keep the unsaved state before the panic goes on (the hook restored the terminal).
+        if self.app.history.edits > 0 {
+            write_recovery(&mut self.app, &self.session);
         }
-        if state.recovery_due.is_some_and(|due| Instant::now() >= due) {
-            let before = app.message.clone();
-            write_recovery(app, session);
-            state.recovery_due = None;
-            // Redraw only if writing had something to say (an idle editor sends nothing).
-            state.redraw |= app.message != before;
+    }
+
+    fn left(&mut self) {
+        if self.state.recovery_due.take().is_some() {
+            // Leaving with unwritten state (signal or error): keep it.
+            write_recovery(&mut self.app, &self.session);
         }
-        if state.quit {
-            return Ok(());
-        }
+    }
+
+    fn finished(&self) -> bool {
+        self.state.quit
     }
 }
 
@@ -171,7 +137,6 @@ pub fn draw<W: Write>(
 fn apply(app: &mut App, session: &mut Session, state: &mut LoopState, action: Action) {
     let mut queue = vec![action];
     while let Some(action) = queue.pop() {
-        state.redraw = true;
         for effect in update::update(app, action) {
             match effect {
                 Effect::Save {

@@ -5,21 +5,20 @@
 //!
 //! It plays at the source's frame rate, dropping frames it cannot show in time.
 
-use std::io;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
-use crossterm::event::{self, Event as TermEvent, KeyEventKind};
-use ratatui::backend::CrosstermBackend;
+use crossterm::event::{Event as TermEvent, KeyEventKind};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Modifier, Style as TextStyle};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph, Widget};
-use ratatui::{Frame as TermFrame, Terminal};
+use ratatui::Frame as TermFrame;
 
 use super::keymap::{self, PlayKey};
-use super::term::{self, Signals};
+use super::program::{self, Program};
+use super::term;
 use super::view::cells::CellGridView;
 use super::view::theme::Theme;
 use crate::model::deform::BoundRig;
@@ -129,7 +128,7 @@ pub fn run(
         .bind(rig, &mesh)
         .context("cannot place the rig on its mesh")?;
     let rest = bound.rest().to_vec();
-    let mut face = Face {
+    let face = Face {
         framing: Framing::of_rig(rig, &mesh),
         renderer: Renderer::new(&mesh),
         mesh,
@@ -140,28 +139,25 @@ pub fn run(
         mode: cells,
         colors: term::colors_from_env(),
     };
-    let signals = Signals::register().context("cannot watch for termination signals")?;
-    let guard = term::enter().context("cannot open the terminal")?;
-    let mut terminal =
-        Terminal::new(CrosstermBackend::new(io::stdout())).context("cannot open the terminal")?;
-    let mut status = Status {
-        current: None,
-        messages: Vec::new(),
-        skips: Skips::default(),
-        named: Vec::new(),
-        playback: Playback::Playing,
-    };
-    let result = run_loop(
-        &mut terminal,
+    let mut playing = Playing {
         player,
-        &mut face,
-        &mut status,
+        face,
+        status: Status {
+            current: None,
+            messages: Vec::new(),
+            skips: Skips::default(),
+            named: Vec::new(),
+            playback: Playback::Playing,
+        },
         rig,
-        &signals,
         frames,
-    );
-    drop(terminal);
-    drop(guard);
+        due: None,
+        last_shown_due: None,
+        ended: false,
+        quit: false,
+    };
+    let result = program::run(&mut playing);
+    let Playing { player, status, .. } = &mut playing;
     for line in &status.named {
         eprintln!("{line}");
     }
@@ -175,93 +171,103 @@ pub fn run(
     result
 }
 
-fn run_loop(
-    terminal: &mut Terminal<CrosstermBackend<io::Stdout>>,
-    player: &mut Player,
-    face: &mut Face,
-    status: &mut Status,
-    rig: &Rig,
-    signals: &Signals,
+/// Playback as the event loop runs it.
+struct Playing<'a> {
+    player: &'a mut Player,
+    face: Face,
+    status: Status,
+    rig: &'a Rig,
+    /// Stop after this many frames.
     frames: Option<usize>,
-) -> Result<()> {
-    let mut redraw = true;
-    let mut due: Option<Instant> = None;
-    let mut last_shown_due: Option<Instant> = None;
-    let mut ended = false;
-    loop {
-        // SIGHUP, SIGTERM, or a terminal that vanished without a signal.
-        if signals.pending().is_some() {
-            return Ok(());
-        }
+    /// When the frame waiting to be drawn was due.
+    due: Option<Instant>,
+    /// When the last drawn frame was due: frames are spaced by due times, so a frame drawn
+    /// late does not delay the next.
+    last_shown_due: Option<Instant>,
+    ended: bool,
+    quit: bool,
+}
+
+impl Program for Playing<'_> {
+    const NAME: &'static str = "the player";
+    // Frames may come on standard input; the keys come from the terminal device.
+    const KEYS_ON_STDIN: bool = false;
+
+    fn draw(&mut self, f: &mut TermFrame) {
+        draw(f, &mut self.face, &self.status, self.player, self.rig);
+    }
+
+    fn tick(&mut self, now: Instant) -> Result<bool> {
+        let mut changed = false;
         // Faster sources than the display rate: frames due in between are dropped.
-        let now = Instant::now();
-        let display_ready = last_shown_due.is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
+        let display_ready = self
+            .last_shown_due
+            .is_none_or(|t| now >= t + MIN_FRAME_INTERVAL);
         if display_ready {
-            if let Some((frame, when)) = player.tick(now)? {
-                status.current = Some(frame);
-                due = Some(when);
-                redraw = true;
+            if let Some((frame, when)) = self.player.tick(now)? {
+                self.status.current = Some(frame);
+                self.due = Some(when);
+                changed = true;
             }
         }
-        collect(player, status);
-        if player.is_finished() && !ended {
-            ended = true;
-            redraw = true;
-            if frames.is_some_and(|n| player.played >= n) {
-                return Ok(());
+        collect(self.player, &mut self.status);
+        if self.player.is_finished() && !self.ended {
+            self.ended = true;
+            changed = true;
+            if self.frames.is_some_and(|n| self.player.played >= n) {
+                self.quit = true;
             }
         }
-        status.playback = Playback::of(player, ended);
-        if redraw {
-            let started = Instant::now();
-            term::begin_frame(terminal.backend_mut()).context("cannot draw")?;
-            terminal
-                .draw(|f| draw(f, face, status, player, rig))
-                .context("cannot draw")?;
-            term::end_frame(terminal.backend_mut()).context("cannot draw")?;
-            let done = Instant::now();
-            redraw = false;
-            if let Some(when) = due.take() {
-                player.shown(when, done, done - started);
-                // Spaced by due times, so a frame drawn late does not delay the next.
-                last_shown_due = Some(when);
-                // The status line was drawn before this frame counted as shown; after
-                // the last frame nothing else redraws, so show the final counts.
-                redraw = ended;
-            }
-        }
-        let now = Instant::now();
-        let display_free = last_shown_due.map_or(now, |t| t + MIN_FRAME_INTERVAL);
-        let wait = match player.next_due() {
+        self.status.playback = Playback::of(self.player, self.ended);
+        Ok(changed)
+    }
+
+    fn drawn(&mut self, started: Instant, done: Instant) -> bool {
+        let Some(when) = self.due.take() else {
+            return false;
+        };
+        self.player.shown(when, done, done - started);
+        self.last_shown_due = Some(when);
+        // The status line was drawn before this frame counted as shown; after the last
+        // frame nothing else redraws, so show the final counts.
+        self.ended
+    }
+
+    fn wait(&self, now: Instant) -> Duration {
+        let display_free = self.last_shown_due.map_or(now, |t| t + MIN_FRAME_INTERVAL);
+        match self.player.next_due() {
             Some(when) => when.max(display_free).saturating_duration_since(now),
-            None if player.is_live() && player.state() == PlayState::Playing => {
+            None if self.player.is_live() && self.player.state() == PlayState::Playing => {
                 Duration::from_millis(4)
             }
             None => Duration::from_millis(250),
+        }
+    }
+
+    fn event(&mut self, ev: &TermEvent) -> Result<bool> {
+        let key = match ev {
+            TermEvent::Key(key) if key.kind != KeyEventKind::Release => *key,
+            TermEvent::Resize(..) => return Ok(true),
+            _ => return Ok(false),
         };
-        if !event::poll(wait).context("cannot read the keyboard")? {
-            continue;
-        }
-        match event::read().context("cannot read the keyboard")? {
-            TermEvent::Key(key) if key.kind != KeyEventKind::Release => {
-                let now = Instant::now();
-                match keymap::play_dispatch(key) {
-                    Some(PlayKey::Quit) => return Ok(()),
-                    Some(PlayKey::Pause) => player.toggle_pause(now),
-                    Some(PlayKey::Step) => {
-                        if let Some(frame) = player.step(now)? {
-                            status.current = Some(frame);
-                        }
-                    }
-                    Some(PlayKey::Faster) => player.change_speed(2.0, now),
-                    Some(PlayKey::Slower) => player.change_speed(0.5, now),
-                    None => continue,
+        let now = Instant::now();
+        match keymap::play_dispatch(key) {
+            Some(PlayKey::Quit) => self.quit = true,
+            Some(PlayKey::Pause) => self.player.toggle_pause(now),
+            Some(PlayKey::Step) => {
+                if let Some(frame) = self.player.step(now)? {
+                    self.status.current = Some(frame);
                 }
-                redraw = true;
             }
-            TermEvent::Resize(..) => redraw = true,
-            _ => {}
+            Some(PlayKey::Faster) => self.player.change_speed(2.0, now),
+            Some(PlayKey::Slower) => self.player.change_speed(0.5, now),
+            None => return Ok(false),
         }
+        Ok(true)
+    }
+
+    fn finished(&self) -> bool {
+        self.quit
     }
 }
 

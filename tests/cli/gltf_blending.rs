@@ -8,9 +8,9 @@
 use std::path::Path;
 
 use glam::Vec3;
-use grimace::export::{morph_targets, target_states, TargetSet};
 use grimace::facs::combo::parse_combo;
 use grimace::io::arkit::ArkitMap;
+use grimace::io::morph::{morph_targets, target_states, TargetSet};
 use grimace::io::{load_rig, load_table};
 use grimace::model::Deformation;
 
@@ -27,7 +27,7 @@ fn blend_error(model: Deformation, expression: &str) -> (f32, f32) {
     let combo = parse_combo(&table.expressions[expression]).unwrap();
     let mut linear = mesh.positions.clone();
     for term in &combo.terms {
-        let name = grimace::export::au_target_name(&term.key);
+        let name = grimace::io::morph::au_target_name(&term.key);
         let target = targets.iter().find(|t| t.name == name).unwrap();
         let factor = term.intensity.factor();
         for ((p, t), r) in linear

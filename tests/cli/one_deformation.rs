@@ -65,7 +65,7 @@ fn states(table: &AuTable, rig: &Rig) -> Vec<State> {
     let mut out = Vec::new();
     for key in table.aus.keys() {
         out.push(State {
-            name: grimace::export::au_target_name(key),
+            name: grimace::io::morph::au_target_name(key),
             flag: ["--au".into(), key.to_string()],
             act: table_ops::activations_of(table, *key, rig).unwrap(),
         });

@@ -7,9 +7,9 @@ use std::path::Path;
 
 use glam::Vec3;
 use grimace::face::classic::{self, FOUND_IBUG};
-use grimace::fit::landmarks::mirror;
 use grimace::io::landmarks::load_landmarks;
 use grimace::io::obj;
+use grimace::landmarks::mirror;
 
 use common::grimace_in;
 

@@ -6,8 +6,8 @@ use crate::common;
 use std::path::Path;
 
 use glam::{Quat, Vec3};
-use grimace::fit::landmarks::mirror;
 use grimace::io::{builtin, obj};
+use grimace::landmarks::mirror;
 
 use common::grimace_in;
 
@@ -124,7 +124,7 @@ fn landmarks_out_of_order_are_warned_about() {
     v[55..60].reverse();
     grimace::io::landmarks::save_landmarks(
         &dir.path().join("head.landmarks.ron"),
-        &grimace::fit::Landmarks::Vertices(v),
+        &grimace::landmarks::Landmarks::Vertices(v),
     )
     .unwrap();
     let out = grimace_in(
@@ -163,7 +163,7 @@ fn muscles_far_off_the_template_are_warned_about() {
     }
     grimace::io::landmarks::save_landmarks(
         &dir.path().join("head.landmarks.ron"),
-        &grimace::fit::Landmarks::Points(points),
+        &grimace::landmarks::Landmarks::Points(points),
     )
     .unwrap();
     let out = grimace_in(

@@ -6,9 +6,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use glam::{Quat, Vec3};
-use grimace::fit::landmarks::FaceFrame;
 use grimace::fit::{fit_rig, Part, PartOverrides, Template};
 use grimace::io::{builtin, obj};
+use grimace::landmarks::FaceFrame;
 use grimace::model::{Activations, BoundRig, Mesh};
 
 /// A UV sphere of quads (and triangle caps) as OBJ lines, vertices numbered from `first`.

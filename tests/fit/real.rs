@@ -9,9 +9,9 @@ use std::f32::consts::FRAC_PI_2;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
-use grimace::fit::landmarks::{FaceFrame, Landmarks};
 use grimace::fit::{fit_rig, Fitted, Part, PartOverrides, Template};
 use grimace::io::{builtin, landmarks::load_landmarks, obj};
+use grimace::landmarks::{FaceFrame, Landmarks};
 use grimace::model::{BoundRig, Mesh};
 
 fn fit(mesh: &Mesh, landmarks: &Landmarks) -> Fitted {

@@ -89,7 +89,7 @@ fn the_default_landmarks_follow_the_face_and_its_rig() {
     // Mirror partners are mirror images; the chin is the lowest point, the nose tip the
     // most forward.
     for i in 0..68 {
-        let (p, q) = (points[i], points[grimace::fit::landmarks::mirror(i)]);
+        let (p, q) = (points[i], points[grimace::landmarks::mirror(i)]);
         assert!(
             (p.x + q.x).abs() < 1e-3 && (p.y - q.y).abs() < 1e-3,
             "landmark {i}"

@@ -8,10 +8,10 @@ use crate::common;
 use std::path::Path;
 
 use glam::Vec3;
-use grimace::fit::landmarks::{FaceFrame, Landmarks};
 use grimace::fit::regions::{Extent, CONTOURS};
 use grimace::fit::{fit_rig, Fitted, PartOverrides, Template};
 use grimace::io::{builtin, landmarks::load_landmarks, obj};
+use grimace::landmarks::{FaceFrame, Landmarks};
 use grimace::model::{Activations, BoundRig, Mesh, MuscleKind, Rig, Sphincter};
 
 /// Millimetres per outer canthal distance (36 to 45) on an adult face.

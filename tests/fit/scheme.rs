@@ -1,15 +1,15 @@
 //! Every landmark set grimace ships follows the iBUG 68 scheme: the built-in face's
 //! (`presets/default.landmarks.ron`), the classic Waters face's (written by `import-waters`)
 //! and the MediaPipe index table. Each point lies on its side of the face and each contour
-//! runs in the scheme's order (`fit::landmarks::order_problems`).
+//! runs in the scheme's order (`landmarks::order_problems`).
 
 use crate::common;
 
 use glam::Vec3;
 use grimace::face::classic;
-use grimace::fit::landmarks::{order_problems, FaceFrame, Landmarks};
 use grimace::io::waters::{self, ImportOptions};
 use grimace::io::{builtin, obj};
+use grimace::landmarks::{order_problems, FaceFrame, Landmarks};
 use grimace::model::Mesh;
 
 /// The set follows the scheme, and is right-handed (the subject's left at `+lateral` when
@@ -29,7 +29,7 @@ fn the_built_in_landmarks_follow_the_scheme() {
     // On the built-in face the subject's left is +x (docs/face.md).
     let points = landmarks.positions(&mesh).unwrap();
     for (i, p) in points.iter().enumerate() {
-        let side = f32::from(grimace::fit::landmarks::side(i));
+        let side = f32::from(grimace::landmarks::side(i));
         assert!(side * p.x >= 0.0, "landmark {i} at {p}");
     }
 }

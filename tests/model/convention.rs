@@ -250,7 +250,7 @@ fn the_default_face_landmarks_are_right_handed_like_meshes_users_bring() {
         .unwrap()
         .positions(&mesh)
         .unwrap();
-    let frame = grimace::fit::landmarks::FaceFrame::of(&points).unwrap();
+    let frame = grimace::landmarks::FaceFrame::of(&points).unwrap();
     assert!(frame.right_handed);
     // from the subject's right toward the left: +x
     assert!(frame.lateral.x > 0.99, "{}", frame.lateral);

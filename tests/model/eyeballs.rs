@@ -7,10 +7,11 @@ use glam::{Vec2, Vec3};
 use grimace::face::anthropometry::{units, y_units, MM_PER_UNIT};
 use grimace::face::generator::EYEBALL;
 use grimace::face::topology::boundary_edges;
-use grimace::face::{generate, groups, presets};
+use grimace::face::{generate, groups};
 use grimace::facs::combo::parse_combo;
 use grimace::fit::parts::{find_parts, Part, PartOverrides};
 use grimace::io::builtin;
+use grimace::io::presets;
 use grimace::model::{Activations, BoundRig, Mesh, Rig};
 
 /// Vertices and triangles of the default face before it had eyeballs.

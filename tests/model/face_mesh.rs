@@ -5,7 +5,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::Vec3;
 use grimace::face::anthropometry::{units, MM_PER_UNIT};
 use grimace::face::topology::{boundary_loops, edge_uses};
-use grimace::face::{generate, groups, presets};
+use grimace::face::{generate, groups};
+use grimace::io::presets;
 use grimace::model::Mesh;
 
 fn face() -> Mesh {

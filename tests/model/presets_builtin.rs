@@ -3,8 +3,9 @@
 
 use std::path::Path;
 
-use grimace::face::{generate, presets};
+use grimace::face::generate;
 use grimace::io::builtin;
+use grimace::io::presets;
 use grimace::model::BoundRig;
 
 #[test]

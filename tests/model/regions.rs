@@ -35,7 +35,7 @@ impl Face {
 
     /// The vertex nearest to `p`.
     fn nearest(&self, p: Vec3) -> usize {
-        grimace::fit::landmarks::nearest_vertex(&self.mesh.positions, p) as usize
+        grimace::landmarks::nearest_vertex(&self.mesh.positions, p) as usize
     }
 
     /// Displacements of every vertex under the AU combination `combo`.

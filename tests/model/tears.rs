@@ -10,10 +10,10 @@ use std::path::Path;
 
 use glam::Vec3;
 use grimace::facs::AuTable;
-use grimace::fit::landmarks::Landmarks;
 use grimace::fit::parts::find_parts;
 use grimace::fit::{fit_rig, Part, PartOverrides, Template};
 use grimace::io::{builtin, landmarks::load_landmarks, obj};
+use grimace::landmarks::Landmarks;
 use grimace::model::{Activations, BoundRig, Mesh, Rig, Skin};
 
 use crate::common;

@@ -10,6 +10,7 @@ mod bind;
 mod commands;
 mod editor;
 mod files;
+mod layers;
 mod limits;
 mod outputs;
 mod play;

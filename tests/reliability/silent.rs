@@ -106,11 +106,11 @@ fn a_fit_with_a_landmark_on_the_wrong_feature_warns() {
     assert!(muscles.status.success(), "{}", stderr(&muscles));
     // The chin's vertex given for a point of the right brow (19): a point on the wrong feature.
     let marks = grimace::io::builtin::landmarks("default").unwrap();
-    let grimace::fit::Landmarks::Vertices(mut v) = marks else {
+    let grimace::landmarks::Landmarks::Vertices(mut v) = marks else {
         panic!("the built-in landmarks are vertex numbers")
     };
     v[19] = v[8];
-    let bad = grimace::io::landmarks::landmarks_to_ron(&grimace::fit::Landmarks::Vertices(v));
+    let bad = grimace::io::landmarks::landmarks_to_ron(&grimace::landmarks::Landmarks::Vertices(v));
     std::fs::write(dir.path().join("bad.landmarks.ron"), bad).unwrap();
     let out = grimace(
         dir.path(),
@@ -153,14 +153,15 @@ fn a_folder_or_a_pipe_as_a_target_shape_is_named_for_what_it_is() {
 
 /// The built-in landmarks with each point moved to its mirror partner's vertex.
 fn swapped_landmarks() -> String {
-    let grimace::fit::Landmarks::Vertices(v) = grimace::io::builtin::landmarks("default").unwrap()
+    let grimace::landmarks::Landmarks::Vertices(v) =
+        grimace::io::builtin::landmarks("default").unwrap()
     else {
         panic!("vertex numbers")
     };
     let swapped: Vec<u32> = (0..v.len())
-        .map(|i| v[grimace::fit::landmarks::mirror(i)])
+        .map(|i| v[grimace::landmarks::mirror(i)])
         .collect();
-    grimace::io::landmarks::landmarks_to_ron(&grimace::fit::Landmarks::Vertices(swapped))
+    grimace::io::landmarks::landmarks_to_ron(&grimace::landmarks::Landmarks::Vertices(swapped))
 }
 
 #[test]
@@ -198,16 +199,19 @@ fn a_mirrored_template_is_blamed_on_the_template_and_a_shuffled_set_on_its_order
         stderr(&out)
     );
     // A set shuffled out of every contour's sequence is named as an order problem.
-    let grimace::fit::Landmarks::Vertices(v) = grimace::io::builtin::landmarks("default").unwrap()
+    let grimace::landmarks::Landmarks::Vertices(v) =
+        grimace::io::builtin::landmarks("default").unwrap()
     else {
         panic!("vertex numbers")
     };
     let shuffled: Vec<u32> = (0..v.len())
-        .map(|i| v[(grimace::fit::landmarks::mirror(i) * 7) % 68])
+        .map(|i| v[(grimace::landmarks::mirror(i) * 7) % 68])
         .collect();
     std::fs::write(
         dir.path().join("shuffled.landmarks.ron"),
-        grimace::io::landmarks::landmarks_to_ron(&grimace::fit::Landmarks::Vertices(shuffled)),
+        grimace::io::landmarks::landmarks_to_ron(&grimace::landmarks::Landmarks::Vertices(
+            shuffled,
+        )),
     )
     .unwrap();
     let out = grimace(

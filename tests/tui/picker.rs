@@ -8,8 +8,8 @@
 use std::path::{Path, PathBuf};
 
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
-use grimace::fit::landmarks::COUNT;
-use grimace::fit::Landmarks;
+use grimace::landmarks::Landmarks;
+use grimace::landmarks::COUNT;
 use grimace::render::CellMode;
 use grimace::tui::keymap::pick::dispatch;
 use grimace::tui::pick::PickApp;

@@ -3,8 +3,8 @@
 use glam::Vec3;
 
 use super::depth::depth_slope;
-use super::project::finite_bounds;
 use super::{Edge, Renderer, Segment, NONE};
+use crate::model::mesh::bounds_of as finite_bounds;
 use crate::render::canvas::Rgb;
 use crate::render::scene::{displacement_ramp, Scene, Style};
 

@@ -27,12 +27,12 @@ use glam::{Vec2, Vec3};
 use super::camera::{Camera, Projection};
 use super::canvas::{DotCanvas, Layer, Rgb};
 use super::scene::{Orientation, Scene, Style};
+pub(crate) use crate::model::mesh::bounds_of as finite_bounds_of;
 use crate::model::Mesh;
 use depth::DotMask;
 use features::build_edges;
 use fill::LIGHT;
 use lines::LineDot;
-pub(crate) use project::finite_bounds as finite_bounds_of;
 use project::{classify, detect_orientation, project_all};
 
 /// What a camera fit depends on besides the rest pose: the camera's yaw, pitch, zoom and

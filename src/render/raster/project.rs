@@ -52,19 +52,6 @@ pub(super) fn tri_positions(positions: &[Vec3], tri: [u32; 3]) -> Option<[Vec3; 
     Some([a, b, c])
 }
 
-/// Bounds of the finite points; zero when there are none.
-pub(crate) fn finite_bounds(points: &[Vec3]) -> (Vec3, Vec3) {
-    let (lo, hi) = points.iter().filter(|p| p.is_finite()).fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    if lo.is_finite() {
-        (lo, hi)
-    } else {
-        (Vec3::ZERO, Vec3::ZERO)
-    }
-}
-
 /// Projects `count` vertices (missing ones become NaN, so they are skipped).
 #[inline(never)]
 pub(super) fn project_all(

@@ -17,20 +17,14 @@ pub mod screen;
 pub mod state;
 pub mod view;
 
-use std::io::{self, Write};
-use std::path::PathBuf;
-use std::time::Duration;
-
-use crossterm::event::{self, Event, KeyEventKind, MouseButton, MouseEventKind};
-use ratatui::backend::CrosstermBackend;
+use crossterm::event::{Event, KeyEventKind, MouseButton, MouseEventKind};
 use ratatui::layout::Rect;
-use ratatui::Terminal;
 
 use super::keymap;
+use super::session::Session;
 use super::term;
-use crate::fit::Landmarks;
-use crate::io::lock::Lock;
 use crate::io::pick_recovery::{self, PickRecovery};
+use crate::landmarks::Landmarks;
 use crate::tui::app::FileStamp;
 pub use state::{PickAction, PickApp, PickEffect};
 
@@ -125,72 +119,47 @@ pub fn layout(area: Rect) -> PickLayout {
     }
 }
 
-/// The files a picking session keeps besides the state.
-#[derive(Debug, Default)]
-pub struct PickSession {
-    /// Where the picks are kept until saved (none when another picker owns that file).
-    pub recovery: Option<PathBuf>,
-    /// The landmark file's lock.
-    pub lock: Option<Lock>,
-}
-
 /// Runs the picker until the user quits or a signal stops it. Every pick is already in the
 /// recovery file when a signal arrives.
-pub fn run(app: &mut PickApp, session: &PickSession) -> anyhow::Result<()> {
-    use std::io::IsTerminal;
-    if !io::stdin().is_terminal() || !io::stdout().is_terminal() {
-        anyhow::bail!(
-            "the picker needs a terminal: run it with standard input and output on a terminal"
-        );
-    }
-    let signals = term::Signals::register()?;
-    let _guard = term::enter()?;
-    let mut terminal = Terminal::new(CrosstermBackend::new(io::stdout()))?;
-    let size = terminal.size()?;
+pub fn run(app: &mut PickApp, session: &Session) -> anyhow::Result<()> {
     app.colors = term::colors_from_env();
-    apply(app, session, PickAction::Resize(size.width, size.height));
-    let result = event_loop(app, session, &signals, &mut terminal);
-    drop(terminal);
-    term::restore();
-    result
+    super::program::run(&mut Picker {
+        app,
+        session,
+        cache: view::PickCache::default(),
+        quit: false,
+    })
 }
 
-fn event_loop<W: Write>(
-    app: &mut PickApp,
-    session: &PickSession,
-    signals: &term::Signals,
-    terminal: &mut Terminal<CrosstermBackend<W>>,
-) -> anyhow::Result<()> {
-    let mut cache = view::PickCache::default();
-    let mut redraw = true;
-    loop {
-        if redraw {
-            term::begin_frame(terminal.backend_mut())?;
-            terminal.draw(|frame| view::draw(app, &mut cache, frame))?;
-            term::end_frame(terminal.backend_mut())?;
-            redraw = false;
-        }
-        if signals.pending().is_some() {
-            return Ok(());
-        }
-        if !event::poll(Duration::from_millis(200))? {
-            continue;
-        }
-        loop {
-            let ev = event::read()?;
-            if matches!(ev, Event::Resize(..)) {
-                terminal.autoresize()?;
-            }
-            for action in actions_for(app, &ev) {
-                redraw = true;
-                if apply(app, session, action) {
-                    return Ok(());
-                }
-            }
-            if !event::poll(Duration::from_micros(1))? {
+/// The picker as the event loop runs it.
+struct Picker<'a> {
+    app: &'a mut PickApp,
+    session: &'a Session,
+    cache: view::PickCache,
+    quit: bool,
+}
+
+impl super::program::Program for Picker<'_> {
+    const NAME: &'static str = "the picker";
+
+    fn draw(&mut self, frame: &mut ratatui::Frame) {
+        view::draw(self.app, &mut self.cache, frame);
+    }
+
+    fn event(&mut self, ev: &Event) -> anyhow::Result<bool> {
+        let actions = actions_for(self.app, ev);
+        let changed = !actions.is_empty();
+        for action in actions {
+            if apply(self.app, self.session, action) {
+                self.quit = true;
                 break;
             }
         }
+        Ok(changed)
+    }
+
+    fn finished(&self) -> bool {
+        self.quit
     }
 }
 
@@ -221,7 +190,7 @@ pub fn actions_for(app: &PickApp, ev: &Event) -> Vec<PickAction> {
 }
 
 /// Runs one action and its effects; `true` when the picker should stop.
-pub fn apply(app: &mut PickApp, session: &PickSession, action: PickAction) -> bool {
+pub fn apply(app: &mut PickApp, session: &Session, action: PickAction) -> bool {
     let mut queue = vec![action];
     let mut quit = false;
     while let Some(action) = queue.pop() {
@@ -267,7 +236,7 @@ fn save(app: &mut PickApp, landmarks: &Landmarks, quit_after: bool, force: bool)
 }
 
 /// Writes the picks to the recovery file (a failure is said on the status line).
-pub fn write_recovery(app: &mut PickApp, session: &PickSession) {
+pub fn write_recovery(app: &mut PickApp, session: &Session) {
     let Some(path) = &session.recovery else {
         return;
     };
@@ -289,7 +258,7 @@ pub fn write_recovery(app: &mut PickApp, session: &PickSession) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fit::landmarks::mirror;
+    use crate::landmarks::mirror;
 
     #[test]
     fn the_order_starts_with_the_minimal_set_and_holds_every_landmark_once() {

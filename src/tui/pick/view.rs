@@ -11,7 +11,7 @@ use ratatui::Frame;
 
 use super::layout;
 use super::state::{Mode, PickApp, Question};
-use crate::fit::landmarks::NAMES;
+use crate::landmarks::NAMES;
 use crate::render::{
     Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Scene, Style as Look,
 };

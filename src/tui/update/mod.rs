@@ -37,118 +37,27 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         app.history.last_step = None;
     }
     match action {
-        Action::SelectNext => move_selection(app, 1),
-        Action::SelectPrev => move_selection(app, -1),
-        Action::SelectFirst => move_selection(app, i64::MIN / 2),
-        Action::SelectLast => move_selection(app, i64::MAX / 2),
-        Action::SelectRow(row) => {
-            if let Some(i) = app.selection.rows.iter().position(|&r| r == row) {
-                app.selection.selected = i;
-                app.selection.focus = Focus::Muscles;
-            }
-        }
-        Action::SelectTableItem(i) => {
-            if i < app.table_items().len() {
-                app.selection.table_selected = i;
-                app.selection.focus = Focus::Table;
-            }
-        }
-        Action::SwitchFocus => {
-            app.selection.focus = match app.selection.focus {
-                Focus::Muscles => Focus::Table,
-                Focus::Table => Focus::Muscles,
-            };
-        }
-        Action::StartFind => open(app, InputKind::Find, ""),
-        Action::StepFine(n) => step(app, f32::from(n) * FINE_STEP, &mut fx),
-        Action::StepCoarse(n) => {
-            let size = app.coarse_step(app.selected_row());
-            step(app, f32::from(n) * size, &mut fx)
-        }
-        Action::StartSetValue => {
-            let row = app.selected_row();
-            let (lo, hi) = app.range(row);
-            let now = format!(
-                "{} {}, {}-{}",
-                app.row_name(row),
-                format_value(app.value(row)),
-                lo,
-                hi
-            );
-            open(app, InputKind::Value(now), "");
-        }
-        Action::ZeroSelected => {
-            let row = app.selected_row();
-            set_rows(app, row, 0.0, &mut fx);
-        }
-        Action::ResetAll => {
-            if app.doc.activations.is_rest() {
-                app.info("already at rest");
-            } else {
-                let rest = Activations::zero(app.rig());
-                replace_activations(app, rest, None, &mut fx);
-                app.info("every muscle and the jaw reset to zero");
-            }
-        }
-        Action::ToggleMirror => {
-            app.selection.mirror = !app.selection.mirror;
-            let state = if app.selection.mirror {
-                "on: left/right pairs move together"
-            } else {
-                "off"
-            };
-            app.info(format!("mirror mode {state}"));
-        }
-        Action::StartRecord => {
-            let suggestion = match selected_item(app) {
-                Some(TableItem::Au(key)) if app.selection.focus == Focus::Table => key.to_string(),
-                _ => String::new(),
-            };
-            open(app, InputKind::RecordKey, suggestion);
-        }
-        Action::Activate => activate(app, &mut fx),
-        Action::OverwriteSelected => match selected_item(app) {
-            Some(TableItem::Au(key)) => {
-                let name = app
-                    .doc
-                    .table
-                    .aus
-                    .get(&key)
-                    .map(|e| e.name.clone())
-                    .unwrap_or_default();
-                app.mode = Mode::Confirm(Question::OverwriteAu { key, name });
-            }
-            _ => app.error("select an AU in the table first (Tab switches to the table)"),
-        },
-        Action::DeleteSelected => match selected_item(app) {
-            Some(TableItem::Au(key)) => app.mode = Mode::Confirm(Question::DeleteAu(key)),
-            Some(TableItem::Expression(name)) => delete_expression(app, &name, &mut fx),
-            None => app.error("the table is empty: nothing to delete"),
-        },
-        Action::RenameSelected => match selected_item(app) {
-            Some(TableItem::Au(key)) => {
-                let name = app
-                    .doc
-                    .table
-                    .aus
-                    .get(&key)
-                    .map(|e| e.name.clone())
-                    .unwrap_or_default();
-                open(app, InputKind::Rename(key), name);
-            }
-            Some(TableItem::Expression(_)) => {
-                app.error("expressions are renamed by storing them again: :expr NAME COMBO")
-            }
-            None => app.error("select an AU in the table first (Tab switches to the table)"),
-        },
-        Action::StartAddAu => {
-            let suggestion = match selected_item(app) {
-                Some(TableItem::Au(key)) => format!("{key} "),
-                _ => String::new(),
-            };
-            open(app, InputKind::AddAu, suggestion);
-        }
-        Action::StartExpression => open(app, InputKind::ExpressionName, ""),
+        action @ (Action::SelectNext
+        | Action::SelectPrev
+        | Action::SelectFirst
+        | Action::SelectLast
+        | Action::SelectRow(_)
+        | Action::SelectTableItem(_)
+        | Action::SwitchFocus) => select(app, action),
+        action @ (Action::StartFind
+        | Action::StepFine(_)
+        | Action::StepCoarse(_)
+        | Action::StartSetValue
+        | Action::ZeroSelected
+        | Action::ResetAll
+        | Action::ToggleMirror) => edit_values(app, action, &mut fx),
+        action @ (Action::StartRecord
+        | Action::Activate
+        | Action::OverwriteSelected
+        | Action::DeleteSelected
+        | Action::RenameSelected
+        | Action::StartAddAu
+        | Action::StartExpression) => edit_table(app, action, &mut fx),
         action @ (Action::Rotate(..)
         | Action::Zoom(_)
         | Action::Pan(..)
@@ -204,6 +113,151 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         }
         Action::Resize(w, h) => app.view.size = (w, h),
         Action::Rig(action) => crate::tui::rig::update(app, action, &mut fx),
+        action @ (Action::Saved { .. }
+        | Action::SaveFailed { .. }
+        | Action::SaveConflict { .. }
+        | Action::TableRead { .. }) => file_result(app, action, &mut fx),
+    }
+    crate::tui::rig::sync(app);
+    fx
+}
+
+/// The selection keys: which muscle row or table item, which panel.
+fn select(app: &mut App, action: Action) {
+    match action {
+        Action::SelectNext => move_selection(app, 1),
+        Action::SelectPrev => move_selection(app, -1),
+        Action::SelectFirst => move_selection(app, i64::MIN / 2),
+        Action::SelectLast => move_selection(app, i64::MAX / 2),
+        Action::SelectRow(row) => {
+            if let Some(i) = app.selection.rows.iter().position(|&r| r == row) {
+                app.selection.selected = i;
+                app.selection.focus = Focus::Muscles;
+            }
+        }
+        Action::SelectTableItem(i) => {
+            if i < app.table_items().len() {
+                app.selection.table_selected = i;
+                app.selection.focus = Focus::Table;
+            }
+        }
+        Action::SwitchFocus => {
+            app.selection.focus = match app.selection.focus {
+                Focus::Muscles => Focus::Table,
+                Focus::Table => Focus::Muscles,
+            };
+        }
+        _ => unreachable!("not a selection action"),
+    }
+}
+
+/// Editing the activations: steps, typed values, zero, reset, mirror mode, find.
+fn edit_values(app: &mut App, action: Action, fx: &mut Vec<Effect>) {
+    match action {
+        Action::StartFind => open(app, InputKind::Find, ""),
+        Action::StepFine(n) => step(app, f32::from(n) * FINE_STEP, fx),
+        Action::StepCoarse(n) => {
+            let size = app.coarse_step(app.selected_row());
+            step(app, f32::from(n) * size, fx)
+        }
+        Action::StartSetValue => {
+            let row = app.selected_row();
+            let (lo, hi) = app.range(row);
+            let now = format!(
+                "{} {}, {}-{}",
+                app.row_name(row),
+                format_value(app.value(row)),
+                lo,
+                hi
+            );
+            open(app, InputKind::Value(now), "");
+        }
+        Action::ZeroSelected => {
+            let row = app.selected_row();
+            set_rows(app, row, 0.0, fx);
+        }
+        Action::ResetAll => {
+            if app.doc.activations.is_rest() {
+                app.info("already at rest");
+            } else {
+                let rest = Activations::zero(app.rig());
+                replace_activations(app, rest, None, fx);
+                app.info("every muscle and the jaw reset to zero");
+            }
+        }
+        Action::ToggleMirror => {
+            app.selection.mirror = !app.selection.mirror;
+            let state = if app.selection.mirror {
+                "on: left/right pairs move together"
+            } else {
+                "off"
+            };
+            app.info(format!("mirror mode {state}"));
+        }
+        _ => unreachable!("not a value action"),
+    }
+}
+
+/// Editing the AU table: record, load, overwrite, delete, rename, add, expressions.
+fn edit_table(app: &mut App, action: Action, fx: &mut Vec<Effect>) {
+    match action {
+        Action::StartRecord => {
+            let suggestion = match selected_item(app) {
+                Some(TableItem::Au(key)) if app.selection.focus == Focus::Table => key.to_string(),
+                _ => String::new(),
+            };
+            open(app, InputKind::RecordKey, suggestion);
+        }
+        Action::Activate => activate(app, fx),
+        Action::OverwriteSelected => match selected_item(app) {
+            Some(TableItem::Au(key)) => {
+                let name = app
+                    .doc
+                    .table
+                    .aus
+                    .get(&key)
+                    .map(|e| e.name.clone())
+                    .unwrap_or_default();
+                app.mode = Mode::Confirm(Question::OverwriteAu { key, name });
+            }
+            _ => app.error("select an AU in the table first (Tab switches to the table)"),
+        },
+        Action::DeleteSelected => match selected_item(app) {
+            Some(TableItem::Au(key)) => app.mode = Mode::Confirm(Question::DeleteAu(key)),
+            Some(TableItem::Expression(name)) => delete_expression(app, &name, fx),
+            None => app.error("the table is empty: nothing to delete"),
+        },
+        Action::RenameSelected => match selected_item(app) {
+            Some(TableItem::Au(key)) => {
+                let name = app
+                    .doc
+                    .table
+                    .aus
+                    .get(&key)
+                    .map(|e| e.name.clone())
+                    .unwrap_or_default();
+                open(app, InputKind::Rename(key), name);
+            }
+            Some(TableItem::Expression(_)) => {
+                app.error("expressions are renamed by storing them again: :expr NAME COMBO")
+            }
+            None => app.error("select an AU in the table first (Tab switches to the table)"),
+        },
+        Action::StartAddAu => {
+            let suggestion = match selected_item(app) {
+                Some(TableItem::Au(key)) => format!("{key} "),
+                _ => String::new(),
+            };
+            open(app, InputKind::AddAu, suggestion);
+        }
+        Action::StartExpression => open(app, InputKind::ExpressionName, ""),
+        _ => unreachable!("not a table action"),
+    }
+}
+
+/// What the event loop reports back from a save or an import.
+fn file_result(app: &mut App, action: Action, fx: &mut Vec<Effect>) {
+    match action {
         Action::Saved {
             path,
             stamp,
@@ -230,12 +284,11 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
             app.mode = Mode::Confirm(Question::OverwriteFile { path, quit_after })
         }
         Action::TableRead { source, table } => match table {
-            Ok(from) => table::import(app, &source, &from, &mut fx),
+            Ok(from) => table::import(app, &source, &from, fx),
             Err(e) => app.error(format!("could not import {source}: {e}")),
         },
+        _ => unreachable!("not a file result"),
     }
-    crate::tui::rig::sync(app);
-    fx
 }
 
 /// The text of a question, for the view.

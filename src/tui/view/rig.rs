@@ -6,6 +6,7 @@
 
 use glam::Vec3;
 
+use crate::model::mesh::bounds_of as bounds;
 use crate::model::{MuscleKind, Rig};
 use crate::render::{displacement_ramp, Overlay, Palette, Rgb, Shape};
 use crate::tui::app::{App, Row};
@@ -135,11 +136,4 @@ fn zone_of(rig: &Rig, rest: &[Vec3], row: Row, out: &mut Vec<Overlay>) {
             });
         }
     }
-}
-
-/// The smallest box holding `points` (zero for none).
-fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
-    let mut it = points.iter().copied();
-    let first = it.next().unwrap_or(Vec3::ZERO);
-    it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)))
 }

@@ -94,7 +94,10 @@ pub fn draw(app: &App, cache: &mut RenderCache, theme: &Theme, area: Rect, buf: 
     if app.view.show_displacement && inner.height > 2 {
         // The colour scale, on the viewport's last row.
         let mesh = app.doc.scene.mesh();
-        let legend = DisplacementLegend::of(&Scene::new(mesh, &mesh.positions));
+        let legend = DisplacementLegend::of(&Scene {
+            mm_per_unit: crate::io::builtin::mm_per_unit(mesh),
+            ..Scene::new(mesh, &mesh.positions)
+        });
         let row = Rect {
             y: inner.bottom() - 1,
             height: 1,

@@ -1,6 +1,6 @@
 //! The files of the default face: the mesh as OBJ, the two rigs and the AU table as RON.
 
-use super::{au_table, rigs};
+use crate::face::{au_table, rigs};
 use crate::io::obj::write_obj;
 use crate::io::{rig_to_ron, table_to_ron};
 use crate::model::Mesh;

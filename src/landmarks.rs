@@ -13,7 +13,6 @@
 use glam::{DVec3, Vec3};
 use thiserror::Error;
 
-use super::warp::rms_spread;
 use crate::model::Mesh;
 
 /// Number of landmarks in the scheme.
@@ -607,6 +606,27 @@ impl FaceFrame {
         let d = p - origin;
         DVec3::new(d.dot(self.lateral), d.dot(self.up), d.dot(self.forward))
     }
+}
+
+/// The outer canthal distance of an adult face, in mm: the scale when units are unknown.
+pub const CANTHAL_MM: f32 = 90.0;
+
+/// Millimetres per mesh unit estimated from the 68 landmark points: the outer canthal
+/// distance (landmarks 36 and 45) taken as [`CANTHAL_MM`], a typical adult's. `None` when the
+/// set is not 68 points or the two corners coincide. The one estimate every command uses when
+/// a mesh's units are not known (`check`, `export`'s hint).
+pub fn mm_per_unit(points: &[Vec3]) -> Option<f32> {
+    let canthal = (points.len() == COUNT).then(|| points[36].distance(points[45]))?;
+    (canthal.is_finite() && canthal > 0.0).then(|| CANTHAL_MM / canthal)
+}
+
+/// The root-mean-square distance of points from their centroid.
+pub fn rms_spread(points: &[DVec3]) -> f64 {
+    if points.is_empty() {
+        return 0.0;
+    }
+    let mean = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    (points.iter().map(|p| p.distance_squared(mean)).sum::<f64>() / points.len() as f64).sqrt()
 }
 
 #[cfg(test)]
