@@ -13,18 +13,18 @@ use clap::{Parser, Subcommand};
 use crate::io::printable::printable;
 use crate::render::CellMode;
 
-pub mod batch;
-pub mod check;
-pub mod completions;
+pub(crate) mod batch;
+pub(crate) mod check;
+pub(crate) mod completions;
 pub mod edit;
 pub mod export;
-pub mod fit_au;
-pub mod fit_rig;
-pub mod gen_face;
-pub mod import_waters;
-pub mod landmarks;
-pub mod list;
-pub mod play;
+pub(crate) mod fit_au;
+pub(crate) mod fit_rig;
+pub(crate) mod gen_face;
+pub(crate) mod import_waters;
+pub(crate) mod landmarks;
+pub(crate) mod list;
+pub(crate) mod play;
 pub mod render;
 pub mod validate;
 

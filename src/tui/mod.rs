@@ -5,18 +5,18 @@
 
 pub mod action;
 pub mod app;
-pub mod command;
+pub(crate) mod command;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;
 pub mod pick;
-pub mod play;
-pub mod program;
+pub(crate) mod play;
+pub(crate) mod program;
 pub mod rig;
 pub mod scene;
-pub mod session;
+pub(crate) mod session;
 pub mod table_ops;
-pub mod term;
+pub(crate) mod term;
 pub mod update;
 pub mod view;
 
