@@ -12,6 +12,7 @@
 //! ```text
 //!  cli/        the commands, one module each; `edit` starts the editor   [feature `tui`]
 //!  tui/        the editor, the player's view, the landmark picker       [feature `tui`]
+//!  batch/      batch plans, items and their stable IDs, shards, resumable runs, labels
 //!  render/ play/ capture/   drawing (camera, framing, raster; text, SVG, PNG); frame sources
 //!              and the playback clock; muscles solved from tracked 3D landmarks
 //!  io/         files: RON rigs and tables, OBJ, glTF and its morph targets, landmark files,
@@ -26,6 +27,7 @@
 
 #![warn(missing_docs)]
 
+pub mod batch;
 pub mod capture;
 #[cfg(feature = "tui")]
 pub mod cli;

@@ -13,6 +13,7 @@ use clap::{Parser, Subcommand};
 use crate::io::printable::printable;
 use crate::render::CellMode;
 
+pub(crate) mod batch;
 pub(crate) mod capture;
 pub(crate) mod check;
 pub(crate) mod completions;
@@ -186,6 +187,9 @@ pub enum Command {
     /// Deform every AU and expression of a table and report tears, lids that stay open and
     /// a jaw that does not open (exits 1 when one is found).
     Check(check::CheckArgs),
+    /// Render a plan's faces, AUs, views and styles into a labelled data set, one shard at
+    /// a time (Slurm array jobs too); `batch merge DIR` checks it and writes the labels.
+    Batch(batch::BatchArgs),
     /// Write a shell completion script (bash, zsh, fish, elvish, powershell) to stdout.
     Completions(completions::CompletionsArgs),
 }
@@ -207,6 +211,7 @@ pub fn main() -> ExitCode {
             Command::Play(args) => finish("play", play::run(&args)),
             Command::Render(args) => finish("render", render::run(&args)),
             Command::Completions(args) => completions::run(&args),
+            Command::Batch(args) => batch::run(&args),
             Command::FitRig(args) => finish("fit-rig", fit_rig::run(&args)),
             Command::FitAu(args) => finish("fit-au", fit_au::run(&args)),
             Command::Capture(args) => finish("capture", capture::run(&args)),

@@ -3,7 +3,8 @@
 //! `*.rig.ron` (and `rig.ron`): syntax, version, muscles, the mesh it names, binding to it.
 //! `*.au.ron`: syntax, version, AUs, ranges, expressions, and the rig it names (muscle names).
 //! `*.landmarks.ron`: 68 landmarks, checked against `NAME.obj` beside the file if there is one.
-//! `*.obj`: a usable mesh. The exit status is 0 only when every file is valid.
+//! `*.obj`: a usable mesh. `*.plan.ron`: a batch plan, its faces loaded and every state
+//! checked against their tables. The exit status is 0 only when every file is valid.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -18,7 +19,7 @@ use crate::model::Deformation;
 /// Arguments of `grimace validate`.
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
-    /// The files to check (*.rig.ron, *.au.ron, *.landmarks.ron, *.obj).
+    /// The files to check (*.rig.ron, *.au.ron, *.landmarks.ron, *.plan.ron, *.obj).
     #[arg(required = true, value_name = "FILE")]
     pub files: Vec<PathBuf>,
 }
@@ -34,6 +35,8 @@ pub enum FileKind {
     Mesh,
     /// Landmarks, `*.landmarks.ron`.
     Landmarks,
+    /// A batch plan, `*.plan.ron`.
+    Plan,
 }
 
 /// The kind of file a path names, from its file name.
@@ -47,6 +50,8 @@ pub fn kind_of(path: &Path) -> Option<FileKind> {
         Some(FileKind::Mesh)
     } else if name.ends_with("landmarks.ron") {
         Some(FileKind::Landmarks)
+    } else if name.ends_with("plan.ron") {
+        Some(FileKind::Plan)
     } else {
         None
     }
@@ -82,6 +87,15 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
         Some(FileKind::Rig) => check_rig(path),
         Some(FileKind::Table) => check_table(path),
         Some(FileKind::Landmarks) => check_landmarks(path),
+        Some(FileKind::Plan) => {
+            let batch = super::batch::load(path, Deformation::default())?;
+            let states: usize = batch.expanded.states.iter().map(Vec::len).sum();
+            Ok(format!(
+                "plan: {} faces, {states} states, {} items",
+                batch.faces.len(),
+                batch.expanded.items.len()
+            ))
+        }
         Some(FileKind::Mesh) => {
             let mesh = obj::read_obj(path)?;
             Ok(format!(
@@ -92,7 +106,7 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
         }
         None => Err(LoadError::new(
             path,
-            "unknown kind of file; expected a name ending in .rig.ron, .au.ron, .landmarks.ron or .obj",
+            "unknown kind of file; expected a name ending in .rig.ron, .au.ron, .landmarks.ron, .plan.ron or .obj",
         )),
     }
 }
@@ -157,6 +171,10 @@ mod tests {
         assert_eq!(kind_of(Path::new("out/rig.ron")), Some(FileKind::Rig));
         assert_eq!(kind_of(Path::new("x.AU.RON")), Some(FileKind::Table));
         assert_eq!(kind_of(Path::new("m.obj")), Some(FileKind::Mesh));
+        assert_eq!(
+            kind_of(Path::new("p/example.plan.ron")),
+            Some(FileKind::Plan)
+        );
         assert_eq!(kind_of(Path::new("m.ron")), None);
         assert_eq!(kind_of(Path::new("/")), None);
     }

@@ -29,7 +29,7 @@ pub mod table_file;
 pub mod timeline;
 pub mod waters;
 
-mod ron_text;
+pub(crate) mod ron_text;
 
 pub use error::{line_column, LoadError, SaveError, MAX_FILE_BYTES};
 pub use rig_file::{load_rig, parse_rig, rig_to_ron, save_rig, LoadedRig};

@@ -56,6 +56,24 @@ pub fn render_png(
     width: usize,
     height: usize,
 ) -> Result<Vec<u8>, PngError> {
+    render_png_with(
+        &mut Renderer::new(scene.mesh),
+        scene,
+        camera,
+        style,
+        (width, height),
+    )
+}
+
+/// [`render_png`] with a renderer already built for the scene's mesh, so many pictures of
+/// one mesh (`grimace batch`) build its edges and tones once.
+pub fn render_png_with(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    camera: &Camera,
+    style: Style,
+    (width, height): (usize, usize),
+) -> Result<Vec<u8>, PngError> {
     check_size(width, height)?;
     let dot = if style == Style::Shaded {
         1
@@ -64,7 +82,7 @@ pub fn render_png(
     };
     let mut canvas = DotCanvas::new(width.div_ceil(dot), height.div_ceil(dot));
     canvas.dither = false;
-    Renderer::new(scene.mesh).render(scene, camera, style, &mut canvas);
+    renderer.render(scene, camera, style, &mut canvas);
     let mut rgb = Vec::with_capacity(width * height * 3);
     for y in 0..height {
         for x in 0..width {

@@ -20,7 +20,7 @@ fn completions(shell: &str) -> String {
 }
 
 /// Every subcommand, as `grimace --help` lists them (without `help`).
-const SUBCOMMANDS: [&str; 14] = [
+const SUBCOMMANDS: [&str; 15] = [
     "edit",
     "gen-face",
     "import-waters",
@@ -34,6 +34,7 @@ const SUBCOMMANDS: [&str; 14] = [
     "fit-au",
     "capture",
     "check",
+    "batch",
     "completions",
 ];
 
