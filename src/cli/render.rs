@@ -379,7 +379,13 @@ pub fn state_positions(
     sources: &Sources,
     bound: &BoundRig,
 ) -> anyhow::Result<Vec<Vec3>> {
-    let act = match (&args.acts, args.frame) {
+    deform(bound, &state_activations(args, sources)?)
+}
+
+/// The activations `render` draws: the frame of `--acts`, or the state `--au`, `--expr`,
+/// `--combo` or `--set` ask for.
+fn state_activations(args: &RenderArgs, sources: &Sources) -> anyhow::Result<Activations> {
+    Ok(match (&args.acts, args.frame) {
         (Some(path), Some(frame)) => {
             let muscles: Vec<String> = sources
                 .rig
@@ -391,8 +397,7 @@ pub fn state_positions(
             crate::io::acts::read_frame(path, frame, &muscles)?
         }
         _ => export::activations(&args.state, sources)?,
-    };
-    deform(bound, &act)
+    })
 }
 
 /// Runs `grimace render`.
@@ -402,7 +407,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.all {
         return render_all(args, &sources, &bound, &look);
     }
-    let act = export::activations(&args.state, &sources)?;
+    let act = state_activations(args, &sources)?;
     let format = match &args.out {
         None => Format::Txt,
         Some(path) => format_of(path)?,

@@ -150,41 +150,12 @@ fn inner(
     }
 }
 
-/// Solves a symmetric positive definite system by Cholesky; `None` when not definite.
-fn cholesky_solve(mut a: Vec<f64>, mut b: Vec<f64>, n: usize) -> Option<Vec<f64>> {
-    for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
-        }
-        if d.is_nan() || d <= 0.0 {
-            return None;
-        }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = s / d;
-        }
-    }
-    for i in 0..n {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= a[i * n + k] * b[k];
-        }
-        b[i] = s / a[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let mut s = b[i];
-        for k in i + 1..n {
-            s -= a[k * n + i] * b[k];
-        }
-        b[i] = s / a[i * n + i];
-    }
-    Some(b)
+/// Solves a symmetric positive definite system (row-major `n` x `n`) by Cholesky
+/// (nalgebra's); `None` when it is not definite.
+fn cholesky_solve(a: Vec<f64>, b: Vec<f64>, n: usize) -> Option<Vec<f64>> {
+    let factor = nalgebra::DMatrix::from_row_slice(n, n, &a).cholesky()?;
+    let x = factor.solve(&nalgebra::DVector::from_vec(b));
+    x.iter().all(|v| v.is_finite()).then(|| x.data.into())
 }
 
 #[cfg(test)]
