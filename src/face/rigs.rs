@@ -330,10 +330,101 @@ const LIP_MASK_MIDLINE_MM: f64 = 4.0;
 /// lid sweeps down over the eye and the lower lid barely rises.
 pub const UPPER_LID_SHARE: f32 = 0.85;
 
-/// Gain of the default rig's closing eye sphincters. A sphincter at activation `K` moves a
-/// vertex at most `K / 4` units toward its axis (`K t (1 - t)`, largest at `t = 1/2`), less
-/// than the upper lid's travel to where the lids meet; the gain lets it reach.
-pub const EYE_CLOSING_GAIN: f32 = 1.6;
+/// A lid margin from corner to corner: `(x, y)` points sorted by x (the left eye's side).
+#[derive(Debug, Clone)]
+struct Margin(Vec<(f32, f32)>);
+
+impl Margin {
+    fn new(points: impl Iterator<Item = Vec3>) -> Margin {
+        let mut m: Vec<(f32, f32)> = points.map(|p| (p.x, p.y)).collect();
+        m.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Margin(m)
+    }
+
+    /// The margin's height in the column at `x`; `None` beyond the corners.
+    fn at(&self, x: f32) -> Option<f32> {
+        self.0
+            .windows(2)
+            .find(|w| w[0].0 <= x && x <= w[1].0)
+            .map(|w| {
+                let s = (x - w[0].0) / (w[1].0 - w[0].0).max(f32::EPSILON);
+                w[0].1 + s * (w[1].1 - w[0].1)
+            })
+    }
+}
+
+/// How far each point of a closing eye travels at 2.0, column by column: the lids meet on
+/// the ring's axis (toward which the ring pulls), or where the lower margin lies above it
+/// (by the outer corner, with the eye's canthal tilt) on the lower margin, which stays; each
+/// margin stops 3 % short of there, and beyond each margin
+/// the travel falls linearly to 0 at `lid` from the axis (the skin of the lid unfolds evenly).
+/// The corners, where the lids already meet, stay.
+#[derive(Debug, Clone)]
+struct LidProfile {
+    upper: Margin,
+    lower: Margin,
+    axis: f32,
+    /// How far beyond the axis the pull reaches: above it, below it.
+    lid: [f32; 2],
+}
+
+impl LidProfile {
+    /// The travel at 2.0 toward the axis of the skin point `(x, y)`.
+    fn travel(&self, x: f32, y: f32) -> f32 {
+        let (Some(up), Some(low)) = (self.upper.at(x), self.lower.at(x)) else {
+            return 0.0;
+        };
+        let ramp = |margin_travel: f32, from_margin: f32, margin_to_rim: f32| {
+            if margin_travel <= 0.0 || from_margin >= margin_to_rim {
+                0.0
+            } else {
+                margin_travel * (1.0 - from_margin.max(0.0) / margin_to_rim)
+            }
+        };
+        if y >= up && up > self.axis {
+            let to = low.max(self.axis);
+            let rim = self.axis + self.lid[0];
+            ramp(0.97 * (up - to), y - up, rim - up)
+        } else if y <= low && low < self.axis {
+            let rim = self.axis - self.lid[1];
+            ramp(0.97 * (self.axis - low), low - y, low - rim)
+        } else {
+            0.0
+        }
+    }
+
+    /// The mask weight at `p` (on the left eye's side, in the ring's frame) that makes the
+    /// ring, with `gain`,
+    /// move `p` by the profile's travel at 2.0, at most 1 (where the ring's own pull is the
+    /// smaller); `None` outside the ring.
+    fn weight(&self, ring: &Sphincter, gain: f32, p: Vec3) -> Option<f32> {
+        let px = (p.x - ring.centre.x) / ring.semi_major;
+        let t = (p.y - ring.centre.y).abs() / ring.semi_minor;
+        let f = 1.0 - (px * px + t * t).sqrt();
+        if f <= 0.0 {
+            return None;
+        }
+        let own = 2.0 * gain * f * t;
+        let want = self.travel(p.x, p.y);
+        Some(if own > want { want / own } else { 1.0 })
+    }
+}
+
+/// The gain the closing ring needs so that at 2.0 every upper margin vertex can travel as
+/// far as `profile` asks: the ring's own pull there is `2 g f t` units. At least 1. `None`
+/// when no margin vertex lies inside the ring.
+fn closing_gain(ring: &Sphincter, margin: &[Vec3], profile: &LidProfile) -> Option<f32> {
+    margin
+        .iter()
+        .filter_map(|p| {
+            let px = (p.x - ring.centre.x) / ring.semi_major;
+            let t = (p.y - ring.centre.y).abs() / ring.semi_minor;
+            let f = 1.0 - (px * px + t * t).sqrt();
+            (f > 0.0 && t > 0.0).then(|| profile.travel(p.x, p.y) / (2.0 * f * t))
+        })
+        .reduce(f32::max)
+        .map(|g| g.max(1.0))
+}
 
 struct Placer<'a> {
     mesh: &'a Mesh,
@@ -471,51 +562,79 @@ impl Placer<'_> {
     /// lid's travel, and adds `Orbicularis_Oculi_Lower`, which tightens the lower lid alone.
     ///
     /// `Orbicularis_Oculi` gets its axis (where the lids meet) moved down to
-    /// `1 - UPPER_LID_SHARE` of the opening above the lower lid, a mask with gain
-    /// [`EYE_CLOSING_GAIN`], and a smaller weight on everything below the axis, so that at 2.0
-    /// both lid margins reach the axis on the eye's centre line and no vertex goes past it
-    /// (each moves `2 g w t (1 - t)` units with `t = |Py| / ly`; `ly` and the lower weight
-    /// are solved for that). `Orbicularis_Oculi_Lower` is the paper's centred sphincter
-    /// masked to the lower lid side.
+    /// `1 - UPPER_LID_SHARE` of the opening above the lower lid, and reaches up to the brow:
+    /// a closing upper lid unfolds the skin between its margin and the brow, so its travel is
+    /// carried by that whole band rather than by the few millimetres above the margin (where
+    /// it tore the skin 3.5 times its length). A mask shapes the pull column by column
+    /// ([`LidProfile`]): each margin closes to 3 % of its way to where the lids meet, and the
+    /// skin beyond it follows less and less, to nothing at the brow (the lower lid over a
+    /// band as tall beyond its margin), so the lid skin stretches evenly. The mask's gain lets the ring reach that travel across the lid's width
+    /// ([`closing_gain`]). `Orbicularis_Oculi_Lower` is the paper's centred sphincter masked
+    /// to the lower lid side.
     fn eyelids(&self, rig: &mut Rig) -> Result<(), PlacementError> {
         let inner = self.landmark("left_inner_eye_corner")?;
         let outer = self.landmark("left_outer_eye_corner")?;
         let upper = self.landmark("left_upper_lid_centre")?;
         let lower = self.landmark("left_lower_lid_centre")?;
+        let brow = self.landmark("left_brow_centre")?;
         let missing = || PlacementError::MissingLandmark("left_upper_lid_centre (open)".into());
         let opening = upper.y - lower.y;
-        if opening.is_nan() || opening <= 0.0 {
+        if opening.is_nan() || opening <= 0.0 || brow.y <= upper.y {
             return Err(missing());
         }
         let reach = |half_width: f32, _| half_width + units(7.0) as f32;
         // the lower lid's own sphincter: the paper's geometry, only below its axis
         let [lower_left, lower_right] =
             eye_sphincters([inner, outer], [upper, lower], reach).ok_or_else(missing)?;
-        // the closing sphincter: axis low, stronger, weaker below the axis
-        let k = 2.0 * EYE_CLOSING_GAIN;
         let upper_travel = UPPER_LID_SHARE * opening;
         let lower_travel = opening - upper_travel;
-        // upper margin: k t (1 - t) = t ly with t = h / ly  =>  ly = (k/2)(1 - sqrt(1 - 4h/k))
-        let discriminant = 1.0 - 4.0 * upper_travel / k;
-        if discriminant < 0.0 {
-            return Err(missing());
-        }
-        let semi_minor = 0.5 * k * (1.0 - discriminant.sqrt());
-        let t_lower = lower_travel / semi_minor;
-        let lower_weight = semi_minor / (k * (1.0 - t_lower));
         let centre = rounded(Vec3::new(
             0.5 * (inner.x + outer.x),
             lower.y + lower_travel,
             0.5 * (upper.z + lower.z),
         ));
+        // The ring's up direction runs from the lower lid margin to the upper one in the
+        // ring's middle column, so the lids
+        // close along the slit's own slope and meet at the lower lid's depth; heights are
+        // measured along it (`local`).
+        let in_column = |group: &str| {
+            let lid = self.mesh.groups.get(group).map_or(&[][..], Vec::as_slice);
+            lid.iter()
+                .map(|&v| self.mesh.positions[v as usize])
+                .min_by(|a, b| (a.x - centre.x).abs().total_cmp(&(b.x - centre.x).abs()))
+        };
+        let (Some(top), Some(bottom)) = (in_column("left_upper_lid"), in_column("left_lower_lid"))
+        else {
+            return Err(missing());
+        };
+        let up = rounded(Vec3::new(0.0, top.y - bottom.y, top.z - bottom.z).normalize());
+        let up_unit = up.normalize();
+        let local = |p: Vec3| Vec3::new(p.x.abs(), centre.y + (p - centre).dot(up_unit), 0.0);
+        // the lid skin: from each margin as far as the upper margin lies below the brow
+        let lid_skin = brow.y - upper.y;
+        let margin = |group: &str| -> Vec<Vec3> {
+            let lid = self.mesh.groups.get(group).map_or(&[][..], Vec::as_slice);
+            lid.iter()
+                .map(|&v| local(self.mesh.positions[v as usize]))
+                .collect()
+        };
+        let (upper_margin, lower_margin) = (margin("left_upper_lid"), margin("left_lower_lid"));
+        let corners = [local(inner), local(outer)];
+        let profile = LidProfile {
+            upper: Margin::new(upper_margin.iter().chain(&corners).copied()),
+            lower: Margin::new(lower_margin.iter().chain(&corners).copied()),
+            axis: centre.y,
+            lid: [upper_travel + lid_skin, lower_travel + lid_skin],
+        };
         let closing = Sphincter {
             centre,
-            semi_major: round3(reach(0.5 * (outer.x - inner.x).abs(), semi_minor)),
-            semi_minor: round3(semi_minor),
+            semi_major: round3(reach(0.5 * (outer.x - inner.x).abs(), 0.0)),
+            semi_minor: round3(profile.lid[0]),
             convergence: Convergence::MajorAxis,
             bulge: 30.0,
-            frame: Frame::IDENTITY,
+            frame: Frame { x: Vec3::X, y: up },
         };
+        let gain = closing_gain(&closing, &upper_margin, &profile).ok_or_else(missing)?;
         for muscle in &mut rig.muscles {
             let left = muscle.name == "L_Orbicularis_Oculi";
             if left || muscle.name == "R_Orbicularis_Oculi" {
@@ -530,28 +649,19 @@ impl Placer<'_> {
             lower_left.kind.clone(),
             lower_right.kind,
         ));
-        let positions = &self.mesh.positions;
-        // Per vertex: `lower_weight` below the axis, and never more than brings the vertex to
-        // 3 % of its distance from the axis at 2.0 (`2 g w f |Py| / ly <= 0.97 |Py|`), so off
-        // the centre line, where the margins lie nearer the axis, no lid passes it.
-        let closing_weights = positions
+        let closing_weights = self
+            .mesh
+            .positions
             .iter()
             .enumerate()
             .filter_map(|(i, p)| {
-                let px = (p.x.abs() - centre.x) / closing.semi_major;
-                let py = (p.y - centre.y) / closing.semi_minor;
-                let f = 1.0 - (px * px + py * py).sqrt();
-                if f <= 0.0 {
-                    return None;
-                }
-                let base = if py < 0.0 { lower_weight } else { 1.0 };
-                let w = base.min(0.97 * closing.semi_minor / (k * f));
+                let w = profile.weight(&closing, round3(gain), local(*p))?;
                 (w < 1.0).then(|| (i as u32, round3(w)))
             })
             .collect();
         rig.masks.push(Mask {
             muscles: vec!["L_Orbicularis_Oculi".into(), "R_Orbicularis_Oculi".into()],
-            gain: EYE_CLOSING_GAIN,
+            gain: round3(gain),
             weights: closing_weights,
         });
         let MuscleKind::Sphincter(lower_ring) = &lower_left.kind else {
@@ -563,7 +673,9 @@ impl Placer<'_> {
                 "R_Orbicularis_Oculi_Lower".into(),
             ],
             gain: 1.0,
-            weights: positions
+            weights: self
+                .mesh
+                .positions
                 .iter()
                 .enumerate()
                 .filter(|(_, p)| {

@@ -229,7 +229,8 @@ fn eye_sphincters_close_the_lids_without_pulling_the_corners_in() {
             &f,
             &muscle,
             &format!("{side}_lower_lid_centre"),
-            |d| d.y > 0.05,
+            // up along the slit's slope, which leans forward: some of the travel is in z
+            |d| d.y > 0.0 && d.length() > 0.05,
             "raise",
         );
         for corner in ["inner", "outer"] {
