@@ -185,6 +185,9 @@ fn a_version_1_rig_on_the_built_in_face_is_mirrored_on_load() {
     if let (Some(now), Some(then)) = (&mut current.jaw, &old.rig.jaw) {
         (now.pivot, now.degrees_per_unit, now.slide) =
             (then.pivot, then.degrees_per_unit, then.slide);
+        // and its skin weights have since been relaxed (`face::rigs`); the weights' own
+        // conversion is `a_version_1_jaw_weight_moves_to_the_mirror_vertex`
+        now.weights = then.weights.clone();
     }
     let mesh = builtin::default_mesh();
     assert_eq!(old.mesh.positions, mesh.positions);

@@ -300,7 +300,7 @@ fn jaw_opens_the_mouth_without_tearing_its_corners() {
             let c = f.vertex(corner);
             let sink = rest[c].y - pose[c].y;
             assert!(
-                sink > 0.05 * drop && sink < 0.3 * drop,
+                sink > 0.05 * drop && sink < 0.45 * drop,
                 "jaw {k}: {corner} sinks a little: {sink} of {drop}"
             );
             assert_eq!(pose[c].x, rest[c].x, "jaw {k}: {corner} not sideways");
