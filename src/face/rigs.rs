@@ -11,6 +11,8 @@ use glam::Vec3;
 use thiserror::Error;
 
 use super::anthropometry::*;
+use super::jaw_skin::relax_jaw_weights;
+use super::lids::{closing_gain, LidProfile, Margin};
 use super::surface;
 use crate::model::{
     Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
@@ -329,102 +331,6 @@ const LIP_MASK_MIDLINE_MM: f64 = 4.0;
 /// Share of a blink's travel the upper lid carries in the default rig: in a blink the upper
 /// lid sweeps down over the eye and the lower lid barely rises.
 pub const UPPER_LID_SHARE: f32 = 0.85;
-
-/// A lid margin from corner to corner: `(x, y)` points sorted by x (the left eye's side).
-#[derive(Debug, Clone)]
-struct Margin(Vec<(f32, f32)>);
-
-impl Margin {
-    fn new(points: impl Iterator<Item = Vec3>) -> Margin {
-        let mut m: Vec<(f32, f32)> = points.map(|p| (p.x, p.y)).collect();
-        m.sort_by(|a, b| a.0.total_cmp(&b.0));
-        Margin(m)
-    }
-
-    /// The margin's height in the column at `x`; `None` beyond the corners.
-    fn at(&self, x: f32) -> Option<f32> {
-        self.0
-            .windows(2)
-            .find(|w| w[0].0 <= x && x <= w[1].0)
-            .map(|w| {
-                let s = (x - w[0].0) / (w[1].0 - w[0].0).max(f32::EPSILON);
-                w[0].1 + s * (w[1].1 - w[0].1)
-            })
-    }
-}
-
-/// How far each point of a closing eye travels at 2.0, column by column: the lids meet on
-/// the ring's axis (toward which the ring pulls), or where the lower margin lies above it
-/// (by the outer corner, with the eye's canthal tilt) on the lower margin, which stays; each
-/// margin stops 3 % short of there, and beyond each margin
-/// the travel falls linearly to 0 at `lid` from the axis (the skin of the lid unfolds evenly).
-/// The corners, where the lids already meet, stay.
-#[derive(Debug, Clone)]
-struct LidProfile {
-    upper: Margin,
-    lower: Margin,
-    axis: f32,
-    /// How far beyond the axis the pull reaches: above it, below it.
-    lid: [f32; 2],
-}
-
-impl LidProfile {
-    /// The travel at 2.0 toward the axis of the skin point `(x, y)`.
-    fn travel(&self, x: f32, y: f32) -> f32 {
-        let (Some(up), Some(low)) = (self.upper.at(x), self.lower.at(x)) else {
-            return 0.0;
-        };
-        let ramp = |margin_travel: f32, from_margin: f32, margin_to_rim: f32| {
-            if margin_travel <= 0.0 || from_margin >= margin_to_rim {
-                0.0
-            } else {
-                margin_travel * (1.0 - from_margin.max(0.0) / margin_to_rim)
-            }
-        };
-        if y >= up && up > self.axis {
-            let to = low.max(self.axis);
-            let rim = self.axis + self.lid[0];
-            ramp(0.97 * (up - to), y - up, rim - up)
-        } else if y <= low && low < self.axis {
-            let rim = self.axis - self.lid[1];
-            ramp(0.97 * (self.axis - low), low - y, low - rim)
-        } else {
-            0.0
-        }
-    }
-
-    /// The mask weight at `p` (on the left eye's side, in the ring's frame) that makes the
-    /// ring, with `gain`,
-    /// move `p` by the profile's travel at 2.0, at most 1 (where the ring's own pull is the
-    /// smaller); `None` outside the ring.
-    fn weight(&self, ring: &Sphincter, gain: f32, p: Vec3) -> Option<f32> {
-        let px = (p.x - ring.centre.x) / ring.semi_major;
-        let t = (p.y - ring.centre.y).abs() / ring.semi_minor;
-        let f = 1.0 - (px * px + t * t).sqrt();
-        if f <= 0.0 {
-            return None;
-        }
-        let own = 2.0 * gain * f * t;
-        let want = self.travel(p.x, p.y);
-        Some(if own > want { want / own } else { 1.0 })
-    }
-}
-
-/// The gain the closing ring needs so that at 2.0 every upper margin vertex can travel as
-/// far as `profile` asks: the ring's own pull there is `2 g f t` units. At least 1. `None`
-/// when no margin vertex lies inside the ring.
-fn closing_gain(ring: &Sphincter, margin: &[Vec3], profile: &LidProfile) -> Option<f32> {
-    margin
-        .iter()
-        .filter_map(|p| {
-            let px = (p.x - ring.centre.x) / ring.semi_major;
-            let t = (p.y - ring.centre.y).abs() / ring.semi_minor;
-            let f = 1.0 - (px * px + t * t).sqrt();
-            (f > 0.0 && t > 0.0).then(|| profile.travel(p.x, p.y) / (2.0 * f * t))
-        })
-        .reduce(f32::max)
-        .map(|g| g.max(1.0))
-}
 
 struct Placer<'a> {
     mesh: &'a Mesh,
@@ -857,81 +763,6 @@ pub fn jaw_weights(positions: &[Vec3], mouth_y: f32, corner_x: f32) -> Vec<(u32,
         }
     }
     weights
-}
-
-/// How far (mm) beyond the skin that the analytic jaw weights move the relaxed weights may
-/// reach: the cheek and chin around the mouth carry an opening jaw's pull.
-const JAW_CARRY_MM: f64 = 15.0;
-
-/// Relaxes the jaw's skin weights to a harmonic map, so that the opening jaw's pull falls off
-/// as evenly as the skin allows instead of in the analytic map's steep bands (beside the mouth
-/// corners an edge stretched 4x at AU26 and 6x at AU27). Held: the weights of 1 (the mandible
-/// and the middle of the lower lip and chin), and 0 on the upper lip (`held_still`) and beyond
-/// [`JAW_CARRY_MM`] of every moving vertex; free: every other skin vertex, which takes the
-/// mean of its neighbours weighted by `1 / length^2` (the discrete Laplace equation, solved by
-/// Gauss-Seidel sweeps in a fixed order, so the result is deterministic). The upper lip is
-/// held only beyond the corners' reach ([`JAW_CORNER_REACH_MM`]): held up to the corner, the
-/// map's slope grows without bound at the corner, the tip of the slit between a lower lip
-/// that drops and an upper lip that stays. (A biharmonic map was tried: with the mandible
-/// held at 1 it overshoots below the corners and stretches more.)
-fn relax_jaw_weights(
-    mesh: &Mesh,
-    skin: usize,
-    weights: &[(u32, f32)],
-    held_still: impl Fn(Vec3) -> bool,
-) -> Vec<(u32, f32)> {
-    let positions = &mesh.positions[..skin];
-    let mut w = vec![0.0f64; skin];
-    for &(v, x) in weights {
-        w[v as usize] = f64::from(x);
-    }
-    let moving: Vec<Vec3> = weights
-        .iter()
-        .map(|&(v, _)| positions[v as usize])
-        .collect();
-    let reach = units(JAW_CARRY_MM) as f32;
-    let free: Vec<bool> = (0..skin)
-        .map(|v| {
-            let p = positions[v];
-            w[v] < 1.0
-                && !(w[v] == 0.0 && held_still(p))
-                && moving.iter().any(|q| q.distance(p) <= reach)
-        })
-        .collect();
-    let mut neighbours: Vec<Vec<(usize, f64)>> = vec![Vec::new(); skin];
-    for [a, b] in mesh.edges() {
-        let (a, b) = (a as usize, b as usize);
-        if a < skin && b < skin {
-            let d = f64::from(positions[a].distance(positions[b]));
-            if d > 0.0 {
-                neighbours[a].push((b, 1.0 / (d * d)));
-                neighbours[b].push((a, 1.0 / (d * d)));
-            }
-        }
-    }
-    for _ in 0..4000 {
-        let mut change = 0.0f64;
-        for v in (0..skin).filter(|&v| free[v]) {
-            let (sum, total) = neighbours[v]
-                .iter()
-                .fold((0.0, 0.0), |(s, t), &(n, k)| (s + k * w[n], t + k));
-            if total > 0.0 {
-                let next = sum / total;
-                change = change.max((next - w[v]).abs());
-                w[v] = next;
-            }
-        }
-        if change < 1e-6 {
-            break;
-        }
-    }
-    w.iter()
-        .enumerate()
-        .filter_map(|(v, &x)| {
-            let x = round3((x as f32).clamp(0.0, 1.0));
-            (x > 0.0).then_some((v as u32, x))
-        })
-        .collect()
 }
 
 /// The highest-z point of the skin under front-view position `(x, y)` (mesh units), found
