@@ -9,6 +9,8 @@ pub mod au_table;
 pub mod classic;
 pub mod generator;
 pub mod groups;
+mod jaw_skin;
+mod lids;
 pub mod mouth;
 pub mod rigs;
 pub mod surface;

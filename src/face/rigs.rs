@@ -11,6 +11,8 @@ use glam::Vec3;
 use thiserror::Error;
 
 use super::anthropometry::*;
+use super::jaw_skin::relax_jaw_weights;
+use super::lids::{closing_gain, LidProfile, Margin};
 use super::surface;
 use crate::model::{
     Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
@@ -330,11 +332,6 @@ const LIP_MASK_MIDLINE_MM: f64 = 4.0;
 /// lid sweeps down over the eye and the lower lid barely rises.
 pub const UPPER_LID_SHARE: f32 = 0.85;
 
-/// Gain of the default rig's closing eye sphincters. A sphincter at activation `K` moves a
-/// vertex at most `K / 4` units toward its axis (`K t (1 - t)`, largest at `t = 1/2`), less
-/// than the upper lid's travel to where the lids meet; the gain lets it reach.
-pub const EYE_CLOSING_GAIN: f32 = 1.6;
-
 struct Placer<'a> {
     mesh: &'a Mesh,
 }
@@ -471,51 +468,79 @@ impl Placer<'_> {
     /// lid's travel, and adds `Orbicularis_Oculi_Lower`, which tightens the lower lid alone.
     ///
     /// `Orbicularis_Oculi` gets its axis (where the lids meet) moved down to
-    /// `1 - UPPER_LID_SHARE` of the opening above the lower lid, a mask with gain
-    /// [`EYE_CLOSING_GAIN`], and a smaller weight on everything below the axis, so that at 2.0
-    /// both lid margins reach the axis on the eye's centre line and no vertex goes past it
-    /// (each moves `2 g w t (1 - t)` units with `t = |Py| / ly`; `ly` and the lower weight
-    /// are solved for that). `Orbicularis_Oculi_Lower` is the paper's centred sphincter
-    /// masked to the lower lid side.
+    /// `1 - UPPER_LID_SHARE` of the opening above the lower lid, and reaches up to the brow:
+    /// a closing upper lid unfolds the skin between its margin and the brow, so its travel is
+    /// carried by that whole band rather than by the few millimetres above the margin (where
+    /// it tore the skin 3.5 times its length). A mask shapes the pull column by column
+    /// ([`LidProfile`]): each margin closes to 3 % of its way to where the lids meet, and the
+    /// skin beyond it follows less and less, to nothing at the brow (the lower lid over a
+    /// band as tall beyond its margin), so the lid skin stretches evenly. The mask's gain lets the ring reach that travel across the lid's width
+    /// ([`closing_gain`]). `Orbicularis_Oculi_Lower` is the paper's centred sphincter masked
+    /// to the lower lid side.
     fn eyelids(&self, rig: &mut Rig) -> Result<(), PlacementError> {
         let inner = self.landmark("left_inner_eye_corner")?;
         let outer = self.landmark("left_outer_eye_corner")?;
         let upper = self.landmark("left_upper_lid_centre")?;
         let lower = self.landmark("left_lower_lid_centre")?;
+        let brow = self.landmark("left_brow_centre")?;
         let missing = || PlacementError::MissingLandmark("left_upper_lid_centre (open)".into());
         let opening = upper.y - lower.y;
-        if opening.is_nan() || opening <= 0.0 {
+        if opening.is_nan() || opening <= 0.0 || brow.y <= upper.y {
             return Err(missing());
         }
         let reach = |half_width: f32, _| half_width + units(7.0) as f32;
         // the lower lid's own sphincter: the paper's geometry, only below its axis
         let [lower_left, lower_right] =
             eye_sphincters([inner, outer], [upper, lower], reach).ok_or_else(missing)?;
-        // the closing sphincter: axis low, stronger, weaker below the axis
-        let k = 2.0 * EYE_CLOSING_GAIN;
         let upper_travel = UPPER_LID_SHARE * opening;
         let lower_travel = opening - upper_travel;
-        // upper margin: k t (1 - t) = t ly with t = h / ly  =>  ly = (k/2)(1 - sqrt(1 - 4h/k))
-        let discriminant = 1.0 - 4.0 * upper_travel / k;
-        if discriminant < 0.0 {
-            return Err(missing());
-        }
-        let semi_minor = 0.5 * k * (1.0 - discriminant.sqrt());
-        let t_lower = lower_travel / semi_minor;
-        let lower_weight = semi_minor / (k * (1.0 - t_lower));
         let centre = rounded(Vec3::new(
             0.5 * (inner.x + outer.x),
             lower.y + lower_travel,
             0.5 * (upper.z + lower.z),
         ));
+        // The ring's up direction runs from the lower lid margin to the upper one in the
+        // ring's middle column, so the lids
+        // close along the slit's own slope and meet at the lower lid's depth; heights are
+        // measured along it (`local`).
+        let in_column = |group: &str| {
+            let lid = self.mesh.groups.get(group).map_or(&[][..], Vec::as_slice);
+            lid.iter()
+                .map(|&v| self.mesh.positions[v as usize])
+                .min_by(|a, b| (a.x - centre.x).abs().total_cmp(&(b.x - centre.x).abs()))
+        };
+        let (Some(top), Some(bottom)) = (in_column("left_upper_lid"), in_column("left_lower_lid"))
+        else {
+            return Err(missing());
+        };
+        let up = rounded(Vec3::new(0.0, top.y - bottom.y, top.z - bottom.z).normalize());
+        let up_unit = up.normalize();
+        let local = |p: Vec3| Vec3::new(p.x.abs(), centre.y + (p - centre).dot(up_unit), 0.0);
+        // the lid skin: from each margin as far as the upper margin lies below the brow
+        let lid_skin = brow.y - upper.y;
+        let margin = |group: &str| -> Vec<Vec3> {
+            let lid = self.mesh.groups.get(group).map_or(&[][..], Vec::as_slice);
+            lid.iter()
+                .map(|&v| local(self.mesh.positions[v as usize]))
+                .collect()
+        };
+        let (upper_margin, lower_margin) = (margin("left_upper_lid"), margin("left_lower_lid"));
+        let corners = [local(inner), local(outer)];
+        let profile = LidProfile {
+            upper: Margin::new(upper_margin.iter().chain(&corners).copied()),
+            lower: Margin::new(lower_margin.iter().chain(&corners).copied()),
+            axis: centre.y,
+            lid: [upper_travel + lid_skin, lower_travel + lid_skin],
+        };
         let closing = Sphincter {
             centre,
-            semi_major: round3(reach(0.5 * (outer.x - inner.x).abs(), semi_minor)),
-            semi_minor: round3(semi_minor),
+            semi_major: round3(reach(0.5 * (outer.x - inner.x).abs(), 0.0)),
+            semi_minor: round3(profile.lid[0]),
             convergence: Convergence::MajorAxis,
             bulge: 30.0,
-            frame: Frame::IDENTITY,
+            frame: Frame { x: Vec3::X, y: up },
         };
+        let gain = closing_gain(&closing, &upper_margin, &profile).ok_or_else(missing)?;
         for muscle in &mut rig.muscles {
             let left = muscle.name == "L_Orbicularis_Oculi";
             if left || muscle.name == "R_Orbicularis_Oculi" {
@@ -530,28 +555,19 @@ impl Placer<'_> {
             lower_left.kind.clone(),
             lower_right.kind,
         ));
-        let positions = &self.mesh.positions;
-        // Per vertex: `lower_weight` below the axis, and never more than brings the vertex to
-        // 3 % of its distance from the axis at 2.0 (`2 g w f |Py| / ly <= 0.97 |Py|`), so off
-        // the centre line, where the margins lie nearer the axis, no lid passes it.
-        let closing_weights = positions
+        let closing_weights = self
+            .mesh
+            .positions
             .iter()
             .enumerate()
             .filter_map(|(i, p)| {
-                let px = (p.x.abs() - centre.x) / closing.semi_major;
-                let py = (p.y - centre.y) / closing.semi_minor;
-                let f = 1.0 - (px * px + py * py).sqrt();
-                if f <= 0.0 {
-                    return None;
-                }
-                let base = if py < 0.0 { lower_weight } else { 1.0 };
-                let w = base.min(0.97 * closing.semi_minor / (k * f));
+                let w = profile.weight(&closing, round3(gain), local(*p))?;
                 (w < 1.0).then(|| (i as u32, round3(w)))
             })
             .collect();
         rig.masks.push(Mask {
             muscles: vec!["L_Orbicularis_Oculi".into(), "R_Orbicularis_Oculi".into()],
-            gain: EYE_CLOSING_GAIN,
+            gain: round3(gain),
             weights: closing_weights,
         });
         let MuscleKind::Sphincter(lower_ring) = &lower_left.kind else {
@@ -563,7 +579,9 @@ impl Placer<'_> {
                 "R_Orbicularis_Oculi_Lower".into(),
             ],
             gain: 1.0,
-            weights: positions
+            weights: self
+                .mesh
+                .positions
                 .iter()
                 .enumerate()
                 .filter(|(_, p)| {
@@ -671,7 +689,13 @@ impl Placer<'_> {
         let lower = self.landmark("lower_lip_centre")?;
         let mouth_y = 0.5 * (upper.y + lower.y);
         let skin = super::groups::skin_len(self.mesh);
-        let mut weights = jaw_weights(&self.mesh.positions[..skin], mouth_y, corner.x);
+        let weights = jaw_weights(&self.mesh.positions[..skin], mouth_y, corner.x);
+        let mut weights = relax_jaw_weights(self.mesh, skin, &weights, |p| {
+            p.y >= mouth_y
+                && p.x.abs() < corner.x
+                && Vec3::new(p.x.abs(), p.y, p.z).distance(corner)
+                    > units(JAW_CORNER_REACH_MM) as f32
+        });
         weights.extend(
             super::groups::jaw_parts(self.mesh)
                 .into_iter()

@@ -59,16 +59,18 @@ pub fn weights(
         .map(|p| warp.apply_f32(*p))
         .collect();
     let all = Nearest::new(carried.clone(), (0..carried.len() as u32).collect());
-    let lower_ids: Vec<u32> = match mouth_from {
-        Some(m) => (0..carried.len() as u32)
-            .filter(|&v| m.side_weight(template.mesh.positions[v as usize], Side::Lower) > 0.0)
-            .collect(),
-        None => Vec::new(),
+    // each lip takes its weights from the same lip of the template (where the mesh's lips
+    // are joined, a vertex of one lip may lie nearest the other lip of the template)
+    let side_index = |side: Side| {
+        let ids: Vec<u32> = match mouth_from {
+            Some(m) => (0..carried.len() as u32)
+                .filter(|&v| m.side_weight(template.mesh.positions[v as usize], side) > 0.0)
+                .collect(),
+            None => Vec::new(),
+        };
+        Nearest::new(ids.iter().map(|&v| carried[v as usize]).collect(), ids)
     };
-    let lower = Nearest::new(
-        lower_ids.iter().map(|&v| carried[v as usize]).collect(),
-        lower_ids,
-    );
+    let (lower, upper) = (side_index(Side::Lower), side_index(Side::Upper));
     let (near, far) = (FADE.0 * warp.spread, FADE.1 * warp.spread);
     let mut out = Vec::new();
     for (v, p) in mesh.positions.iter().enumerate() {
@@ -78,14 +80,27 @@ pub fn weights(
             Part::Skin => {
                 let below = mouth_to.map_or(0.0, |m| m.side_weight(*p, Side::Lower));
                 let above = mouth_to.map_or(0.0, |m| m.side_weight(*p, Side::Upper));
-                let index = if below > 0.0 { &lower } else { &all };
+                let index = if below > 0.0 {
+                    &lower
+                } else if above > 0.0 {
+                    &upper
+                } else {
+                    &all
+                };
+                let from_upper = above > 0.0 && below <= 0.0 && upper.nearest(*p).is_some();
                 let (id, d) = index
                     .nearest(*p)
                     .or(all.nearest(*p))
                     .unwrap_or((0, f32::INFINITY));
                 let fade = 1.0 - smoothstep(near, far, f64::from(d));
                 let w = f64::from(dense.get(id as usize).copied().unwrap_or(0.0)) * fade;
-                (w * (1.0 - above)) as f32
+                // the template's upper lip carries its own (small, by the corners) weights;
+                // without one, the upper lip is split off the jaw
+                if from_upper {
+                    w as f32
+                } else {
+                    (w * (1.0 - above)) as f32
+                }
             }
         };
         if w > 0.0 {

@@ -209,10 +209,11 @@ fn jaw_drop_moves_the_chin_mostly_down_and_opens_an_oval() {
         assert!(-lip.y > lip_drop, "AU{au}: lower lip drops {lip}");
         for (corner, outward) in [("left_mouth_corner", 1.0), ("right_mouth_corner", -1.0)] {
             let c = f.moved(&p, corner);
-            // drawn in and slightly down: below rest, by much less than the lower lip
+            // drawn in and down: below rest, by less than half the lower lip's drop (the
+            // skin round the corner carries the opening, so it does not tear there)
             assert!(c.x * outward < -0.5, "AU{au}: {corner} drawn in: {c}");
             assert!(
-                c.y < -1.0 && c.y > 0.3 * lip.y,
+                c.y < -1.0 && c.y > 0.45 * lip.y,
                 "AU{au}: {corner} slightly down: {c}"
             );
         }

@@ -229,7 +229,8 @@ fn eye_sphincters_close_the_lids_without_pulling_the_corners_in() {
             &f,
             &muscle,
             &format!("{side}_lower_lid_centre"),
-            |d| d.y > 0.05,
+            // up along the slit's slope, which leans forward: some of the travel is in z
+            |d| d.y > 0.0 && d.length() > 0.05,
             "raise",
         );
         for corner in ["inner", "outer"] {
@@ -299,7 +300,7 @@ fn jaw_opens_the_mouth_without_tearing_its_corners() {
             let c = f.vertex(corner);
             let sink = rest[c].y - pose[c].y;
             assert!(
-                sink > 0.05 * drop && sink < 0.3 * drop,
+                sink > 0.05 * drop && sink < 0.45 * drop,
                 "jaw {k}: {corner} sinks a little: {sink} of {drop}"
             );
             assert_eq!(pose[c].x, rest[c].x, "jaw {k}: {corner} not sideways");

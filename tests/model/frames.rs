@@ -157,9 +157,10 @@ fn p() -> &'static Path {
     Path::new("t.ron")
 }
 
-/// The default rig with the mouth given a frame of its own.
+/// The paper's rig (whose rings lie in the mesh's own axes) with the mouth given a frame of
+/// its own.
 fn framed_rig(frame: Frame) -> grimace::model::Rig {
-    let mut rig = builtin::default_rig();
+    let mut rig = builtin::paper_rig();
     let mouth = rig.muscle_index("Orbicularis_Oris").unwrap();
     let MuscleKind::Sphincter(s) = &mut rig.muscles[mouth].kind else {
         panic!("the mouth is not a sphincter")
@@ -170,7 +171,7 @@ fn framed_rig(frame: Frame) -> grimace::model::Rig {
 
 #[test]
 fn rig_files_keep_a_frame_and_write_none_for_the_default() {
-    let plain = io::rig_to_ron(&builtin::default_rig());
+    let plain = io::rig_to_ron(&builtin::paper_rig());
     assert!(!plain.contains("frame"), "{plain}");
     let frame = Frame {
         x: Vec3::new(0.8, 0.0, 0.6),
@@ -184,7 +185,7 @@ fn rig_files_keep_a_frame_and_write_none_for_the_default() {
     assert_eq!(io::rig_to_ron(&back), text);
     // A rig written before frames existed reads with the mesh's own axes.
     let old = io::parse_rig(&plain, p()).unwrap();
-    assert_eq!(old, builtin::default_rig());
+    assert_eq!(old, builtin::paper_rig());
 }
 
 #[test]
@@ -232,7 +233,7 @@ fn the_editor_draws_a_framed_ring_in_its_plane() {
     };
     let mut overlays = Vec::new();
     muscle_overlays(&framed_rig(z_up), None, &Palette::default(), &mut overlays);
-    let rig = builtin::default_rig();
+    let rig = builtin::paper_rig();
     let mouth = rig.muscle_index("Orbicularis_Oris").unwrap();
     let MuscleKind::Sphincter(s) = &rig.muscles[mouth].kind else {
         panic!("the mouth is not a sphincter")
