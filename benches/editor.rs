@@ -17,7 +17,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use grimace::tui::action::Action;
 use grimace::tui::action::RigAction;
 use grimace::tui::app::{App, ColorMode};
-use grimace::tui::scene::Scene;
+use grimace::tui::face::Face;
 use grimace::tui::update::update;
 use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;
@@ -39,7 +39,7 @@ impl Write for Counter {
 
 fn app(cols: u16, rows: u16) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
-    let mut app = App::new(Scene::new(rig, mesh).expect("the rig binds"), table, None);
+    let mut app = App::new(Face::new(rig, mesh).expect("the rig binds"), table, None);
     app.view.colors = ColorMode::Ansi16;
     update(&mut app, Action::Resize(cols, rows));
     app
@@ -119,7 +119,7 @@ fn frames(c: &mut Criterion) {
         })
     });
     // What a rig-mode move binds: the zygomatic alone again, against the whole rig.
-    let mut bound = grimace::model::BoundRig::bind(rig_app.rig(), rig_app.doc.scene.mesh())
+    let mut bound = grimace::model::BoundRig::bind(rig_app.rig(), rig_app.doc.face.mesh())
         .expect("the rig binds");
     let kind = rig_app.rig().muscles[0].kind.clone();
     c.bench_function("rebind_one_muscle", |b| {
@@ -127,7 +127,7 @@ fn frames(c: &mut Criterion) {
     });
     c.bench_function("bind_whole_rig", |b| {
         b.iter(|| {
-            grimace::model::BoundRig::bind(rig_app.rig(), rig_app.doc.scene.mesh()).expect("binds")
+            grimace::model::BoundRig::bind(rig_app.rig(), rig_app.doc.face.mesh()).expect("binds")
         })
     });
     c.bench_function("start_to_first_frame_200x60", |b| {

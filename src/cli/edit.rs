@@ -14,7 +14,7 @@ use crate::io::{recovery, reference};
 use crate::model::{Mesh, Rig};
 use crate::tui;
 use crate::tui::app::{App, ColorMode, FileStamp, Mode, Question, Recovered, View};
-use crate::tui::scene::Scene;
+use crate::tui::face::Face;
 use crate::tui::session::{self, Session};
 
 /// The notes at the end of `grimace edit --help`.
@@ -103,7 +103,7 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
     }
-    let mut scene = Scene::new(rig, mesh)?;
+    let mut scene = Face::new(rig, mesh)?;
     if let Some(basis) = args.facing.basis().map_err(|e| e.to_string())? {
         scene.face(basis);
     }

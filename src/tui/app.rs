@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use crate::model::{Activations, Jaw, MuscleKind, Rig};
 
-use super::scene::Scene;
+use super::face::Face;
 
 /// Smallest terminal the editor draws in; below it, it says so instead.
 pub const MIN_SIZE: (u16, u16) = (60, 16);
@@ -396,7 +396,7 @@ impl FileStamp {
 #[derive(Debug, Clone)]
 pub struct Document {
     /// Rig, mesh and deformed positions.
-    pub scene: Scene,
+    pub face: Face,
     /// The activations being edited.
     pub activations: Activations,
     /// The AU table being edited.
@@ -462,12 +462,12 @@ pub struct App {
 
 impl App {
     /// A new editor on a scene and a table.
-    pub fn new(scene: Scene, table: AuTable, file: Option<PathBuf>) -> App {
+    pub fn new(scene: Face, table: AuTable, file: Option<PathBuf>) -> App {
         let rows = rows_of(scene.rig());
         let activations = Activations::zero(scene.rig());
         App {
             doc: Document {
-                scene,
+                face: scene,
                 activations,
                 saved_table: table.clone(),
                 table,
@@ -492,7 +492,7 @@ impl App {
 
     /// The rig.
     pub fn rig(&self) -> &Rig {
-        self.doc.scene.rig()
+        self.doc.face.rig()
     }
 
     /// True when the table differs from the file (or from the built-in table).
@@ -744,7 +744,7 @@ impl RigParts {
     }
 
     /// Puts the parts into the scene's rig, binding again only what they touch.
-    pub(crate) fn apply(self, scene: &mut Scene) -> Result<(), String> {
+    pub(crate) fn apply(self, scene: &mut Face) -> Result<(), String> {
         match self {
             RigParts::Muscles(list) => scene.rebind_muscles(list),
             RigParts::Jaw(p) => scene.rebind_jaw(p.pivot, p.axis, p.degrees_per_unit),

@@ -10,7 +10,7 @@ use crate::model::{
     Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
 };
 use crate::tui::app::{App, FileStamp};
-use crate::tui::scene::Scene;
+use crate::tui::face::Face;
 
 fn linear(name: &str, side: Side, mirror: &str, x: f32) -> Muscle {
     Muscle {
@@ -101,7 +101,7 @@ pub(crate) fn app() -> App {
         )]),
         expressions: BTreeMap::new(),
     };
-    let scene = Scene::new(rig, mesh).unwrap();
+    let scene = Face::new(rig, mesh).unwrap();
     let mut app = App::new(scene, table, Some(PathBuf::from("t.au.ron")));
     app.doc.file_stamp = Some(FileStamp { len: 1, hash: 1 });
     app

@@ -5,6 +5,7 @@
 
 pub mod action;
 pub mod app;
+pub mod face;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;
@@ -12,7 +13,6 @@ pub mod pick;
 pub(crate) mod play;
 pub(crate) mod program;
 pub mod rig;
-pub mod scene;
 pub(crate) mod session;
 pub mod table_ops;
 pub(crate) mod term;

@@ -11,7 +11,7 @@ use grimace::cli::{self, Cli, Command};
 use grimace::facs::AuTable;
 use grimace::io::{builtin, landmarks, obj, rig_file, table_file};
 use grimace::model::{Activations, Deformation, Rig};
-use grimace::tui::scene::Scene;
+use grimace::tui::face::Face;
 use grimace::tui::table_ops;
 
 use super::gltf_export::read_glb;
@@ -89,7 +89,7 @@ fn every_consumer_agrees(dir: &Path, rig_args: &[&str]) -> f32 {
     let bound = Deformation::default()
         .bind(&loaded.rig, &loaded.mesh)
         .unwrap();
-    let mut scene = Scene::new(loaded.rig.clone(), loaded.mesh.clone()).unwrap();
+    let mut scene = Face::new(loaded.rig.clone(), loaded.mesh.clone()).unwrap();
     let glb = dir.join("face.glb");
     let glb_arg = glb.to_str().unwrap();
     export(&[rig_args, &["--gltf", glb_arg, "--targets", "aus"]].concat());

@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 
 use grimace::tui::action::Action;
 use grimace::tui::app::{App, ColorMode};
-use grimace::tui::scene::Scene;
+use grimace::tui::face::Face;
 use grimace::tui::update::update;
 use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;
@@ -36,7 +36,7 @@ impl Counter {
 
 fn app(cols: u16, rows: u16) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
-    let mut app = App::new(Scene::new(rig, mesh).unwrap(), table, None);
+    let mut app = App::new(Face::new(rig, mesh).unwrap(), table, None);
     app.view.colors = ColorMode::Ansi16;
     update(&mut app, Action::Resize(cols, rows));
     app

@@ -3,7 +3,7 @@
 
 use grimace::tui::action::Action;
 use grimace::tui::app::{App, CellMode, ColorMode, Style};
-use grimace::tui::scene::Scene;
+use grimace::tui::face::Face;
 use grimace::tui::update::update;
 use grimace::tui::view;
 use ratatui::backend::TestBackend;
@@ -14,7 +14,7 @@ use crate::common::pty::Launch;
 
 fn shaded_app(colors: ColorMode) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
-    let scene = Scene::new(rig, mesh).expect("the default rig binds");
+    let scene = Face::new(rig, mesh).expect("the default rig binds");
     let mut app = App::new(scene, table, Some("expressions.au.ron".into()));
     app.view.colors = colors;
     app.view.cells = CellMode::HalfBlock;

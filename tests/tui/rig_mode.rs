@@ -178,7 +178,7 @@ fn turn_the_jaw_axis_then_undo_an_activation_and_the_turn_in_order() {
 fn select_keys(name: &str) -> String {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
     let i = rig.muscle_index(name).expect("the muscle");
-    let scene = grimace::tui::scene::Scene::new(rig, mesh).expect("binds");
+    let scene = grimace::tui::face::Face::new(rig, mesh).expect("binds");
     let app = grimace::tui::app::App::new(scene, table, None);
     let rows = &app.selection.rows;
     let at = rows

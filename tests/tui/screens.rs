@@ -3,7 +3,7 @@
 
 use grimace::tui::action::Action;
 use grimace::tui::app::{App, ColorMode};
-use grimace::tui::scene::Scene;
+use grimace::tui::face::Face;
 use grimace::tui::update::update;
 use grimace::tui::view;
 use ratatui::backend::TestBackend;
@@ -11,7 +11,7 @@ use ratatui::Terminal;
 
 fn app(cols: u16, rows: u16) -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
-    let scene = Scene::new(rig, mesh).expect("the default rig binds");
+    let scene = Face::new(rig, mesh).expect("the default rig binds");
     let mut app = App::new(scene, table, Some("expressions.au.ron".into()));
     app.view.colors = ColorMode::None;
     update(&mut app, Action::Resize(cols, rows));

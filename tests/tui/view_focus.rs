@@ -4,13 +4,13 @@ use glam::Vec3;
 use grimace::model::MuscleKind;
 use grimace::tui::action::Action;
 use grimace::tui::app::{App, Row};
-use grimace::tui::scene::Scene;
+use grimace::tui::face::Face;
 use grimace::tui::update::update;
 use grimace::tui::view::viewport::camera;
 
 fn app() -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
-    let scene = Scene::new(rig, mesh).expect("the default rig binds");
+    let scene = Face::new(rig, mesh).expect("the default rig binds");
     let mut app = App::new(scene, table, None);
     update(&mut app, Action::Resize(120, 40));
     app
@@ -18,7 +18,7 @@ fn app() -> App {
 
 /// Where `p` lands on a 200 x 160 dot canvas, as a fraction of the canvas from its centre.
 fn from_centre(app: &App, p: Vec3) -> f32 {
-    let mesh = app.doc.scene.mesh();
+    let mesh = app.doc.face.mesh();
     let proj = camera(app).fit_points(&mesh.positions, 200, 160, 1.0);
     let q = proj.project(p);
     ((q.x - 100.0) / 200.0).hypot((q.y - 80.0) / 160.0)

@@ -32,7 +32,7 @@ pub const HELD_STEP: f32 = 0.25;
 
 /// The face's height: the scale of point and length steps.
 fn face_size(app: &App) -> f32 {
-    app.doc.scene.framing().height()
+    app.doc.face.framing().height()
 }
 
 /// The screen's right and up directions in mesh coordinates, for the current view.
@@ -210,7 +210,7 @@ fn edit(app: &mut App, change: Change, part: Option<&str>, fx: &mut Vec<Effect>)
         }
     };
     let first = app.rig_edit.saved.is_none().then(|| app.rig().clone());
-    if let Err(reason) = after.apply(&mut app.doc.scene) {
+    if let Err(reason) = after.apply(&mut app.doc.face) {
         return app.error(format!("refused: {reason}"));
     }
     if let Some(rig) = first {
@@ -234,13 +234,13 @@ fn edit(app: &mut App, change: Change, part: Option<&str>, fx: &mut Vec<Effect>)
 /// back again; a change the model now refuses comes back unchanged with the reason.
 pub fn put_back(app: &mut App, change: RigUndo) -> Result<RigUndo, (RigUndo, String)> {
     let current = change.parts.current(app.rig());
-    if let Err(reason) = change.parts.clone().apply(&mut app.doc.scene) {
+    if let Err(reason) = change.parts.clone().apply(&mut app.doc.face) {
         return Err((change, reason));
     }
     app.rig_edit.shown = None;
     if !app.rig_edit.on {
         let activations = app.doc.activations.clone();
-        app.doc.scene.deform(&activations);
+        app.doc.face.deform(&activations);
     }
     Ok(RigUndo {
         what: change.what,
@@ -252,7 +252,7 @@ pub fn put_back(app: &mut App, change: RigUndo) -> Result<RigUndo, (RigUndo, Str
 /// as loaded; a rig that no longer fits the mesh is left out, with the reason.
 pub fn recover(app: &mut App, rig: Rig) {
     let before = app.rig().clone();
-    match app.doc.scene.set_rig(rig) {
+    match app.doc.face.set_rig(rig) {
         Ok(()) => {
             app.rig_edit.saved.get_or_insert_with(|| before.clone());
             app.history.undo.push(Step::Rig(RigUndo {
@@ -263,7 +263,7 @@ pub fn recover(app: &mut App, rig: Rig) {
             app.rig_edit.shown = None;
             if !app.rig_edit.on {
                 let activations = app.doc.activations.clone();
-                app.doc.scene.deform(&activations);
+                app.doc.face.deform(&activations);
             }
         }
         Err(reason) => app.warn(format!("the recovered rig is left out: {reason}")),
@@ -273,12 +273,12 @@ pub fn recover(app: &mut App, rig: Rig) {
 /// Shows the selected muscle at the held activation while rig mode is on, and the edited
 /// activations otherwise. Runs after every action; deforms only when something changed.
 pub fn sync(app: &mut App) {
-    let generation = app.doc.scene.generation();
+    let generation = app.doc.face.generation();
     if !app.rig_edit.on {
         if let Some((_, _, shown)) = app.rig_edit.shown.take() {
             if shown == generation {
                 let activations = app.doc.activations.clone();
-                app.doc.scene.deform(&activations);
+                app.doc.face.deform(&activations);
             }
         }
         return;
@@ -293,8 +293,8 @@ pub fn sync(app: &mut App) {
         return;
     }
     let activations = held_activations(app, row, app.rig_edit.held);
-    app.doc.scene.deform(&activations);
-    app.rig_edit.shown = Some((row, app.rig_edit.held, app.doc.scene.generation()));
+    app.doc.face.deform(&activations);
+    app.rig_edit.shown = Some((row, app.rig_edit.held, app.doc.face.generation()));
 }
 
 /// The edited activations with `row` set to `held`.

@@ -18,12 +18,12 @@ fn linear(app: &App, i: usize) -> crate::model::Linear {
 #[test]
 fn the_selected_muscle_is_held_and_released() {
     let mut app = fixture::app();
-    let rest = app.doc.scene.positions().to_vec();
+    let rest = app.doc.face.positions().to_vec();
     run(&mut app, Action::Rig(RigAction::Toggle));
-    assert_ne!(app.doc.scene.positions(), rest.as_slice());
+    assert_ne!(app.doc.face.positions(), rest.as_slice());
     assert!(app.doc.activations.is_rest(), "holding is not an edit");
     run(&mut app, Action::Rig(RigAction::Toggle));
-    assert_eq!(app.doc.scene.positions(), rest.as_slice());
+    assert_eq!(app.doc.face.positions(), rest.as_slice());
 }
 
 #[test]
@@ -158,7 +158,7 @@ fn sphincter(app: &App, i: usize) -> crate::model::Sphincter {
 /// The default face in an editor, rig mode on.
 fn default_app() -> App {
     let (rig, mesh, table) = crate::cli::edit::default_face().expect("the built-in face");
-    let scene = crate::tui::scene::Scene::new(rig, mesh).expect("binds");
+    let scene = crate::tui::face::Face::new(rig, mesh).expect("binds");
     let mut app = App::new(scene, table, None);
     run(&mut app, Action::Rig(RigAction::Toggle));
     app
@@ -167,7 +167,7 @@ fn default_app() -> App {
 /// The rig as bound from scratch deforms the held face exactly as the rebound one.
 fn assert_bound_as_from_scratch(app: &App) {
     let scratch = crate::model::Deformation::default()
-        .bind(app.rig(), app.doc.scene.mesh())
+        .bind(app.rig(), app.doc.face.mesh())
         .unwrap();
     let activations = held_activations(app, app.selected_row(), app.rig_edit.held);
     let mut out = Vec::new();
@@ -175,7 +175,7 @@ fn assert_bound_as_from_scratch(app: &App) {
     let bits = |p: &[Vec3]| -> Vec<[u32; 3]> {
         p.iter().map(|v| v.to_array().map(f32::to_bits)).collect()
     };
-    assert_eq!(bits(app.doc.scene.positions()), bits(&out));
+    assert_eq!(bits(app.doc.face.positions()), bits(&out));
 }
 
 #[test]
@@ -324,11 +324,11 @@ fn one_history_undoes_rig_and_activation_edits_in_the_order_made() {
     run(&mut app, Action::Undo);
     assert_eq!(app.rig(), &rig0);
     let scratch = crate::model::Deformation::default()
-        .bind(&rig0, app.doc.scene.mesh())
+        .bind(&rig0, app.doc.face.mesh())
         .unwrap();
     let mut out = Vec::new();
     scratch.deform(&app.doc.activations, &mut out).unwrap();
-    assert_eq!(app.doc.scene.positions(), out.as_slice());
+    assert_eq!(app.doc.face.positions(), out.as_slice());
 }
 
 #[test]

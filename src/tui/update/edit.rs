@@ -99,11 +99,11 @@ pub(crate) fn set_one(app: &mut App, row: Row, value: f32) {
             if let Some(slot) = app.doc.activations.muscles.get_mut(i) {
                 *slot = value;
             }
-            app.doc.scene.update_muscle(&app.doc.activations, Some(i));
+            app.doc.face.update_muscle(&app.doc.activations, Some(i));
         }
         Row::Jaw => {
             app.doc.activations.jaw = value;
-            app.doc.scene.update_muscle(&app.doc.activations, None);
+            app.doc.face.update_muscle(&app.doc.activations, None);
         }
     }
 }
@@ -117,7 +117,7 @@ pub(crate) fn replace_activations(
     begin_edit(app);
     app.doc.activations = activations;
     app.doc.loaded = loaded;
-    app.doc.scene.deform(&app.doc.activations);
+    app.doc.face.deform(&app.doc.activations);
     edited(app, fx);
 }
 
@@ -125,7 +125,7 @@ pub(crate) fn restore(app: &mut App, snapshot: crate::tui::app::Snapshot) {
     app.doc.activations = snapshot.activations;
     app.doc.table = snapshot.table;
     app.doc.loaded = snapshot.loaded;
-    app.doc.scene.deform(&app.doc.activations);
+    app.doc.face.deform(&app.doc.activations);
     let items = app.table_items().len();
     app.selection.table_selected = app.selection.table_selected.min(items.saturating_sub(1));
 }

@@ -76,7 +76,7 @@ pub(crate) fn answer(app: &mut App, question: Question, yes: bool, fx: &mut Vec<
             if let Some(rig) = found.rig {
                 crate::tui::rig::recover(app, rig);
             }
-            app.doc.scene.deform(&app.doc.activations);
+            app.doc.face.deform(&app.doc.activations);
             app.info("recovered the unsaved changes; :w saves them");
             edited(app, fx);
         }

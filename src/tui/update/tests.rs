@@ -142,7 +142,7 @@ fn a_new_edit_clears_redo() {
 #[test]
 fn edits_deform_the_face_and_undo_restores_it() {
     let mut app = app();
-    let rest = app.doc.scene.mesh().positions.clone();
+    let rest = app.doc.face.mesh().positions.clone();
     run(
         &mut app,
         &[
@@ -152,20 +152,20 @@ fn edits_deform_the_face_and_undo_restores_it() {
         ],
     );
     assert_ne!(
-        app.doc.scene.positions(),
+        app.doc.face.positions(),
         &rest[..],
         "the zygomatics move the grid"
     );
     // The incremental update matches a full deformation.
-    let mut full = app.doc.scene.clone();
+    let mut full = app.doc.face.clone();
     full.deform(&app.doc.activations);
-    assert_eq!(app.doc.scene.positions(), full.positions());
+    assert_eq!(app.doc.face.positions(), full.positions());
     command(&mut app, "jaw 2");
-    let mut full = app.doc.scene.clone();
+    let mut full = app.doc.face.clone();
     full.deform(&app.doc.activations);
-    assert_eq!(app.doc.scene.positions(), full.positions());
+    assert_eq!(app.doc.face.positions(), full.positions());
     run(&mut app, &[Action::Undo, Action::Undo]);
-    assert_eq!(app.doc.scene.positions(), &rest[..]);
+    assert_eq!(app.doc.face.positions(), &rest[..]);
 }
 
 #[test]
@@ -520,7 +520,7 @@ fn steps_store_the_decimal_exactly() {
 }
 
 fn default_app(table: AuTable) -> App {
-    let scene = crate::tui::scene::Scene::new(
+    let scene = crate::tui::face::Face::new(
         crate::io::builtin::default_rig(),
         crate::io::builtin::default_mesh(),
     )

@@ -108,7 +108,7 @@ pub(crate) fn zoom_focus(app: &App) -> Option<glam::Vec3> {
     if let Some(m) = mouth {
         return Some(region(&m.kind)).filter(|p| p.is_finite());
     }
-    let mesh = app.doc.scene.mesh();
+    let mesh = app.doc.face.mesh();
     let group = mesh
         .groups
         .iter()
@@ -129,8 +129,8 @@ pub(crate) fn zoom_focus(app: &App) -> Option<glam::Vec3> {
 /// zoom focus at the viewport's centre for the current view angles.
 fn focus_pan(app: &App) -> Option<(f32, f32)> {
     let focus = zoom_focus(app)?;
-    let mesh = app.doc.scene.mesh();
-    let framing = app.doc.scene.framing();
+    let mesh = app.doc.face.mesh();
+    let framing = app.doc.face.framing();
     let view = crate::tui::view::viewport::camera(app).view_matrix();
     // The centre the camera fits the framed points around, as it sees it.
     let (mut lo, mut hi) = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);

@@ -242,10 +242,10 @@ pub fn gauge(fraction: f32, width: usize, ascii: bool) -> String {
 mod tests {
     use super::*;
     use crate::tui::app::App;
-    use crate::tui::scene::Scene;
+    use crate::tui::face::Face;
 
     fn app_on(rig: crate::model::Rig) -> App {
-        let scene = Scene::new(rig, crate::io::builtin::default_mesh()).unwrap();
+        let scene = Face::new(rig, crate::io::builtin::default_mesh()).unwrap();
         App::new(scene, crate::facs::AuTable::new("builtin:default"), None)
     }
 

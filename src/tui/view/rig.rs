@@ -37,7 +37,7 @@ fn segment(a: Vec3, b: Vec3, color: Rgb) -> Overlay {
 /// Appends the zone of the selected row and a mark on the selected point.
 pub fn zone_overlays(app: &App, out: &mut Vec<Overlay>) {
     let row = app.selected_row();
-    zone_of(app.rig(), &app.doc.scene.mesh().positions, row, out);
+    zone_of(app.rig(), &app.doc.face.mesh().positions, row, out);
     let names = point_names(match row {
         Row::Muscle(i) => app.rig().muscles.get(i).map(|m| &m.kind),
         Row::Jaw => None,

@@ -42,7 +42,7 @@ struct CacheKey {
 /// fraction of the face's size. Every view of the editor (drawing, zoom focus, rig mode's
 /// directions) derives from this one.
 pub fn camera(app: &App) -> Camera {
-    let framing = app.doc.scene.framing();
+    let framing = app.doc.face.framing();
     let extent = framing.size();
     Camera {
         yaw: app.view.yaw.to_radians(),
@@ -76,7 +76,7 @@ pub fn draw(app: &App, cache: &mut RenderCache, theme: &Theme, area: Rect, buf: 
         Row::Jaw => None,
     };
     let key = CacheKey {
-        generation: app.doc.scene.generation(),
+        generation: app.doc.face.generation(),
         view: app.view.clone(),
         area: inner,
         selected: selected.filter(|_| app.view.show_muscles),
@@ -95,7 +95,7 @@ pub fn draw(app: &App, cache: &mut RenderCache, theme: &Theme, area: Rect, buf: 
     .render(inner, buf);
     if app.view.show_displacement && inner.height > 2 {
         // The colour scale, on the viewport's last row.
-        let mesh = app.doc.scene.mesh();
+        let mesh = app.doc.face.mesh();
         let legend = DisplacementLegend::of(&Scene {
             mm_per_unit: crate::io::builtin::mm_per_unit(mesh),
             ..Scene::new(mesh, &mesh.positions)
@@ -129,7 +129,7 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
         overlays,
         sampled,
     } = &mut *cache;
-    let mesh = app.doc.scene.mesh();
+    let mesh = app.doc.face.mesh();
     let canvas = canvas.get_or_insert_with(|| DotCanvas::new(0, 0));
     let mode = app.view.drawn_cells();
     mode.prepare(canvas, usize::from(inner.width), usize::from(inner.height));
@@ -144,20 +144,20 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
     let camera = camera(app);
     let level =
         app.doc
-            .scene
+            .face
             .lod()
             .choose(&camera, canvas.width(), canvas.height(), canvas.dot_aspect);
     // A big mesh is drawn from the level of detail this view needs, only its vertices
     // deformed; a small one (or a close zoom) whole.
     let mut scene = match level {
         Some(level) => {
-            app.doc.scene.sample(level, sampled);
+            app.doc.face.sample(level, sampled);
             Scene {
                 focus: Some(&level.frame),
                 ..Scene::new(&level.mesh, sampled)
             }
         }
-        None => Scene::new(mesh, app.doc.scene.positions()).with_framing(app.doc.scene.framing()),
+        None => Scene::new(mesh, app.doc.face.positions()).with_framing(app.doc.face.framing()),
     }
     .with_overlays(overlays);
     scene.ghost = app.view.show_ghost;

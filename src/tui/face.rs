@@ -5,9 +5,9 @@
 //!
 //! A big mesh has levels of detail ([`Lod`]), made on a thread of their own so the first
 //! screen does not wait for them (until they are there the full mesh is drawn): the viewport
-//! draws one of them, so only its vertices are deformed for a frame ([`Scene::sample`]);
+//! draws one of them, so only its vertices are deformed for a frame ([`Face::sample`]);
 //! the whole mesh's positions are computed when something asks for them
-//! ([`Scene::positions`]). A small mesh keeps its whole deformation up to date, one
+//! ([`Face::positions`]). A small mesh keeps its whole deformation up to date, one
 //! muscle's region at a time.
 
 use std::cell::OnceCell;
@@ -22,13 +22,13 @@ use crate::render::{Framing, Level, Lod};
 /// The face being edited: bound rig, rest mesh and the deformed positions for the current
 /// activations.
 #[derive(Debug, Clone)]
-pub struct Scene {
+pub struct Face {
     bound: BoundRig,
     mesh: Mesh,
     /// The whole mesh's deformed positions: always there without levels of detail, else
     /// computed on first use after each change.
     positions: OnceCell<Vec<Vec3>>,
-    /// The activations of the last deformation (what [`Scene::sample`] deforms by).
+    /// The activations of the last deformation (what [`Face::sample`] deforms by).
     activations: Activations,
     /// The levels of detail, once made (a small mesh's are there at once: none).
     lod: Arc<OnceLock<Lod>>,
@@ -42,9 +42,9 @@ pub struct Scene {
     framing: Framing,
 }
 
-impl Scene {
+impl Face {
     /// Binds a rig to its mesh. Fails with a message when the rig does not fit the mesh.
-    pub fn new(rig: Rig, mesh: Mesh) -> Result<Scene, String> {
+    pub fn new(rig: Rig, mesh: Mesh) -> Result<Face, String> {
         let bound = Deformation::default()
             .bind(&rig, &mesh)
             .map_err(|e| format!("the rig does not fit its mesh: {e}"))?;
@@ -60,7 +60,7 @@ impl Scene {
         } else {
             let _ = lod.set(Lod::default());
         }
-        Ok(Scene {
+        Ok(Face {
             samplers: OnceCell::new(),
             big,
             activations: Activations::zero(&rig),
@@ -199,7 +199,7 @@ impl Scene {
     }
 
     /// Gives the jaw a new pivot, axis and degrees per unit, like
-    /// [`Scene::rebind_muscles`].
+    /// [`Face::rebind_muscles`].
     pub fn rebind_jaw(
         &mut self,
         pivot: Vec3,
@@ -265,7 +265,7 @@ mod tests {
     #[test]
     fn a_big_mesh_is_drawn_from_its_level_deformed_as_the_whole_mesh_is() {
         let rig = builtin::default_rig();
-        let mut scene = Scene::new(rig.clone(), big_face()).unwrap();
+        let mut scene = Face::new(rig.clone(), big_face()).unwrap();
         assert!(!scene.wait_for_lod().is_empty());
         let bound = Deformation::default().bind(&rig, scene.mesh()).unwrap();
         let mut act = builtin::default_table()
