@@ -24,6 +24,7 @@ use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use super::NO_ROW;
 use crate::model::mesh::Mesh;
@@ -228,6 +229,28 @@ pub(super) fn outward_normals(mesh: &Mesh) -> Vec<Vec3> {
 /// neighbouring vertices agree on it; the height along it is fitted as
 /// `d x + e y + a x^2 + b x y + c y^2` through the vertex.
 pub(super) fn fit_patches(
+    mesh: &Mesh,
+    adjacency: &Adjacency,
+    normals: &[Vec3],
+    vertices: &[u32],
+    radius: f32,
+) -> Vec<Patch> {
+    // Each vertex's patch depends on the rest mesh only, so chunks of vertices are fitted
+    // on the rayon pool, each with its own search state: the same bits as one pass.
+    let chunk = vertices.len().div_ceil(PATCH_CHUNKS).max(PATCH_CHUNK_MIN);
+    vertices
+        .par_chunks(chunk)
+        .flat_map_iter(|part| fit_chunk(mesh, adjacency, normals, part, radius))
+        .collect()
+}
+
+/// Vertices per parallel chunk of [`fit_patches`] at least (each chunk clears a mark per
+/// mesh vertex), and the number of chunks it aims at (a few per core, for balance).
+const PATCH_CHUNK_MIN: usize = 2048;
+const PATCH_CHUNKS: usize = 64;
+
+/// [`fit_patches`] for one chunk of vertices, in order.
+fn fit_chunk(
     mesh: &Mesh,
     adjacency: &Adjacency,
     normals: &[Vec3],
