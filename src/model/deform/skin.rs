@@ -699,6 +699,25 @@ mod tests {
     use super::*;
 
     #[test]
+    fn patches_fitted_in_parallel_chunks_are_those_of_one_pass() {
+        let mesh = crate::io::builtin::default_mesh();
+        // every vertex, in a scrambled order, so that several chunks are made
+        let n = mesh.vertex_count() as u32;
+        let vertices: Vec<u32> = (0..n).map(|i| (i * 7919) % n).collect();
+        assert!(
+            vertices.len() > 2 * PATCH_CHUNK_MIN,
+            "too few vertices for two chunks"
+        );
+        let adjacency = Adjacency::of(&mesh);
+        let normals = outward_normals(&mesh);
+        let (lo, hi) = mesh.bounds();
+        let radius = (hi - lo).length() * 0.05;
+        let parallel = fit_patches(&mesh, &adjacency, &normals, &vertices, radius);
+        let one_pass = fit_chunk(&mesh, &adjacency, &normals, &vertices, radius);
+        assert_eq!(parallel, one_pass);
+    }
+
+    #[test]
     fn keep_area_finds_the_scale_of_the_floor() {
         let rest = [Vec3::ZERO, Vec3::X, Vec3::Y];
         // vertex 1 pulled onto vertex 0: the area goes linearly from 1 to 0
