@@ -9,7 +9,8 @@
 //!
 //! Run: `cargo bench --bench heads`. `GRIMACE_HEADS=3,10` sets the splits (default 3 and
 //! 12: 30 763 and 475 840 vertices); `GRIMACE_BENCH_RUNS=N` the frames per measurement
-//! (default 30). Times are wall-clock medians (and minimums) over the runs, each run on the
+//! (default 30). `GRIMACE_HEADS_OUT=DIR` only writes the heads and their landmarks there
+//! (`head-K.obj`, `head-K.landmarks.ron`) for timing the command line on them. Times are wall-clock medians (and minimums) over the runs, each run on the
 //! whole rayon pool as the editor uses it.
 
 use std::collections::HashMap;
@@ -101,6 +102,22 @@ fn split(mesh: &Mesh, k: u32) -> Mesh {
         out.groups.insert(name.clone(), new);
     }
     out
+}
+
+/// Writes the head split `k` times as `DIR/head-K.obj` with its landmarks beside it
+/// (`head-K.landmarks.ron`, the built-in face's: old vertices keep their numbers), for
+/// timing the command line (`grimace fit-rig`, `render`) on it.
+fn write_head(k: u32, dir: &std::path::Path) {
+    let mesh = split(&builtin::default_mesh(), k);
+    let landmarks = builtin::landmarks("face").expect("built-in landmarks");
+    let obj_path = dir.join(format!("head-{k}.obj"));
+    std::fs::write(&obj_path, obj::write_obj(&mesh, &mesh.positions)).expect("write obj");
+    grimace::io::landmarks::save_landmarks(
+        &dir.join(format!("head-{k}.landmarks.ron")),
+        &landmarks,
+    )
+    .expect("write landmarks");
+    eprintln!("{}: {} vertices", obj_path.display(), mesh.vertex_count());
 }
 
 /// Median and minimum wall-clock milliseconds of `runs` calls of `f`.
@@ -293,6 +310,12 @@ fn main() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(30);
+    if let Ok(dir) = std::env::var("GRIMACE_HEADS_OUT") {
+        for k in splits {
+            write_head(k, std::path::Path::new(&dir));
+        }
+        return;
+    }
     for k in splits {
         head(k, runs);
     }

@@ -8,6 +8,7 @@
 //! only. Parts that turn with the jaw (lower teeth, tongue) get 1, still parts 0.
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::nearest::Nearest;
 use super::parts::{Part, Parts};
@@ -72,9 +73,10 @@ pub fn weights(
     };
     let (lower, upper) = (side_index(Side::Lower), side_index(Side::Upper));
     let (near, far) = (FADE.0 * warp.spread, FADE.1 * warp.spread);
-    let mut out = Vec::new();
-    for (v, p) in mesh.positions.iter().enumerate() {
-        let w = match parts.of_vertex[v] {
+    // each vertex's weight depends on the template and its own position only: found on
+    // the rayon pool, listed in vertex order as one pass would
+    let weight = |(v, p): (usize, &Vec3)| -> f32 {
+        match parts.of_vertex[v] {
             Part::Still => 0.0,
             Part::Jaw => 1.0,
             Part::Skin => {
@@ -102,10 +104,13 @@ pub fn weights(
                     (w * (1.0 - above)) as f32
                 }
             }
-        };
-        if w > 0.0 {
-            out.push((v as u32, w));
         }
-    }
-    out
+    };
+    let all_weights: Vec<f32> = mesh.positions.par_iter().enumerate().map(weight).collect();
+    all_weights
+        .into_iter()
+        .enumerate()
+        .filter(|&(_, w)| w > 0.0)
+        .map(|(v, w)| (v as u32, w))
+        .collect()
 }

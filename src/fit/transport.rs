@@ -11,6 +11,7 @@
 use std::path::PathBuf;
 
 use glam::{DMat3, DVec3, Vec3};
+use rayon::prelude::*;
 use thiserror::Error;
 
 use super::parts::{find_parts, Part, PartOverrides, Parts};
@@ -588,9 +589,10 @@ impl Sources {
             .collect();
         let index = super::nearest::Nearest::new(points, ids);
         let (near, far) = (MASK_FADE.0 * warp.spread, MASK_FADE.1 * warp.spread);
+        // one nearest search per vertex, independent: on the rayon pool, in vertex order
         let of_vertex = mesh
             .positions
-            .iter()
+            .par_iter()
             .enumerate()
             .map(|(v, p)| {
                 if parts.of_vertex[v] != Part::Skin {

@@ -269,9 +269,10 @@ impl BoundRig {
         check_budget(rig, &rest)?;
         let jaw = bind_jaw(rig, rest.len())?;
         let scales = mask_scales(rig, rest.len())?;
+        // each muscle's field reads the rest mesh only: one muscle per task, in rig order
         let fields: Vec<Field> = rig
             .muscles
-            .iter()
+            .par_iter()
             .zip(&scales)
             .map(|(m, scale)| {
                 let field = Field::of(&m.kind, &rest);

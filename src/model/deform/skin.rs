@@ -24,6 +24,7 @@ use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use super::NO_ROW;
 use crate::model::mesh::Mesh;
@@ -228,6 +229,28 @@ pub(super) fn outward_normals(mesh: &Mesh) -> Vec<Vec3> {
 /// neighbouring vertices agree on it; the height along it is fitted as
 /// `d x + e y + a x^2 + b x y + c y^2` through the vertex.
 pub(super) fn fit_patches(
+    mesh: &Mesh,
+    adjacency: &Adjacency,
+    normals: &[Vec3],
+    vertices: &[u32],
+    radius: f32,
+) -> Vec<Patch> {
+    // Each vertex's patch depends on the rest mesh only, so chunks of vertices are fitted
+    // on the rayon pool, each with its own search state: the same bits as one pass.
+    let chunk = vertices.len().div_ceil(PATCH_CHUNKS).max(PATCH_CHUNK_MIN);
+    vertices
+        .par_chunks(chunk)
+        .flat_map_iter(|part| fit_chunk(mesh, adjacency, normals, part, radius))
+        .collect()
+}
+
+/// Vertices per parallel chunk of [`fit_patches`] at least (each chunk clears a mark per
+/// mesh vertex), and the number of chunks it aims at (a few per core, for balance).
+const PATCH_CHUNK_MIN: usize = 2048;
+const PATCH_CHUNKS: usize = 64;
+
+/// [`fit_patches`] for one chunk of vertices, in order.
+fn fit_chunk(
     mesh: &Mesh,
     adjacency: &Adjacency,
     normals: &[Vec3],
@@ -674,6 +697,25 @@ fn keep_area(rest: [Vec3; 3], moved: [Vec3; 3], normal: Vec3, floor: f32) -> f32
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn patches_fitted_in_parallel_chunks_are_those_of_one_pass() {
+        let mesh = crate::io::builtin::default_mesh();
+        // every vertex, in a scrambled order, so that several chunks are made
+        let n = mesh.vertex_count() as u32;
+        let vertices: Vec<u32> = (0..n).map(|i| (i * 7919) % n).collect();
+        assert!(
+            vertices.len() > 2 * PATCH_CHUNK_MIN,
+            "too few vertices for two chunks"
+        );
+        let adjacency = Adjacency::of(&mesh);
+        let normals = outward_normals(&mesh);
+        let (lo, hi) = mesh.bounds();
+        let radius = (hi - lo).length() * 0.05;
+        let parallel = fit_patches(&mesh, &adjacency, &normals, &vertices, radius);
+        let one_pass = fit_chunk(&mesh, &adjacency, &normals, &vertices, radius);
+        assert_eq!(parallel, one_pass);
+    }
 
     #[test]
     fn keep_area_finds_the_scale_of_the_floor() {
