@@ -561,7 +561,22 @@ impl BoundRig {
     /// the jaw (the same arithmetic as [`BoundRig::deform`]).
     #[inline]
     fn unbounded(&self, v: usize, muscles: &[f32], average: bool, turn: Option<JawTurn>) -> Vec3 {
-        let row = self.vertex_row[v];
+        let (row, w) = (self.vertex_row[v], self.vertex_jaw[v]);
+        self.moved(v, row, w, muscles, average, turn)
+    }
+
+    /// Vertex `v` moved from rest by its CSR row `row` (or [`NO_ROW`]) and its jaw weight
+    /// `w`: the one per-vertex arithmetic of [`Self::unbounded`] and the sampled deformation.
+    #[inline]
+    fn moved(
+        &self,
+        v: usize,
+        row: u32,
+        w: f32,
+        muscles: &[f32],
+        average: bool,
+        turn: Option<JawTurn>,
+    ) -> Vec3 {
         let mut p = if row == NO_ROW {
             self.rest[v]
         } else if average {
@@ -569,7 +584,6 @@ impl BoundRig {
         } else {
             self.row_position::<false>(row as usize, v, muscles)
         };
-        let w = self.vertex_jaw[v];
         if let Some(turn) = turn.filter(|_| w > 0.0) {
             p = turn.apply(p, w);
         }

@@ -139,19 +139,7 @@ impl BoundRig {
         let muscles = &act.muscles[..];
         let before_one = |i: usize| {
             let v = sampler.needed[i] as usize;
-            let row = sampler.rows[i];
-            let mut p = if row == NO_ROW {
-                self.rest[v]
-            } else if average {
-                self.row_position::<true>(row as usize, v, muscles)
-            } else {
-                self.row_position::<false>(row as usize, v, muscles)
-            };
-            let w = sampler.jaw[i];
-            if let Some(turn) = turn.filter(|_| w > 0.0) {
-                p = turn.apply(p, w);
-            }
-            p
+            self.moved(v, sampler.rows[i], sampler.jaw[i], muscles, average, turn)
         };
         let mut before = vec![Vec3::ZERO; sampler.needed.len()];
         chunked(&mut before, |start, chunk| {
