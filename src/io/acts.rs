@@ -218,12 +218,7 @@ impl<R: BufRead> ActsReader<R> {
 
     /// The next row (`Ok(None)` at the end); a row that cannot be read is `Ok(Some(Err))`.
     pub fn next_row(&mut self) -> Result<Option<Result<ActsRow, RowError>>, LoadError> {
-        let read = next_row_line(&mut self.lines).map_err(|e| LoadError {
-            path: self.path.clone(),
-            line: Some(self.lines.number() + 1),
-            column: None,
-            message: format!("cannot read: {e}"),
-        })?;
+        let read = next_row_line(&mut self.lines, &self.path)?;
         Ok(read.map(|line| line.and_then(|l| self.columns.parse_row(&l.text, l.number))))
     }
 }

@@ -242,12 +242,7 @@ impl<R: BufRead> LiveLinkReader<R> {
     /// The next row (blank lines are passed over; a line longer than [`MAX_LINE_BYTES`] is a
     /// malformed row); `None` at the end of the input.
     pub fn next_row(&mut self) -> Result<Option<Result<LiveLinkRow, RowError>>, LoadError> {
-        let read = next_row_line(&mut self.lines).map_err(|e| LoadError {
-            path: self.path.clone(),
-            line: Some(self.lines.number() + 1),
-            column: None,
-            message: format!("cannot read: {e}"),
-        })?;
+        let read = next_row_line(&mut self.lines, &self.path)?;
         Ok(read.map(|line| {
             line.and_then(|line| self.columns.parse_row(&line.text, line.number, self.fps))
         }))

@@ -450,12 +450,7 @@ impl<R: BufRead> OpenFaceReader<R> {
     /// The next row, `Ok(None)` at the end of the input; blank lines are passed over. A line
     /// longer than [`MAX_LINE_BYTES`] is a malformed row, read past in bounded memory.
     pub fn next_row(&mut self) -> Result<Option<RowOutcome>, OpenFaceError> {
-        let read = next_row_line(&mut self.lines).map_err(|e| OpenFaceError {
-            path: self.path.clone(),
-            line: Some(self.lines.number() + 1),
-            column: None,
-            message: format!("cannot read: {e}"),
-        })?;
+        let read = next_row_line(&mut self.lines, &self.path)?;
         Ok(read.map(|line| match line {
             Ok(line) => match self.columns.parse_row(&line.text, line.number) {
                 Ok(row) => RowOutcome::Row(row),
@@ -476,11 +471,23 @@ impl<R: BufRead> Iterator for OpenFaceReader<R> {
 
 /// The next line of a CSV recording's rows, `None` at the end: blank lines are passed over,
 /// and a line longer than [`MAX_LINE_BYTES`] is a malformed row, read past in bounded memory.
-/// Shared by the OpenFace and Live Link Face readers.
+/// Shared by the OpenFace, Live Link Face and activation readers; a read that fails is an
+/// error naming `path` and the line it stopped at.
 pub(crate) fn next_row_line<R: BufRead>(
     lines: &mut LineReader<R>,
-) -> std::io::Result<Option<Result<Line, RowError>>> {
-    while let Some(line) = lines.next_line()? {
+    path: &Path,
+) -> Result<Option<Result<Line, RowError>>, LoadError> {
+    loop {
+        let number = lines.number() + 1;
+        let read = lines.next_line().map_err(|e| LoadError {
+            path: path.to_path_buf(),
+            line: Some(number),
+            column: None,
+            message: format!("cannot read: {e}"),
+        })?;
+        let Some(line) = read else {
+            return Ok(None);
+        };
         if let Some(message) = line.too_long(MAX_LINE_BYTES) {
             return Ok(Some(Err(RowError {
                 line: line.number,
@@ -492,7 +499,6 @@ pub(crate) fn next_row_line<R: BufRead>(
             return Ok(Some(Ok(line)));
         }
     }
-    Ok(None)
 }
 
 #[cfg(test)]
