@@ -40,6 +40,9 @@ pub struct Face {
     samplers: OnceCell<Vec<OnceCell<Sampler>>>,
     generation: u64,
     framing: Framing,
+    /// Millimetres per mesh unit when the mesh's scale is known (the built-in face), found
+    /// once: the displacement legend reads it every frame.
+    mm_per_unit: Option<f32>,
 }
 
 impl Face {
@@ -60,6 +63,7 @@ impl Face {
         } else {
             let _ = lod.set(Lod::default());
         }
+        let mm_per_unit = crate::io::builtin::mm_per_unit(&mesh);
         Ok(Face {
             samplers: OnceCell::new(),
             big,
@@ -70,6 +74,7 @@ impl Face {
             lod,
             generation: 0,
             framing,
+            mm_per_unit,
         })
     }
 
@@ -136,6 +141,11 @@ impl Face {
     /// The rest mesh.
     pub fn mesh(&self) -> &Mesh {
         &self.mesh
+    }
+
+    /// Millimetres per mesh unit when the mesh's scale is known, else `None`.
+    pub fn mm_per_unit(&self) -> Option<f32> {
+        self.mm_per_unit
     }
 
     /// The deformed vertex positions for the last activations given (computed here for a
@@ -290,5 +300,17 @@ mod tests {
             assert_eq!(bits(&sampled), bits(&gathered), "step {step}");
             assert_eq!(bits(scene.positions()), bits(&whole), "step {step}");
         }
+    }
+
+    #[test]
+    fn the_built_in_face_knows_its_millimetres_and_another_mesh_does_not() {
+        let rig = builtin::default_rig();
+        let face = Face::new(rig.clone(), builtin::default_mesh()).unwrap();
+        assert_eq!(
+            face.mm_per_unit(),
+            Some(crate::face::anthropometry::MM_PER_UNIT as f32)
+        );
+        let big = Face::new(rig, big_face()).unwrap();
+        assert_eq!(big.mm_per_unit(), None);
     }
 }

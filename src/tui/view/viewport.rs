@@ -97,7 +97,7 @@ pub fn draw(app: &App, cache: &mut RenderCache, theme: &Theme, area: Rect, buf: 
         // The colour scale, on the viewport's last row.
         let mesh = app.doc.face.mesh();
         let legend = DisplacementLegend::of(&Scene {
-            mm_per_unit: crate::io::builtin::mm_per_unit(mesh),
+            mm_per_unit: app.doc.face.mm_per_unit(),
             ..Scene::new(mesh, &mesh.positions)
         });
         let row = Rect {
