@@ -7,6 +7,11 @@
 //! The mesh is used as it is, in its own units and orientation. The command prints how the
 //! faces were aligned and which parts of the mesh it took for skin, for still parts and for
 //! parts that turn with the jaw. Nothing is written when anything fails.
+//!
+//! When the lips are joined (one surface across the mouth, [`fit::lipcut`]), the skin is cut
+//! along the inner lip line unless `--keep-lips` is given: the opened mesh is written beside
+//! the rig as `NAME.opened.obj` (the given mesh is never changed) with its landmarks as
+//! `NAME.opened.landmarks.ron`, and the rig is fitted to it and names it.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -14,11 +19,14 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context};
 use clap::Args;
 
+use crate::fit::lipcut::{self, LipCut, Lips};
 use crate::fit::{self, Part, PartOverrides, Template};
 use crate::io::inputs::Inputs;
-use crate::io::landmarks::{beside, check_against, load_landmarks, parse_landmarks};
+use crate::io::landmarks::{
+    beside, check_against, load_landmarks, parse_landmarks, save_landmarks,
+};
 use crate::io::rig_file::{self, LoadedRig};
-use crate::io::{error::read_text, obj, reference, LoadError, MAX_FILE_BYTES};
+use crate::io::{atomic, error::read_text, obj, reference, LoadError, SaveError, MAX_FILE_BYTES};
 use crate::landmarks::{self, Landmarks};
 use crate::model::{Deformation, Mesh};
 
@@ -60,17 +68,21 @@ pub struct FitRigArgs {
     /// below the lips, or named like lower teeth or a tongue, turn with the jaw.
     #[arg(long = "rigid", value_name = "GROUP")]
     pub rigid: Vec<String>,
+    /// Keep the mesh's own topology where its lips are joined (one surface across the
+    /// mouth): no NAME.opened.obj is written, and the mouth opens by stretching that skin.
+    #[arg(long)]
+    pub keep_lips: bool,
 }
 
 /// Runs `grimace fit-rig`.
 pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
-    let mesh = obj::read_obj(&args.mesh)?;
-    check_groups(args, &mesh)?;
+    let source = obj::read_obj(&args.mesh)?;
+    check_groups(args, &source)?;
     let landmark_arg = landmark_source(args)?;
-    let (landmarks, landmark_file) = target_landmarks(&landmark_arg, args, &mesh)?;
+    let (source_landmarks, landmark_file) = target_landmarks(&landmark_arg, args, &source)?;
     let template = rig_file::load_rig_ref(&args.template, None)?;
     let (template_points, template_file) = template_landmarks(args, &template)?;
-    let mesh_path = mesh_reference(&args.mesh, &args.out)?;
+    let mut mesh_path = mesh_reference(&args.mesh, &args.out)?;
     let mut inputs = Inputs::new();
     inputs.add("the mesh to rig", &args.mesh);
     inputs.add("the landmark file", &landmark_file);
@@ -79,19 +91,33 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         inputs.add("the template's landmark file", path);
     }
     inputs.check_output(&args.out)?;
+    let lips = lipcut::find(&source, &source_landmarks.vertices(&source));
+    let opened = match &lips {
+        Lips::Joined(cut) if !args.keep_lips => {
+            let files = opened_files(&args.out);
+            inputs.check_output(&files.0)?;
+            inputs.check_output(&files.1)?;
+            Some((cut, files))
+        }
+        _ => None,
+    };
+    let (mesh, landmarks) = match opened {
+        Some((cut, _)) => (&cut.mesh, Landmarks::Vertices(cut.landmarks.clone())),
+        None => (&source, source_landmarks),
+    };
     let overrides = PartOverrides {
         skin: args.skin.clone(),
         rigid: args.rigid.clone(),
     };
-    let fitted = fit::fit_rig(
+    let mut fitted = fit::fit_rig(
         Template {
             rig: &template.rig,
             mesh: &template.mesh,
             landmarks: &template_points,
         },
-        &mesh,
+        mesh,
         &landmarks,
-        mesh_path,
+        mesh_path.clone(),
         &overrides,
     )
     .map_err(|e| match e {
@@ -101,7 +127,10 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         }
         e => anyhow!(LoadError::new(&landmark_file, e.to_string())),
     })?;
-    warn_order(&landmark_file, &landmarks, &mesh);
+    if let Some((cut, _)) = opened {
+        lipcut::weights_by_side(&mut fitted.rig, cut);
+    }
+    warn_order(&landmark_file, &landmarks, mesh);
     for o in fitted.outliers(&template.rig, OUTLIER_FACTOR) {
         eprintln!(
             "warning: {}: its {} came out {:.2} times the template's at this face's scale \
@@ -110,8 +139,17 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         );
     }
     Deformation::default()
-        .bind(&fitted.rig, &mesh)
+        .bind(&fitted.rig, mesh)
         .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
+    if let Some((cut, (obj_file, landmark_out))) = &opened {
+        let text = read_text(&args.mesh, MAX_FILE_BYTES)?;
+        let written = opened_obj(&text, cut, &args.mesh);
+        atomic::write_atomic(obj_file, written.as_bytes())
+            .map_err(|e| SaveError::io(obj_file, &e))?;
+        save_landmarks(landmark_out, &Landmarks::Vertices(cut.landmarks.clone()))?;
+        mesh_path = reference::written_reference(&args.out, obj_file);
+        fitted.rig.mesh = mesh_path;
+    }
     rig_file::save_rig(&args.out, &fitted.rig)?;
     if fitted.bend >= SUSPICIOUS_BEND {
         eprintln!(
@@ -120,7 +158,191 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
             landmark_file.display()
         );
     }
-    super::print(&summary(args, &mesh, &fitted))
+    let mut text = summary(args, mesh, &fitted);
+    text.push_str(&lips_summary(
+        args,
+        &lips,
+        opened.as_ref().map(|(_, f)| &f.0),
+    ));
+    super::print(&text)
+}
+
+/// The opened mesh and its landmark file for the rig `out`: `NAME.opened.obj` and
+/// `NAME.opened.landmarks.ron` beside it (`NAME` the rig's file name without `.rig.ron`).
+fn opened_files(out: &Path) -> (PathBuf, PathBuf) {
+    let name = out
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = name
+        .strip_suffix(".rig.ron")
+        .or_else(|| name.strip_suffix(".ron"))
+        .unwrap_or(&name);
+    let obj_file = out.with_file_name(format!("{stem}.opened.obj"));
+    let landmark_file = beside(&obj_file);
+    (obj_file, landmark_file)
+}
+
+/// What was found at the lips and done about them, for the summary.
+fn lips_summary(args: &FitRigArgs, lips: &Lips, written: Option<&PathBuf>) -> String {
+    let mesh = args.mesh.display();
+    match (lips, written) {
+        (Lips::Joined(cut), Some(obj_file)) => format!(
+            "  lips: joined along the inner lip line ({} vertices{}); cut open there: {} is {} \
+             with the {} vertices inside the line copied for the lower lip (vertices {} to {}; \
+             its `# copy` lines name each original), its landmarks in {}; the rig names it. \
+             --keep-lips keeps {}'s own topology (the mouth then opens by stretching the skin \
+             between the lips)\n",
+            cut.line.len(),
+            band_words(cut),
+            obj_file.display(),
+            mesh,
+            cut.copies.len(),
+            cut.original_count() + 1,
+            cut.mesh.vertex_count(),
+            beside(obj_file).display(),
+            mesh
+        ),
+        (Lips::Joined(cut), None) => format!(
+            "  lips: joined along the inner lip line ({} vertices{}); kept as they are \
+             (--keep-lips): the mouth opens by stretching the skin between the lips; without \
+             --keep-lips they are cut open into NAME.opened.obj beside the rig\n",
+            cut.line.len(),
+            band_words(cut)
+        ),
+        (Lips::Open, _) => {
+            "  lips: apart (the inner lip line is an edge of the mesh): nothing cut\n".into()
+        }
+        (Lips::Separate, _) => {
+            "  lips: separate surfaces (joined only inside the mouth): nothing cut\n".into()
+        }
+        (Lips::NotFound, _) => {
+            "  lips: no inner lip line found between landmarks 60-67: nothing cut\n".into()
+        }
+    }
+}
+
+fn band_words(cut: &LipCut) -> String {
+    if cut.band == 0 {
+        String::new()
+    } else {
+        format!(
+            ", with a band of {} triangles closing the mouth below it",
+            cut.band
+        )
+    }
+}
+
+/// The opened mesh as OBJ text: `source`'s text line for line (texture coordinates, normals,
+/// groups and materials kept), with the faces below the cut naming the copies, the copies'
+/// `v` lines after the last original `v` line, and a `# copy K of V` comment for each (OBJ
+/// numbers, from 1). Negative vertex indices are written as absolute ones, since the copies
+/// shift what they count back from.
+fn opened_obj(text: &str, cut: &LipCut, source: &Path) -> String {
+    let n = cut.original_count();
+    let is_v = |line: &str| {
+        line.split('#')
+            .next()
+            .unwrap_or("")
+            .split_whitespace()
+            .next()
+            == Some("v")
+    };
+    let last_v = text
+        .split_inclusive('\n')
+        .enumerate()
+        .filter(|(_, l)| is_v(l))
+        .last()
+        .map(|(i, _)| i);
+    let mut out = format!(
+        "# grimace fit-rig: {} with its lips cut open along the inner lip line. Vertices 1-{n} \
+         are its vertices; each copy below (vertex K a copy of vertex V) is the lower lip's side \
+         of the cut.\n",
+        source.display()
+    );
+    let (mut defined, mut triangle) = (0usize, 0usize);
+    for (number, piece) in text.split_inclusive('\n').enumerate() {
+        let line = piece.trim_end_matches(['\n', '\r']);
+        let mut words = line.split('#').next().unwrap_or("").split_whitespace();
+        match words.next() {
+            Some("v") => {
+                defined += 1;
+                out.push_str(piece);
+            }
+            Some("f") => {
+                let corners: Vec<&str> = words.collect();
+                out.push_str(&opened_face(&corners, defined, cut, triangle));
+                out.push_str(&piece[line.len()..]);
+                triangle += corners.len().saturating_sub(2);
+            }
+            _ => out.push_str(piece),
+        }
+        if Some(number) == last_v {
+            if !out.ends_with('\n') {
+                out.push('\n');
+            }
+            push_copies(&mut out, cut, n);
+        }
+    }
+    out
+}
+
+fn push_copies(out: &mut String, cut: &LipCut, n: usize) {
+    for (k, &original) in cut.copies.iter().enumerate() {
+        let p = cut.mesh.positions[n + k];
+        let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
+        let _ = writeln!(out, "# copy {} of {}", n + k + 1, original + 1);
+    }
+}
+
+/// One `f` line of the opened mesh: the corners as given, vertex numbers absolute and
+/// replaced by copies where the cut put them; a face whose triangles lie on both sides of
+/// the cut (the line along its diagonal) is written as its triangles.
+fn opened_face(corners: &[&str], defined: usize, cut: &LipCut, first: usize) -> String {
+    let vertex = |corner: &str| -> u32 {
+        let v = &corner[..corner.find('/').unwrap_or(corner.len())];
+        let index: i64 = v.parse().unwrap_or(0);
+        let absolute = if index < 0 {
+            defined as i64 + index
+        } else {
+            index - 1
+        };
+        absolute as u32
+    };
+    let rest = |corner: &str| corner[corner.find('/').unwrap_or(corner.len())..].to_string();
+    let fan: Vec<[usize; 3]> = (1..corners.len().saturating_sub(1))
+        .map(|i| [0, i, i + 1])
+        .collect();
+    // The vertex each corner takes in each triangle of the fan.
+    let mut taken: Vec<Option<u32>> = vec![None; corners.len()];
+    let mut split = false;
+    for (k, tri) in fan.iter().enumerate() {
+        let t = first + k;
+        for (slot, &c) in tri.iter().enumerate() {
+            let v = cut.mesh.triangles[t][slot];
+            split |= taken[c].is_some_and(|w| w != v);
+            taken[c] = Some(v);
+        }
+    }
+    let write = |c: usize, v: u32| format!(" {}{}", v + 1, rest(corners[c]));
+    let mut out = String::new();
+    if split {
+        for (k, tri) in fan.iter().enumerate() {
+            out.push('f');
+            for (slot, &c) in tri.iter().enumerate() {
+                out.push_str(&write(c, cut.mesh.triangles[first + k][slot]));
+            }
+            if k + 1 < fan.len() {
+                out.push('\n');
+            }
+        }
+    } else {
+        out.push('f');
+        for (c, v) in taken.iter().enumerate() {
+            out.push_str(&write(c, v.unwrap_or_else(|| vertex(corners[c]))));
+        }
+    }
+    out
 }
 
 /// Refuses `--skin`/`--rigid` groups the mesh does not have, listing those it has.

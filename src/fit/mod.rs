@@ -7,6 +7,7 @@
 //! - [`parts`]: which parts of a mesh are skin, still, or turn with the jaw;
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh;
+//! - [`lipcut`]: joined lips found and cut open;
 //! - [`transport`]: the whole fit ([`fit_rig`]);
 //! - [`lsq`]: the one bounded least-squares solver (`fit-au`, `capture`);
 //! - [`solve`]: activations that best reproduce a target shape ([`fit_au`]);
@@ -15,6 +16,7 @@
 //! Nothing here reads files or knows about terminals.
 
 pub mod jaw;
+pub mod lipcut;
 pub mod lsq;
 pub mod nearest;
 pub mod parts;

@@ -1,0 +1,584 @@
+//! Joined lips cut open: many meshes (MediaPipe's canonical face, scans) close the mouth with
+//! skin, either one row of vertices shared by both lips or a thin band of triangles between
+//! the upper and lower inner lip rows. Such a mouth cannot open without stretching that skin
+//! into a sheet. [`find`] finds the joined inner lip line from the landmarks and the mesh, and
+//! cuts it: every vertex inside the line (not the corners) is duplicated, and the triangles
+//! below the line take the copies, so the lips are separate surfaces that meet at the corners.
+//!
+//! The line is the upper lip's inner edge: the shortest chain of mesh edges from the right
+//! inner corner (landmark 60) through the upper inner lip landmarks (61-63) to the left
+//! corner (64), each step's length weighed up by its distance from the landmarks' polyline,
+//! so the chain follows the lip and not a diagonal across it. The same chain along the lower
+//! inner lip (60, 67-65, 64) bounds the band below it. The lips are joined when skin lies
+//! below the line and that skin is either the lower lip itself (the two chains are one row)
+//! or a band that closes on the lower chain without leaving the slit between the inner lip
+//! landmarks. A mouth whose line is a boundary is open already; lips that are separate
+//! surfaces joined only deep inside the mouth (a mouth bag) are left alone too.
+//!
+//! The cut keeps every original vertex at its number; the copies are appended in the order of
+//! the line, and [`LipCut::copies`] says which vertex each copies. Nothing here reads files.
+
+use std::cmp::Reverse;
+use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
+
+use glam::Vec3;
+
+use crate::landmarks::{COUNT, INNER_LOWER, INNER_UPPER};
+use crate::model::{Mesh, Rig};
+
+/// Landmarks on the lower lip: on a cut vertex they move to its copy.
+const LOWER_LIP: [usize; 8] = [55, 56, 57, 58, 59, 65, 66, 67];
+/// How far from the mouth's centre the line is looked for, in outer mouth widths (the
+/// corners lie at a half).
+const REACH: f32 = 0.8;
+/// The distance from the landmarks' polyline at which a step of the line costs twice its
+/// length, in outer mouth widths.
+const GUIDE: f32 = 0.04;
+/// Slack of the slit test, in outer mouth widths: a band vertex's distances to the upper and
+/// lower inner lip polylines add up to at most 1.5 times the widest inner lip gap plus this.
+const SLIT_SLACK: f32 = 0.02;
+
+/// What [`find`] found at the inner lip line.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Lips {
+    /// The line is a boundary of the mesh: the mouth opens already.
+    Open,
+    /// Skin lies below the line, but it is not a band closing the slit between the lips (the
+    /// lips are separate surfaces joined deep inside the mouth): nothing to cut.
+    Separate,
+    /// No chain of edges joins the inner lip landmarks (they lie on pieces that do not touch).
+    NotFound,
+    /// The lips are joined; the cut that opens them.
+    Joined(LipCut),
+}
+
+/// Joined lips cut open.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LipCut {
+    /// The opened mesh: the original vertices at their numbers, then the copies; triangles in
+    /// the original order, those below the line using the copies; each copy in its
+    /// original's groups.
+    pub mesh: Mesh,
+    /// The original vertex of each appended copy: vertex `n + i` of the opened mesh (`n` the
+    /// original count) copies `copies[i]`.
+    pub copies: Vec<u32>,
+    /// The cut line from the right inner corner to the left, as original vertex numbers.
+    pub line: Vec<u32>,
+    /// Triangles of the band between the lips that now belong to the lower lip (0 when the
+    /// lips shared one row of vertices).
+    pub band: usize,
+    /// The 68 landmarks as vertices of the opened mesh: lower lip landmarks on a cut vertex
+    /// name its copy.
+    pub landmarks: Vec<u32>,
+}
+
+impl LipCut {
+    /// The original vertex count.
+    pub fn original_count(&self) -> usize {
+        self.mesh.vertex_count() - self.copies.len()
+    }
+}
+
+/// Finds the inner lip line of `mesh` from its 68 landmark vertices and cuts it when the lips
+/// are joined.
+pub fn find(mesh: &Mesh, landmarks: &[u32]) -> Lips {
+    let Some(mouth) = Mouth::of(mesh, landmarks) else {
+        return Lips::NotFound;
+    };
+    let graph = Graph::new(mesh, &mouth);
+    let Some(upper) = graph.line(mesh, &mouth, landmarks, &INNER_UPPER, &mouth.upper) else {
+        return Lips::NotFound;
+    };
+    let Some(lower) = graph.line(mesh, &mouth, landmarks, &INNER_LOWER, &mouth.lower) else {
+        return Lips::NotFound;
+    };
+    let below = graph.below(mesh, &mouth, &upper);
+    if below.is_empty() {
+        return Lips::Open;
+    }
+    let band = if upper == lower {
+        0
+    } else {
+        match graph.band(mesh, &mouth, &below, &upper, &lower) {
+            Some(band) => band,
+            None => return Lips::Separate,
+        }
+    };
+    let cut = graph.cut(mesh, &upper, &below);
+    if cut.copies.is_empty() {
+        return Lips::Open;
+    }
+    let mut landmarks = landmarks.to_vec();
+    for &i in &LOWER_LIP {
+        if let Some(k) = cut.copies.iter().position(|&o| o == landmarks[i]) {
+            landmarks[i] = (mesh.vertex_count() + k) as u32;
+        }
+    }
+    Lips::Joined(LipCut {
+        mesh: cut.mesh,
+        copies: cut.copies,
+        line: upper,
+        band,
+        landmarks,
+    })
+}
+
+/// Gives the vertices on each side of the cut line the jaw and mask weights of the skin next
+/// to them on their own side: fitting splits weights by position at the line halfway between
+/// the inner lip landmarks, where a cut line's vertices and their copies lie on top of each
+/// other (or the copies lie above it, on a band's upper row), so the line itself is set from
+/// its neighbours. `rig` must be fitted to `cut.mesh`.
+pub fn weights_by_side(rig: &mut Rig, cut: &LipCut) {
+    let sources = side_neighbours(cut);
+    if let Some(jaw) = &mut rig.jaw {
+        set_from_neighbours(&mut jaw.weights, &sources, 0.0);
+    }
+    for mask in &mut rig.masks {
+        set_from_neighbours(&mut mask.weights, &sources, 1.0);
+    }
+}
+
+/// For each vertex on the cut (originals and copies), its neighbours on its own side that are
+/// not on the line.
+fn side_neighbours(cut: &LipCut) -> Vec<(u32, Vec<u32>)> {
+    let n = cut.original_count() as u32;
+    let on_line: HashSet<u32> = cut
+        .line
+        .iter()
+        .copied()
+        .chain(n..n + cut.copies.len() as u32)
+        .collect();
+    let cut_vertices: Vec<u32> = cut
+        .copies
+        .iter()
+        .copied()
+        .chain((0..cut.copies.len() as u32).map(|k| n + k))
+        .collect();
+    let wanted: HashSet<u32> = cut_vertices.iter().copied().collect();
+    let mut neighbours: HashMap<u32, Vec<u32>> = HashMap::new();
+    for tri in &cut.mesh.triangles {
+        for (k, &v) in tri.iter().enumerate() {
+            if !wanted.contains(&v) {
+                continue;
+            }
+            for &w in [tri[(k + 1) % 3], tri[(k + 2) % 3]].iter() {
+                let list = neighbours.entry(v).or_default();
+                if !on_line.contains(&w) && !list.contains(&w) {
+                    list.push(w);
+                }
+            }
+        }
+    }
+    cut_vertices
+        .into_iter()
+        .map(|v| (v, neighbours.remove(&v).unwrap_or_default()))
+        .collect()
+}
+
+/// Sets each vertex's weight in sorted `(vertex, weight)` pairs (absent meaning `default`)
+/// to the mean of its sources' weights, where it has sources.
+fn set_from_neighbours(weights: &mut Vec<(u32, f32)>, sources: &[(u32, Vec<u32>)], default: f32) {
+    let mut map: BTreeMap<u32, f32> = weights.iter().copied().collect();
+    let value = |map: &BTreeMap<u32, f32>, v: u32| map.get(&v).copied().unwrap_or(default);
+    let new: Vec<(u32, f32)> = sources
+        .iter()
+        .filter(|(_, from)| !from.is_empty())
+        .map(|(v, from)| {
+            let sum: f32 = from.iter().map(|&w| value(&map, w)).sum();
+            (*v, sum / from.len() as f32)
+        })
+        .collect();
+    for (v, w) in new {
+        if w == default {
+            map.remove(&v);
+        } else {
+            map.insert(v, w);
+        }
+    }
+    *weights = map.into_iter().collect();
+}
+
+/// The mouth as the landmarks place it.
+struct Mouth {
+    /// The upper inner lip polyline (60-64) and the lower (60, 67-65, 64).
+    upper: Vec<Vec3>,
+    lower: Vec<Vec3>,
+    /// The upper outer lip polyline (48-54) and the lower (54-59, 48).
+    outer_upper: Vec<Vec3>,
+    outer_lower: Vec<Vec3>,
+    centre: Vec3,
+    /// The outer mouth width (48-54).
+    width: f32,
+    /// The widest gap between the upper and lower inner lip landmarks.
+    gap: f32,
+}
+
+impl Mouth {
+    fn of(mesh: &Mesh, landmarks: &[u32]) -> Option<Mouth> {
+        if landmarks.len() != COUNT || landmarks.iter().any(|&v| v as usize >= mesh.vertex_count())
+        {
+            return None;
+        }
+        let points: Vec<Vec3> = landmarks
+            .iter()
+            .map(|&v| mesh.positions[v as usize])
+            .collect();
+        let polyline = |ids: &[usize]| ids.iter().map(|&i| points[i]).collect::<Vec<_>>();
+        let upper = polyline(&INNER_UPPER);
+        let lower = polyline(&INNER_LOWER);
+        let outer_upper = polyline(&[48, 49, 50, 51, 52, 53, 54]);
+        let outer_lower = polyline(&[54, 55, 56, 57, 58, 59, 48]);
+        let centre = upper.iter().chain(&lower).copied().sum::<Vec3>() / 10.0;
+        let width = points[48].distance(points[54]);
+        let gap = [(61, 67), (62, 66), (63, 65)]
+            .iter()
+            .map(|&(a, b)| points[a].distance(points[b]))
+            .fold(0.0, f32::max);
+        (width > 0.0).then_some(Mouth {
+            upper,
+            lower,
+            outer_upper,
+            outer_lower,
+            centre,
+            width,
+            gap,
+        })
+    }
+
+    /// Whether a point lies in the slit between the inner lip polylines.
+    fn in_slit(&self, p: Vec3) -> bool {
+        let d = distance_to_polyline(p, &self.upper) + distance_to_polyline(p, &self.lower);
+        d <= 1.5 * self.gap + SLIT_SLACK * self.width
+    }
+}
+
+/// The distance from `p` to a polyline.
+fn distance_to_polyline(p: Vec3, line: &[Vec3]) -> f32 {
+    line.windows(2)
+        .map(|s| {
+            let d = s[1] - s[0];
+            let t = if d.length_squared() > 0.0 {
+                ((p - s[0]).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.distance(s[0] + d * t)
+        })
+        .fold(f32::INFINITY, f32::min)
+}
+
+/// The mesh around the mouth: neighbours and the triangles on each edge and vertex.
+struct Graph {
+    near: Vec<bool>,
+    neighbours: HashMap<u32, Vec<u32>>,
+    edge_triangles: HashMap<[u32; 2], Vec<usize>>,
+    vertex_triangles: HashMap<u32, Vec<usize>>,
+}
+
+fn key(a: u32, b: u32) -> [u32; 2] {
+    [a.min(b), a.max(b)]
+}
+
+impl Graph {
+    fn new(mesh: &Mesh, mouth: &Mouth) -> Graph {
+        let reach = REACH * mouth.width;
+        let near: Vec<bool> = mesh
+            .positions
+            .iter()
+            .map(|p| p.distance(mouth.centre) <= reach)
+            .collect();
+        let mut graph = Graph {
+            near,
+            neighbours: HashMap::new(),
+            edge_triangles: HashMap::new(),
+            vertex_triangles: HashMap::new(),
+        };
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            if !tri.iter().any(|&v| graph.near[v as usize]) {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                graph.edge_triangles.entry(key(a, b)).or_default().push(t);
+                graph.vertex_triangles.entry(a).or_default().push(t);
+                for (x, y) in [(a, b), (b, a)] {
+                    let list = graph.neighbours.entry(x).or_default();
+                    if !list.contains(&y) {
+                        list.push(y);
+                    }
+                }
+            }
+        }
+        graph
+    }
+
+    /// The chain of edges through the landmarks `ids` (corner to corner), guided by their
+    /// polyline; `None` when a landmark cannot be reached or the chain crosses itself.
+    fn line(
+        &self,
+        mesh: &Mesh,
+        mouth: &Mouth,
+        landmarks: &[u32],
+        ids: &[usize],
+        guide: &[Vec3],
+    ) -> Option<Vec<u32>> {
+        let mut line = vec![landmarks[ids[0]]];
+        for &i in &ids[1..] {
+            let from = *line.last()?;
+            let to = landmarks[i];
+            if from != to {
+                let step = self.guided_path(mesh, mouth, from, to, guide)?;
+                line.extend_from_slice(&step[1..]);
+            }
+        }
+        let unique: HashSet<u32> = line.iter().copied().collect();
+        (unique.len() == line.len() && line.len() >= 3).then_some(line)
+    }
+
+    /// Dijkstra's shortest path from `from` to `to` near the mouth, each edge costing its
+    /// length times `1 + (d / GUIDE width)^2`, `d` its middle's distance from `guide`.
+    fn guided_path(
+        &self,
+        mesh: &Mesh,
+        mouth: &Mouth,
+        from: u32,
+        to: u32,
+        guide: &[Vec3],
+    ) -> Option<Vec<u32>> {
+        let sigma = GUIDE * mouth.width;
+        let mut best: HashMap<u32, (f64, u32)> = HashMap::from([(from, (0.0, from))]);
+        let mut queue = BinaryHeap::from([(Reverse(Cost(0.0)), from)]);
+        while let Some((Reverse(Cost(cost)), v)) = queue.pop() {
+            if v == to {
+                break;
+            }
+            if best.get(&v).is_some_and(|&(c, _)| c < cost) {
+                continue;
+            }
+            for &w in self.neighbours.get(&v).map_or(&[][..], Vec::as_slice) {
+                if !self.near[w as usize] {
+                    continue;
+                }
+                let (a, b) = (mesh.positions[v as usize], mesh.positions[w as usize]);
+                let d = distance_to_polyline(0.5 * (a + b), guide) / sigma;
+                let next = cost + f64::from(a.distance(b) * (1.0 + d * d));
+                if best.get(&w).is_none_or(|&(c, _)| next < c) {
+                    best.insert(w, (next, v));
+                    queue.push((Reverse(Cost(next)), w));
+                }
+            }
+        }
+        let mut path = vec![to];
+        let mut v = to;
+        while v != from {
+            v = best.get(&v)?.1;
+            path.push(v);
+        }
+        path.reverse();
+        Some(path)
+    }
+
+    /// The triangles just below the line: on each edge of the line with two triangles, the
+    /// one whose third corner lies further toward the lower lip (nearer the lower outer lip
+    /// line and further from the upper one). The lips' own curl makes "down the face" an
+    /// unreliable guide this close to the line.
+    fn below(&self, mesh: &Mesh, mouth: &Mouth, line: &[u32]) -> Vec<usize> {
+        let lowness = |p: Vec3| {
+            distance_to_polyline(p, &mouth.outer_upper)
+                - distance_to_polyline(p, &mouth.outer_lower)
+        };
+        let mut below = vec![];
+        for pair in line.windows(2) {
+            let tris = self.edge_triangles.get(&key(pair[0], pair[1]));
+            let sides: Vec<(usize, f32)> = tris
+                .map_or(&[][..], Vec::as_slice)
+                .iter()
+                .map(|&t| {
+                    let third = mesh.triangles[t]
+                        .iter()
+                        .find(|&&v| v != pair[0] && v != pair[1])
+                        .copied()
+                        .unwrap_or(pair[0]);
+                    (t, lowness(mesh.positions[third as usize]))
+                })
+                .collect();
+            if let [(t0, s0), (t1, s1)] = sides[..] {
+                if s0 != s1 {
+                    below.push(if s0 > s1 { t0 } else { t1 });
+                }
+            }
+        }
+        below
+    }
+
+    /// The band of triangles between the upper and lower chains, grown from the triangles
+    /// just below the upper one without crossing either chain; `None` when it leaves the
+    /// slit between the inner lip landmarks (the skin below is not a band across the lips).
+    fn band(
+        &self,
+        mesh: &Mesh,
+        mouth: &Mouth,
+        seeds: &[usize],
+        upper: &[u32],
+        lower: &[u32],
+    ) -> Option<usize> {
+        let walls: HashSet<[u32; 2]> = upper
+            .windows(2)
+            .chain(lower.windows(2))
+            .map(|p| key(p[0], p[1]))
+            .collect();
+        let on_chain: HashSet<u32> = upper.iter().chain(lower).copied().collect();
+        let mut seen: HashSet<usize> = seeds.iter().copied().collect();
+        let mut stack = seeds.to_vec();
+        while let Some(t) = stack.pop() {
+            let tri = mesh.triangles[t];
+            let inside = tri.iter().all(|&v| {
+                self.near[v as usize]
+                    && (on_chain.contains(&v) || mouth.in_slit(mesh.positions[v as usize]))
+            });
+            if !inside {
+                return None;
+            }
+            for k in 0..3 {
+                let edge = key(tri[k], tri[(k + 1) % 3]);
+                if walls.contains(&edge) {
+                    continue;
+                }
+                for &u in self
+                    .edge_triangles
+                    .get(&edge)
+                    .map_or(&[][..], Vec::as_slice)
+                {
+                    if seen.insert(u) {
+                        stack.push(u);
+                    }
+                }
+            }
+        }
+        Some(seen.len())
+    }
+
+    /// Duplicates each inner vertex of the line whose triangles split into a part above the
+    /// line and a part below it (holding a triangle of `below`); the part below takes the copy.
+    fn cut(&self, mesh: &Mesh, line: &[u32], below: &[usize]) -> Cut {
+        let below: HashSet<usize> = below.iter().copied().collect();
+        let mut opened = mesh.clone();
+        let mut copies = vec![];
+        for k in 1..line.len() - 1 {
+            let (prev, v, next) = (line[k - 1], line[k], line[k + 1]);
+            let fan = self.vertex_triangles.get(&v).map_or(&[][..], Vec::as_slice);
+            let part = fan_parts(mesh, fan, v, [prev, next]);
+            let lower: HashSet<usize> = fan
+                .iter()
+                .zip(&part)
+                .filter(|(t, _)| below.contains(t))
+                .map(|(_, &p)| p)
+                .collect();
+            // The other side of each line edge at v: the fan must not wrap round to it.
+            let line_tris = [key(prev, v), key(v, next)]
+                .iter()
+                .flat_map(|e| self.edge_triangles.get(e).cloned().unwrap_or_default())
+                .collect::<Vec<_>>();
+            let wraps = fan
+                .iter()
+                .zip(&part)
+                .any(|(t, p)| lower.contains(p) && line_tris.contains(t) && !below.contains(t));
+            if lower.is_empty() || wraps {
+                continue;
+            }
+            let copy = opened.positions.len() as u32;
+            opened.positions.push(mesh.positions[v as usize]);
+            copies.push(v);
+            for (&t, p) in fan.iter().zip(&part) {
+                if lower.contains(p) {
+                    for corner in &mut opened.triangles[t] {
+                        if *corner == v {
+                            *corner = copy;
+                        }
+                    }
+                }
+            }
+            for members in opened.groups.values_mut() {
+                if members.binary_search(&v).is_ok() {
+                    members.push(copy);
+                }
+            }
+        }
+        Cut {
+            mesh: opened,
+            copies,
+        }
+    }
+}
+
+/// The cut: the opened mesh and the original of each copy.
+struct Cut {
+    mesh: Mesh,
+    copies: Vec<u32>,
+}
+
+/// Splits the triangles round `v` into parts joined across their edges from `v`, except the
+/// edges to `walls`; returns each triangle's part number.
+fn fan_parts(mesh: &Mesh, fan: &[usize], v: u32, walls: [u32; 2]) -> Vec<usize> {
+    let mut part: Vec<usize> = (0..fan.len()).collect();
+    fn root(part: &mut [usize], mut i: usize) -> usize {
+        while part[i] != i {
+            part[i] = part[part[i]];
+            i = part[i];
+        }
+        i
+    }
+    let others = |t: usize| -> Vec<u32> {
+        mesh.triangles[t]
+            .iter()
+            .copied()
+            .filter(|&w| w != v && !walls.contains(&w))
+            .collect()
+    };
+    for i in 0..fan.len() {
+        for j in i + 1..fan.len() {
+            let (a, b) = (others(fan[i]), others(fan[j]));
+            if a.iter().any(|w| b.contains(w)) {
+                let (ri, rj) = (root(&mut part, i), root(&mut part, j));
+                part[ri] = rj;
+            }
+        }
+    }
+    (0..fan.len()).map(|i| root(&mut part, i)).collect()
+}
+
+/// A path cost ordered for the queue.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Cost(f64);
+
+impl Eq for Cost {}
+
+impl PartialOrd for Cost {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Cost {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+/// The distance between the middles of the inner lips (landmarks 62 and 66) at `positions`.
+pub fn mouth_gap(positions: &[Vec3], landmarks: &[u32]) -> f32 {
+    let p = |i: usize| positions[landmarks[i] as usize];
+    p(62).distance(p(66))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn polyline_distance() {
+        let line = [Vec3::ZERO, Vec3::X];
+        assert!((distance_to_polyline(Vec3::new(0.5, 1.0, 0.0), &line) - 1.0).abs() < 1e-6);
+        assert!((distance_to_polyline(Vec3::new(2.0, 0.0, 0.0), &line) - 1.0).abs() < 1e-6);
+    }
+}
