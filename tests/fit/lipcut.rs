@@ -259,3 +259,88 @@ fn open_mouths_and_mouth_bags_are_left_alone() {
     let found = lipcut::find(&mesh, &marks);
     assert!(!matches!(found, Lips::Joined(_)), "{found:?}");
 }
+
+#[test]
+fn fit_rig_writes_the_opened_mesh_beside_the_rig_and_names_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let (welded, marks, _, _) = welded_face();
+    let source = obj::write_obj(&welded, &[]);
+    std::fs::write(dir.path().join("face.obj"), &source).unwrap();
+    let ron = grimace::io::landmarks::landmarks_to_ron(&Landmarks::Vertices(marks.clone()));
+    std::fs::write(dir.path().join("face.landmarks.ron"), ron).unwrap();
+    std::fs::create_dir(dir.path().join("rigs")).unwrap();
+    let args = [
+        "fit-rig",
+        "face.obj",
+        "--landmarks",
+        "face.landmarks.ron",
+        "--out",
+        "rigs/face.rig.ron",
+    ];
+    let out = common::grimace_in(dir.path(), &args);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("cut open") && stdout.contains("--keep-lips"),
+        "{stdout}"
+    );
+    // The given mesh is untouched; the opened one holds the cut, its copies named.
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("face.obj")).unwrap(),
+        source
+    );
+    let opened_file = dir.path().join("rigs/face.opened.obj");
+    let opened = obj::read_obj(&opened_file).unwrap();
+    let cut = joined(lipcut::find(&welded, &marks));
+    assert_eq!(opened.positions, cut.mesh.positions);
+    assert_eq!(opened.triangles, cut.mesh.triangles);
+    let text = std::fs::read_to_string(&opened_file).unwrap();
+    for (k, &o) in cut.copies.iter().enumerate() {
+        let line = format!("# copy {} of {}", cut.original_count() + k + 1, o + 1);
+        assert!(text.contains(&line), "{line}");
+    }
+    let rig_text = std::fs::read_to_string(dir.path().join("rigs/face.rig.ron")).unwrap();
+    assert!(
+        rig_text.contains("mesh: \"face.opened.obj\""),
+        "{rig_text:.300}"
+    );
+    let beside = load_landmarks(&dir.path().join("rigs/face.opened.landmarks.ron")).unwrap();
+    assert_eq!(beside, Landmarks::Vertices(cut.landmarks.clone()));
+    // From another working directory the rig still finds its mesh and landmarks.
+    let elsewhere = tempfile::tempdir().unwrap();
+    let rig = dir.path().join("rigs/face.rig.ron");
+    let out = common::grimace_in(elsewhere.path(), &["validate", rig.to_str().unwrap()]);
+    assert!(out.status.success(), "{:?}", out);
+    let out = common::grimace_in(elsewhere.path(), &["check", "--rig", rig.to_str().unwrap()]);
+    let report = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        report.contains("AU 26"),
+        "{report}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // A second fit keeps the opened mesh it replaces; --keep-lips keeps the topology.
+    let out = common::grimace_in(dir.path(), &args);
+    assert!(out.status.success());
+    assert!(dir.path().join("rigs/face.opened.obj~").exists());
+    let out = common::grimace_in(
+        dir.path(),
+        &[
+            "fit-rig",
+            "face.obj",
+            "--landmarks",
+            "face.landmarks.ron",
+            "--out",
+            "kept.rig.ron",
+            "--keep-lips",
+        ],
+    );
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("kept as they are"));
+    assert!(!dir.path().join("kept.opened.obj").exists());
+    let kept = std::fs::read_to_string(dir.path().join("kept.rig.ron")).unwrap();
+    assert!(kept.contains("mesh: \"face.obj\""), "{kept:.300}");
+}
