@@ -82,7 +82,7 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     let (source_landmarks, landmark_file) = target_landmarks(&landmark_arg, args, &source)?;
     let template = rig_file::load_rig_ref(&args.template, None)?;
     let (template_points, template_file) = template_landmarks(args, &template)?;
-    let mut mesh_path = mesh_reference(&args.mesh, &args.out)?;
+    let mesh_path = mesh_reference(&args.mesh, &args.out)?;
     let mut inputs = Inputs::new();
     inputs.add("the mesh to rig", &args.mesh);
     inputs.add("the landmark file", &landmark_file);
@@ -92,15 +92,7 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     }
     inputs.check_output(&args.out)?;
     let lips = lipcut::find(&source, &source_landmarks.vertices(&source));
-    let opened = match &lips {
-        Lips::Joined(cut) if !args.keep_lips => {
-            let files = opened_files(&args.out);
-            inputs.check_output(&files.0)?;
-            inputs.check_output(&files.1)?;
-            Some((cut, files))
-        }
-        _ => None,
-    };
+    let opened = to_open(args, &inputs, &lips)?;
     let (mesh, landmarks) = match opened {
         Some((cut, _)) => (&cut.mesh, Landmarks::Vertices(cut.landmarks.clone())),
         None => (&source, source_landmarks),
@@ -117,7 +109,7 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         },
         mesh,
         &landmarks,
-        mesh_path.clone(),
+        mesh_path,
         &overrides,
     )
     .map_err(|e| match e {
@@ -141,14 +133,8 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     Deformation::default()
         .bind(&fitted.rig, mesh)
         .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
-    if let Some((cut, (obj_file, landmark_out))) = &opened {
-        let text = read_text(&args.mesh, MAX_FILE_BYTES)?;
-        let written = opened_obj(&text, cut, &args.mesh);
-        atomic::write_atomic(obj_file, written.as_bytes())
-            .map_err(|e| SaveError::io(obj_file, &e))?;
-        save_landmarks(landmark_out, &Landmarks::Vertices(cut.landmarks.clone()))?;
-        mesh_path = reference::written_reference(&args.out, obj_file);
-        fitted.rig.mesh = mesh_path;
+    if let Some((cut, files)) = &opened {
+        fitted.rig.mesh = write_opened(args, cut, files)?;
     }
     rig_file::save_rig(&args.out, &fitted.rig)?;
     if fitted.bend >= SUSPICIOUS_BEND {
@@ -165,6 +151,37 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         opened.as_ref().map(|(_, f)| &f.0),
     ));
     super::print(&text)
+}
+
+/// The cut to write, with the files it goes to: joined lips unless `--keep-lips`; the files
+/// must not be inputs.
+fn to_open<'a>(
+    args: &FitRigArgs,
+    inputs: &Inputs,
+    lips: &'a Lips,
+) -> anyhow::Result<Option<(&'a LipCut, (PathBuf, PathBuf))>> {
+    match lips {
+        Lips::Joined(cut) if !args.keep_lips => {
+            let files = opened_files(&args.out);
+            inputs.check_output(&files.0)?;
+            inputs.check_output(&files.1)?;
+            Ok(Some((cut, files)))
+        }
+        _ => Ok(None),
+    }
+}
+
+/// Writes the opened mesh and its landmarks; returns the mesh as the rig names it.
+fn write_opened(
+    args: &FitRigArgs,
+    cut: &LipCut,
+    (obj_file, landmark_file): &(PathBuf, PathBuf),
+) -> anyhow::Result<PathBuf> {
+    let text = read_text(&args.mesh, MAX_FILE_BYTES)?;
+    let written = opened_obj(&text, cut, &args.mesh);
+    atomic::write_atomic(obj_file, written.as_bytes()).map_err(|e| SaveError::io(obj_file, &e))?;
+    save_landmarks(landmark_file, &Landmarks::Vertices(cut.landmarks.clone()))?;
+    Ok(reference::written_reference(&args.out, obj_file))
 }
 
 /// The opened mesh and its landmark file for the rig `out`: `NAME.opened.obj` and
