@@ -527,3 +527,37 @@ fn summary(args: &FitRigArgs, mesh: &Mesh, fitted: &fit::Fitted) -> String {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// A quad whose diagonal is the cut: its two triangles lie on both sides, so the face is
+    /// written as its triangles; the copy goes after the last vertex, texture coordinates
+    /// stay, and a negative index becomes absolute.
+    #[test]
+    fn opened_obj_keeps_the_file_and_splits_a_face_across_the_cut() {
+        let text = "# a quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nusemtl skin\nf 1/1 2/1 3/1 -1/1\n";
+        let source = obj::parse_obj(text, Path::new("q.obj")).unwrap();
+        let mut mesh = source.clone();
+        mesh.positions.push(Vec3::new(1.0, 1.0, 0.0));
+        mesh.triangles[1] = [0, 4, 3];
+        let cut = LipCut {
+            mesh,
+            copies: vec![2],
+            line: vec![0, 2, 1],
+            band: 0,
+            landmarks: vec![],
+        };
+        let written = opened_obj(text, &cut, Path::new("q.obj"));
+        assert!(
+            written.contains("v 0 1 0\nv 1 1 0\n# copy 5 of 3\nvt 0 0\nusemtl skin\nf 1/1 2/1 3/1\nf 1/1 5/1 4/1\n"),
+            "{written}"
+        );
+        let back = obj::parse_obj(&written, Path::new("o.obj")).unwrap();
+        assert_eq!(back.positions, cut.mesh.positions);
+        assert_eq!(back.triangles, cut.mesh.triangles);
+        assert_eq!(back.groups["material:skin"], vec![0, 1, 2, 3, 4]);
+    }
+}
