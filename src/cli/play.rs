@@ -13,8 +13,8 @@ use clap::Args;
 
 use super::export::{self, SourceArgs};
 use crate::facs::AuTable;
-use crate::io::rig_file::LoadedRig;
-use crate::io::table_file::load_table_ref_for;
+use crate::io::load::load_table_ref_for;
+use crate::io::load::LoadedRig;
 use crate::io::timeline::load_timeline;
 use crate::model::{Mesh, Rig};
 use crate::play::open::{open_file, RecordingOptions};
