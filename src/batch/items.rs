@@ -240,6 +240,17 @@ fn face_states(plan: &Plan, name: &str, face: FaceRef) -> Result<Vec<State>, Loa
             }
         }
     }
+    states_of(plan, name, face, combos)
+}
+
+/// Each distinct combination once, in order, evaluated on the face; `field` names where a
+/// combination came from for errors.
+fn states_of(
+    plan: &Plan,
+    name: &str,
+    face: FaceRef,
+    combos: Vec<(Combo, &'static str)>,
+) -> Result<Vec<State>, LoadError> {
     let mut seen = HashSet::new();
     let mut states = Vec::new();
     for (combo, field) in combos {

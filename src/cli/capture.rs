@@ -16,9 +16,9 @@ use crate::capture::{
     AuProjection, Captured, LandmarkModel, NeutralSource, Regularisation, Session,
 };
 use crate::io::inputs::Inputs;
+use crate::io::load::{load_rig_ref, load_table_ref_for, LoadedRig};
 use crate::io::openface::{OpenFaceReader, RowOutcome};
-use crate::io::rig_file::{self, LoadedRig};
-use crate::io::{acts, atomic, landmarks, table_file, LoadError};
+use crate::io::{acts, atomic, landmarks, LoadError};
 use crate::model::{BoundRig, Deformation};
 use crate::play::skips::Skips;
 
@@ -149,7 +149,7 @@ pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
 
 /// Loads and binds the rig, finds its landmark vertices, and the AU projection.
 fn prepare(args: &CaptureArgs) -> anyhow::Result<Prepared> {
-    let loaded = rig_file::load_rig_ref(&args.rig, None)?;
+    let loaded = load_rig_ref(&args.rig, None)?;
     let bound = Deformation::default()
         .bind(&loaded.rig, &loaded.mesh)
         .map_err(|e| anyhow!(LoadError::new(&args.rig, e.to_string())))?;
@@ -157,8 +157,8 @@ fn prepare(args: &CaptureArgs) -> anyhow::Result<Prepared> {
     let model = LandmarkModel::new(&bound, &vertices);
     let projection = if args.aus {
         let table = match &args.table {
-            Some(path) => table_file::load_table_ref_for(path, &loaded.rig)?,
-            None => table_file::load_table_ref_for(Path::new("builtin:default"), &loaded.rig)
+            Some(path) => load_table_ref_for(path, &loaded.rig)?,
+            None => load_table_ref_for(Path::new("builtin:default"), &loaded.rig)
                 .context("the built-in AU table does not fit this rig; give --table")?,
         };
         Some(AuProjection::new(&table, &bound, &model))

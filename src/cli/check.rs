@@ -14,7 +14,7 @@ use crate::facs::combo::parse_combo;
 use crate::facs::{AuKey, AuMapper, AuTable};
 use crate::fit::quality::{Expect, Eyes, Gauge, Quality};
 use crate::io::landmarks::{check_against, load_landmarks};
-use crate::io::rig_file::{self, LoadedRig};
+use crate::io::load::{load_rig_ref, load_table_and_rig, LoadedRig};
 use crate::io::{builtin, table_file, LoadError};
 use crate::landmarks::Landmarks;
 use crate::model::{Activations, Rig, Side};
@@ -140,9 +140,9 @@ fn check(args: &CheckArgs) -> anyhow::Result<(String, usize)> {
 /// The rig (given, or the one the table names) and the table.
 fn load(args: &CheckArgs, table_path: &Path) -> anyhow::Result<(LoadedRig, AuTable)> {
     let (rig, table) = match &args.rig {
-        Some(path) => (rig_file::load_rig_ref(path, None)?, load_table(table_path)?),
+        Some(path) => (load_rig_ref(path, None)?, load_table(table_path)?),
         None => {
-            let (table, rig) = table_file::load_table_and_rig(table_path, None)?;
+            let (table, rig) = load_table_and_rig(table_path, None)?;
             (rig, table)
         }
     };

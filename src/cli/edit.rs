@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::facs::{AuTable, TABLE_VERSION};
-use crate::io::rig_file::load_rig_ref;
-use crate::io::table_file::rig_ref;
+use crate::io::load::load_rig_ref;
+use crate::io::load::rig_ref;
 use crate::io::{recovery, reference};
 use crate::model::{Mesh, Rig};
 use crate::tui;

@@ -14,9 +14,8 @@ use crate::facs::combo::Combo;
 use crate::facs::{AuKey, AuTable};
 use crate::io::arkit::ArkitMap;
 use crate::io::inputs::Inputs;
+use crate::io::load::{load_rig_ref, load_table_and_rig, load_table_ref_for, LoadedRig};
 use crate::io::morph::{morph_targets, target_states, TargetSet, TargetStates};
-use crate::io::rig_file::{self, LoadedRig};
-use crate::io::table_file;
 use crate::io::{gltf, obj};
 use crate::model::{Activations, BoundRig, Deformation};
 use crate::render::Framing;
@@ -172,28 +171,28 @@ pub fn load_sources(source: &SourceArgs) -> anyhow::Result<Sources> {
     let mesh = source.mesh.as_deref();
     let (rig, table, table_path) = match (&source.rig, &source.table) {
         (Some(rig_path), Some(table_path)) => {
-            let rig = rig_file::load_rig_ref(rig_path, mesh)?;
-            let table = table_file::load_table_ref_for(table_path, &rig.rig)?;
+            let rig = load_rig_ref(rig_path, mesh)?;
+            let table = load_table_ref_for(table_path, &rig.rig)?;
             (rig, Some(table), Some(table_path.clone()))
         }
         (Some(rig_path), None) => {
-            let rig = rig_file::load_rig_ref(rig_path, mesh)?;
+            let rig = load_rig_ref(rig_path, mesh)?;
             // A rig fitted from the built-in template keeps its muscle names, so the built-in
             // table drives it; any other rig has no table until one is given.
             let default = PathBuf::from(DEFAULT_TABLE);
-            match table_file::load_table_ref_for(&default, &rig.rig) {
+            match load_table_ref_for(&default, &rig.rig) {
                 Ok(table) => (rig, Some(table), Some(default)),
                 Err(_) => (rig, None, None),
             }
         }
         (None, Some(table_path)) => {
-            let (table, rig) = table_file::load_table_and_rig(table_path, mesh)?;
+            let (table, rig) = load_table_and_rig(table_path, mesh)?;
             (rig, Some(table), Some(table_path.clone()))
         }
         (None, None) => {
             // The built-in default face: its rig and its table.
             let default = PathBuf::from(DEFAULT_TABLE);
-            let (table, rig) = table_file::load_table_and_rig(&default, mesh)?;
+            let (table, rig) = load_table_and_rig(&default, mesh)?;
             (rig, Some(table), Some(default))
         }
     };

@@ -15,7 +15,7 @@ use clap::Args;
 use crate::facs::{AuKey, AuTable};
 use crate::fit::{fit_au, AuFit};
 use crate::io::inputs::Inputs;
-use crate::io::rig_file::{self, LoadedRig};
+use crate::io::load::{load_rig_ref, LoadedRig};
 use crate::io::shape_map::load_map;
 use crate::io::{obj, table_file, LoadError};
 use crate::model::BoundRig;
@@ -58,7 +58,7 @@ pub struct FitAuArgs {
 
 /// Runs `grimace fit-au`.
 pub fn run(args: &FitAuArgs) -> anyhow::Result<()> {
-    let loaded = rig_file::load_rig_ref(&args.rig, None)?;
+    let loaded = load_rig_ref(&args.rig, None)?;
     let bound = args
         .model
         .deformation

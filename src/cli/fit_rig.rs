@@ -25,7 +25,8 @@ use crate::io::inputs::Inputs;
 use crate::io::landmarks::{
     beside, check_against, load_landmarks, parse_landmarks, save_landmarks,
 };
-use crate::io::rig_file::{self, LoadedRig};
+use crate::io::load::{load_rig_ref, LoadedRig};
+use crate::io::rig_file;
 use crate::io::{atomic, error::read_text, obj, reference, LoadError, SaveError, MAX_FILE_BYTES};
 use crate::landmarks::{self, Landmarks};
 use crate::model::{Deformation, Mesh};
@@ -80,7 +81,7 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     check_groups(args, &source)?;
     let landmark_arg = landmark_source(args)?;
     let (source_landmarks, landmark_file) = target_landmarks(&landmark_arg, args, &source)?;
-    let template = rig_file::load_rig_ref(&args.template, None)?;
+    let template = load_rig_ref(&args.template, None)?;
     let (template_points, template_file) = template_landmarks(args, &template)?;
     let mesh_path = mesh_reference(&args.mesh, &args.out)?;
     let mut inputs = Inputs::new();
@@ -398,7 +399,7 @@ fn landmark_source(args: &FitRigArgs) -> anyhow::Result<String> {
                 .as_ref()
                 .map_or_else(|| beside(&args.mesh), PathBuf::from);
             // The template and the output folder are checked before the picking starts.
-            let template = rig_file::load_rig_ref(&args.template, None)?;
+            let template = load_rig_ref(&args.template, None)?;
             mesh_reference(&args.mesh, &args.out)?;
             let mut inputs = Inputs::new();
             inputs.add("the mesh to rig", &args.mesh);

@@ -1,6 +1,7 @@
 //! `grimace list`: the muscles of a rig, the AUs and expressions of a table, the FACS
 //! catalogue.
 
+use crate::io::load::{load_rig_ref, load_table_and_rig};
 use std::fmt::Write;
 use std::path::PathBuf;
 
@@ -8,7 +9,7 @@ use clap::Args;
 
 use crate::facs::catalogue::CATALOGUE;
 use crate::facs::AuTable;
-use crate::io::{builtin, rig_file, table_file};
+use crate::io::{builtin, rig_file};
 use crate::model::{Muscle, MuscleKind, Rig, Side};
 
 /// Arguments of `grimace list`. With none, lists the FACS catalogue.
@@ -30,7 +31,7 @@ pub fn run(args: &ListArgs) -> anyhow::Result<()> {
     let mut out = String::new();
     if let Some(path) = &args.rig {
         let rig = match builtin::builtin_name(path) {
-            Some(_) => rig_file::load_rig_ref(path, None)?.rig,
+            Some(_) => load_rig_ref(path, None)?.rig,
             None => {
                 let text = crate::io::error::read_text(path, crate::io::MAX_FILE_BYTES)?;
                 let (rig, notice) = rig_file::parse_rig_with(&text, path, builtin::mesh)?;
@@ -44,7 +45,7 @@ pub fn run(args: &ListArgs) -> anyhow::Result<()> {
     }
     if let Some(path) = &args.table {
         let table = match builtin::builtin_name(path) {
-            Some(_) => table_file::load_table_and_rig(path, None)?.0,
+            Some(_) => load_table_and_rig(path, None)?.0,
             None => crate::io::load_table(path)?,
         };
         if !out.is_empty() {

@@ -13,8 +13,8 @@ use clap::Args;
 
 use super::export::{self, SourceArgs};
 use crate::facs::AuTable;
-use crate::io::rig_file::LoadedRig;
-use crate::io::table_file::load_table_ref_for;
+use crate::io::load::load_table_ref_for;
+use crate::io::load::LoadedRig;
 use crate::io::timeline::load_timeline;
 use crate::model::{Mesh, Rig};
 use crate::play::open::{open_file, RecordingOptions};
@@ -279,14 +279,7 @@ fn play_headless(
         match source.poll(wait)? {
             Poll::Event(Event::Frame(frame)) => {
                 if args.realtime && !live {
-                    let clock = clock.get_or_insert_with(|| {
-                        PlayClock::new(frame.time, args.speed, Instant::now())
-                    });
-                    if let Some(due) = clock.due(frame.time) {
-                        std::thread::sleep(due.saturating_duration_since(Instant::now()));
-                        let lateness = Instant::now().saturating_duration_since(due);
-                        summary.stats.shown(lateness, Duration::ZERO);
-                    }
+                    wait_until_due(&mut clock, frame.time, args.speed, &mut summary);
                 }
                 // Live and real-time frames go out when they are due, not at the end.
                 let written = writeln!(out, "{}", frame_line(&frame, rig)).and_then(|()| {
@@ -341,6 +334,17 @@ fn play_headless(
     .and_then(|()| out.flush());
     quiet_on_broken_pipe(written)?;
     Ok(summary)
+}
+
+/// Sleeps until a file's frame at `time` is due under `--realtime` (the clock starts at the
+/// first frame), and counts how late it went out.
+fn wait_until_due(clock: &mut Option<PlayClock>, time: f64, speed: f64, summary: &mut Summary) {
+    let clock = clock.get_or_insert_with(|| PlayClock::new(time, speed, Instant::now()));
+    if let Some(due) = clock.due(time) {
+        std::thread::sleep(due.saturating_duration_since(Instant::now()));
+        let lateness = Instant::now().saturating_duration_since(due);
+        summary.stats.shown(lateness, Duration::ZERO);
+    }
 }
 
 /// `true` when the reader of our output went away (then we stop quietly, like other tools).

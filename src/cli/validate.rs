@@ -6,13 +6,13 @@
 //! `*.obj`: a usable mesh. `*.plan.ron`: a batch plan, its faces loaded and every state
 //! checked against their tables. The exit status is 0 only when every file is valid.
 
+use crate::io::load::{load_rig, load_table_and_rig};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Args;
 
-use crate::io::table_file;
-use crate::io::{obj, rig_file, LoadError};
+use crate::io::{obj, LoadError};
 
 use crate::model::Deformation;
 
@@ -112,7 +112,7 @@ pub fn check(path: &Path) -> Result<String, LoadError> {
 }
 
 fn check_rig(path: &Path) -> Result<String, LoadError> {
-    let loaded = rig_file::load_rig(path)?;
+    let loaded = load_rig(path)?;
     if let Some(notice) = &loaded.notice {
         eprintln!("warning: {notice}");
     }
@@ -157,7 +157,7 @@ fn check_table(path: &Path) -> Result<String, LoadError> {
         table.aus.len(),
         table.expressions.len()
     );
-    let (_, rig) = table_file::load_table_and_rig(path, None)?;
+    let (_, rig) = load_table_and_rig(path, None)?;
     Ok(format!("{counts}, rig {}", rig.path.display()))
 }
 

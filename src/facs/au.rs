@@ -1,5 +1,6 @@
 //! AU keys: a FACS Action Unit number with an optional side (`12`, `L12`, `R12`).
 
+use std::collections::BTreeMap;
 use std::fmt;
 use std::str::FromStr;
 
@@ -121,5 +122,46 @@ impl TryFrom<String> for AuKey {
 
     fn try_from(text: String) -> Result<AuKey, AuKeyError> {
         text.parse()
+    }
+}
+
+/// Where an AU key's activations come from in a table.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Resolved {
+    /// The key is recorded.
+    Recorded,
+    /// A bilateral key recorded only by side: the recorded sides, played together.
+    Sides(Vec<AuKey>),
+    /// A one-sided key recorded only bilaterally: derived from this bilateral key.
+    FromBilateral(AuKey),
+    /// The table cannot give this key.
+    Missing,
+}
+
+/// How a key resolves against the recorded keys `recorded`: the one rule by which a table
+/// gives an AU (see [`crate::facs::mapper`]).
+pub fn resolve<T>(recorded: &BTreeMap<AuKey, T>, key: AuKey) -> Resolved {
+    if recorded.contains_key(&key) {
+        return Resolved::Recorded;
+    }
+    let bilateral = AuKey::new(key.number);
+    match key.side {
+        None | Some(Side::Centre) => {
+            let sides: Vec<AuKey> = [Side::Left, Side::Right]
+                .into_iter()
+                .map(|side| AuKey {
+                    number: key.number,
+                    side: Some(side),
+                })
+                .filter(|k| recorded.contains_key(k))
+                .collect();
+            if sides.is_empty() {
+                Resolved::Missing
+            } else {
+                Resolved::Sides(sides)
+            }
+        }
+        Some(_) if recorded.contains_key(&bilateral) => Resolved::FromBilateral(bilateral),
+        Some(_) => Resolved::Missing,
     }
 }

@@ -7,6 +7,7 @@
 //! An AU key resolves to recordings by one rule ([`resolve`]): the key itself when recorded;
 //! a bilateral key the table records only by side is both recorded sides (`12` is `L12` +
 //! `R12`); a one-sided key the table records only bilaterally is derived from that recording
+//! ([`resolve`] lives with the AU keys)
 //! (`L45` is the `45` recording's left muscles and half its midline muscles and jaw, so
 //! `L45` and `R45` add up to `45`). The editor's `:combo`, `render`, `export` (OBJ and glTF) and `play` all
 //! go through [`AuMapper`], so every key one accepts, the others accept.
@@ -16,49 +17,10 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use super::au::AuKey;
-use super::table::AuTable;
+use super::au::{resolve, AuKey, Resolved};
+use super::combo::Combo;
+use super::table::{AuTable, TableError};
 use crate::model::{Activations, Rig, Side, JAW_RANGE, MUSCLE_RANGE};
-
-/// Where an AU key's activations come from in a table.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Resolved {
-    /// The key is recorded.
-    Recorded,
-    /// A bilateral key recorded only by side: the recorded sides, played together.
-    Sides(Vec<AuKey>),
-    /// A one-sided key recorded only bilaterally: derived from this bilateral key.
-    FromBilateral(AuKey),
-    /// The table cannot give this key.
-    Missing,
-}
-
-/// How a key resolves against the recorded keys `recorded` (the one rule; see the module).
-pub fn resolve<T>(recorded: &BTreeMap<AuKey, T>, key: AuKey) -> Resolved {
-    if recorded.contains_key(&key) {
-        return Resolved::Recorded;
-    }
-    let bilateral = AuKey::new(key.number);
-    match key.side {
-        None | Some(Side::Centre) => {
-            let sides: Vec<AuKey> = [Side::Left, Side::Right]
-                .into_iter()
-                .map(|side| AuKey {
-                    number: key.number,
-                    side: Some(side),
-                })
-                .filter(|k| recorded.contains_key(k))
-                .collect();
-            if sides.is_empty() {
-                Resolved::Missing
-            } else {
-                Resolved::Sides(sides)
-            }
-        }
-        Some(_) if recorded.contains_key(&bilateral) => Resolved::FromBilateral(bilateral),
-        Some(_) => Resolved::Missing,
-    }
-}
 
 /// Clamps muscles to 0-2 and the jaw to 0-4.
 pub fn clamp_to_ranges(act: &mut Activations) {
@@ -202,6 +164,67 @@ fn one_sided_from_bilateral(
         }
     }
     derived
+}
+
+/// Evaluating a table's AUs and expressions on a rig, through the mapper.
+impl AuTable {
+    /// The activations of one AU on a rig, at full intensity (see [`AuTable::evaluate`]).
+    pub fn entry_activations(&self, key: &AuKey, rig: &Rig) -> Result<Activations, TableError> {
+        if !self.gives(*key) {
+            return Err(TableError::NoSuchAu(*key));
+        }
+        self.map_checked([(*key, 1.0)], rig)
+    }
+
+    /// Evaluates a combination on a rig through [`AuMapper`]: each term's AU scaled by its
+    /// intensity; overlapping AUs add, then every value is clamped to its range (muscles
+    /// 0-2, jaw 0-4). AUs the table cannot give are all reported together
+    /// ([`TableError::MissingAus`]).
+    pub fn evaluate(&self, combo: &Combo, rig: &Rig) -> Result<Activations, TableError> {
+        let missing = self.missing(combo);
+        if !missing.is_empty() {
+            return Err(TableError::MissingAus(missing));
+        }
+        self.map_checked(
+            combo
+                .terms
+                .iter()
+                .map(|term| (term.key, term.intensity.factor())),
+            rig,
+        )
+    }
+
+    /// Maps AUs the table gives, refusing a recording that names a muscle the rig lacks.
+    fn map_checked(
+        &self,
+        aus: impl IntoIterator<Item = (AuKey, f32)> + Clone,
+        rig: &Rig,
+    ) -> Result<Activations, TableError> {
+        for (key, _) in aus.clone() {
+            for source in self.sources_of(key) {
+                let entry = &self.aus[&source];
+                if let Some(muscle) = entry.muscles.keys().find(|m| rig.muscle_index(m).is_none()) {
+                    return Err(TableError::UnknownMuscle {
+                        au: source,
+                        muscle: muscle.clone(),
+                    });
+                }
+            }
+        }
+        let mut out = Activations::zero(rig);
+        AuMapper::new(self, rig).map(aus, &mut out);
+        Ok(out)
+    }
+
+    /// Evaluates a named expression on a rig (see [`AuTable::evaluate`]).
+    pub fn expression_activations(&self, name: &str, rig: &Rig) -> Result<Activations, TableError> {
+        let combo = self
+            .expressions
+            .get(name)
+            .ok_or_else(|| TableError::NoSuchExpression(name.to_string()))?;
+        let parsed = self.check_expression(name, combo)?;
+        self.evaluate(&parsed, rig)
+    }
 }
 
 #[cfg(test)]

@@ -13,9 +13,9 @@ use serde::{Deserialize, Deserializer, Serialize};
 use thiserror::Error;
 
 use super::au::AuKey;
+use super::au::{resolve, Resolved};
 use super::catalogue;
 use super::combo::{parse_combo, Combo, ComboError};
-use super::mapper::{resolve, AuMapper, Resolved};
 use crate::model::{Activations, Rig, JAW_RANGE, MUSCLE_RANGE};
 
 /// The AU table file format version this build reads and writes.
@@ -238,7 +238,7 @@ impl AuTable {
         Ok(())
     }
 
-    fn check_expression(&self, name: &str, combo: &str) -> Result<Combo, TableError> {
+    pub(super) fn check_expression(&self, name: &str, combo: &str) -> Result<Combo, TableError> {
         if name.is_empty() || name.trim() != name {
             return Err(TableError::BadExpressionName(name.to_string()));
         }
@@ -258,7 +258,7 @@ impl AuTable {
 
     /// The AUs of a combination the table cannot give, each once, in the order written. A
     /// one-sided AU recorded only bilaterally, or a bilateral one recorded only by side, is
-    /// not missing ([`crate::facs::mapper::resolve`]).
+    /// not missing ([`crate::facs::au::resolve`]).
     pub fn missing(&self, combo: &Combo) -> Vec<AuKey> {
         let mut missing: Vec<AuKey> = vec![];
         for term in &combo.terms {
@@ -276,71 +276,13 @@ impl AuTable {
     }
 
     /// The recorded keys an AU is played from.
-    fn sources_of(&self, key: AuKey) -> Vec<AuKey> {
+    pub(super) fn sources_of(&self, key: AuKey) -> Vec<AuKey> {
         match resolve(&self.aus, key) {
             Resolved::Recorded => vec![key],
             Resolved::Sides(sides) => sides,
             Resolved::FromBilateral(bilateral) => vec![bilateral],
             Resolved::Missing => Vec::new(),
         }
-    }
-
-    /// The activations of one AU on a rig, at full intensity (see [`AuTable::evaluate`]).
-    pub fn entry_activations(&self, key: &AuKey, rig: &Rig) -> Result<Activations, TableError> {
-        if !self.gives(*key) {
-            return Err(TableError::NoSuchAu(*key));
-        }
-        self.map_checked([(*key, 1.0)], rig)
-    }
-
-    /// Evaluates a combination on a rig through [`AuMapper`]: each term's AU scaled by its
-    /// intensity; overlapping AUs add, then every value is clamped to its range (muscles
-    /// 0-2, jaw 0-4). AUs the table cannot give are all reported together
-    /// ([`TableError::MissingAus`]).
-    pub fn evaluate(&self, combo: &Combo, rig: &Rig) -> Result<Activations, TableError> {
-        let missing = self.missing(combo);
-        if !missing.is_empty() {
-            return Err(TableError::MissingAus(missing));
-        }
-        self.map_checked(
-            combo
-                .terms
-                .iter()
-                .map(|term| (term.key, term.intensity.factor())),
-            rig,
-        )
-    }
-
-    /// Maps AUs the table gives, refusing a recording that names a muscle the rig lacks.
-    fn map_checked(
-        &self,
-        aus: impl IntoIterator<Item = (AuKey, f32)> + Clone,
-        rig: &Rig,
-    ) -> Result<Activations, TableError> {
-        for (key, _) in aus.clone() {
-            for source in self.sources_of(key) {
-                let entry = &self.aus[&source];
-                if let Some(muscle) = entry.muscles.keys().find(|m| rig.muscle_index(m).is_none()) {
-                    return Err(TableError::UnknownMuscle {
-                        au: source,
-                        muscle: muscle.clone(),
-                    });
-                }
-            }
-        }
-        let mut out = Activations::zero(rig);
-        AuMapper::new(self, rig).map(aus, &mut out);
-        Ok(out)
-    }
-
-    /// Evaluates a named expression on a rig (see [`AuTable::evaluate`]).
-    pub fn expression_activations(&self, name: &str, rig: &Rig) -> Result<Activations, TableError> {
-        let combo = self
-            .expressions
-            .get(name)
-            .ok_or_else(|| TableError::NoSuchExpression(name.to_string()))?;
-        let parsed = self.check_expression(name, combo)?;
-        self.evaluate(&parsed, rig)
     }
 
     /// Records an AU from the current activations: the non-zero muscles by name, and the jaw.

@@ -17,9 +17,7 @@ use std::path::{Path, PathBuf};
 
 use super::error::LoadError;
 use super::lines::LineReader;
-use super::openface::{
-    next_row_line, parse_number, shorten, split_fields, RowError, MAX_LINE_BYTES,
-};
+use super::openface::{next_row_line, split_fields, Fields, RowError, MAX_LINE_BYTES};
 use crate::model::Activations;
 
 /// The column that marks an activation CSV (with `jaw`).
@@ -122,14 +120,8 @@ impl ActsColumns {
                 ),
             });
         }
-        let number = |index: usize, what: &str| -> Result<f64, RowError> {
-            let (column, field) = fields[index];
-            parse_number(field).ok_or_else(|| RowError {
-                line,
-                column: Some(column),
-                message: format!("{what} `{}` is not a number", shorten(field)),
-            })
-        };
+        let row = Fields { line, fields };
+        let number = |index: usize, what: &str| row.number(index, what);
         let frame = self.frame.map(|i| number(i, "frame")).transpose()?;
         let timestamp = self.timestamp.map(|i| number(i, "timestamp")).transpose()?;
         let muscles = self

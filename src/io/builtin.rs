@@ -9,8 +9,9 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
-use super::rig_file::BUILTIN_PREFIX;
-use super::{obj, parse_rig, parse_table, LoadError};
+use super::rig_file::{parse_rig_with, BUILTIN_PREFIX};
+use super::table_file::parse_table;
+use super::{obj, LoadError};
 use crate::face::groups::find_groups_in;
 use crate::facs::AuTable;
 use crate::model::{Mesh, Rig};
@@ -131,7 +132,7 @@ pub fn load_mesh() -> Result<Mesh, LoadError> {
 
 /// Parses an embedded rig.
 pub fn load_rig(text: &str, name: &str) -> Result<Rig, LoadError> {
-    parse_rig(text, &embedded(name))
+    parse_rig_with(text, &embedded(name), mesh).map(|(rig, _)| rig)
 }
 
 /// Parses an embedded AU table.

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use super::arkit;
 use super::error::LoadError;
 use super::lines::LineReader;
-use super::openface::{next_row_line, RowError, MAX_LINE_BYTES};
+use super::openface::{next_row_line, shorten, RowError, MAX_LINE_BYTES};
 
 /// The columns of a Live Link Face header.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -188,15 +188,6 @@ pub fn parse_timecode(text: &str, fps: f64) -> Result<f64, String> {
         _ => return Err("is not a timecode HH:MM:SS:FF.fff".into()),
     };
     Ok((h * 60.0 + m) * 60.0 + s + frame / fps)
-}
-
-/// The first characters of a field, for messages.
-fn shorten(field: &str) -> String {
-    const MAX: usize = 24;
-    match field.char_indices().nth(MAX) {
-        None => field.to_string(),
-        Some((cut, _)) => format!("{}...", &field[..cut]),
-    }
 }
 
 /// A Live Link Face recording read row by row, each line in bounded memory.

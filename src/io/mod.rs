@@ -14,6 +14,7 @@ pub mod inputs;
 pub mod landmarks;
 pub mod lines;
 pub mod livelink;
+pub mod load;
 pub mod lock;
 pub mod morph;
 pub mod obj;
@@ -32,5 +33,6 @@ pub mod waters;
 pub(crate) mod ron_text;
 
 pub use error::{line_column, LoadError, SaveError, MAX_FILE_BYTES};
-pub use rig_file::{load_rig, parse_rig, rig_to_ron, save_rig, LoadedRig};
+pub use load::{load_rig, parse_rig, LoadedRig};
+pub use rig_file::{rig_to_ron, save_rig};
 pub use table_file::{load_table, parse_table, save_table, table_to_ron};

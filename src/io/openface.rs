@@ -204,33 +204,13 @@ impl OpenFaceColumns {
                 message,
             });
         }
-        let number = |index: usize, what: &str| -> Result<f64, RowError> {
-            let (column, field) = fields[index];
-            parse_number(field).ok_or_else(|| RowError {
-                line,
-                column: Some(column),
-                message: format!("{what} `{}` is not a number", shorten(field)),
-            })
-        };
+        let row = Fields { line, fields };
+        let number = |index: usize, what: &str| row.number(index, what);
         // Frame numbers past the limit are refused here; times, whatever they come from, are
         // bounded by the player's stream rules (`play::rules`).
-        let in_range = |index: usize, what: &str, limit: f64| -> Result<f64, RowError> {
-            let value = number(index, what)?;
-            if value.abs() <= limit {
-                return Ok(value);
-            }
-            Err(RowError {
-                line,
-                column: Some(fields[index].0),
-                message: format!(
-                    "{what} {} is out of range (at most {limit} in size)",
-                    shorten(fields[index].1)
-                ),
-            })
-        };
         let frame = self
             .frame
-            .map(|i| in_range(i, "frame", MAX_FRAME))
+            .map(|i| row.in_range(i, "frame", MAX_FRAME))
             .transpose()?;
         let timestamp = self.timestamp.map(|i| number(i, "timestamp")).transpose()?;
         let success = match self.success {
@@ -246,8 +226,8 @@ impl OpenFaceColumns {
                 if !value.is_finite() {
                     return Err(RowError {
                         line,
-                        column: Some(fields[au.index].0),
-                        message: format!("{name} `{}` is far out of range", fields[au.index].1),
+                        column: Some(row.fields[au.index].0),
+                        message: format!("{name} `{}` is far out of range", row.fields[au.index].1),
                     });
                 }
                 intensities.push(value);
@@ -321,6 +301,43 @@ pub(crate) fn split_fields(text: &str) -> Vec<(usize, &str)> {
         column += raw.chars().count() + 1;
     }
     fields
+}
+
+/// One data row's fields with its line, for reading numbers with errors that name their
+/// place (OpenFace rows and activation rows alike).
+pub(crate) struct Fields<'a> {
+    /// The row's 1-based line.
+    pub(crate) line: usize,
+    /// The trimmed fields with their 1-based columns ([`split_fields`]).
+    pub(crate) fields: Vec<(usize, &'a str)>,
+}
+
+impl Fields<'_> {
+    /// The field at `index` as a finite number; `what` names it in the error.
+    pub(crate) fn number(&self, index: usize, what: &str) -> Result<f64, RowError> {
+        let (column, field) = self.fields[index];
+        parse_number(field).ok_or_else(|| RowError {
+            line: self.line,
+            column: Some(column),
+            message: format!("{what} `{}` is not a number", shorten(field)),
+        })
+    }
+
+    /// [`Fields::number`], refused beyond `limit` in size.
+    pub(crate) fn in_range(&self, index: usize, what: &str, limit: f64) -> Result<f64, RowError> {
+        let value = self.number(index, what)?;
+        if value.abs() <= limit {
+            return Ok(value);
+        }
+        Err(RowError {
+            line: self.line,
+            column: Some(self.fields[index].0),
+            message: format!(
+                "{what} {} is out of range (at most {limit} in size)",
+                shorten(self.fields[index].1)
+            ),
+        })
+    }
 }
 
 /// A finite decimal number (OpenFace writes plain decimals; `nan` and `inf` are refused).

@@ -6,19 +6,21 @@
 //! format is documented in `docs/formats.md`.
 //!
 //! The `mesh` field is a path relative to the rig file, or `builtin:NAME` for a mesh embedded
-//! in grimace. Built-in names are resolved by a [`BuiltinMeshes`] function passed to
-//! [`load_rig_with`], so this module does not depend on where the embedded meshes live.
+//! in grimace. This module is the format only: loading a rig with the mesh it names is
+//! [`super::load`]'s, and built-in names reach the parser as a [`BuiltinMeshes`] function, so
+//! the format does not depend on where the embedded meshes live.
 //!
 //! Version 1 files (the classic convention, the subject's left at negative x) are converted
-//! as they are read ([`upgrade_v1`]) and the load says so once ([`LoadedRig::notice`]).
+//! as they are read ([`upgrade_v1`]) and the load says so once
+//! ([`super::load::LoadedRig::notice`]).
 
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use serde::{Deserialize, Deserializer};
 
-use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
-use super::{atomic, builtin, obj, ron_text};
+use super::error::{LoadError, SaveError};
+use super::{atomic, ron_text};
 use crate::model::muscle::mirror_x;
 mod check;
 
@@ -35,202 +37,13 @@ pub const BUILTIN_PREFIX: &str = "builtin:";
 /// Resolves the name after `builtin:` to an embedded mesh, or `None` if there is no such mesh.
 pub type BuiltinMeshes = fn(&str) -> Option<Mesh>;
 
-/// A rig loaded from a file, with its mesh.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LoadedRig {
-    /// The rig, checked.
-    pub rig: Rig,
-    /// The mesh the rig names (or the override given), checked against the rig.
-    pub mesh: Mesh,
-    /// The rig file it came from.
-    pub path: PathBuf,
-    /// The mesh file read, or `None` for a built-in mesh.
-    pub mesh_path: Option<PathBuf>,
-    /// What loading did to an older file (a version 1 rig converted), to show the user once;
-    /// `None` for a current file.
-    pub notice: Option<String>,
-}
-
-impl LoadedRig {
-    /// The landmarks of a loaded rig's mesh when none are given: the built-in face's own for a
-    /// built-in mesh, else the file [`beside`] the mesh. Gives the landmarks and where they came
-    /// from; the error says what is missing and names `flag`, the option that gives them.
-    pub fn landmarks(
-        &self,
-        flag: &str,
-    ) -> Result<(crate::landmarks::Landmarks, PathBuf), LoadError> {
-        match mesh_ref(&self.path, &self.rig.mesh) {
-            MeshRef::Builtin(name) => builtin::landmarks(&name)
-                .map(|marks| {
-                    (
-                        marks,
-                        PathBuf::from(format!("builtin:{name}.landmarks.ron")),
-                    )
-                })
-                .ok_or_else(|| {
-                    LoadError::new(
-                        &self.path,
-                        format!("the built-in mesh `{name}` has no landmarks; give {flag}"),
-                    )
-                }),
-            MeshRef::File(mesh) => {
-                let path = super::landmarks::beside(&mesh);
-                if !path.is_file() {
-                    return Err(LoadError::new(
-                        &mesh,
-                        format!(
-                            "no landmarks beside the mesh ({}); give {flag} FILE",
-                            path.display()
-                        ),
-                    ));
-                }
-                Ok((super::landmarks::load_landmarks(&path)?, path))
-            }
-        }
-    }
-}
-
 /// The oldest rig file version this build reads; older files than [`RIG_VERSION`] are
 /// converted on load.
 pub const OLDEST_RIG_VERSION: u32 = 1;
 
-/// Where a rig's mesh comes from.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum MeshRef {
-    /// An embedded mesh, by the name after `builtin:`.
-    Builtin(String),
-    /// A file, already resolved against the rig file's folder.
-    File(PathBuf),
-}
-
-/// Resolves a rig's `mesh` field: `builtin:NAME`, or a path relative to the rig file's real
-/// folder (see [`super::reference`]; absolute paths are kept).
-pub fn mesh_ref(rig_path: &Path, mesh: &Path) -> MeshRef {
-    if let Some(name) = mesh.to_str().and_then(|s| s.strip_prefix(BUILTIN_PREFIX)) {
-        return MeshRef::Builtin(name.to_string());
-    }
-    MeshRef::File(super::reference::resolve(rig_path, mesh))
-}
-
-/// Loads a rig file and the mesh it names (a file, or a built-in mesh of
-/// [`super::builtin`]), and checks them against each other.
-pub fn load_rig(path: &Path) -> Result<LoadedRig, LoadError> {
-    load_rig_with(path, None, builtin::mesh)
-}
-
-/// Loads a rig by reference: `builtin:NAME` for a rig embedded in grimace (see
-/// [`super::builtin`]), or a rig file. `mesh_override` replaces the mesh the rig names.
-pub fn load_rig_ref(
-    reference: &Path,
-    mesh_override: Option<&Path>,
-) -> Result<LoadedRig, LoadError> {
-    let Some(name) = builtin::builtin_name(reference) else {
-        return load_rig_with(reference, mesh_override, builtin::mesh);
-    };
-    let rig = builtin::rig(name).ok_or_else(|| {
-        LoadError::new(
-            reference,
-            format!("there is no built-in rig named `{name}`; the built-in rigs are builtin:default and builtin:paper"),
-        )
-    })?;
-    let (mesh, mesh_path) = match mesh_override {
-        Some(file) => (obj::read_obj(file)?, Some(file.to_path_buf())),
-        None => {
-            let mesh = builtin::builtin_name(&rig.mesh)
-                .and_then(builtin::mesh)
-                .ok_or_else(|| {
-                    LoadError::new(
-                        reference,
-                        format!(
-                            "the built-in rig names the mesh `{}`, which is not built in",
-                            rig.mesh.display()
-                        ),
-                    )
-                })?;
-            (mesh, None)
-        }
-    };
-    check_rig_mesh(&rig, &mesh).map_err(|issue| LoadError::new(reference, issue.to_string()))?;
-    Ok(LoadedRig {
-        rig,
-        mesh,
-        path: reference.to_path_buf(),
-        mesh_path,
-        notice: None,
-    })
-}
-
-/// Loads a rig file; `mesh_override` replaces the mesh the rig names (as `--mesh` does on the
-/// command line); `builtin` resolves `builtin:NAME` mesh references.
-pub fn load_rig_with(
-    path: &Path,
-    mesh_override: Option<&Path>,
-    builtin: BuiltinMeshes,
-) -> Result<LoadedRig, LoadError> {
-    let text = read_text(path, MAX_FILE_BYTES)?;
-    let (mut rig, notice) = parse_rig_with(&text, path, builtin)?;
-    let (mesh, mesh_path) = match mesh_override {
-        Some(file) => (obj::read_obj(file)?, Some(file.to_path_buf())),
-        None => load_named_mesh(&rig, &text, path, builtin)?,
-    };
-    if let (None, MeshRef::Builtin(name)) = (mesh_override, mesh_ref(path, &rig.mesh)) {
-        builtin::hold_eyes_still(&name, &mesh, &mut rig);
-    }
-    if let Err(issue) = check_rig_mesh(&rig, &mesh) {
-        return Err(locate(path, &text, &issue));
-    }
-    Ok(LoadedRig {
-        rig,
-        mesh,
-        path: path.to_path_buf(),
-        mesh_path,
-        notice,
-    })
-}
-
-fn load_named_mesh(
-    rig: &Rig,
-    text: &str,
-    path: &Path,
-    builtin: BuiltinMeshes,
-) -> Result<(Mesh, Option<PathBuf>), LoadError> {
-    let at_mesh = |message: String| {
-        let issue = RigIssue {
-            muscle: None,
-            field: Some("mesh"),
-            message,
-        };
-        locate(path, text, &issue)
-    };
-    match mesh_ref(path, &rig.mesh) {
-        MeshRef::Builtin(name) => match builtin(&name) {
-            Some(mesh) => Ok((mesh, None)),
-            None => Err(at_mesh(format!(
-                "there is no built-in mesh named `{name}` in this context"
-            ))),
-        },
-        MeshRef::File(file) => {
-            if let Some(reason) = super::error::not_a_file(&file) {
-                return Err(at_mesh(format!(
-                    "the mesh file `{}` {reason} (paths are relative to the rig file)",
-                    file.display()
-                )));
-            }
-            let mesh = obj::read_obj(&file)
-                .map_err(|e| at_mesh(format!("the mesh it names does not load: {e}")))?;
-            Ok((mesh, Some(file)))
-        }
-    }
-}
-
 /// Parses and checks the text of a rig file (the mesh is not loaded), converting a version 1
-/// file (see [`upgrade_v1`]). `path` is used in error messages only.
-pub fn parse_rig(text: &str, path: &Path) -> Result<Rig, LoadError> {
-    parse_rig_with(text, path, builtin::mesh).map(|(rig, _)| rig)
-}
-
-/// [`parse_rig`] with the built-in meshes given, also returning the notice of a conversion
-/// (see [`LoadedRig::notice`]).
+/// file (see [`upgrade_v1`]) with the built-in meshes `builtin`, and returns the notice of a
+/// conversion (see [`super::load::LoadedRig::notice`]). `path` is used in error messages only.
 pub fn parse_rig_with(
     text: &str,
     path: &Path,
@@ -264,7 +77,11 @@ pub fn parse_rig_with(
 ///   What moves stays the same; only the screen shows the mesh unmirrored now.
 pub fn upgrade_v1(rig: &mut Rig, builtin: BuiltinMeshes) -> String {
     rig.version = RIG_VERSION;
-    let MeshRef::Builtin(name) = mesh_ref(Path::new(""), &rig.mesh) else {
+    let Some(name) = rig
+        .mesh
+        .to_str()
+        .and_then(|s| s.strip_prefix(BUILTIN_PREFIX))
+    else {
         return format!(
             "rig version 1 read as version {RIG_VERSION}: its muscles stay where they are on \
              `{}`, in that mesh's own coordinates; grimace now draws meshes unmirrored \
@@ -277,7 +94,7 @@ pub fn upgrade_v1(rig: &mut Rig, builtin: BuiltinMeshes) -> String {
     for muscle in &mut rig.muscles {
         muscle.kind = muscle.kind.mirrored_x();
     }
-    let mesh = builtin(&name);
+    let mesh = builtin(name);
     if let Some(jaw) = &mut rig.jaw {
         jaw.pivot = mirror_x(jaw.pivot);
         // A reflection reverses the sense of a turn: turning by an angle about the axis
@@ -337,7 +154,7 @@ pub fn save_rig(path: &Path, rig: &Rig) -> Result<(), SaveError> {
 }
 
 /// Turns an issue into a load error at the muscle's (or field's) place in the text.
-fn locate(path: &Path, text: &str, issue: &RigIssue) -> LoadError {
+pub(super) fn locate(path: &Path, text: &str, issue: &RigIssue) -> LoadError {
     let muscle_at = match &issue.muscle {
         Some(name) => ron_text::find_field(text, 0, "muscles")
             .and_then(|from| find_name_field(text, from, name)),

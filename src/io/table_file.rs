@@ -4,44 +4,16 @@
 //! size, FACS codes, activation ranges and expressions; against a rig, the muscle names).
 //! Written by hand in a fixed layout that reads back bit for bit. See `docs/formats.md`.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
-use super::rig_file::{load_rig_ref, LoadedRig, BUILTIN_PREFIX};
-use super::{atomic, builtin, ron_text};
+use super::{atomic, ron_text};
 use crate::facs::table::TableError;
 use crate::facs::{AuKey, AuTable, TABLE_VERSION};
 use crate::model::Rig;
 
-/// Where a table's rig comes from.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum RigRef {
-    /// An embedded rig, by the name after `builtin:`.
-    Builtin(String),
-    /// A file, already resolved against the table file's folder.
-    File(PathBuf),
-}
-
-impl RigRef {
-    /// The reference as [`super::rig_file::load_rig_ref`] takes it: `builtin:NAME` or the file.
-    pub fn to_path(&self) -> PathBuf {
-        match self {
-            RigRef::Builtin(name) => PathBuf::from(format!("{BUILTIN_PREFIX}{name}")),
-            RigRef::File(path) => path.clone(),
-        }
-    }
-}
-
-/// Resolves a table's `rig` field: `builtin:NAME`, or a path relative to the table file's
-/// real folder (see [`super::reference`]; absolute paths are kept).
-pub fn rig_ref(table_path: &Path, rig: &Path) -> RigRef {
-    if let Some(name) = rig.to_str().and_then(|s| s.strip_prefix(BUILTIN_PREFIX)) {
-        return RigRef::Builtin(name.to_string());
-    }
-    RigRef::File(super::reference::resolve(table_path, rig))
-}
-
-/// Loads and checks a table file on its own (its rig is not loaded; see [`load_table_for`]).
+/// Loads and checks a table file on its own (its rig is not loaded; see [`load_table_for`] and
+/// [`super::load::load_table_and_rig`]).
 pub fn load_table(path: &Path) -> Result<AuTable, LoadError> {
     let text = read_text(path, MAX_FILE_BYTES)?;
     parse_table(&text, path)
@@ -53,66 +25,6 @@ pub fn load_table_for(path: &Path, rig: &Rig) -> Result<AuTable, LoadError> {
     let table = parse_table(&text, path)?;
     check_table_rig(&table, rig, &text, path)?;
     Ok(table)
-}
-
-/// Loads a table by reference (`builtin:NAME` for a table embedded in grimace, or a table
-/// file) and the rig it names (built in, or a file relative to the table), with that rig's
-/// mesh or `mesh_override`, and checks them against each other. Errors about the rig
-/// reference point at the table's `rig` field.
-pub fn load_table_and_rig(
-    path: &Path,
-    mesh_override: Option<&Path>,
-) -> Result<(AuTable, LoadedRig), LoadError> {
-    let (table, text) = match builtin::builtin_name(path) {
-        Some(name) => {
-            let table = builtin::table(name).ok_or_else(|| {
-                LoadError::new(
-                    path,
-                    format!("there is no built-in table named `{name}`; the built-in table is builtin:default"),
-                )
-            })?;
-            let text = table_to_ron(&table);
-            (table, text)
-        }
-        None => {
-            let text = read_text(path, MAX_FILE_BYTES)?;
-            (parse_table(&text, path)?, text)
-        }
-    };
-    let at_rig = |message: String| match ron_text::find_field(&text, 0, "rig") {
-        Some(offset) => LoadError::at_offset(path, &text, offset, message),
-        None => LoadError::new(path, message),
-    };
-    let rig_path = match rig_ref(path, &table.rig) {
-        RigRef::File(file) => {
-            if let Some(reason) = super::error::not_a_file(&file) {
-                return Err(at_rig(format!(
-                    "the rig file `{}` {reason} (paths are relative to the table file)",
-                    file.display()
-                )));
-            }
-            file
-        }
-        RigRef::Builtin(_) => table.rig.clone(),
-    };
-    let rig = load_rig_ref(&rig_path, mesh_override)
-        .map_err(|e| at_rig(format!("the rig it names does not load: {e}")))?;
-    check_table_rig(&table, &rig.rig, &text, path)?;
-    Ok((table, rig))
-}
-
-/// Loads a table by reference (`builtin:NAME` or a file) and checks it against a rig.
-pub fn load_table_ref_for(path: &Path, rig: &Rig) -> Result<AuTable, LoadError> {
-    match builtin::builtin_name(path) {
-        Some(name) => {
-            let table = builtin::table(name).ok_or_else(|| {
-                LoadError::new(path, format!("there is no built-in table named `{name}`"))
-            })?;
-            check_table_rig(&table, rig, &table_to_ron(&table), path)?;
-            Ok(table)
-        }
-        None => load_table_for(path, rig),
-    }
 }
 
 /// Checks a parsed table against a rig, locating the error in the table's text.

@@ -5,8 +5,9 @@
 use std::path::Path;
 use std::time::Duration;
 
+use super::event::{Event, Frame, FrameSource, Input, Poll, SourceError};
 use super::rules::printable_poll;
-use super::source::{Event, Frame, FrameSource, Input, Poll, RowClock, SourceError};
+use super::source::RowClock;
 use crate::io::acts::{ActsReader, MuscleMap};
 use crate::io::openface::OpenFaceError;
 

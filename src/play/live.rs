@@ -14,13 +14,12 @@ use crate::io::lines::LineReader;
 use crate::io::livelink::{is_header, LiveLinkColumns};
 use crate::io::openface::{OpenFaceColumns, RowOutcome, MAX_LINE_BYTES};
 
+use super::event::{Event, FrameSource, Poll, SourceError, DEFAULT_FRAME_RATE};
 use super::json::parse_flat_object;
 use super::livelink::{LiveLinkRows, LIVELINK_FRAME_RATE};
 use super::map::{AuMapper, IntensityScale};
 use super::rules::{printable_poll, shown, NameSet, Seen, NAMES_KEPT, NAME_CHARS};
-use super::source::{
-    row_event, AuFrames, Event, FrameSource, Poll, RowClock, SourceError, DEFAULT_FRAME_RATE,
-};
+use super::source::{row_event, AuFrames, RowClock};
 
 /// The largest UDP datagram read.
 const MAX_DATAGRAM: usize = 65_536;

@@ -6,9 +6,10 @@
 use std::path::Path;
 use std::time::Duration;
 
+use super::event::{Event, FrameSource, Input, Poll, SourceError};
 use super::map::{AuMapper, IntensityScale};
 use super::rules::{printable_poll, NameSet, TimeBase, TimeRule};
-use super::source::{AuFrames, Event, FrameSource, Input, Poll, SourceError};
+use super::source::AuFrames;
 use crate::facs::AuKey;
 use crate::io::arkit::ArkitMap;
 use crate::io::livelink::{LiveLinkColumns, LiveLinkReader, LiveLinkRow};

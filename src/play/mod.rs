@@ -15,6 +15,7 @@
 
 pub mod acts;
 pub mod clock;
+pub mod event;
 pub mod json;
 pub mod live;
 pub mod livelink;
@@ -26,8 +27,8 @@ pub mod skips;
 pub mod source;
 
 pub use clock::{FrameStats, PlayClock};
+pub use event::{Event, Frame, FrameSource, Poll, SourceError};
+pub use live::LiveSource;
 pub use map::{AuIntensity, AuMapper, IntensityScale};
 pub use player::{Message, PlayError, Player};
-pub use source::{
-    Event, Frame, FrameSource, LiveSource, OpenFaceSource, Poll, SourceError, TimelineSource,
-};
+pub use source::{OpenFaceSource, TimelineSource};

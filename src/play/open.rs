@@ -7,9 +7,10 @@ use std::io::BufReader;
 use std::path::Path;
 
 use super::acts::ActsSource;
+use super::event::{FrameSource, Input, SourceError, DEFAULT_FRAME_RATE};
 use super::livelink::{LiveLinkSource, LIVELINK_FRAME_RATE};
 use super::map::{AuMapper, IntensityScale};
-use super::source::{FrameSource, Input, OpenFaceSource, SourceError, DEFAULT_FRAME_RATE};
+use super::source::OpenFaceSource;
 use crate::io::arkit::ArkitMap;
 use crate::io::lines::sniff_first_line;
 use crate::io::livelink::is_header;

@@ -9,7 +9,7 @@
 use std::time::{Duration, Instant};
 
 use super::clock::{FrameStats, PlayClock};
-use super::source::{Event, Frame, FrameSource, Poll, SourceError, DEFAULT_FRAME_RATE};
+use super::event::{Event, Frame, FrameSource, Poll, SourceError, DEFAULT_FRAME_RATE};
 
 /// Opens the source again, for `--loop`.
 pub type Reopen = Box<dyn FnMut() -> Result<Box<dyn FrameSource>, SourceError>>;

@@ -15,7 +15,7 @@
 
 use std::collections::BTreeSet;
 
-use super::source::{Event, Poll};
+use super::event::{Event, Poll};
 use crate::io::printable::printable;
 
 /// The largest time a frame may have, in seconds (about 11.6 days): a recording is far

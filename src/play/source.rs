@@ -1,110 +1,26 @@
-//! Frame sources: an OpenFace CSV file, a timeline, and live streams on stdin or UDP.
+//! Frame sources for files: an OpenFace CSV file and a timeline, and the row handling every
+//! AU source shares ([`AuFrames`], [`RowClock`]); live streams on stdin or UDP are
+//! [`super::live`]'s.
 //!
-//! Every source hands out [`Event`]s through [`FrameSource::poll`]: a frame ready to show
+//! Every source hands out [`Event`]s (defined in [`super::event`]) through
+//! [`FrameSource::poll`]: a frame ready to show
 //! (already mapped to activations), a row skipped (untracked or malformed, with its line), or a
 //! notice to print once (AUs the table lacks, values clamped). Files and timelines are always
 //! ready; live sources are fed by a reader thread and wait up to the time given.
 
 use std::collections::BTreeSet;
-use std::io::BufRead;
 use std::path::Path;
 use std::time::Duration;
 
-use thiserror::Error;
-
 use crate::facs::combo::parse_combo;
 use crate::facs::{AuKey, AuTable};
-use crate::io::openface::{OpenFaceColumns, OpenFaceError, OpenFaceReader, RowOutcome};
+use crate::io::openface::{OpenFaceColumns, OpenFaceReader, RowOutcome};
 use crate::io::timeline::{Timeline, TimelineError};
 use crate::model::{Activations, Rig};
 
-pub use super::live::{LiveSource, QUEUE_BYTES, QUEUE_LINES};
+use super::event::{Event, Frame, FrameSource, Input, Poll, SourceError};
 use super::map::{clamp_to_ranges, AuIntensity, AuMapper, IntensityScale};
 use super::rules::{printable_poll, TimeBase, TimeRule};
-
-/// A file or stream read once, from its start (see [`crate::io::lines::sniff_first_line`]).
-pub type Input = Box<dyn BufRead>;
-
-/// The frame rate assumed for rows without timestamps, unless one is given.
-pub const DEFAULT_FRAME_RATE: f64 = 30.0;
-
-/// A frame ready to show.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Frame {
-    /// Seconds: the source's timestamp (files, timelines, streams that send one), or the
-    /// arrival time since the stream opened.
-    pub time: f64,
-    /// The 1-based line (or packet) number in the input, when there is one.
-    pub line: Option<usize>,
-    /// The AU intensities given, clamped to the scale (empty for timelines).
-    pub aus: Vec<AuIntensity>,
-    /// The pose: AUs mapped through the table, or the timeline's interpolated activations.
-    pub activations: Activations,
-}
-
-/// What a source produced.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Event {
-    /// A frame to show.
-    Frame(Frame),
-    /// A row the tracker marked `success` 0: it carries no AU values.
-    Untracked {
-        /// Its 1-based line.
-        line: usize,
-    },
-    /// A row that cannot be read, skipped (or fatal under `--strict`).
-    Malformed {
-        /// `SOURCE:LINE[:COLUMN]: message`.
-        message: String,
-    },
-    /// Something to say once: AUs the table lacks, clamped values, ignored fields.
-    Notice(String),
-}
-
-/// The result of one poll.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Poll {
-    /// An event.
-    Event(Event),
-    /// A live source has nothing yet.
-    Pending,
-    /// The source is finished.
-    End,
-}
-
-/// A source that cannot be opened or read on.
-#[derive(Debug, Error)]
-pub enum SourceError {
-    /// An OpenFace CSV header or read failure.
-    #[error(transparent)]
-    OpenFace(#[from] OpenFaceError),
-    /// A timeline that cannot be read or resolved.
-    #[error(transparent)]
-    Timeline(#[from] TimelineError),
-    /// A file or socket that cannot be opened.
-    #[error("{what}: {source}")]
-    Io {
-        /// What was being opened.
-        what: String,
-        /// The cause.
-        source: std::io::Error,
-    },
-    /// A UDP address that is not on this machine.
-    #[error("refusing to listen on {0}: only loopback addresses (127.0.0.1, ::1) are allowed, so no other machine can drive the face")]
-    NotLoopback(String),
-    /// An address that does not parse.
-    #[error("`{0}` is not an address such as 127.0.0.1:9000")]
-    BadAddress(String),
-}
-
-/// A producer of frames.
-pub trait FrameSource {
-    /// The next event, waiting at most `wait` for a live source.
-    fn poll(&mut self, wait: Duration) -> Result<Poll, SourceError>;
-
-    /// Whether frames arrive in real time (then they are shown on arrival, not scheduled).
-    fn is_live(&self) -> bool;
-}
 
 /// Turns AU intensities into frames: clamps with one warning, reports AUs the table lacks
 /// once, maps through the table.

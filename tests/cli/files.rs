@@ -2,14 +2,15 @@
 //! `validate`, `list`. Outputs are parsed back and checked against the classic reference.
 
 use crate::common;
+use grimace::io::load::load_rig;
 
 use std::collections::HashMap;
 use std::path::Path;
 use std::process::{Command, Output};
 
 use glam::Vec3;
+use grimace::io::obj;
 use grimace::io::waters::from_classic;
-use grimace::io::{obj, rig_file};
 use grimace::model::MuscleKind;
 
 fn grimace(args: &[&str]) -> Output {
@@ -56,7 +57,7 @@ fn import_then_export_each_muscle_matches_the_classic_output() {
     let dir = tempfile::tempdir().unwrap();
     import(&shared, dir.path());
     let rig_path = dir.path().join("rig.ron");
-    let rig = rig_file::load_rig(&rig_path).unwrap();
+    let rig = load_rig(&rig_path).unwrap();
     let rest = rig.mesh.positions.clone();
 
     // Golden rows at activation 1.0 and 2.0 (the range allowed), by muscle and vertex.
@@ -196,7 +197,7 @@ fn export(dir: &Path, args: &[&str]) -> Result<Vec<Vec3>, (Option<i32>, String)>
 
 /// The positions the library gives for the same activations, to compare the command with.
 fn library(dir: &Path, muscles: [f32; 2], jaw: f32) -> Vec<Vec3> {
-    let rig = rig_file::load_rig(&dir.join("t.rig.ron")).unwrap();
+    let rig = load_rig(&dir.join("t.rig.ron")).unwrap();
     let bound = grimace::model::Deformation::default()
         .bind(&rig.rig, &rig.mesh)
         .unwrap();

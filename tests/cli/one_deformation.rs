@@ -3,13 +3,14 @@
 //! ([`Deformation::default`]), `grimace export` (OBJ), the glTF morph targets (rest plus
 //! delta, read back from the .glb), `render`'s positions and the editor's scene.
 
+use grimace::io::load::{load_rig_ref, load_table_ref_for};
 use std::path::{Path, PathBuf};
 
 use clap::Parser;
 use glam::{Quat, Vec3};
 use grimace::cli::{self, Cli, Command};
 use grimace::facs::AuTable;
-use grimace::io::{builtin, landmarks, obj, rig_file, table_file};
+use grimace::io::{builtin, landmarks, obj};
 use grimace::model::{Activations, Deformation, Rig};
 use grimace::tui::face::Face;
 use grimace::tui::table_ops;
@@ -84,8 +85,8 @@ fn states(table: &AuTable, rig: &Rig) -> Vec<State> {
 /// difference seen.
 fn every_consumer_agrees(dir: &Path, rig_args: &[&str]) -> f32 {
     let (rig_path, table_path) = (PathBuf::from(rig_args[1]), PathBuf::from(rig_args[3]));
-    let loaded = rig_file::load_rig_ref(&rig_path, None).unwrap();
-    let table = table_file::load_table_ref_for(&table_path, &loaded.rig).unwrap();
+    let loaded = load_rig_ref(&rig_path, None).unwrap();
+    let table = load_table_ref_for(&table_path, &loaded.rig).unwrap();
     let bound = Deformation::default()
         .bind(&loaded.rig, &loaded.mesh)
         .unwrap();

@@ -4,6 +4,7 @@
 //! match the classic reference outputs. Also `grimace import-waters` end to end.
 
 use crate::common;
+use grimace::io::load::load_rig;
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -11,7 +12,6 @@ use std::process::{Command, Output};
 
 use glam::Vec3;
 use grimace::face::classic::{self, Landmarks};
-use grimace::io::rig_file;
 use grimace::io::waters::{self, ImportOptions, Imported};
 use grimace::model::{Activations, BoundRig, MuscleKind, Side, Skin};
 
@@ -488,7 +488,7 @@ fn import_waters_writes_the_full_rig_unless_linear_only() {
         String::from_utf8_lossy(&result.stderr)
     );
     assert!(String::from_utf8_lossy(&result.stdout).contains("(23 muscles and a jaw)"));
-    let loaded = rig_file::load_rig(&full.join("rig.ron")).unwrap();
+    let loaded = load_rig(&full.join("rig.ron")).unwrap();
     let placed = classic::place_extras(&loaded.mesh).unwrap();
     assert_eq!(loaded.rig.muscles.len(), 23);
     assert_eq!(loaded.rig.muscles[18..], placed.0[..]);
@@ -499,7 +499,7 @@ fn import_waters_writes_the_full_rig_unless_linear_only() {
     let result = import_to(&data, &linear, &["--linear-only"]);
     assert_eq!(result.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&result.stdout).contains("(18 muscles)\n"));
-    let loaded_linear = rig_file::load_rig(&linear.join("rig.ron")).unwrap();
+    let loaded_linear = load_rig(&linear.join("rig.ron")).unwrap();
     assert_eq!(loaded_linear.rig.muscles[..], loaded.rig.muscles[..18]);
     assert!(loaded_linear.rig.jaw.is_none());
 }

@@ -4,11 +4,12 @@
 //! subject's left at negative x) are converted on load.
 
 use crate::common;
+use grimace::io::load::load_rig;
 
 use std::path::Path;
 
 use glam::Vec3;
-use grimace::io::{builtin, obj, rig_file};
+use grimace::io::{builtin, obj};
 use grimace::model::{Activations, BoundRig, Mesh, MuscleKind, Side, RIG_VERSION};
 use grimace::render::{Camera, DotCanvas, Renderer, Scene, Style};
 
@@ -157,7 +158,7 @@ const OLD_DEFAULT: &str = "tests/old_files/default-v1.rig.ron";
 #[test]
 fn a_version_1_rig_on_the_built_in_face_is_mirrored_on_load() {
     // The default rig as the previous version wrote it, with its `L_` muscles at x < 0.
-    let old = rig_file::load_rig(Path::new(OLD_DEFAULT)).unwrap();
+    let old = load_rig(Path::new(OLD_DEFAULT)).unwrap();
     let notice = old.notice.as_deref().expect("the conversion is reported");
     assert!(notice.contains("rig version 1 converted"), "{notice}");
     assert_eq!(old.rig.version, RIG_VERSION);
@@ -288,8 +289,8 @@ fn a_version_1_rig_on_a_mesh_file_keeps_its_geometry() {
         format!("(version: 2, {body})"),
     )
     .unwrap();
-    let old = rig_file::load_rig(&dir.path().join("old.rig.ron")).unwrap();
-    let new = rig_file::load_rig(&dir.path().join("new.rig.ron")).unwrap();
+    let old = load_rig(&dir.path().join("old.rig.ron")).unwrap();
+    let new = load_rig(&dir.path().join("new.rig.ron")).unwrap();
     assert_eq!(old.rig, new.rig);
     assert_eq!(old.mesh, new.mesh);
     assert_eq!(new.notice, None);

@@ -1,12 +1,13 @@
 //! Rig and AU table files: exact round trips, semantic checks with positions, loading with
 //! the mesh, atomic saves.
 
+use grimace::io::load::load_rig_with;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use grimace::facs::{AuEntry, AuKey, AuTable, TABLE_VERSION};
-use grimace::io::{self, rig_file, table_file};
+use grimace::io::{self, table_file};
 use grimace::model::{
     Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig, Sheet, Side,
     Sphincter, RIG_VERSION,
@@ -303,7 +304,7 @@ fn load_and_save_with_mesh_relative_to_the_rig() {
     fn resolver(name: &str) -> Option<Mesh> {
         (name == "test").then(|| triangle_mesh(20))
     }
-    let loaded = rig_file::load_rig_with(&rig_path, None, resolver).unwrap();
+    let loaded = load_rig_with(&rig_path, None, resolver).unwrap();
     assert_eq!(loaded.mesh.vertex_count(), 20);
     assert_eq!(loaded.mesh_path, None);
 }

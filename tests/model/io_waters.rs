@@ -6,6 +6,7 @@
 //! the comparison is in grimace's frame and still bit for bit.
 
 use crate::common;
+use grimace::io::load::load_rig;
 
 use std::path::PathBuf;
 
@@ -148,7 +149,7 @@ fn written_files_read_back_equal() {
     )
     .unwrap();
     rig_file::save_rig(&out.path().join("rig.ron"), &imported.rig).unwrap();
-    let loaded = rig_file::load_rig(&out.path().join("rig.ron")).unwrap();
+    let loaded = load_rig(&out.path().join("rig.ron")).unwrap();
     assert_eq!(loaded.rig, imported.rig);
     assert_eq!(loaded.mesh, imported.mesh);
 }

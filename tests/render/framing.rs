@@ -87,7 +87,7 @@ fn a_fitted_z_up_bust_opens_upright_with_its_face_filling_the_view() {
         "{}",
         String::from_utf8_lossy(&fit.stderr)
     );
-    let loaded = grimace::io::rig_file::load_rig(&dir.path().join("bust.rig.ron")).unwrap();
+    let loaded = grimace::io::load::load_rig(&dir.path().join("bust.rig.ron")).unwrap();
     let framing = Framing::of_rig(&loaded.rig, &loaded.mesh);
     assert_eq!(framing.basis.row(1), Vec3::Z, "up is the mesh's z");
     assert_eq!(framing.basis.row(2), -Vec3::Y, "the face looks toward -y");

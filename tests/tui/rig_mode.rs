@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use grimace::io::rig_file::{load_rig, load_rig_ref};
+use grimace::io::load::{load_rig, load_rig_ref};
 use grimace::model::MuscleKind;
 
 use crate::common::pty::Term;

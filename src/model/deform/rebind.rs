@@ -178,9 +178,8 @@ mod tests {
     use crate::model::Activations;
 
     fn default_face() -> (Rig, crate::model::Mesh) {
-        let loaded =
-            crate::io::rig_file::load_rig_ref(std::path::Path::new("builtin:default"), None)
-                .expect("the built-in rig");
+        let loaded = crate::io::load::load_rig_ref(std::path::Path::new("builtin:default"), None)
+            .expect("the built-in rig");
         (loaded.rig, loaded.mesh)
     }
 
