@@ -219,8 +219,10 @@ pub(super) fn triangle_box(s: [[u32; 4]; 3]) -> [usize; 4] {
     ]
 }
 
-/// Rasterizes a screen triangle into the depth buffer `depth` (`w` x `h`, row-major),
-/// keeping the nearer depth at every dot whose centre lies inside it.
+/// Rasterizes a screen triangle (dots, x right, y down, z larger nearer) into the depth
+/// buffer `depth` (`w` x `h`, row-major), keeping the nearer depth at every dot whose centre
+/// lies inside it. The one depth rasterizer: the renderer's depth pass and the landmark
+/// picker's visibility use it.
 ///
 /// The same dots and depths as [`raster_triangle`] with a max-depth callback (the same
 /// arithmetic in the same order), but without branches per dot: at terminal resolution a
@@ -228,7 +230,7 @@ pub(super) fn triangle_box(s: [[u32; 4]; 3]) -> [usize; 4] {
 /// branch predictor loses.
 // Always inlined: passed by value through the stack, its corners cost a stalled reload.
 #[inline(always)]
-pub(super) fn depth_triangle(p: [Vec3; 3], w: usize, h: usize, depth: &mut [f32]) {
+pub fn depth_triangle(p: [Vec3; 3], w: usize, h: usize, depth: &mut [f32]) {
     let [a, b, c] = p;
     let x0 = ceil_nonneg(a.x.min(b.x).min(c.x) - 0.5);
     let x1 = floor_end(a.x.max(b.x).max(c.x) - 0.5, w);

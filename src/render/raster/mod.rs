@@ -22,6 +22,8 @@ mod fill;
 mod lines;
 mod project;
 
+pub use depth::depth_triangle;
+
 use glam::{Vec2, Vec3};
 
 use super::camera::{Camera, Projection};

@@ -3,7 +3,8 @@
 //! the nearest visible vertex to a point of the screen.
 //!
 //! A vertex is visible when one of its triangles faces the viewer and no surface lies in
-//! front of it: the front faces are rasterized into a depth buffer at dot resolution, and a
+//! front of it: the front faces are rasterized into a depth buffer at dot resolution (by the renderer's
+//! own depth rasterizer, [`crate::render::raster::depth_triangle`]), and a
 //! vertex passes when it is no farther than that buffer's nearest surface at its dot, less a
 //! tolerance that grows with the slope of its own triangles there (a dot's centre is not the
 //! vertex).
@@ -11,6 +12,7 @@
 use glam::{Vec2, Vec3};
 
 use crate::model::Mesh;
+use crate::render::raster::depth_triangle;
 use crate::render::{Camera, CellMode, Projection};
 
 /// The largest depth tolerance, in dot heights.
@@ -150,7 +152,7 @@ fn visibility(
             let s = &mut slope[v as usize];
             *s = if s.is_nan() { steep } else { s.max(steep) };
         }
-        raster(p, width, height, &mut depth);
+        depth_triangle(p, width, height, &mut depth);
     }
     (0..n)
         .map(|i| {
@@ -171,37 +173,6 @@ fn visibility(
 fn corners(projected: &[Vec3], tri: [u32; 3]) -> Option<[Vec3; 3]> {
     let p = tri.map(|i| projected.get(i as usize).copied().unwrap_or(Vec3::NAN));
     p.iter().all(|v| v.is_finite()).then_some(p)
-}
-
-/// Writes the nearest depth of a triangle into the buffer at the dot centres it covers.
-fn raster(p: [Vec3; 3], width: usize, height: usize, depth: &mut [f32]) {
-    let lo = p[0].min(p[1]).min(p[2]);
-    let hi = p[0].max(p[1]).max(p[2]);
-    let x0 = (lo.x - 0.5).ceil().max(0.0) as usize;
-    let y0 = (lo.y - 0.5).ceil().max(0.0) as usize;
-    let x1 = ((hi.x - 0.5).floor() + 1.0).clamp(0.0, width as f32) as usize;
-    let y1 = ((hi.y - 0.5).floor() + 1.0).clamp(0.0, height as f32) as usize;
-    let area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
-    if area == 0.0 {
-        return;
-    }
-    for y in y0..y1 {
-        for x in x0..x1 {
-            let q = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-            let edge = |a: Vec3, b: Vec3| (b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x);
-            let w0 = edge(p[1], p[2]) / area;
-            let w1 = edge(p[2], p[0]) / area;
-            let w2 = edge(p[0], p[1]) / area;
-            if w0 < 0.0 || w1 < 0.0 || w2 < 0.0 {
-                continue;
-            }
-            let z = w0 * p[0].z + w1 * p[1].z + w2 * p[2].z;
-            let d = &mut depth[y * width + x];
-            if z > *d {
-                *d = z;
-            }
-        }
-    }
 }
 
 #[cfg(test)]
