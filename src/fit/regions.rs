@@ -190,6 +190,12 @@ pub struct Contour {
     pub first: usize,
     /// See `first`.
     pub last: usize,
+    /// Whether the ring around it takes its size from the contour's width alone: the
+    /// orbicularis oculi spans the orbit, which scales with the eye's width, not with how far
+    /// the lids happen to be apart (a head modelled wide-eyed would otherwise get a ring
+    /// reaching the nose and the brow). The lips' contour is the oris itself: its ring follows
+    /// the contour's height too.
+    pub round: bool,
 }
 
 /// The contours the rings of the face sit in: the outer lip line, the right eye, the left eye.
@@ -198,16 +204,19 @@ pub const CONTOURS: [Contour; 3] = [
         corners: [48, 54],
         first: 48,
         last: 59,
+        round: false,
     },
     Contour {
         corners: [36, 39],
         first: 36,
         last: 41,
+        round: true,
     },
     Contour {
         corners: [42, 45],
         first: 42,
         last: 47,
+        round: true,
     },
 ];
 
