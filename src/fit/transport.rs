@@ -238,6 +238,8 @@ pub fn fit_rig(
     rig.masks.extend(still_mask(&rig, &parts));
     rig.masks
         .extend(depth_masks(&rig, template, mesh, &sources, [&from, &to]));
+    rig.masks
+        .extend(super::reach::reach_masks(&rig, template, mesh, &sources, &warp));
     for (name, gain) in gains {
         rig.masks.push(Mask {
             muscles: vec![name],
@@ -293,7 +295,8 @@ impl RingFit {
                     // turned with the face, not with the corners' line: an eye's corners
                     // lie at different depths on one face and the same on another, which
                     // tilts that line by tens of degrees in the face's plane
-                    let stretch = DMat3::from_diagonal(DVec3::new(width_ratio, width_ratio, scale));
+                    let up = (width_ratio * height_ratio).sqrt();
+                    let stretch = DMat3::from_diagonal(DVec3::new(width_ratio, up, scale));
                     similarity.rotation * basis(&from) * stretch * basis(&from).transpose()
                 } else {
                     let stretch =
@@ -563,7 +566,7 @@ fn action_point(kind: &MuscleKind) -> Vec3 {
 
 /// How far behind its centre a fitted sphincter stops pulling, as fractions of its semi-major
 /// axis: full weight in front of the first, none behind the second.
-const DEPTH_REACH: (f64, f64) = (0.5, 1.0);
+const DEPTH_REACH: (f64, f64) = (0.25, 0.5);
 
 /// A sphincter pulls everything inside its ellipse, however deep: on a whole head that would
 /// include the back of the head. Each sphincter gets weight 0 on skin more than its
@@ -620,10 +623,10 @@ fn depth_masks(
 /// vertex after the warp, and the share of that vertex's mask weights it takes (1 near the
 /// template, fading to 0 where no template vertex is near: a neck or body beyond the
 /// template's face keeps the muscles' own fields, as the jaw's weights fade there).
-struct Sources {
+pub(super) struct Sources {
     /// Per mesh vertex: `(template vertex, share)`, `None` for parts that are not skin and
     /// skin far from the template.
-    of_vertex: Vec<Option<(u32, f64)>>,
+    pub(super) of_vertex: Vec<Option<(u32, f64)>>,
 }
 
 impl Sources {
