@@ -1,7 +1,7 @@
 //! How far a fitted ring reaches: no further over the face than the template's ring does.
 //!
-//! A sphincter pulls everything inside its ellipse. Carried to another face, the ellipse
-//! keeps the template's size relative to the lids or lips, but the face around them differs:
+//! A sphincter pulls everything inside its ellipse. Carried to another face, an eye ring is
+//! sized between the eye's width and its opening (`transport`), but the face around differs:
 //! a head whose eyes open wider than the template's, or whose brows sit lower, has its brow
 //! or the side of its nose inside the fitted eye ring where the template's brow and nose lie
 //! on or beyond the rim. Each fitted ring therefore gets a mask that caps its ellipse factor
@@ -28,14 +28,15 @@ fn ellipse_factor(s: &Sphincter, p: DVec3) -> f64 {
     1.0 - (local.x / f64::from(s.semi_major)).hypot(local.y / f64::from(s.semi_minor))
 }
 
-/// One mask per fitted sphincter capping its reach by the template ring's (module docs).
-/// `rig` holds the fitted muscles in the template rig's order.
+/// One mask per fitted sphincter named in `rings` capping its reach by the template ring's
+/// (module docs). `rig` holds the fitted muscles in the template rig's order.
 pub(super) fn reach_masks(
     rig: &Rig,
     template: Template<'_>,
     mesh: &Mesh,
     sources: &Sources,
     warp: &Warp,
+    rings: &[&str],
 ) -> Vec<Mask> {
     let inverse = warp.similarity.rotation.transpose() / warp.similarity.scale;
     // where a mesh point lies on the template: its source vertex, moved by the offset from
@@ -50,6 +51,9 @@ pub(super) fn reach_masks(
         let (MuscleKind::Sphincter(s), MuscleKind::Sphincter(ts)) = (&m.kind, &t.kind) else {
             continue;
         };
+        if !rings.contains(&m.name.as_str()) {
+            continue;
+        }
         let field = Field::of(&m.kind, &mesh.positions);
         let weights: Vec<(u32, f32)> = field
             .vertices

@@ -190,11 +190,13 @@ pub struct Contour {
     pub first: usize,
     /// See `first`.
     pub last: usize,
-    /// Whether the ring around it takes its size from the contour's width alone: the
-    /// orbicularis oculi spans the orbit, which scales with the eye's width, not with how far
-    /// the lids happen to be apart (a head modelled wide-eyed would otherwise get a ring
-    /// reaching the nose and the brow). The lips' contour is the oris itself: its ring follows
-    /// the contour's height too.
+    /// Whether the ring around it is an eye's: sized across by the contour's width and up by
+    /// the geometric mean of its width and height ratios, turned with the face, and capped
+    /// by the template ring's reach (`fit::reach`). The orbicularis oculi spans the orbit,
+    /// which scales with the eye's width, not with how far apart the lids happen to be (a
+    /// head modelled wide-eyed would otherwise get a ring reaching the nose and the brow);
+    /// the lids still have to sit inside it much as on the template for it to close them.
+    /// The lips' contour is the oris itself: its ring follows the contour both ways.
     pub round: bool,
 }
 

@@ -175,12 +175,7 @@ pub fn fit_rig(
     if !parts.of_vertex.contains(&Part::Skin) {
         return Err(FitError::NoSkin);
     }
-    let rings = RingFit::all(
-        template.landmarks,
-        &target,
-        [&from, &to],
-        &warp.similarity,
-    );
+    let rings = RingFit::all(template.landmarks, &target, [&from, &to], &warp.similarity);
     let mut gains = Vec::new();
     let muscles: Vec<Muscle> = template
         .rig
@@ -238,8 +233,23 @@ pub fn fit_rig(
     rig.masks.extend(still_mask(&rig, &parts));
     rig.masks
         .extend(depth_masks(&rig, template, mesh, &sources, [&from, &to]));
-    rig.masks
-        .extend(super::reach::reach_masks(&rig, template, mesh, &sources, &warp));
+    // the eye rings: sized between the eye's width and its opening, they are capped by the
+    // template's reach (the mouth's rings follow the lips' own contour both ways)
+    let round: Vec<&str> = template
+        .rig
+        .muscles
+        .iter()
+        .filter(|m| match &m.kind {
+            MuscleKind::Sphincter(s) => {
+                RingFit::around(&rings, s.centre.as_dvec3()).is_some_and(|r| r.round)
+            }
+            _ => false,
+        })
+        .map(|m| m.name.as_str())
+        .collect();
+    rig.masks.extend(super::reach::reach_masks(
+        &rig, template, mesh, &sources, &warp, &round,
+    ));
     for (name, gain) in gains {
         rig.masks.push(Mask {
             muscles: vec![name],
@@ -258,8 +268,10 @@ pub fn fit_rig(
 
 /// A ring's landmark contour on the template and on the mesh, and the linear map between
 /// them: the contour's own axes (across, up, out of the face) onto the mesh's, stretched by
-/// the ratios of the contours' half-widths and half-heights across and up (the half-widths'
-/// both ways for a round contour: an eye), and by the similarity's scale out of the face.
+/// the ratios of the contours' half-widths and half-heights across and up, and by the
+/// similarity's scale out of the face. An eye's ([`super::regions::Contour::round`]) is
+/// stretched up by the geometric mean of the two ratios instead and turned by the
+/// similarity's rotation.
 #[derive(Debug, Clone)]
 struct RingFit {
     from: Extent,
@@ -267,11 +279,13 @@ struct RingFit {
     map: DMat3,
     width_ratio: f64,
     height_ratio: f64,
-    /// Whether the ring is sized by the contour's width alone ([`super::regions::Contour::round`]); its
-    /// strength then comes from the lids' travel ([`RingFit::travel_gain`]).
+    /// Whether the contour is an eye's ([`super::regions::Contour::round`]); a ring closing on
+    /// its major axis there takes its strength from the lids' travel
+    /// ([`RingFit::travel_gain`]).
     round: bool,
-    /// The contour's landmarks other than its corners, on the template and on the mesh.
-    margins: [Vec<Vec3>; 2],
+    /// The contour's upper and lower landmarks facing each other across the opening (37 and
+    /// 41, 38 and 40 for the right eye), on the template and on the mesh.
+    pairs: [Vec<(Vec3, Vec3)>; 2],
 }
 
 impl RingFit {
@@ -303,10 +317,11 @@ impl RingFit {
                         DMat3::from_diagonal(DVec3::new(width_ratio, height_ratio, scale));
                     basis(&to) * stretch * basis(&from).transpose()
                 };
-                let margins = |points: &[Vec3]| {
-                    (contour.first..=contour.last)
-                        .filter(|i| !contour.corners.contains(i))
-                        .map(|i| points[i])
+                let [right, left] = contour.corners;
+                let pairs = |points: &[Vec3]| {
+                    (right + 1..left)
+                        .zip((left + 1..=contour.last).rev())
+                        .map(|(u, l)| (points[u], points[l]))
                         .collect()
                 };
                 Some(RingFit {
@@ -316,7 +331,7 @@ impl RingFit {
                     width_ratio,
                     height_ratio,
                     round: contour.round,
-                    margins: [margins(template), margins(target)],
+                    pairs: [pairs(template), pairs(target)],
                 })
             })
             .collect()
@@ -332,25 +347,27 @@ impl RingFit {
             .min_by(|a, b| off(a).total_cmp(&off(b)))
     }
 
-    /// The gain that makes `fitted` move the mesh's lid margins by the same share of the
-    /// opening as `template` moves the template's: the sum over the margin landmarks of each
-    /// one's unit pull along the contour's up, over the contour's half-height, on the
-    /// template over the same on the mesh. A round ring is not as tall as the opening, so the
-    /// ratio of heights alone would not close the lids where the template's close. Falls back
-    /// to that ratio when either ring misses the margins.
+    /// The gain that makes `fitted` close the mesh's lids by the same share of the opening as
+    /// `template` closes the template's: for the facing lid landmarks, how much nearer the
+    /// ring's unit pull brings each pair along the contour's up, summed, over the pairs'
+    /// summed opening; on the template over the same on the mesh. An eye ring is not
+    /// stretched with the opening, so the ratio of heights alone would not close the lids
+    /// where the template's close. Falls back to that ratio when either ring misses the lids.
     fn travel_gain(&self, template: &Sphincter, fitted: &Sphincter) -> f64 {
-        let travel = |s: &Sphincter, points: &[Vec3], extent: &Extent| {
-            points
-                .iter()
-                .map(|&p| {
-                    let d = crate::model::field::sphincter_displacement(s, p, 1.0).as_dvec3();
-                    d.dot(extent.axes[1]).abs()
-                })
-                .sum::<f64>()
-                / extent.half_height
+        let closure = |s: &Sphincter, pairs: &[(Vec3, Vec3)], extent: &Extent| {
+            let up = extent.axes[1];
+            let pull = |p: Vec3| {
+                crate::model::field::sphincter_displacement(s, p, 1.0)
+                    .as_dvec3()
+                    .dot(up)
+            };
+            let (closed, open) = pairs.iter().fold((0.0, 0.0), |(c, o), &(u, l)| {
+                (c + pull(l) - pull(u), o + (u - l).as_dvec3().dot(up))
+            });
+            closed / open
         };
-        let before = travel(template, &self.margins[0], &self.from);
-        let after = travel(fitted, &self.margins[1], &self.to);
+        let before = closure(template, &self.pairs[0], &self.from);
+        let after = closure(fitted, &self.pairs[1], &self.to);
         let gain = before / after;
         if gain.is_finite() && gain > 0.0 {
             gain
@@ -429,9 +446,7 @@ fn carry(kind: &MuscleKind, warp: &Warp, rings: &[RingFit]) -> (MuscleKind, f64)
             let gain = match (ring, m.convergence) {
                 (None, _) => warp.local_scale(c),
                 (Some(ring), Convergence::Centre) => ring.width_ratio,
-                (Some(ring), Convergence::MajorAxis) if ring.round => {
-                    ring.travel_gain(m, &fitted)
-                }
+                (Some(ring), Convergence::MajorAxis) if ring.round => ring.travel_gain(m, &fitted),
                 (Some(ring), Convergence::MajorAxis) => ring.height_ratio,
             };
             (MuscleKind::Sphincter(fitted), gain)
@@ -566,7 +581,7 @@ fn action_point(kind: &MuscleKind) -> Vec3 {
 
 /// How far behind its centre a fitted sphincter stops pulling, as fractions of its semi-major
 /// axis: full weight in front of the first, none behind the second.
-const DEPTH_REACH: (f64, f64) = (0.25, 0.5);
+const DEPTH_REACH: (f64, f64) = (0.5, 1.0);
 
 /// A sphincter pulls everything inside its ellipse, however deep: on a whole head that would
 /// include the back of the head. Each sphincter gets weight 0 on skin more than its
