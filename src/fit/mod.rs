@@ -5,6 +5,7 @@
 //! - [`warp`]: the similarity and thin-plate spline from one face to another;
 //! - [`propose`]: landmarks proposed from some of them (a warp, a mirror plane);
 //! - [`parts`]: which parts of a mesh are skin, still, or turn with the jaw;
+//! - `reach`: fitted rings kept to the part of the face the template's reach;
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh;
 //! - [`lipcut`]: joined lips found and cut open;
@@ -22,6 +23,7 @@ pub mod nearest;
 pub mod parts;
 pub mod propose;
 pub mod quality;
+mod reach;
 pub mod regions;
 pub mod solve;
 pub mod transport;

@@ -64,13 +64,12 @@ pub struct PartOverrides {
 
 /// Words in a group name that mark a rigid part; the first list turns with the jaw.
 const JAW_WORDS: [&str; 2] = ["tongue", "lower"];
-const RIGID_WORDS: [&str; 14] = [
+const RIGID_WORDS: [&str; 13] = [
     "eye",
     "iris",
     "pupil",
     "cornea",
     "sclera",
-    "lash",
     "teeth",
     "tooth",
     "gum",
@@ -81,9 +80,19 @@ const RIGID_WORDS: [&str; 14] = [
     "mouth_interior",
 ];
 
+/// True when a group's name says it holds eyelashes: they are not rigid but skin, moved by
+/// the lid muscles' fields where they sit at the lid's edge, so they close with their lid
+/// (a still lash would stay where the open lid was).
+fn lash_name(name: &str) -> bool {
+    name.to_ascii_lowercase().contains("lash")
+}
+
 /// True when a group's name says it is a rigid part.
 fn rigid_name(name: &str) -> bool {
     let lower = name.to_ascii_lowercase();
+    if lash_name(name) {
+        return false;
+    }
     // "eyebrow" and "brow" are skin on most heads (or hair cards that should follow it).
     if lower.contains("brow") {
         return false;
@@ -222,6 +231,8 @@ pub fn find_parts(
                     .as_ref()
                     .is_some_and(|m| m.turns_with_jaw(mesh, members));
             (Some(if jaw { Part::Jaw } else { Part::Still }), "--rigid")
+        } else if lash_name(name) {
+            (Some(Part::Skin), "lashes: move with their lid")
         } else if rigid_name(name) && !holds_landmark {
             (
                 Some(if jaw_name(name) {
@@ -393,18 +404,21 @@ mod tests {
 
     #[test]
     fn names() {
-        for name in [
-            "helper-l-eye",
-            "Eyeball_L",
-            "teeth_upper",
-            "helper-tongue",
-            "lashes",
-        ] {
+        for name in ["helper-l-eye", "Eyeball_L", "teeth_upper", "helper-tongue"] {
             assert!(rigid_name(name), "{name}");
         }
-        for name in ["body", "Head", "skin", "eyebrows"] {
+        for name in [
+            "body",
+            "Head",
+            "skin",
+            "eyebrows",
+            "lashes",
+            "helper-l-eyelashes-1",
+        ] {
             assert!(!rigid_name(name), "{name}");
         }
+        assert!(lash_name("helper-r-eyelashes-2") && lash_name("Eyelashes"));
+        assert!(!lash_name("eyebrows"));
         assert!(jaw_name("helper-lower-teeth"));
         assert!(jaw_name("Tongue"));
         assert!(!jaw_name("helper-upper-teeth"));

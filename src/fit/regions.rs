@@ -190,6 +190,14 @@ pub struct Contour {
     pub first: usize,
     /// See `first`.
     pub last: usize,
+    /// Whether the ring around it is an eye's: sized across by the contour's width and up by
+    /// the geometric mean of its width and height ratios, turned with the face, and capped
+    /// by the template ring's reach (`fit::reach`). The orbicularis oculi spans the orbit,
+    /// which scales with the eye's width, not with how far apart the lids happen to be (a
+    /// head modelled wide-eyed would otherwise get a ring reaching the nose and the brow);
+    /// the lids still have to sit inside it much as on the template for it to close them.
+    /// The lips' contour is the oris itself: its ring follows the contour both ways.
+    pub round: bool,
 }
 
 /// The contours the rings of the face sit in: the outer lip line, the right eye, the left eye.
@@ -198,16 +206,19 @@ pub const CONTOURS: [Contour; 3] = [
         corners: [48, 54],
         first: 48,
         last: 59,
+        round: false,
     },
     Contour {
         corners: [36, 39],
         first: 36,
         last: 41,
+        round: true,
     },
     Contour {
         corners: [42, 45],
         first: 42,
         last: 47,
+        round: true,
     },
 ];
 

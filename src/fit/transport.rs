@@ -16,7 +16,7 @@ use thiserror::Error;
 
 use super::parts::{find_parts, Part, PartOverrides, Parts};
 use super::regions::{Extent, Opening, Side, CONTOURS};
-use super::warp::Warp;
+use super::warp::{Similarity, Warp};
 use crate::landmarks::{check_shape, order_problems, FaceFrame, LandmarkError, Landmarks};
 use crate::model::{
     Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Sphincter,
@@ -175,12 +175,7 @@ pub fn fit_rig(
     if !parts.of_vertex.contains(&Part::Skin) {
         return Err(FitError::NoSkin);
     }
-    let rings = RingFit::all(
-        template.landmarks,
-        &target,
-        [&from, &to],
-        warp.similarity.scale,
-    );
+    let rings = RingFit::all(template.landmarks, &target, [&from, &to], &warp.similarity);
     let mut gains = Vec::new();
     let muscles: Vec<Muscle> = template
         .rig
@@ -238,6 +233,23 @@ pub fn fit_rig(
     rig.masks.extend(still_mask(&rig, &parts));
     rig.masks
         .extend(depth_masks(&rig, template, mesh, &sources, [&from, &to]));
+    // the eye rings: sized between the eye's width and its opening, they are capped by the
+    // template's reach (the mouth's rings follow the lips' own contour both ways)
+    let round: Vec<&str> = template
+        .rig
+        .muscles
+        .iter()
+        .filter(|m| match &m.kind {
+            MuscleKind::Sphincter(s) => {
+                RingFit::around(&rings, s.centre.as_dvec3()).is_some_and(|r| r.round)
+            }
+            _ => false,
+        })
+        .map(|m| m.name.as_str())
+        .collect();
+    rig.masks.extend(super::reach::reach_masks(
+        &rig, template, mesh, &sources, &warp, &round,
+    ));
     for (name, gain) in gains {
         rig.masks.push(Mask {
             muscles: vec![name],
@@ -257,18 +269,34 @@ pub fn fit_rig(
 /// A ring's landmark contour on the template and on the mesh, and the linear map between
 /// them: the contour's own axes (across, up, out of the face) onto the mesh's, stretched by
 /// the ratios of the contours' half-widths and half-heights across and up, and by the
-/// similarity's scale out of the face.
-#[derive(Debug, Clone, Copy)]
+/// similarity's scale out of the face. An eye's ([`super::regions::Contour::round`]) is
+/// stretched up by the geometric mean of the two ratios instead and turned by the
+/// similarity's rotation.
+#[derive(Debug, Clone)]
 struct RingFit {
     from: Extent,
+    to: Extent,
     map: DMat3,
     width_ratio: f64,
     height_ratio: f64,
+    /// Whether the contour is an eye's ([`super::regions::Contour::round`]); a ring closing on
+    /// its major axis there takes its strength from the lids' travel
+    /// ([`RingFit::travel_gain`]).
+    round: bool,
+    /// The contour's upper and lower landmarks facing each other across the opening (37 and
+    /// 41, 38 and 40 for the right eye), on the template and on the mesh.
+    pairs: [Vec<(Vec3, Vec3)>; 2],
 }
 
 impl RingFit {
     /// The fits of the mouth's and the eyes' contours ([`CONTOURS`]) that both faces have.
-    fn all(template: &[Vec3], target: &[Vec3], frames: [&FaceFrame; 2], scale: f64) -> Vec<Self> {
+    fn all(
+        template: &[Vec3],
+        target: &[Vec3],
+        frames: [&FaceFrame; 2],
+        similarity: &Similarity,
+    ) -> Vec<Self> {
+        let scale = similarity.scale;
         CONTOURS
             .iter()
             .filter_map(|contour| {
@@ -277,12 +305,33 @@ impl RingFit {
                 let width_ratio = to.half_width / from.half_width;
                 let height_ratio = to.half_height / from.half_height;
                 let basis = |e: &Extent| DMat3::from_cols(e.axes[0], e.axes[1], e.axes[2]);
-                let stretch = DMat3::from_diagonal(DVec3::new(width_ratio, height_ratio, scale));
+                let map = if contour.round {
+                    // turned with the face, not with the corners' line: an eye's corners
+                    // lie at different depths on one face and the same on another, which
+                    // tilts that line by tens of degrees in the face's plane
+                    let up = (width_ratio * height_ratio).sqrt();
+                    let stretch = DMat3::from_diagonal(DVec3::new(width_ratio, up, scale));
+                    similarity.rotation * basis(&from) * stretch * basis(&from).transpose()
+                } else {
+                    let stretch =
+                        DMat3::from_diagonal(DVec3::new(width_ratio, height_ratio, scale));
+                    basis(&to) * stretch * basis(&from).transpose()
+                };
+                let [right, left] = contour.corners;
+                let pairs = |points: &[Vec3]| {
+                    (right + 1..left)
+                        .zip((left + 1..=contour.last).rev())
+                        .map(|(u, l)| (points[u], points[l]))
+                        .collect()
+                };
                 Some(RingFit {
                     from,
-                    map: basis(&to) * stretch * basis(&from).transpose(),
+                    to,
+                    map,
                     width_ratio,
                     height_ratio,
+                    round: contour.round,
+                    pairs: [pairs(template), pairs(target)],
                 })
             })
             .collect()
@@ -296,6 +345,35 @@ impl RingFit {
             .iter()
             .filter(|r| off(r) < 1.0)
             .min_by(|a, b| off(a).total_cmp(&off(b)))
+    }
+
+    /// The gain that makes `fitted` close the mesh's lids by the same share of the opening as
+    /// `template` closes the template's: for the facing lid landmarks, how much nearer the
+    /// ring's unit pull brings each pair along the contour's up, summed, over the pairs'
+    /// summed opening; on the template over the same on the mesh. An eye ring is not
+    /// stretched with the opening, so the ratio of heights alone would not close the lids
+    /// where the template's close. Falls back to that ratio when either ring misses the lids.
+    fn travel_gain(&self, template: &Sphincter, fitted: &Sphincter) -> f64 {
+        let closure = |s: &Sphincter, pairs: &[(Vec3, Vec3)], extent: &Extent| {
+            let up = extent.axes[1];
+            let pull = |p: Vec3| {
+                crate::model::field::sphincter_displacement(s, p, 1.0)
+                    .as_dvec3()
+                    .dot(up)
+            };
+            let (closed, open) = pairs.iter().fold((0.0, 0.0), |(c, o), &(u, l)| {
+                (c + pull(l) - pull(u), o + (u - l).as_dvec3().dot(up))
+            });
+            closed / open
+        };
+        let before = closure(template, &self.pairs[0], &self.from);
+        let after = closure(fitted, &self.pairs[1], &self.to);
+        let gain = before / after;
+        if gain.is_finite() && gain > 0.0 {
+            gain
+        } else {
+            self.height_ratio
+        }
     }
 }
 
@@ -354,28 +432,24 @@ fn carry(kind: &MuscleKind, warp: &Warp, rings: &[RingFit]) -> (MuscleKind, f64)
         }
         MuscleKind::Sphincter(m) => {
             let c = m.centre.as_dvec3();
-            let (j, gain) = match RingFit::around(rings, c) {
-                Some(ring) => (
-                    ring.map,
-                    match m.convergence {
-                        Convergence::Centre => ring.width_ratio,
-                        Convergence::MajorAxis => ring.height_ratio,
-                    },
-                ),
-                None => (warp.jacobian(c), warp.local_scale(c)),
-            };
+            let ring = RingFit::around(rings, c);
+            let j = ring.map_or_else(|| warp.jacobian(c), |ring| ring.map);
             let axes = m.frame.rotation().unwrap_or(DMat3::IDENTITY);
             let (u, v) = (j * axes.x_axis, j * axes.y_axis);
-            (
-                MuscleKind::Sphincter(Sphincter {
-                    centre: map(m.centre),
-                    semi_major: (f64::from(m.semi_major) * u.length()) as f32,
-                    semi_minor: (f64::from(m.semi_minor) * v.length()) as f32,
-                    frame: carry_frame(u, v),
-                    ..m.clone()
-                }),
-                gain,
-            )
+            let fitted = Sphincter {
+                centre: map(m.centre),
+                semi_major: (f64::from(m.semi_major) * u.length()) as f32,
+                semi_minor: (f64::from(m.semi_minor) * v.length()) as f32,
+                frame: carry_frame(u, v),
+                ..m.clone()
+            };
+            let gain = match (ring, m.convergence) {
+                (None, _) => warp.local_scale(c),
+                (Some(ring), Convergence::Centre) => ring.width_ratio,
+                (Some(ring), Convergence::MajorAxis) if ring.round => ring.travel_gain(m, &fitted),
+                (Some(ring), Convergence::MajorAxis) => ring.height_ratio,
+            };
+            (MuscleKind::Sphincter(fitted), gain)
         }
     }
 }
@@ -505,6 +579,10 @@ fn action_point(kind: &MuscleKind) -> Vec3 {
     }
 }
 
+/// How far behind its centre a fitted sphincter stops pulling, as fractions of its semi-major
+/// axis: full weight in front of the first, none behind the second.
+const DEPTH_REACH: (f64, f64) = (0.5, 1.0);
+
 /// A sphincter pulls everything inside its ellipse, however deep: on a whole head that would
 /// include the back of the head. Each sphincter gets weight 0 on skin more than its
 /// semi-major axis behind its centre (along the face's forward direction), fading in over
@@ -523,7 +601,7 @@ fn depth_masks(
     let cut = |s: &Sphincter, frame: &FaceFrame, p: Vec3| {
         let reach = f64::from(s.semi_major);
         let behind = -(p - s.centre).as_dvec3().dot(frame.forward);
-        super::regions::smoothstep(0.5 * reach, reach, behind)
+        super::regions::smoothstep(DEPTH_REACH.0 * reach, DEPTH_REACH.1 * reach, behind)
     };
     let mut masks = Vec::new();
     for (m, t) in rig.muscles.iter().zip(&template.rig.muscles) {
@@ -560,10 +638,10 @@ fn depth_masks(
 /// vertex after the warp, and the share of that vertex's mask weights it takes (1 near the
 /// template, fading to 0 where no template vertex is near: a neck or body beyond the
 /// template's face keeps the muscles' own fields, as the jaw's weights fade there).
-struct Sources {
+pub(super) struct Sources {
     /// Per mesh vertex: `(template vertex, share)`, `None` for parts that are not skin and
     /// skin far from the template.
-    of_vertex: Vec<Option<(u32, f64)>>,
+    pub(super) of_vertex: Vec<Option<(u32, f64)>>,
 }
 
 impl Sources {

@@ -1,7 +1,8 @@
 //! Real meshes from ../shared/meshes: MediaPipe's canonical face (closed mouth, 468
 //! vertices, centimetres) and MakeHuman's whole-body base mesh (quads, helper geometry,
 //! decimetres). Both fit, validate, and show AU 12, 26 and 45 moving the right regions in the
-//! right directions; MakeHuman's eyes and helpers stay still under the skin muscles.
+//! right directions; MakeHuman's eyes and helpers stay still under the skin muscles and its
+//! lashes close with their lids.
 
 use crate::common;
 
@@ -156,7 +157,6 @@ fn makehuman_base_mesh() {
     for name in [
         "helper-l-eye",
         "helper-r-eye",
-        "helper-r-eyelashes-1",
         "helper-hair",
         "helper-tights",
     ] {
@@ -184,7 +184,7 @@ fn makehuman_base_mesh() {
     let helpers: Vec<u32> = mesh
         .groups
         .iter()
-        .filter(|(name, _)| name.starts_with("helper-"))
+        .filter(|(name, _)| name.starts_with("helper-") && !name.contains("lash"))
         .flat_map(|(_, m)| m.iter().copied())
         .filter(|v| body.binary_search(v).is_err())
         .collect();
@@ -198,8 +198,47 @@ fn makehuman_base_mesh() {
             );
         }
     }
+    lashes_follow_their_lids(&mesh, &bound, parts, &landmarks.vertices(&mesh));
     let dir = tempfile::tempdir().unwrap();
     save_and_validate(dir.path(), &path, &fitted);
+}
+
+/// The eyelash groups are skin and close with their lids: at AU45 a lash vertex moves, on
+/// average, within a tenth of the upper lids' travel of the nearest body vertex (the lid's
+/// edge it grows from). Still lashes would stay where the open lid was.
+fn lashes_follow_their_lids(mesh: &Mesh, bound: &BoundRig, parts: &[Part], marks: &[u32]) {
+    let d = au(bound, "45");
+    let lid = [37, 38, 43, 44]
+        .map(|l| d[marks[l] as usize].length())
+        .into_iter()
+        .fold(0.0f32, f32::max);
+    let body = &mesh.groups["body"];
+    for (name, members) in mesh.groups.iter().filter(|(n, _)| n.contains("eyelashes")) {
+        assert!(
+            members.iter().all(|&v| parts[v as usize] == Part::Skin),
+            "{name}"
+        );
+        let off: f32 = members
+            .iter()
+            .map(|&v| {
+                let p = mesh.positions[v as usize];
+                let edge = body
+                    .iter()
+                    .min_by(|&&a, &&b| {
+                        let da = mesh.positions[a as usize].distance_squared(p);
+                        da.total_cmp(&mesh.positions[b as usize].distance_squared(p))
+                    })
+                    .unwrap();
+                d[v as usize].distance(d[*edge as usize])
+            })
+            .sum::<f32>()
+            / members.len() as f32;
+        println!("{name}: AU45 moves a lash {off} from its lid edge (lid travel {lid})");
+        assert!(
+            off < 0.1 * lid,
+            "{name}: {off} off its lid, lid travel {lid}"
+        );
+    }
 }
 
 /// The same face z-up in millimetres and turned half away: the mouth and eye rings still

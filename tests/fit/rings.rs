@@ -182,3 +182,36 @@ fn fitted_lids_close_without_crossing() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// A blink on a fitted head moves the lids and little else: the nose bridge (27-29) and the
+/// brows (17-26) under a tenth of the upper lids' travel (37, 38, 43, 44), as on the built-in
+/// face (tests/model/regions.rs). A ring carried at the lids' size reaches the brow and the
+/// side of the nose on a head whose eyes open wider than the template's unless its reach is
+/// kept to the template's.
+#[test]
+fn fitted_blink_moves_the_lids_and_little_else() {
+    let mut failures = Vec::new();
+    for (name, mesh, landmarks) in shared_heads() {
+        let rig = fit(&mesh, &landmarks).rig;
+        let bound = BoundRig::bind(&rig, &mesh).unwrap();
+        let act = builtin::default_table()
+            .entry_activations(&"45".parse().unwrap(), &rig)
+            .unwrap();
+        let mut moved = Vec::new();
+        bound.deform(&act, &mut moved).unwrap();
+        let v = landmarks.vertices(&mesh);
+        let most = |marks: &mut dyn Iterator<Item = usize>| {
+            marks
+                .map(|l| moved[v[l] as usize].distance(mesh.positions[v[l] as usize]))
+                .fold(0.0f32, f32::max)
+        };
+        let lid = most(&mut [37, 38, 43, 44].into_iter());
+        let bridge = most(&mut (27..=29));
+        let brow = most(&mut (17..=26));
+        println!("{name}: AU45 lid {lid}, nose bridge {bridge}, brows {brow}");
+        if !(lid > 0.0 && bridge < 0.1 * lid && brow < 0.1 * lid) {
+            failures.push(format!("{name}: lid {lid}, bridge {bridge}, brows {brow}"));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
