@@ -166,95 +166,50 @@ pub fn find_parts(
         }
     }
     let mouth = MouthTest::new(points);
-    // Pieces: skin when they hold a landmark, else by where they sit.
-    let mut pieces: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
-    for (v, &c) in component.iter().enumerate() {
-        pieces.entry(c).or_default().push(v as u32);
-    }
-    let mut piece_part: BTreeMap<u32, Part> = BTreeMap::new();
-    for (c, members) in &pieces {
-        let part = if members.iter().any(|&v| marked[v as usize]) {
-            Part::Skin
-        } else if mouth
-            .as_ref()
-            .is_some_and(|m| m.turns_with_jaw(mesh, members))
-        {
-            Part::Jaw
-        } else {
-            Part::Still
-        };
-        piece_part.insert(*c, part);
-    }
-    let mut of_vertex: Vec<Part> = component.iter().map(|c| piece_part[c]).collect();
+    let pieces = Pieces::new(mesh, &component, &marked, mouth.as_ref());
+    let mut of_vertex: Vec<Part> = component.iter().map(|c| pieces.part[c]).collect();
     let mut grouped = vec![false; n];
     let mut choices = Vec::new();
     // Named groups: a rigid name or an override decides for the whole group; otherwise the
     // group follows its pieces.
     for (name, members) in mesh.groups.iter().filter(|(_, m)| !m.is_empty()) {
+        for &v in members {
+            grouped[v as usize] = true;
+        }
         let holds_landmark = members.iter().any(|&v| marked[v as usize]);
         let forced_rigid = overrides.rigid.iter().any(|g| g == name);
         let split = mixed_mouth_name(name)
             && !overrides.skin.iter().any(|g| g == name)
             && (forced_rigid || !holds_landmark);
         if let (true, Some(mouth)) = (split, &mouth) {
-            for &v in members {
-                grouped[v as usize] = true;
-            }
             let reason = if forced_rigid {
                 "--rigid"
             } else {
                 "occlusal plane"
             };
-            for (k, piece) in split_pieces(members, &component).iter().enumerate() {
-                let part = if mouth.below_occlusal_plane(mesh, piece) {
-                    Part::Jaw
-                } else {
-                    Part::Still
-                };
+            let split = split_mouth_group(mesh, mouth, members, &component);
+            for (k, (piece, part)) in split.iter().enumerate() {
                 for &v in piece {
-                    of_vertex[v as usize] = part;
+                    of_vertex[v as usize] = *part;
                 }
                 choices.push(PartChoice {
                     name: format!("{name} piece {}", k + 1),
                     vertices: piece.len(),
-                    part,
+                    part: *part,
                     reason,
                 });
             }
             continue;
         }
-        let (part, reason) = if overrides.skin.iter().any(|g| g == name) {
-            (Some(Part::Skin), "--skin")
-        } else if forced_rigid {
-            let jaw = jaw_name(name)
-                || mouth
-                    .as_ref()
-                    .is_some_and(|m| m.turns_with_jaw(mesh, members));
-            (Some(if jaw { Part::Jaw } else { Part::Still }), "--rigid")
-        } else if lash_name(name) {
-            (Some(Part::Skin), "lashes: move with their lid")
-        } else if rigid_name(name) && !holds_landmark {
-            (
-                Some(if jaw_name(name) {
-                    Part::Jaw
-                } else {
-                    Part::Still
-                }),
-                "name",
-            )
-        } else {
-            (
-                None,
-                if holds_landmark {
-                    "landmarks"
-                } else {
-                    "position"
-                },
-            )
+        let group = GroupFacts {
+            name,
+            members,
+            holds_landmark,
+            forced_rigid,
         };
-        for &v in members {
-            grouped[v as usize] = true;
-            if let Some(part) = part {
+        let (part, reason) = group_part(mesh, &group, overrides, mouth.as_ref());
+        if let Some(part) = part {
+            for &v in members {
                 of_vertex[v as usize] = part;
             }
         }
@@ -275,23 +230,121 @@ pub fn find_parts(
             }
         }
     }
-    for (number, (c, members)) in pieces.iter().enumerate() {
-        if members.iter().all(|&v| grouped[v as usize]) {
-            continue;
-        }
-        let reason = if piece_part[c] == Part::Skin {
-            "landmarks"
-        } else {
-            "position"
-        };
-        choices.push(PartChoice {
-            name: format!("piece {}", number + 1),
-            vertices: members.iter().filter(|&&v| !grouped[v as usize]).count(),
-            part: piece_part[c],
-            reason,
-        });
-    }
+    choices.extend(pieces.ungrouped_choices(&grouped));
     Parts { of_vertex, choices }
+}
+
+/// The mesh's connected pieces and the part each takes on its own: skin when it holds a
+/// landmark, else by where it sits.
+struct Pieces {
+    /// Each piece's vertices, by the piece's smallest vertex.
+    members: BTreeMap<u32, Vec<u32>>,
+    /// Each piece's part.
+    part: BTreeMap<u32, Part>,
+}
+
+impl Pieces {
+    fn new(mesh: &Mesh, component: &[u32], marked: &[bool], mouth: Option<&MouthTest>) -> Pieces {
+        let mut members: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+        for (v, &c) in component.iter().enumerate() {
+            members.entry(c).or_default().push(v as u32);
+        }
+        let part = members
+            .iter()
+            .map(|(c, piece)| {
+                let part = if piece.iter().any(|&v| marked[v as usize]) {
+                    Part::Skin
+                } else if mouth.is_some_and(|m| m.turns_with_jaw(mesh, piece)) {
+                    Part::Jaw
+                } else {
+                    Part::Still
+                };
+                (*c, part)
+            })
+            .collect();
+        Pieces { members, part }
+    }
+
+    /// What is said of the pieces (or their parts) that no named group covers.
+    fn ungrouped_choices(&self, grouped: &[bool]) -> Vec<PartChoice> {
+        let mut choices = Vec::new();
+        for (number, (c, members)) in self.members.iter().enumerate() {
+            if members.iter().all(|&v| grouped[v as usize]) {
+                continue;
+            }
+            let reason = if self.part[c] == Part::Skin {
+                "landmarks"
+            } else {
+                "position"
+            };
+            choices.push(PartChoice {
+                name: format!("piece {}", number + 1),
+                vertices: members.iter().filter(|&&v| !grouped[v as usize]).count(),
+                part: self.part[c],
+                reason,
+            });
+        }
+        choices
+    }
+}
+
+/// What decides a named group's part.
+struct GroupFacts<'a> {
+    name: &'a str,
+    members: &'a [u32],
+    holds_landmark: bool,
+    forced_rigid: bool,
+}
+
+/// A named group's part and why: an override or a name decides for the whole group; `None`
+/// leaves each vertex its piece's part.
+fn group_part(
+    mesh: &Mesh,
+    group: &GroupFacts<'_>,
+    overrides: &PartOverrides,
+    mouth: Option<&MouthTest>,
+) -> (Option<Part>, &'static str) {
+    let name = group.name;
+    if overrides.skin.iter().any(|g| g == name) {
+        (Some(Part::Skin), "--skin")
+    } else if group.forced_rigid {
+        let jaw = jaw_name(name) || mouth.is_some_and(|m| m.turns_with_jaw(mesh, group.members));
+        (Some(if jaw { Part::Jaw } else { Part::Still }), "--rigid")
+    } else if lash_name(name) {
+        (Some(Part::Skin), "lashes: move with their lid")
+    } else if rigid_name(name) && !group.holds_landmark {
+        let part = if jaw_name(name) {
+            Part::Jaw
+        } else {
+            Part::Still
+        };
+        (Some(part), "name")
+    } else if group.holds_landmark {
+        (None, "landmarks")
+    } else {
+        (None, "position")
+    }
+}
+
+/// A group of teeth, gums and tongue together, split by its connected pieces: each piece
+/// below the occlusal plane turns with the jaw, the others stay.
+fn split_mouth_group(
+    mesh: &Mesh,
+    mouth: &MouthTest,
+    members: &[u32],
+    component: &[u32],
+) -> Vec<(Vec<u32>, Part)> {
+    split_pieces(members, component)
+        .into_iter()
+        .map(|piece| {
+            let part = if mouth.below_occlusal_plane(mesh, &piece) {
+                Part::Jaw
+            } else {
+                Part::Still
+            };
+            (piece, part)
+        })
+        .collect()
 }
 
 /// A group's vertices split by the connected piece each lies on, pieces in order of their
