@@ -154,51 +154,14 @@ pub fn fit_rig(
     let from =
         FaceFrame::of(template.landmarks).ok_or(FitError::Template(LandmarkError::Degenerate))?;
     let to = FaceFrame::of(&target).ok_or(LandmarkError::Degenerate)?;
-    // Meshes are right-handed (docs/model.md), so of two sets that disagree the left-handed
-    // one is the mirrored one.
-    if from.right_handed != to.right_handed && !from.right_handed {
-        return Err(FitError::Template(LandmarkError::Mirrored));
-    }
-    if from.right_handed != to.right_handed {
-        // A set out of order can look mirrored; say what is out of order first.
-        let problems = order_problems(&target);
-        if !problems.is_empty() && problems.len() > 2 {
-            return Err(LandmarkError::OutOfOrder {
-                problems: problems.into_iter().take(3).collect::<Vec<_>>().join("; "),
-            }
-            .into());
-        }
-        return Err(LandmarkError::Mirrored.into());
-    }
+    check_handedness(&from, &to, &target)?;
     let warp = Warp::fit(template.landmarks, &target).ok_or(FitError::Warp)?;
     let parts = find_parts(mesh, &landmarks.vertices(mesh), &target, overrides);
     if !parts.of_vertex.contains(&Part::Skin) {
         return Err(FitError::NoSkin);
     }
     let rings = RingFit::all(template.landmarks, &target, [&from, &to], &warp.similarity);
-    let mut gains = Vec::new();
-    let muscles: Vec<Muscle> = template
-        .rig
-        .muscles
-        .iter()
-        .map(|m| {
-            let (kind, gain) = carry(&m.kind, &warp, &rings);
-            // the template's own gains on the muscle (its per-vertex weights are carried by
-            // `carry_masks`)
-            let gain = gain
-                * template
-                    .rig
-                    .masks
-                    .iter()
-                    .filter(|mask| mask.muscles.contains(&m.name))
-                    .map(|mask| f64::from(mask.gain))
-                    .product::<f64>();
-            if (gain - 1.0).abs() > GAIN_EPSILON {
-                gains.push((m.name.clone(), gain));
-            }
-            Muscle { kind, ..m.clone() }
-        })
-        .collect();
+    let (muscles, gains) = carry_muscles(template, &warp, &rings);
     let openings_from = Opening::all(template.landmarks);
     let openings_to = Opening::all(&target);
     let jaw = template.rig.jaw.as_ref().map(|jaw| {
@@ -235,18 +198,7 @@ pub fn fit_rig(
         .extend(depth_masks(&rig, template, mesh, &sources, [&from, &to]));
     // the eye rings: sized between the eye's width and its opening, they are capped by the
     // template's reach (the mouth's rings follow the lips' own contour both ways)
-    let round: Vec<&str> = template
-        .rig
-        .muscles
-        .iter()
-        .filter(|m| match &m.kind {
-            MuscleKind::Sphincter(s) => {
-                RingFit::around(&rings, s.centre.as_dvec3()).is_some_and(|r| r.round)
-            }
-            _ => false,
-        })
-        .map(|m| m.name.as_str())
-        .collect();
+    let round = round_rings(template, &rings);
     rig.masks.extend(super::reach::reach_masks(
         &rig, template, mesh, &sources, &warp, &round,
     ));
@@ -264,6 +216,76 @@ pub fn fit_rig(
         bend: warp.bend(&target),
         sides,
     })
+}
+
+/// Refuses landmark sets of opposite handedness, naming which one is mirrored (or, for the
+/// mesh's, what is out of order when that is the likelier cause).
+fn check_handedness(from: &FaceFrame, to: &FaceFrame, target: &[Vec3]) -> Result<(), FitError> {
+    if from.right_handed == to.right_handed {
+        return Ok(());
+    }
+    // Meshes are right-handed (docs/model.md), so of two sets that disagree the left-handed
+    // one is the mirrored one.
+    if !from.right_handed {
+        return Err(FitError::Template(LandmarkError::Mirrored));
+    }
+    // A set out of order can look mirrored; say what is out of order first.
+    let problems = order_problems(target);
+    if !problems.is_empty() && problems.len() > 2 {
+        return Err(LandmarkError::OutOfOrder {
+            problems: problems.into_iter().take(3).collect::<Vec<_>>().join("; "),
+        }
+        .into());
+    }
+    Err(LandmarkError::Mirrored.into())
+}
+
+/// The template's muscles carried through the warp, and each muscle's gain where it is not 1:
+/// the carry's own times the template's gains on the muscle (its per-vertex weights are
+/// carried by `carry_masks`).
+fn carry_muscles(
+    template: Template<'_>,
+    warp: &Warp,
+    rings: &[RingFit],
+) -> (Vec<Muscle>, Vec<(String, f64)>) {
+    let mut gains = Vec::new();
+    let muscles = template
+        .rig
+        .muscles
+        .iter()
+        .map(|m| {
+            let (kind, gain) = carry(&m.kind, warp, rings);
+            let gain = gain
+                * template
+                    .rig
+                    .masks
+                    .iter()
+                    .filter(|mask| mask.muscles.contains(&m.name))
+                    .map(|mask| f64::from(mask.gain))
+                    .product::<f64>();
+            if (gain - 1.0).abs() > GAIN_EPSILON {
+                gains.push((m.name.clone(), gain));
+            }
+            Muscle { kind, ..m.clone() }
+        })
+        .collect();
+    (muscles, gains)
+}
+
+/// The names of the template's round rings (the eyes').
+fn round_rings<'a>(template: Template<'a>, rings: &[RingFit]) -> Vec<&'a str> {
+    template
+        .rig
+        .muscles
+        .iter()
+        .filter(|m| match &m.kind {
+            MuscleKind::Sphincter(s) => {
+                RingFit::around(rings, s.centre.as_dvec3()).is_some_and(|r| r.round)
+            }
+            _ => false,
+        })
+        .map(|m| m.name.as_str())
+        .collect()
 }
 
 /// A ring's landmark contour on the template and on the mesh, and the linear map between
