@@ -425,7 +425,7 @@ pub(super) fn shade_triangle_in<const N: usize>(
     let last_end = (y1 - 1) * w + x0 + padded;
     #[cfg(target_arch = "x86_64")]
     if SIMD && last_end <= depth.len() && out.iter().all(|o| o.len() >= last_end) {
-        sse::shade_rows([x0, x1, y0, y1], w, wa, wb, z, planes, depth, out);
+        sse::shade_rows([x0, x1, y0, y1], w, [wa, wb, z], planes, depth, out);
         return;
     }
     let _ = last_end;
@@ -550,7 +550,6 @@ mod sse {
     /// only where a dot is on).
     ///
     /// The caller checks that the rectangle lies inside every buffer.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn light_rows(
         (x0, y0, x1, y1): (usize, usize, usize, usize),
         w: usize,
@@ -623,14 +622,11 @@ mod sse {
     ///
     /// The caller checks that every step, including the padding past `x1` of the last
     /// row, lies inside `depth` and every `out` buffer.
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(super) fn shade_rows<const N: usize>(
         [x0, x1, y0, y1]: [usize; 4],
         w: usize,
-        wa: Plane,
-        wb: Plane,
-        z: Plane,
+        [wa, wb, z]: [Plane; 3],
         planes: [Plane; N],
         depth: &mut [f32],
         out: [&mut [f32]; N],
@@ -737,7 +733,7 @@ mod simd_matches_portable {
             let (mut d1, mut d2) = (start.clone(), start.clone());
             let (mut s1, mut s2, mut k1, mut k2) =
                 (vec![0.25; len], vec![0.25; len], vec![0.5; len], vec![0.5; len]);
-            sse::shade_rows(dots, w, wa, wb, z, planes, &mut d1, [&mut s1, &mut k1]);
+            sse::shade_rows(dots, w, [wa, wb, z], planes, &mut d1, [&mut s1, &mut k1]);
             shade_rows(dots, w, [wa, wb, z], planes, &mut d2, [&mut s2, &mut k2]);
             prop_assert_eq!(bits(&d1), bits(&d2));
             prop_assert_eq!(bits(&s1), bits(&s2));
