@@ -11,7 +11,7 @@ use glam::Vec3;
 use thiserror::Error;
 
 use super::anthropometry::*;
-use super::jaw_skin::relax_jaw_weights;
+use super::jaw_skin::{relax_jaw_weights, MouthSlit};
 use super::lids::{closing_gain, LidProfile, Margin};
 use super::surface;
 use crate::model::{
@@ -706,7 +706,13 @@ impl Placer<'_> {
         let mouth_y = 0.5 * (upper.y + lower.y);
         let skin = super::groups::skin_len(self.mesh);
         let weights = jaw_weights(&self.mesh.positions[..skin], mouth_y, corner.x);
-        let mut weights = relax_jaw_weights(self.mesh, skin, &weights, |p| {
+        let slit = MouthSlit {
+            corner,
+            mouth_y,
+            corner_weight: JAW_CORNER_WEIGHT,
+            corner_reach: units(JAW_CORNER_REACH_MM),
+        };
+        let mut weights = relax_jaw_weights(self.mesh, skin, &weights, &slit, |p| {
             p.y >= mouth_y
                 && p.x.abs() < corner.x
                 && Vec3::new(p.x.abs(), p.y, p.z).distance(corner)
@@ -733,8 +739,8 @@ impl Placer<'_> {
 }
 
 /// Jaw weight at the mouth corners: a dropped jaw pulls the corners a little down (they are
-/// part of both lips), about a fifth of the lower lip's drop.
-pub const JAW_CORNER_WEIGHT: f64 = 0.2;
+/// part of both lips), about a third of the lower lip's drop.
+pub const JAW_CORNER_WEIGHT: f64 = 0.3;
 
 /// Radius (mm) of the skin round each mouth corner that follows the corner down.
 const JAW_CORNER_REACH_MM: f64 = 9.0;
