@@ -9,7 +9,80 @@ use crate::model::Mesh;
 
 /// How far (mm) beyond the skin that the analytic jaw weights move the relaxed weights may
 /// reach: the cheek and chin around the mouth carry an opening jaw's pull.
-pub(super) const JAW_CARRY_MM: f64 = 15.0;
+pub(super) const JAW_CARRY_MM: f64 = 25.0;
+
+/// Radius (mm) round each mouth corner within which the mandible's skin is held at less than
+/// the jaw's full weight, easing in from the corner's weight.
+pub(super) const JAW_CORNER_EASE_MM: f64 = 30.0;
+
+/// The mouth slit as the jaw's weights see it: found from the mesh's boundary between the
+/// corners and the mouth line (both from the landmarks).
+pub(super) struct MouthSlit {
+    /// The left mouth corner (the right one is its mirror in x).
+    pub(super) corner: Vec3,
+    /// Height of the mouth line.
+    pub(super) mouth_y: f32,
+    /// Jaw weight at the corners.
+    pub(super) corner_weight: f64,
+    /// Distance (mesh units) from a corner over which the upper lip's weight falls to 0.
+    pub(super) corner_reach: f64,
+}
+
+impl MouthSlit {
+    /// True for a point between the corners, within 3 mm of the mouth line and not behind
+    /// the corners: the lips along the slit.
+    fn on_lips(&self, p: Vec3) -> bool {
+        let band = units(3.0) as f32;
+        p.x.abs() < self.corner.x
+            && (p.y - self.mouth_y).abs() <= band
+            && p.z >= self.corner.z - band
+    }
+
+    /// Distance from `p` to the nearer mouth corner.
+    fn from_corner(&self, p: Vec3) -> f32 {
+        Vec3::new(p.x.abs(), p.y, p.z).distance(self.corner)
+    }
+
+    /// The slit's margin vertices (skin vertices on the mesh's boundary between the corners,
+    /// within 3 mm of the mouth line and not behind the corners) with their held weights: at
+    /// distance `s` from the nearer corner along x, the upper lip's `c (1 - s / reach)` (not
+    /// below 0) and the lower lip's `c + (1 - c) (1 - (1 - t)^1.5)` with `t = s / x_corner`
+    /// (1 at the midline), `c` the corner's weight. The jump across the slit so grows in
+    /// proportion to the distance from the corner instead of as its square root, and the
+    /// lower lip still rises fast enough for an oval opening (three quarters of the way at
+    /// half the way to the corner).
+    fn margin_weights(&self, mesh: &Mesh, skin: usize) -> Vec<(u32, f64)> {
+        let mut uses: std::collections::BTreeMap<(u32, u32), u32> = Default::default();
+        for t in &mesh.triangles {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        let on_slit = |v: u32| (v as usize) < skin && self.on_lips(mesh.positions[v as usize]);
+        let mut margin: Vec<u32> = uses
+            .iter()
+            .filter(|&(&(a, b), &n)| n == 1 && on_slit(a) && on_slit(b))
+            .flat_map(|(&(a, b), _)| [a, b])
+            .collect();
+        margin.sort_unstable();
+        margin.dedup();
+        let (c, x_corner) = (self.corner_weight, f64::from(self.corner.x));
+        margin
+            .into_iter()
+            .map(|v| {
+                let p = mesh.positions[v as usize];
+                let s = x_corner - f64::from(p.x.abs());
+                let w = if p.y >= self.mouth_y {
+                    c * (1.0 - s / self.corner_reach).max(0.0)
+                } else {
+                    let t = (s / x_corner).clamp(0.0, 1.0);
+                    c + (1.0 - c) * (1.0 - (1.0 - t).powf(1.5))
+                };
+                (v, w)
+            })
+            .collect()
+    }
+}
 
 /// Relaxes the jaw's skin weights to a harmonic map, so that the opening jaw's pull falls off
 /// as evenly as the skin allows instead of in the analytic map's steep bands (beside the mouth
@@ -22,10 +95,22 @@ pub(super) const JAW_CARRY_MM: f64 = 15.0;
 /// map's slope grows without bound at the corner, the tip of the slit between a lower lip
 /// that drops and an upper lip that stays. (A biharmonic map was tried: with the mandible
 /// held at 1 it overshoots below the corners and stretches more.)
+///
+/// Round the mouth corners two more things are held, since a harmonic map is singular at
+/// the tip of a slit across which the weight jumps (at AU27 the edge below each corner
+/// stretched 3.15x): the slit's margins get weights whose jump grows in proportion to the
+/// distance from the corner ([`MouthSlit`]: the corner's weight at the corner, the upper
+/// lip's falling to 0 within the corner's reach, the lower lip's rising to 1 at the
+/// midline), and the mandible's weights of 1 within [`JAW_CORNER_EASE_MM`] of a corner
+/// (the lips' own excepted) ease in from the corner's weight in proportion to the
+/// distance, so the skin below
+/// the corners is carried by the cheek and chin over a wide area rather than pinned to the
+/// mandible.
 pub(super) fn relax_jaw_weights(
     mesh: &Mesh,
     skin: usize,
     weights: &[(u32, f32)],
+    slit: &MouthSlit,
     held_still: impl Fn(Vec3) -> bool,
 ) -> Vec<(u32, f32)> {
     let positions = &mesh.positions[..skin];
@@ -38,10 +123,27 @@ pub(super) fn relax_jaw_weights(
         .map(|&(v, _)| positions[v as usize])
         .collect();
     let reach = units(JAW_CARRY_MM) as f32;
+    let mut held_margin = vec![false; skin];
+    for (v, x) in slit.margin_weights(mesh, skin) {
+        w[v as usize] = x;
+        held_margin[v as usize] = true;
+    }
+    // the mandible's weights of 1 ease in from the corner's weight with the distance from
+    // the corner
+    let held_one: Vec<bool> = w.iter().map(|&x| x >= 1.0).collect();
+    let ease_radius = units(JAW_CORNER_EASE_MM);
+    for (v, x) in w.iter_mut().enumerate() {
+        let from_corner = f64::from(slit.from_corner(positions[v]));
+        if held_one[v] && !slit.on_lips(positions[v]) && from_corner < ease_radius {
+            let ease = super::surface::smoothstep(0.0, ease_radius, from_corner);
+            *x = slit.corner_weight + (1.0 - slit.corner_weight) * ease;
+        }
+    }
     let free: Vec<bool> = (0..skin)
         .map(|v| {
             let p = positions[v];
-            w[v] < 1.0
+            !held_margin[v]
+                && !held_one[v]
                 && !(w[v] == 0.0 && held_still(p))
                 && moving.iter().any(|q| q.distance(p) <= reach)
         })

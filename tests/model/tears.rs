@@ -224,6 +224,30 @@ fn the_spread_tears_fitted_shared_heads_less() {
     }
 }
 
+/// What the fitted shared heads reach with the default deformation, pinned so it only gets
+/// better (`docs/model.md`, "Measured"; tighten the bounds as the fit and the skin improve):
+/// poses that tear (of the built-in table's AUs and expressions at full intensity, each
+/// muscle at 2.0 and the jaw at 4.0) and skin triangles turned over in all of them.
+#[test]
+fn fitted_shared_heads_tear_no_more_than_measured() {
+    for head in shared_heads() {
+        let (poses, flips) = match head.name {
+            "MediaPipe canonical face" => (36, 260),
+            "MakeHuman base mesh" => (61, 3014),
+            other => panic!("no bound for {other}"),
+        };
+        let torn = tears(&head, Skin::DEFAULT);
+        let turned: usize = torn.iter().map(|(_, d)| d.flips).sum();
+        assert!(
+            torn.len() <= poses && turned <= flips,
+            "{}: {} poses tear ({} flips), measured {poses} ({flips})",
+            head.name,
+            torn.len(),
+            turned
+        );
+    }
+}
+
 /// The AUs and expressions of the built-in table that move no jaw turn no skin triangle of
 /// the built-in face over, with or without the spread.
 #[test]
@@ -246,22 +270,24 @@ fn no_jawless_au_or_expression_turns_the_builtin_face_over() {
 }
 
 /// What `grimace check` measures (`fit::quality`), on the built-in face with the default
-/// deformation: closing the lids (AU43, AU45, AU46) and opening the jaw (AU26) and surprise
-/// tear no skin (no triangle turned over, no edge beyond 2.5x), the lids close to under 10 %
-/// of their opening and the jaw drops at least 15 mm. (Before the lids reached the brow and
-/// the jaw's weights were relaxed, the lids stretched an edge 3.55x and left 11 %, AU26
-/// stretched 3.95x and surprise 2.51x. AU27 still stretches the mouth corners 3.15x and AU10
-/// the skin under them 2.98x.)
+/// deformation: every AU and expression of the built-in table at full intensity tears no
+/// skin (no triangle turned over, no edge beyond 2.5x), the lids close to under 10 % of their
+/// opening at AU43/45 and the jaw drops at least 15 mm at AU26/27; and the jaw alone at 4.0
+/// tears nothing either. (Before the lip masks turned about the mouth corners and the jaw's
+/// weights were held along the slit, AU10 stretched the skin below the corners 2.98x and
+/// AU27 3.15x, the jaw at 4 3.18x; before the lids reached the brow and the jaw's weights
+/// were relaxed, the lids stretched an edge 3.55x, AU26 3.95x and surprise 2.51x.)
 #[test]
-fn the_builtin_face_closes_its_lids_and_opens_its_jaw_without_tearing() {
+fn the_builtin_table_passes_check_on_the_builtin_face() {
     use grimace::fit::quality::{Expect, Eyes, Gauge};
-    let mesh = builtin::default_mesh();
-    let rig = builtin::default_rig();
+    let head = builtin_head();
+    let rig = &head.rig;
     let table = builtin::default_table();
     let marks = builtin::landmarks("face").expect("built-in landmarks");
-    let gauge = Gauge::new(&mesh, &marks.vertices(&mesh), Some(11.5)).expect("measurable");
+    let gauge =
+        Gauge::new(&head.mesh, &marks.vertices(&head.mesh), Some(11.5)).expect("measurable");
     let bound = grimace::model::Deformation::default()
-        .bind(&rig, &mesh)
+        .bind(rig, &head.mesh)
         .expect("binds");
     let mut out = Vec::new();
     let mut checked = 0;
@@ -272,22 +298,30 @@ fn the_builtin_face_closes_its_lids_and_opens_its_jaw_without_tearing() {
                 Some(grimace::model::Side::Right) => Eyes::Right,
                 _ => Eyes::Both,
             }),
-            jaw_opens: key.number == 26 && key.side.is_none(),
+            jaw_opens: matches!(key.number, 26 | 27) && key.side.is_none(),
         };
-        if !matches!(key.number, 26 | 43 | 45 | 46) {
-            continue;
-        }
-        let act = table.entry_activations(key, &rig).expect("AU evaluates");
+        let act = table.entry_activations(key, rig).expect("AU evaluates");
         bound.deform(&act, &mut out).expect("in range");
         let quality = gauge.measure(&out, expect);
         assert!(quality.failures().is_empty(), "AU{key}: {quality:?}");
         checked += 1;
     }
-    let act = table
-        .expression_activations("surprise", &rig)
-        .expect("surprise evaluates");
+    for name in table.expressions.keys() {
+        let act = table
+            .expression_activations(name, rig)
+            .expect("expression evaluates");
+        bound.deform(&act, &mut out).expect("in range");
+        let quality = gauge.measure(&out, Expect::default());
+        assert!(quality.failures().is_empty(), "{name}: {quality:?}");
+        checked += 1;
+    }
+    assert!(checked >= 55, "the table has 48 AUs and 7 expressions");
+    let mut act = Activations::zero(rig);
+    act.jaw = 4.0;
     bound.deform(&act, &mut out).expect("in range");
-    let quality = gauge.measure(&out, Expect::default());
-    assert!(quality.failures().is_empty(), "surprise: {quality:?}");
-    assert!(checked >= 4, "the table has AU26, 43, 45 and 46");
+    let d = head.damage(&out);
+    assert!(
+        d.flips == 0 && d.stretch <= MAX_STRETCH,
+        "the jaw at 4 tears: {d:?}"
+    );
 }
