@@ -39,7 +39,7 @@ impl MouthSlit {
     }
 
     /// Distance from `p` to the nearer mouth corner.
-    fn from_corner(&self, p: Vec3) -> f32 {
+    fn corner_distance(&self, p: Vec3) -> f32 {
         Vec3::new(p.x.abs(), p.y, p.z).distance(self.corner)
     }
 
@@ -133,7 +133,7 @@ pub(super) fn relax_jaw_weights(
     let held_one: Vec<bool> = w.iter().map(|&x| x >= 1.0).collect();
     let ease_radius = units(JAW_CORNER_EASE_MM);
     for (v, x) in w.iter_mut().enumerate() {
-        let from_corner = f64::from(slit.from_corner(positions[v]));
+        let from_corner = f64::from(slit.corner_distance(positions[v]));
         if held_one[v] && !slit.on_lips(positions[v]) && from_corner < ease_radius {
             let ease = super::surface::smoothstep(0.0, ease_radius, from_corner);
             *x = slit.corner_weight + (1.0 - slit.corner_weight) * ease;
