@@ -142,10 +142,8 @@ pub(super) fn relax_jaw_weights(
     let free: Vec<bool> = (0..skin)
         .map(|v| {
             let p = positions[v];
-            !held_margin[v]
-                && !held_one[v]
-                && !(w[v] == 0.0 && held_still(p))
-                && moving.iter().any(|q| q.distance(p) <= reach)
+            let held = held_margin[v] || held_one[v] || (w[v] == 0.0 && held_still(p));
+            !held && moving.iter().any(|q| q.distance(p) <= reach)
         })
         .collect();
     let mut neighbours: Vec<Vec<(usize, f64)>> = vec![Vec::new(); skin];
