@@ -206,7 +206,96 @@ fn head(k: u32, runs: usize) {
         .expression_activations("happiness", &fitted.rig)
         .expect("happiness");
     frames(&mesh, &bound, &framing, &lod, &act, runs);
+    drop((bound, lod));
+    editor(fitted.rig, mesh, runs);
     eprintln!("  peak RSS so far: {:.0} MB", peak_rss_mb());
+}
+
+/// A writer that only counts bytes, standing in for the terminal.
+#[derive(Clone, Default)]
+struct Counter(std::sync::Arc<std::sync::atomic::AtomicUsize>);
+
+impl std::io::Write for Counter {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0
+            .fetch_add(buf.len(), std::sync::atomic::Ordering::Relaxed);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// The editor on the head at 200x60: its first screen, then a key press (a fine step of
+/// the selected muscle: update, the level's deformation, the face drawn, every panel,
+/// ratatui's diff and the bytes written), split into its parts.
+fn editor(rig: grimace::model::Rig, mesh: Mesh, runs: usize) {
+    use grimace::tui::action::Action;
+    use grimace::tui::app::{App, ColorMode};
+    use grimace::tui::face::Face;
+    use grimace::tui::update::update;
+    use ratatui::backend::CrosstermBackend;
+    use ratatui::layout::Rect;
+    use ratatui::{Terminal, TerminalOptions, Viewport};
+    let (cols, rows) = (COLS as u16, ROWS as u16);
+    let mut term = Terminal::with_options(
+        CrosstermBackend::new(Counter::default()),
+        TerminalOptions {
+            viewport: Viewport::Fixed(Rect::new(0, 0, cols, rows)),
+        },
+    )
+    .expect("a terminal on a counting writer");
+    let start = Instant::now();
+    let face = Face::new(rig, mesh).expect("the rig binds");
+    let mut app = App::new(face, builtin::default_table(), None);
+    app.view.colors = ColorMode::Ansi16;
+    update(&mut app, Action::Resize(cols, rows));
+    let mut cache = Default::default();
+    grimace::tui::draw(&mut term, &app, &mut cache).expect("draws");
+    eprintln!(
+        "  editor: bound and first screen: {:.0} ms",
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    app.doc.face.wait_for_lod();
+    eprintln!(
+        "  editor: levels of detail ready: {:.0} ms",
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    let mut flip = 1;
+    let mut press = |app: &mut App| {
+        flip = -flip;
+        update(app, Action::StepFine(flip));
+    };
+    report(
+        "editor key press 200x60 (update + draw + diff)",
+        time(runs, || {
+            press(&mut app);
+            grimace::tui::draw(&mut term, &app, &mut cache).expect("draws");
+        }),
+    );
+    report(
+        "editor key press: update alone",
+        time(runs, || press(&mut app)),
+    );
+    let mut level_positions = Vec::new();
+    let levels = app.doc.face.lod().levels().len();
+    for l in 0..levels {
+        let count = app.doc.face.lod().levels()[l].source.len();
+        report(
+            &format!("editor key press: update + the deformation of the {count}-vertex level"),
+            time(runs, || {
+                press(&mut app);
+                let level = &app.doc.face.lod().levels()[l];
+                app.doc.face.sample(level, &mut level_positions);
+            }),
+        );
+    }
+    report(
+        "editor: draw, nothing changed (panels + diff)",
+        time(runs, || {
+            grimace::tui::draw(&mut term, &app, &mut cache).expect("draws")
+        }),
+    );
 }
 
 /// Deform and draw at 200x60, full mesh against the level of detail.
