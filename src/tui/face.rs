@@ -27,7 +27,8 @@ use crate::render::{Framing, Level, Lod};
 #[derive(Debug, Clone)]
 pub struct Face {
     bound: BoundRig,
-    mesh: Mesh,
+    /// Shared with the thread that makes the levels of detail (no copy of a big mesh).
+    mesh: Arc<Mesh>,
     /// The whole mesh's deformed positions: always there without levels of detail, else
     /// computed on first use after each change.
     positions: OnceCell<Vec<Vec3>>,
@@ -78,15 +79,22 @@ impl Face {
         let bound = Deformation::default()
             .bind(&rig, &mesh)
             .map_err(|e| format!("the rig does not fit its mesh: {e}"))?;
-        let positions = OnceCell::from(mesh.positions.clone());
         // Once, from the rig as loaded: rig-mode edits do not move the view.
         let framing = Framing::of_rig(&rig, &mesh);
         let big = mesh.positions.len() >= LOD_MIN_VERTICES;
+        let positions = OnceCell::from(mesh.positions.clone());
+        let mesh = Arc::new(mesh);
         let lod = Arc::new(OnceLock::new());
         if big {
-            let (cell, rig, mesh, framing) =
-                (Arc::clone(&lod), rig.clone(), mesh.clone(), framing.clone());
-            std::thread::spawn(move || cell.set(Lod::of_rig(&rig, &mesh, &framing)));
+            // The thread gets the labels, the framed points and the shared mesh: no copy of
+            // the rig or the mesh.
+            let parts = Lod::rig_parts(&rig, mesh.positions.len());
+            let frame = framing.focus.clone();
+            let (cell, mesh) = (Arc::clone(&lod), Arc::clone(&mesh));
+            std::thread::spawn(move || {
+                let frame = frame.as_deref().unwrap_or(&mesh.positions);
+                cell.set(Lod::build(&mesh, &parts, frame))
+            });
         } else {
             let _ = lod.set(Lod::default());
         }
