@@ -3,7 +3,9 @@
 //! The editor draws a simplified copy of a big mesh whose vertices are vertices of the full
 //! mesh (`render::Lod`); [`BoundRig::deform_at`] gives exactly what [`BoundRig::deform`]
 //! gives at those vertices, at the cost of those vertices (and, under the skin's area bound,
-//! of the few neighbours their scale reads), not of the whole mesh.
+//! of the few neighbours their scale reads), not of the whole mesh; and
+//! [`BoundRig::update_sampled`] keeps such a list in step with a change of one muscle at
+//! the cost of the listed vertices that muscle reaches.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -74,12 +76,6 @@ impl Sampler {
     /// vertices its guarded vertices' scales read.
     pub fn reads(&self) -> usize {
         self.needed.len()
-    }
-
-    /// Number of listed vertices a change of muscle `muscle` (the jaw: the muscle count)
-    /// recomputes, or `None` for a muscle the rig does not have.
-    pub fn changed_by(&self, muscle: usize) -> Option<usize> {
-        self.changes.get(muscle).map(Vec::len)
     }
 }
 
