@@ -9,7 +9,8 @@
 //!
 //! Run: `cargo bench --bench heads`. `GRIMACE_HEADS=3,10` sets the splits (default 3 and
 //! 12: 30 763 and 475 840 vertices); `GRIMACE_BENCH_RUNS=N` the frames per measurement
-//! (default 30). `GRIMACE_HEADS_OUT=DIR` only writes the heads and their landmarks there
+//! (default 30). `GRIMACE_HEADS_EDITOR_ONLY=1` measures the editor only (for profiling
+//! it). `GRIMACE_HEADS_OUT=DIR` only writes the heads and their landmarks there
 //! (`head-K.obj`, `head-K.landmarks.ron`) for timing the command line on them. Times are wall-clock medians (and minimums) over the runs, each run on the
 //! whole rayon pool as the editor uses it.
 
@@ -205,8 +206,131 @@ fn head(k: u32, runs: usize) {
     let act = builtin::default_table()
         .expression_activations("happiness", &fitted.rig)
         .expect("happiness");
-    frames(&mesh, &bound, &framing, &lod, &act, runs);
+    if std::env::var_os("GRIMACE_HEADS_EDITOR_ONLY").is_none() {
+        frames(&mesh, &bound, &framing, &lod, &act, runs);
+    }
+    drop((bound, lod));
+    editor(fitted.rig, mesh, runs);
     eprintln!("  peak RSS so far: {:.0} MB", peak_rss_mb());
+}
+
+/// A writer that only counts bytes, standing in for the terminal.
+#[derive(Clone, Default)]
+struct Counter(std::sync::Arc<std::sync::atomic::AtomicUsize>);
+
+impl std::io::Write for Counter {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0
+            .fetch_add(buf.len(), std::sync::atomic::Ordering::Relaxed);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// The editor on the head at 200x60: its first screen, then a key press (a fine step of
+/// the selected muscle: update, the level's deformation, the face drawn, every panel,
+/// ratatui's diff and the bytes written), split into its parts.
+fn editor(rig: grimace::model::Rig, mesh: Mesh, runs: usize) {
+    use grimace::tui::action::Action;
+    use grimace::tui::app::{App, ColorMode};
+    use grimace::tui::face::Face;
+    use grimace::tui::update::update;
+    use ratatui::backend::CrosstermBackend;
+    use ratatui::layout::Rect;
+    use ratatui::{Terminal, TerminalOptions, Viewport};
+    let (cols, rows) = (COLS as u16, ROWS as u16);
+    let mut term = Terminal::with_options(
+        CrosstermBackend::new(Counter::default()),
+        TerminalOptions {
+            viewport: Viewport::Fixed(Rect::new(0, 0, cols, rows)),
+        },
+    )
+    .expect("a terminal on a counting writer");
+    let mesh_count = mesh.vertex_count();
+    let start = Instant::now();
+    let face = Face::new(rig, mesh).expect("the rig binds");
+    let mut app = App::new(face, builtin::default_table(), None);
+    app.view.colors = ColorMode::Ansi16;
+    update(&mut app, Action::Resize(cols, rows));
+    let mut cache = Default::default();
+    grimace::tui::draw(&mut term, &app, &mut cache).expect("draws");
+    eprintln!(
+        "  editor: bound and first screen: {:.0} ms",
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    app.doc.face.wait_for_lod();
+    eprintln!(
+        "  editor: levels of detail ready: {:.0} ms",
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    let mut flip = 1;
+    let mut press = |app: &mut App| {
+        flip = -flip;
+        update(app, Action::StepFine(flip));
+    };
+    report(
+        "editor key press 200x60 (update + draw + diff)",
+        time(runs, || {
+            press(&mut app);
+            grimace::tui::draw(&mut term, &app, &mut cache).expect("draws");
+        }),
+    );
+    report(
+        "editor key press: update alone",
+        time(runs, || press(&mut app)),
+    );
+    // The viewport's cells at 200x60 (the wide layout: muscles, face, table panels).
+    let camera = grimace::tui::view::viewport::camera(&app);
+    let canvas = app.view.drawn_cells().canvas(126, 56);
+    let drawn = app
+        .doc
+        .face
+        .lod()
+        .choose(&camera, canvas.width(), canvas.height(), canvas.dot_aspect)
+        .map_or(mesh_count, |l| l.source.len());
+    eprintln!("  editor: the viewport draws {drawn} vertices");
+    let mut level_positions = Vec::new();
+    let levels = app.doc.face.lod().levels().len();
+    for l in 0..levels {
+        let count = app.doc.face.lod().levels()[l].source.len();
+        report(
+            &format!("editor key press: update + the deformation of the {count}-vertex level"),
+            time(runs, || {
+                press(&mut app);
+                let level = &app.doc.face.lod().levels()[l];
+                app.doc.face.sample(level, &mut level_positions);
+            }),
+        );
+    }
+    let mut draw_times = Vec::new();
+    for _ in 0..runs {
+        press(&mut app);
+        let camera = grimace::tui::view::viewport::camera(&app);
+        if let Some(level) =
+            app.doc
+                .face
+                .lod()
+                .choose(&camera, canvas.width(), canvas.height(), canvas.dot_aspect)
+        {
+            app.doc.face.sample(level, &mut level_positions);
+        }
+        let start = Instant::now();
+        grimace::tui::draw(&mut term, &app, &mut cache).expect("draws");
+        draw_times.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    draw_times.sort_by(f64::total_cmp);
+    report(
+        "editor key press: the draw alone (face, panels, diff)",
+        (draw_times[runs / 2], draw_times[0]),
+    );
+    report(
+        "editor: draw, nothing changed (panels + diff)",
+        time(runs, || {
+            grimace::tui::draw(&mut term, &app, &mut cache).expect("draws")
+        }),
+    );
 }
 
 /// Deform and draw at 200x60, full mesh against the level of detail.
@@ -270,6 +394,21 @@ fn frames(
                 .expect("deforms")
         }),
     );
+    for other in lod.levels() {
+        let mut renderer = Renderer::new(&other.mesh);
+        let mut scene = Scene::new(&other.mesh, &other.mesh.positions);
+        scene.focus = Some(&other.frame);
+        report(
+            &format!(
+                "frame {COLS}x{ROWS} shaded, the {}-vertex level at rest",
+                other.source.len()
+            ),
+            time(runs, || {
+                renderer.render(&scene, &camera, Style::Shaded, &mut canvas);
+                grid.fill(&canvas, mode, ColorMode::TrueColor);
+            }),
+        );
+    }
     let mut renderer = Renderer::new(&level.mesh);
     for style in [Style::Lines, Style::Shaded] {
         report(

@@ -28,7 +28,7 @@ mod skin;
 mod spread;
 
 use checks::{check_budget, check_reach, mask_scales};
-pub use sample::Sampler;
+pub use sample::{SampledPose, Sampler};
 pub use skin::Skin;
 use skin::{Adjacency, Guard, Patch};
 use spread::Surface;

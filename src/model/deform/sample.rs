@@ -3,7 +3,9 @@
 //! The editor draws a simplified copy of a big mesh whose vertices are vertices of the full
 //! mesh (`render::Lod`); [`BoundRig::deform_at`] gives exactly what [`BoundRig::deform`]
 //! gives at those vertices, at the cost of those vertices (and, under the skin's area bound,
-//! of the few neighbours their scale reads), not of the whole mesh.
+//! of the few neighbours their scale reads), not of the whole mesh; and
+//! [`BoundRig::update_sampled`] keeps such a list in step with a change of one muscle at
+//! the cost of the listed vertices that muscle reaches.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -32,6 +34,31 @@ pub struct Sampler {
     /// places in `needed`.
     tri_start: Vec<u32>,
     tris: Vec<(u32, [u32; 3])>,
+    /// Per muscle, then the jaw: the places in `needed` whose position before the area
+    /// bound it moves (their CSR rows hold its entry, or they have a jaw weight).
+    moves: Vec<Vec<u32>>,
+    /// Per muscle, then the jaw: the listed vertices whose position it may change (moved
+    /// by it, or guarded with a checked triangle that it moves).
+    changes: Vec<Vec<u32>>,
+}
+
+/// A sampled deformation kept between changes ([`BoundRig::deform_sampled_pose`]), so that
+/// a change of one muscle recomputes only the listed vertices it reaches
+/// ([`BoundRig::update_sampled`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SampledPose {
+    /// Per needed vertex of the sampler: its position before the area bound.
+    before: Vec<Vec3>,
+    /// Per listed vertex: its deformed position.
+    positions: Vec<Vec3>,
+}
+
+impl SampledPose {
+    /// The listed vertices' deformed positions, in the sampler's order (empty before the
+    /// first deformation).
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
 }
 
 impl Sampler {
@@ -115,14 +142,47 @@ impl BoundRig {
             tri_start.push(tris.len() as u32);
         }
         let at = vertices.iter().map(|&v| place(v)).collect();
-        Ok(Sampler {
+        let mut sampler = Sampler {
             needed,
             rows,
             jaw,
             at,
             tri_start,
             tris,
-        })
+            moves: Vec::new(),
+            changes: Vec::new(),
+        };
+        sampler.moves = self.sampled_moves(&sampler);
+        sampler.changes = sampler
+            .moves
+            .par_iter()
+            .map(|moved| sampler.reached(moved))
+            .collect();
+        Ok(sampler)
+    }
+
+    /// Per muscle, then the jaw: the places in `sampler.needed` it moves.
+    fn sampled_moves(&self, sampler: &Sampler) -> Vec<Vec<u32>> {
+        let mut moves = vec![Vec::new(); self.fields.len() + 1];
+        for (i, &row) in sampler.rows.iter().enumerate() {
+            if row == NO_ROW {
+                continue;
+            }
+            let span =
+                self.row_start[row as usize] as usize..self.row_start[row as usize + 1] as usize;
+            for e in &self.entries[span] {
+                if let Some(list) = moves.get_mut(e.muscle as usize) {
+                    list.push(i as u32);
+                }
+            }
+        }
+        if let Some(jaw) = moves.last_mut() {
+            jaw.extend((0..sampler.jaw.len() as u32).filter(|&i| sampler.jaw[i as usize] > 0.0));
+        }
+        for list in &mut moves {
+            list.dedup();
+        }
+        moves
     }
 
     /// [`BoundRig::deform_at`] of the vertices `sampler` lists (made by this rig as bound
@@ -133,6 +193,22 @@ impl BoundRig {
         sampler: &Sampler,
         out: &mut Vec<Vec3>,
     ) -> Result<(), ActivationError> {
+        let mut pose = SampledPose {
+            before: Vec::new(),
+            positions: std::mem::take(out),
+        };
+        let done = self.deform_sampled_pose(act, sampler, &mut pose);
+        *out = pose.positions;
+        done
+    }
+
+    /// [`BoundRig::deform_sampled`] into `pose`, kept for [`BoundRig::update_sampled`].
+    pub fn deform_sampled_pose(
+        &self,
+        act: &Activations,
+        sampler: &Sampler,
+        pose: &mut SampledPose,
+    ) -> Result<(), ActivationError> {
         act.validate(&self.rig)?;
         let average = self.rig.combine == Combine::Average;
         let turn = self.jaw.as_ref().and(self.jaw_turn(act.jaw));
@@ -141,20 +217,61 @@ impl BoundRig {
             let v = sampler.needed[i] as usize;
             self.moved(v, sampler.rows[i], sampler.jaw[i], muscles, average, turn)
         };
-        let mut before = vec![Vec3::ZERO; sampler.needed.len()];
-        chunked(&mut before, |start, chunk| {
+        let SampledPose { before, positions } = pose;
+        before.clear();
+        before.resize(sampler.needed.len(), Vec3::ZERO);
+        chunked(before, |start, chunk| {
             for (k, p) in chunk.iter_mut().enumerate() {
                 *p = before_one(start + k);
             }
         });
-        out.clear();
-        out.resize(sampler.len(), Vec3::ZERO);
-        let after_one = |k: usize| self.bounded(sampler, &before, k);
-        chunked(out, |start, chunk| {
+        positions.clear();
+        positions.resize(sampler.len(), Vec3::ZERO);
+        let after_one = |k: usize| self.bounded(sampler, before, k);
+        chunked(positions, |start, chunk| {
             for (k, p) in chunk.iter_mut().enumerate() {
                 *p = after_one(start + k);
             }
         });
+        Ok(())
+    }
+
+    /// Brings `pose` to `act` after the muscles `changed` (indices; the muscle count stands
+    /// for the jaw) changed, recomputing only the vertices they reach.
+    ///
+    /// `pose` must hold [`BoundRig::deform_sampled_pose`] of `sampler` by activations that
+    /// differ from `act` in those muscles only; afterwards it holds that of `act`, bit for
+    /// bit. A pose of another size is deformed whole.
+    pub fn update_sampled(
+        &self,
+        act: &Activations,
+        changed: &[usize],
+        sampler: &Sampler,
+        pose: &mut SampledPose,
+    ) -> Result<(), ActivationError> {
+        act.validate(&self.rig)?;
+        let fits =
+            pose.before.len() == sampler.needed.len() && pose.positions.len() == sampler.len();
+        if !fits || changed.iter().any(|&k| k >= sampler.moves.len()) {
+            return self.deform_sampled_pose(act, sampler, pose);
+        }
+        let average = self.rig.combine == Combine::Average;
+        let turn = self.jaw.as_ref().and(self.jaw_turn(act.jaw));
+        let muscles = &act.muscles[..];
+        // Every moved position first: a bound vertex reads its neighbours' positions.
+        for &k in changed {
+            for &i in &sampler.moves[k] {
+                let i = i as usize;
+                let v = sampler.needed[i] as usize;
+                pose.before[i] =
+                    self.moved(v, sampler.rows[i], sampler.jaw[i], muscles, average, turn);
+            }
+        }
+        for &k in changed {
+            for &l in &sampler.changes[k] {
+                pose.positions[l as usize] = self.bounded(sampler, &pose.before, l as usize);
+            }
+        }
         Ok(())
     }
 
@@ -180,6 +297,23 @@ impl BoundRig {
     }
 }
 
+impl Sampler {
+    /// The listed vertices whose position may change when the needed vertices at the places
+    /// `moved` move: those among them, and the guarded ones reading them.
+    fn reached(&self, moved: &[u32]) -> Vec<u32> {
+        let mut marked = vec![false; self.needed.len()];
+        moved.iter().for_each(|&i| marked[i as usize] = true);
+        let hit = |i: u32| marked[i as usize];
+        (0..self.at.len())
+            .filter(|&k| {
+                let tris = &self.tris[self.tri_start[k] as usize..self.tri_start[k + 1] as usize];
+                hit(self.at[k]) || tris.iter().any(|(_, t)| t.iter().any(|&i| hit(i)))
+            })
+            .map(|k| k as u32)
+            .collect()
+    }
+}
+
 /// Runs `f(start, chunk)` over `out` in chunks, in parallel when it is long.
 fn chunked(out: &mut [Vec3], f: impl Fn(usize, &mut [Vec3]) + Sync) {
     if out.len() >= PARALLEL_MIN {
@@ -193,8 +327,40 @@ fn chunked(out: &mut [Vec3], f: impl Fn(usize, &mut [Vec3]) + Sync) {
 
 #[cfg(test)]
 mod tests {
+    use super::SampledPose;
     use crate::io::builtin;
-    use crate::model::{Activations, Deformation};
+    use crate::model::{Activations, BoundRig, Deformation};
+
+    /// From `act`, each muscle and the jaw changed in turn: the kept pose updated by the
+    /// change alone is the whole deformation's at `vertices`, bit for bit.
+    fn update_one_muscle_at_a_time(bound: &BoundRig, act: &Activations, vertices: &[u32]) {
+        let sampler = bound.sampler(vertices).unwrap();
+        let mut pose = SampledPose::default();
+        bound.deform_sampled_pose(act, &sampler, &mut pose).unwrap();
+        let mut act = act.clone();
+        let mut full = Vec::new();
+        let jaw = act.muscles.len();
+        for k in 0..=jaw {
+            if k == jaw {
+                act.jaw = 3.0;
+            } else {
+                act.muscles[k] = 1.0 + 0.5 * act.muscles[k];
+            }
+            bound
+                .update_sampled(&act, &[k], &sampler, &mut pose)
+                .unwrap();
+            bound.deform(&act, &mut full).unwrap();
+            for (p, &v) in pose.positions().iter().zip(vertices) {
+                let q = full[v as usize];
+                assert_eq!(
+                    p.to_array().map(f32::to_bits),
+                    q.to_array().map(f32::to_bits),
+                    "{:?} vertex {v} after muscle {k}",
+                    bound.skin()
+                );
+            }
+        }
+    }
 
     #[test]
     fn deforming_some_vertices_matches_a_whole_deformation_bit_for_bit() {
@@ -228,6 +394,7 @@ mod tests {
                     }
                 }
             }
+            update_one_muscle_at_a_time(&bound, &states[1], &some);
             let n = mesh.positions.len() as u32;
             assert!(bound
                 .deform_at(&states[0], &[0, n], &mut Vec::new())

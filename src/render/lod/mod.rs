@@ -142,10 +142,18 @@ impl Lod {
     /// `framing`'s region, and vertices kept apart where the rig moves them apart (what the
     /// jaw turns and what it does not, the masks' regions such as the two lips).
     pub fn of_rig(rig: &Rig, mesh: &Mesh, framing: &Framing) -> Lod {
-        let n = mesh.positions.len();
-        if n < LOD_MIN_VERTICES {
+        if mesh.positions.len() < LOD_MIN_VERTICES {
             return Lod::default();
         }
+        let parts = Lod::rig_parts(rig, mesh.positions.len());
+        let frame = framing.focus.as_deref().unwrap_or(&mesh.positions);
+        Lod::build(mesh, &parts, frame)
+    }
+
+    /// The part labels [`Lod::of_rig`] builds with, per vertex of an `n`-vertex mesh: a
+    /// front end that builds the levels on a thread of its own passes them, the mesh and
+    /// the framed points to [`Lod::build`] without a copy of the rig.
+    pub fn rig_parts(rig: &Rig, n: usize) -> Vec<u32> {
         let mut parts = vec![0u32; n];
         let mut label = |v: u32, salt: u64| {
             if let Some(p) = parts.get_mut(v as usize) {
@@ -166,8 +174,7 @@ impl Lod {
                 label(v, mix(m as u64 + 2) ^ band);
             }
         }
-        let frame = framing.focus.as_deref().unwrap_or(&mesh.positions);
-        Lod::build(mesh, &parts, frame)
+        parts
     }
 
     /// The levels, finest first.

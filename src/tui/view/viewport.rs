@@ -25,6 +25,10 @@ pub struct RenderCache {
     overlays: Vec<Overlay>,
     /// The deformed positions of the level of detail drawn (a big mesh's).
     sampled: Vec<glam::Vec3>,
+    /// The vertex and triangle counts of the mesh `renderer` was made for: a renderer
+    /// made for a big mesh's full size is dropped, not kept with its buffers, when a level
+    /// of detail replaces it.
+    drawn: (usize, usize),
 }
 
 /// Everything the picture depends on.
@@ -128,6 +132,7 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
         grid,
         overlays,
         sampled,
+        drawn,
     } = &mut *cache;
     let mesh = app.doc.face.mesh();
     let canvas = canvas.get_or_insert_with(|| DotCanvas::new(0, 0));
@@ -162,6 +167,11 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
     .with_overlays(overlays);
     scene.ghost = app.view.show_ghost;
     scene.displacement = app.view.show_displacement;
+    let size = (scene.mesh.positions.len(), scene.mesh.triangles.len());
+    if *drawn != size {
+        *drawn = size;
+        *renderer = None;
+    }
     let renderer = renderer.get_or_insert_with(|| Renderer::new(scene.mesh));
     renderer.render(&scene, &camera, app.view.style, canvas);
     grid.fill(canvas, mode, app.view.colors);
