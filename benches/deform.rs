@@ -20,7 +20,7 @@ use glam::Vec3;
 use grimace::model::field::muscle_displacement;
 use grimace::model::{
     Activations, BoundRig, Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig,
-    Sheet, Side, Skin, Sphincter, RIG_VERSION,
+    Sheet, Side, SkinRules, Sphincter, RIG_VERSION,
 };
 
 fn golden_dir() -> PathBuf {
@@ -205,10 +205,10 @@ fn naive(rest: &[Vec3], rig: &Rig, act: &Activations, out: &mut Vec<Vec3>) {
 
 fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activations) {
     let start = std::time::Instant::now();
-    let paper = BoundRig::bind_with(rig, mesh, Skin::PAPER).expect("bench rig binds");
+    let paper = BoundRig::bind_with(rig, mesh, SkinRules::PAPER).expect("bench rig binds");
     let bind_paper = start.elapsed().as_secs_f64();
     let start = std::time::Instant::now();
-    let bound = BoundRig::bind_with(rig, mesh, Skin::DEFAULT).expect("bench rig binds");
+    let bound = BoundRig::bind_with(rig, mesh, SkinRules::DEFAULT).expect("bench rig binds");
     let bind_skin = start.elapsed().as_secs_f64();
     eprintln!(
         "{label}: bind {:.1} ms without the skin rules, {:.1} ms with them ({} guarded triangles)",
@@ -307,11 +307,11 @@ fn measure(c: &mut Criterion, label: &str, mesh: &Mesh, rig: &Rig, act: &Activat
     group.finish();
 }
 
-/// Binds `rig` with the skin spread ([`Skin::TISSUE`]) and prints its bind time, its pairs
+/// Binds `rig` with the skin spread ([`SkinRules::TISSUE`]) and prints its bind time, its pairs
 /// and its deformation's minimum against the same rig without the spread (`without`).
 fn spread(label: &str, mesh: &Mesh, rig: &Rig, act: &Activations, without: &BoundRig) -> BoundRig {
     let start = std::time::Instant::now();
-    let tissue = BoundRig::bind_with(rig, mesh, Skin::TISSUE).expect("bench rig binds");
+    let tissue = BoundRig::bind_with(rig, mesh, SkinRules::TISSUE).expect("bench rig binds");
     let bind = start.elapsed().as_secs_f64();
     let mut out = Vec::new();
     let with_min = min_time(200, || {
@@ -356,8 +356,8 @@ fn default_face(c: &mut Criterion) {
     let act = table
         .expression_activations("happiness", &rig)
         .expect("happiness evaluates");
-    let skin = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("binds");
-    let paper = BoundRig::bind_with(&rig, &mesh, Skin::PAPER).expect("binds");
+    let skin = BoundRig::bind_with(&rig, &mesh, SkinRules::DEFAULT).expect("binds");
+    let paper = BoundRig::bind_with(&rig, &mesh, SkinRules::PAPER).expect("binds");
     let tissue = spread("default_face", &mesh, &rig, &act, &skin);
     let mut out = Vec::new();
     let m = rig.muscle_index("L_Zygomatic_Major").expect("zygomatic");

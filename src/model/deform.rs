@@ -29,7 +29,7 @@ mod spread;
 
 use checks::{check_budget, check_reach, mask_scales};
 pub use sample::{SampledPose, Sampler};
-pub use skin::Skin;
+pub use skin::SkinRules;
 use skin::{Adjacency, Guard, Patch};
 use spread::Surface;
 
@@ -223,7 +223,7 @@ pub struct BoundRig {
     row_jaw_weight: Vec<f32>,
     jaw: Option<BoundJaw>,
     /// The rules that keep the skin on the face.
-    skin: Skin,
+    skin: SkinRules,
     /// Per CSR row: the rest surface around its vertex (empty when nothing slides).
     patches: Vec<Patch>,
     /// Per CSR row: where its sphincter entries start (empty when nothing slides).
@@ -251,14 +251,14 @@ thread_local! {
 
 impl BoundRig {
     /// Checks the rig against the mesh and precomputes every muscle's field: the paper's
-    /// deformation, linear in the activations ([`Skin::PAPER`]).
+    /// deformation, linear in the activations ([`SkinRules::PAPER`]).
     pub fn bind(rig: &Rig, mesh: &Mesh) -> Result<BoundRig, BindError> {
-        BoundRig::bind_with(rig, mesh, Skin::PAPER)
+        BoundRig::bind_with(rig, mesh, SkinRules::PAPER)
     }
 
     /// [`BoundRig::bind`] with skin rules that keep displaced skin on the face
-    /// ([`Skin::DEFAULT`]: what the editor, `grimace play` and `grimace render` use).
-    pub fn bind_with(rig: &Rig, mesh: &Mesh, skin: Skin) -> Result<BoundRig, BindError> {
+    /// ([`SkinRules::DEFAULT`]: what the editor, `grimace play` and `grimace render` use).
+    pub fn bind_with(rig: &Rig, mesh: &Mesh, skin: SkinRules) -> Result<BoundRig, BindError> {
         skin.check().map_err(BindError::Skin)?;
         mesh.validate()?;
         validate_names(rig)?;
@@ -388,7 +388,7 @@ impl BoundRig {
     }
 
     /// The skin rules this rig was bound with.
-    pub fn skin(&self) -> Skin {
+    pub fn skin(&self) -> SkinRules {
         self.skin
     }
 

@@ -3,14 +3,14 @@
 //! Every front end (the editor, `play`, `render`, `export` to OBJ and glTF, `fit-au`, `check`)
 //! binds through [`Deformation::bind`], so a face exported, fitted or checked is the face the
 //! user saw. [`Deformation::Skin`] is the default: the paper's muscles and jaw followed by the
-//! skin rules ([`Skin::DEFAULT`]), a nonlinear function of the activations.
-//! [`Deformation::Paper`] is the paper's bare model ([`Skin::PAPER`], linear in the muscle
+//! skin rules ([`SkinRules::DEFAULT`]), a nonlinear function of the activations.
+//! [`Deformation::Paper`] is the paper's bare model ([`SkinRules::PAPER`], linear in the muscle
 //! activations), kept by name for the golden comparison with the classic data.
 
 use std::fmt;
 use std::str::FromStr;
 
-use super::deform::{BindError, BoundRig, Skin};
+use super::deform::{BindError, BoundRig, SkinRules};
 use super::mesh::Mesh;
 use super::rig::Rig;
 
@@ -29,10 +29,10 @@ impl Deformation {
     pub const ALL: [Deformation; 2] = [Deformation::Skin, Deformation::Paper];
 
     /// The skin rules this deformation binds with.
-    pub fn skin(self) -> Skin {
+    pub fn skin(self) -> SkinRules {
         match self {
-            Deformation::Skin => Skin::DEFAULT,
-            Deformation::Paper => Skin::PAPER,
+            Deformation::Skin => SkinRules::DEFAULT,
+            Deformation::Paper => SkinRules::PAPER,
         }
     }
 
@@ -77,7 +77,7 @@ mod tests {
             assert_eq!(d.name().parse::<Deformation>(), Ok(d));
         }
         assert_eq!(Deformation::default(), Deformation::Skin);
-        assert_eq!(Deformation::Skin.skin(), Skin::DEFAULT);
+        assert_eq!(Deformation::Skin.skin(), SkinRules::DEFAULT);
         assert!(Deformation::Paper.skin().is_paper());
         assert!("linear".parse::<Deformation>().is_err());
     }

@@ -12,7 +12,7 @@ pub mod muscle;
 pub mod rig;
 
 pub use activations::{ActivationError, Activations, JAW_RANGE, MUSCLE_RANGE};
-pub use deform::{deform, BindError, BoundRig, SampledPose, Sampler, Skin};
+pub use deform::{deform, BindError, BoundRig, SampledPose, Sampler, SkinRules};
 pub use deformation::Deformation;
 pub use field::Field;
 pub use jaw::Jaw;

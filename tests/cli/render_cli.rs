@@ -4,7 +4,7 @@ use std::process::{Command, Output};
 
 use grimace::facs::combo::parse_combo;
 use grimace::io::builtin;
-use grimace::model::{BoundRig, Skin};
+use grimace::model::{BoundRig, SkinRules};
 use grimace::render::{render_text, Camera, CellMode, Scene, Style};
 
 fn grimace(args: &[&str]) -> Output {
@@ -41,7 +41,7 @@ fn text_to_stdout_has_the_requested_size() {
     let act = table.evaluate(&parse_combo("12").unwrap(), &rig).unwrap();
     let mut positions = Vec::new();
     // `grimace render` keeps the skin on the face (docs/model.md)
-    BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT)
+    BoundRig::bind_with(&rig, &mesh, SkinRules::DEFAULT)
         .unwrap()
         .deform(&act, &mut positions)
         .unwrap();

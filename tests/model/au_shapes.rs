@@ -7,7 +7,7 @@ use grimace::face::anthropometry::MM_PER_UNIT;
 use grimace::face::{au_table, generate, rigs};
 use grimace::facs::combo::parse_combo;
 use grimace::facs::AuTable;
-use grimace::model::{Activations, BoundRig, Mesh, Rig, Skin};
+use grimace::model::{Activations, BoundRig, Mesh, Rig, SkinRules};
 
 pub(crate) struct Face {
     pub(crate) mesh: Mesh,
@@ -19,7 +19,7 @@ pub(crate) struct Face {
 pub(crate) fn face() -> Face {
     let mesh = generate();
     let rig = rigs::default_rig(&mesh).expect("default rig places");
-    let bound = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("default rig binds");
+    let bound = BoundRig::bind_with(&rig, &mesh, SkinRules::DEFAULT).expect("default rig binds");
     Face {
         mesh,
         rig,

@@ -13,7 +13,7 @@ use std::process::{Command, Output};
 use glam::Vec3;
 use grimace::face::classic::{self, Landmarks};
 use grimace::io::waters::{self, ImportOptions, Imported};
-use grimace::model::{Activations, BoundRig, MuscleKind, Side, Skin};
+use grimace::model::{Activations, BoundRig, MuscleKind, Side, SkinRules};
 
 /// The classic face with the extras, bound, and its landmarks.
 struct Face {
@@ -30,7 +30,7 @@ fn face() -> Option<Face> {
     };
     let imported = waters::import_dir(&shared.join("waters-geoface"), &options).unwrap();
     // the paper's deformation: these tests check its equations on the classic face
-    let bound = BoundRig::bind_with(&imported.rig, &imported.mesh, Skin::PAPER).unwrap();
+    let bound = BoundRig::bind_with(&imported.rig, &imported.mesh, SkinRules::PAPER).unwrap();
     let marks = classic::find_landmarks(&imported.mesh).unwrap();
     Some(Face {
         imported,

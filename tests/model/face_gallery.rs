@@ -9,7 +9,7 @@ use std::path::Path;
 use grimace::facs::combo::parse_combo;
 use grimace::facs::AuTable;
 use grimace::io::builtin;
-use grimace::model::{Activations, BoundRig, Mesh, Rig, Skin};
+use grimace::model::{Activations, BoundRig, Mesh, Rig, SkinRules};
 use grimace::render::{render_text, Camera, CellMode, Scene, Style};
 
 const COLS: usize = 44;
@@ -58,7 +58,7 @@ fn muscles_of(table: &AuTable, key: &grimace::facs::AuKey) -> String {
 }
 
 fn gallery(mesh: &Mesh, rig: &Rig, table: &AuTable) -> String {
-    let bound = BoundRig::bind_with(rig, mesh, Skin::DEFAULT).expect("default rig binds");
+    let bound = BoundRig::bind_with(rig, mesh, SkinRules::DEFAULT).expect("default rig binds");
     let front = Camera::front();
     let mut out = String::new();
     out.push_str(

@@ -14,7 +14,8 @@ use glam::Vec3;
 use grimace::io::waters::from_classic;
 use grimace::model::field::linear_displacement;
 use grimace::model::{
-    Activations, BoundRig, Combine, Linear, Mesh, Muscle, MuscleKind, Rig, Side, Skin, RIG_VERSION,
+    Activations, BoundRig, Combine, Linear, Mesh, Muscle, MuscleKind, Rig, Side, SkinRules,
+    RIG_VERSION,
 };
 
 const TOLERANCE: f32 = 1e-5;
@@ -139,7 +140,8 @@ fn every_muscle_and_activation_matches_the_classic_routine() {
     let Some(dir) = golden_dir() else { return };
     let g = load(&dir);
     assert_eq!(g.moved.len(), 18 * ACTIVATIONS.len());
-    let bound = BoundRig::bind_with(&rig_of(&g), &g.mesh, Skin::PAPER).expect("golden rig binds");
+    let bound =
+        BoundRig::bind_with(&rig_of(&g), &g.mesh, SkinRules::PAPER).expect("golden rig binds");
     let mut worst = 0.0f32;
     for (m, muscle) in g.muscles.iter().enumerate() {
         let MuscleKind::Linear(linear) = &muscle.kind else {
@@ -177,7 +179,7 @@ fn bound_rig_deform_matches_for_activations_in_range() {
     let Some(dir) = golden_dir() else { return };
     let g = load(&dir);
     let rig = rig_of(&g);
-    let bound = BoundRig::bind_with(&rig, &g.mesh, Skin::PAPER).expect("golden rig binds");
+    let bound = BoundRig::bind_with(&rig, &g.mesh, SkinRules::PAPER).expect("golden rig binds");
     let mut out = Vec::new();
     let mut worst = 0.0f32;
     for m in 0..g.muscles.len() {
@@ -201,7 +203,8 @@ fn bound_rig_deform_matches_for_activations_in_range() {
 fn moved_vertex_counts_match_the_readme_table() {
     let Some(dir) = golden_dir() else { return };
     let g = load(&dir);
-    let bound = BoundRig::bind_with(&rig_of(&g), &g.mesh, Skin::PAPER).expect("golden rig binds");
+    let bound =
+        BoundRig::bind_with(&rig_of(&g), &g.mesh, SkinRules::PAPER).expect("golden rig binds");
     // The golden README's table: 962 moved (muscle, vertex) pairs per activation.
     assert_eq!(bound.pair_count(), 962);
     for m in 0..18 {
@@ -227,7 +230,8 @@ fn imported_classic_face_matches_the_classic_routine() {
     assert_eq!(imported.mesh.triangles, g.mesh.triangles);
     let rig = &imported.rig;
     assert_eq!(rig.muscles.len(), 18);
-    let bound = BoundRig::bind_with(rig, &imported.mesh, Skin::PAPER).expect("imported rig binds");
+    let bound =
+        BoundRig::bind_with(rig, &imported.mesh, SkinRules::PAPER).expect("imported rig binds");
     let mut out = Vec::new();
     let mut worst = 0.0f32;
     for (m, muscle) in g.muscles.iter().enumerate() {

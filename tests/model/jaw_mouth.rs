@@ -10,7 +10,7 @@ use grimace::face::mouth::MouthPart;
 use grimace::face::topology::boundary_edges;
 use grimace::facs::combo::parse_combo;
 use grimace::io::builtin;
-use grimace::model::{Activations, BoundRig, Mesh, Rig, Skin};
+use grimace::model::{Activations, BoundRig, Mesh, Rig, SkinRules};
 
 /// Sizes are judged against an outer canthal distance of 90 mm (the brief's adult head).
 fn mm_scale(mesh: &Mesh) -> f64 {
@@ -24,7 +24,7 @@ fn deformed(mesh: &Mesh, rig: &Rig, key: &str) -> Vec<Vec3> {
     let table = builtin::default_table();
     let combo = parse_combo(&format!("{key}E")).expect("AU parses");
     let act: Activations = table.evaluate(&combo, rig).expect("AU evaluates");
-    let bound = BoundRig::bind_with(rig, mesh, Skin::DEFAULT).expect("rig binds");
+    let bound = BoundRig::bind_with(rig, mesh, SkinRules::DEFAULT).expect("rig binds");
     let mut out = Vec::new();
     bound.deform(&act, &mut out).expect("deforms");
     out
@@ -137,7 +137,7 @@ fn the_lower_lip_follows_the_jaw_and_the_upper_lip_stays() {
 fn lower_mouth_parts_turn_with_the_jaw_and_upper_ones_stay() {
     let mesh = builtin::default_mesh();
     for rig in [builtin::default_rig(), builtin::paper_rig()] {
-        let bound = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("rig binds");
+        let bound = BoundRig::bind_with(&rig, &mesh, SkinRules::DEFAULT).expect("rig binds");
         let mut all = Activations::zero(&rig);
         all.muscles.iter_mut().for_each(|a| *a = 2.0);
         let mut out = Vec::new();

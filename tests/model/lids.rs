@@ -7,10 +7,10 @@ use grimace::face::anthropometry::y_units;
 use grimace::face::generator::EYEBALL;
 use grimace::facs::combo::parse_combo;
 use grimace::io::builtin;
-use grimace::model::{Activations, BoundRig, Mesh, Skin};
+use grimace::model::{Activations, BoundRig, Mesh, SkinRules};
 
 /// The face at AU `key` at full intensity, bound with `skin`.
-fn deformed(mesh: &Mesh, key: &str, skin: Skin) -> Vec<Vec3> {
+fn deformed(mesh: &Mesh, key: &str, skin: SkinRules) -> Vec<Vec3> {
     let rig = builtin::default_rig();
     let table = builtin::default_table();
     let combo = parse_combo(&format!("{key}E")).expect("AU parses");
@@ -56,7 +56,7 @@ fn worst_gap(mesh: &Mesh, positions: &[Vec3], columns: &[(u32, u32)]) -> (f32, u
 #[test]
 fn blink_and_closed_eyes_meet_across_the_whole_lid() {
     let mesh = builtin::default_mesh();
-    for skin in [Skin::DEFAULT, Skin::PAPER] {
+    for skin in [SkinRules::DEFAULT, SkinRules::PAPER] {
         for key in ["45", "43"] {
             let out = deformed(&mesh, key, skin);
             for side in ["left", "right"] {
@@ -80,7 +80,7 @@ fn no_lid_vertex_goes_inside_the_eyeball() {
     let [cx, cy, cz] = EYEBALL.centre;
     let radius = units(EYEBALL.radius) as f32;
     for key in ["45", "43", "5", "7", "6"] {
-        let out = deformed(&mesh, key, Skin::DEFAULT);
+        let out = deformed(&mesh, key, SkinRules::DEFAULT);
         for (side, sign) in [("left", 1.0f32), ("right", -1.0)] {
             let centre = Vec3::new(
                 sign * units(cx) as f32,
@@ -104,7 +104,7 @@ fn no_lid_vertex_goes_inside_the_eyeball() {
 #[test]
 fn au5_opens_the_eye_wider() {
     let mesh = builtin::default_mesh();
-    let out = deformed(&mesh, "5", Skin::DEFAULT);
+    let out = deformed(&mesh, "5", SkinRules::DEFAULT);
     for side in ["left", "right"] {
         let columns = lid_columns(&mesh, side);
         let (u, l) = columns[columns.len() / 2];

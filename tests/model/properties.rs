@@ -11,7 +11,7 @@ use grimace::model::field::{
 };
 use grimace::model::{
     Activations, BoundRig, Combine, Convergence, Frame, Jaw, Linear, Mesh, Muscle, MuscleKind, Rig,
-    Sheet, Side, Skin, Sphincter, RIG_VERSION,
+    Sheet, Side, SkinRules, Sphincter, RIG_VERSION,
 };
 use proptest::prelude::*;
 
@@ -210,7 +210,7 @@ fn large_meshes_deform_in_parallel_identically() {
     for combine in [Combine::Sum, Combine::Average] {
         let mut rig = symmetric_rig(combine);
         rig.jaw = None;
-        let bound = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("binds");
+        let bound = BoundRig::bind_with(&rig, &mesh, SkinRules::DEFAULT).expect("binds");
         let target = Activations {
             muscles: vec![1.0, 0.5, 2.0, 0.0, 0.3, 1.7, 0.9],
             jaw: 0.0,
@@ -349,7 +349,7 @@ proptest! {
     #[test]
     fn mirrored_activations_give_a_mirrored_mesh(act in activations(), c in combine()) {
         let rig = symmetric_rig(c);
-        let bound = BoundRig::bind_with(&rig, &dome(), Skin::DEFAULT).expect("binds");
+        let bound = BoundRig::bind_with(&rig, &dome(), SkinRules::DEFAULT).expect("binds");
         let mut swapped = act.clone();
         for m in 0..rig.muscles.len() {
             let partner = rig.mirror_of(m).unwrap_or(m);
@@ -392,7 +392,7 @@ proptest! {
     fn update_muscle_equals_a_full_deform(
         before in activations(), m in 0usize..7, value in 0.0f32..=2.0, c in combine(),
     ) {
-        let bound = BoundRig::bind_with(&symmetric_rig(c), &dome(), Skin::DEFAULT).expect("binds");
+        let bound = BoundRig::bind_with(&symmetric_rig(c), &dome(), SkinRules::DEFAULT).expect("binds");
         let mut out = deformed(&bound, &before);
         let mut after = before.clone();
         after.muscles[m] = value;
@@ -405,7 +405,7 @@ proptest! {
 
     #[test]
     fn update_jaw_equals_a_full_deform(before in activations(), jaw in 0.0f32..=4.0, c in combine()) {
-        let bound = BoundRig::bind_with(&symmetric_rig(c), &dome(), Skin::DEFAULT).expect("binds");
+        let bound = BoundRig::bind_with(&symmetric_rig(c), &dome(), SkinRules::DEFAULT).expect("binds");
         let mut out = deformed(&bound, &before);
         let after = Activations { jaw, ..before.clone() };
         bound.update_jaw(&after, &mut out).expect("in range");
@@ -421,7 +421,7 @@ proptest! {
         // summed (Sum mode), then eqs. 16-19 written out here (the paper's deformation,
         // without the skin rules).
         let rig = symmetric_rig(Combine::Sum);
-        let bound = BoundRig::bind_with(&rig, &dome(), Skin::PAPER).expect("binds");
+        let bound = BoundRig::bind_with(&rig, &dome(), SkinRules::PAPER).expect("binds");
         let out = deformed(&bound, &act);
         let jaw = rig.jaw.as_ref().expect("jaw");
         let theta = (act.jaw as f64 * jaw.degrees_per_unit as f64).to_radians();

@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 use grimace::io::builtin;
-use grimace::model::{BoundRig, Mesh, Skin};
+use grimace::model::{BoundRig, Mesh, SkinRules};
 
 /// iBUG landmarks: the upper lids (right 37, 38; left 43, 44).
 const UPPER_LIDS: [usize; 4] = [37, 38, 43, 44];
@@ -39,7 +39,7 @@ impl Face {
     }
 
     /// Displacements of every vertex under the AU combination `combo`.
-    fn moved(&self, skin: Skin, combo: &str) -> Vec<Vec3> {
+    fn moved(&self, skin: SkinRules, combo: &str) -> Vec<Vec3> {
         let rig = builtin::default_rig();
         let table = builtin::default_table();
         let bound = BoundRig::bind_with(&rig, &self.mesh, skin).expect("binds");
@@ -78,7 +78,7 @@ impl Face {
     }
 }
 
-const SKINS: [Skin; 2] = [Skin::DEFAULT, Skin::TISSUE];
+const SKINS: [SkinRules; 2] = [SkinRules::DEFAULT, SkinRules::TISSUE];
 
 #[test]
 fn a_blink_moves_the_lids_and_little_else() {

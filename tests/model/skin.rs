@@ -3,7 +3,7 @@
 //! collapses. Measured on the default face against the paper's deformation.
 
 use glam::Vec3;
-use grimace::model::{Activations, BoundRig, Skin};
+use grimace::model::{Activations, BoundRig, SkinRules};
 
 use super::au_shapes::{face, Face, MM};
 
@@ -84,7 +84,7 @@ impl Face {
     }
 
     fn paper(&self) -> BoundRig {
-        BoundRig::bind_with(&self.rig, &self.mesh, Skin::PAPER).expect("binds")
+        BoundRig::bind_with(&self.rig, &self.mesh, SkinRules::PAPER).expect("binds")
     }
 
     fn combo_with(&self, bound: &BoundRig, text: &str) -> Vec<Vec3> {

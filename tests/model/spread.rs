@@ -5,11 +5,11 @@
 
 use glam::Vec3;
 use grimace::io::builtin;
-use grimace::model::{Activations, BoundRig, MuscleKind, Skin};
+use grimace::model::{Activations, BoundRig, MuscleKind, SkinRules};
 
 fn bound() -> BoundRig {
     let mesh = builtin::default_mesh();
-    BoundRig::bind_with(&builtin::default_rig(), &mesh, Skin::TISSUE).expect("binds")
+    BoundRig::bind_with(&builtin::default_rig(), &mesh, SkinRules::TISSUE).expect("binds")
 }
 
 fn deformed(bound: &BoundRig, act: &Activations) -> Vec<Vec3> {
@@ -84,7 +84,7 @@ fn a_one_muscle_update_equals_a_full_deform() {
 fn a_rebind_equals_a_fresh_bind() {
     let mesh = builtin::default_mesh();
     let mut rig = builtin::default_rig();
-    let mut bound = BoundRig::bind_with(&rig, &mesh, Skin::TISSUE).expect("binds");
+    let mut bound = BoundRig::bind_with(&rig, &mesh, SkinRules::TISSUE).expect("binds");
     // a small move (the spread length stays) and a large one (the rig's box grows)
     for shift in [Vec3::new(0.0, 0.01, 0.0), Vec3::new(0.0, 3.0, 0.0)] {
         let m = rig
@@ -101,7 +101,7 @@ fn a_rebind_equals_a_fresh_bind() {
         bound
             .rebind_muscle(m, MuscleKind::Linear(linear))
             .expect("rebinds");
-        let fresh = BoundRig::bind_with(&rig, &mesh, Skin::TISSUE).expect("binds");
+        let fresh = BoundRig::bind_with(&rig, &mesh, SkinRules::TISSUE).expect("binds");
         assert!(bound == fresh, "rebind after a shift of {shift}");
     }
 }
@@ -110,7 +110,7 @@ fn a_rebind_equals_a_fresh_bind() {
 fn the_pull_reaches_past_the_zone_and_dies_out() {
     let mesh = builtin::default_mesh();
     let rig = builtin::default_rig();
-    let own = BoundRig::bind_with(&rig, &mesh, Skin::DEFAULT).expect("binds");
+    let own = BoundRig::bind_with(&rig, &mesh, SkinRules::DEFAULT).expect("binds");
     let spread = bound();
     let diagonal = {
         let (lo, hi) = mesh.bounds();
@@ -206,10 +206,10 @@ fn the_spread_does_not_depend_on_the_resolution() {
     let fine_rig = carry_masks(&rig, &parents);
     let on = |rig, mesh, skin| BoundRig::bind_with(rig, mesh, skin).expect("binds");
     let (own, own_fine, spread_coarse, spread_fine) = (
-        on(&rig, &coarse, Skin::DEFAULT),
-        on(&fine_rig, &fine, Skin::DEFAULT),
-        on(&rig, &coarse, Skin::TISSUE),
-        on(&fine_rig, &fine, Skin::TISSUE),
+        on(&rig, &coarse, SkinRules::DEFAULT),
+        on(&fine_rig, &fine, SkinRules::DEFAULT),
+        on(&rig, &coarse, SkinRules::TISSUE),
+        on(&fine_rig, &fine, SkinRules::TISSUE),
     );
     let dense = |field: &grimace::model::Field| {
         let mut d = vec![Vec3::ZERO; coarse.positions.len()];

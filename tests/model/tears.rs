@@ -14,7 +14,7 @@ use grimace::fit::parts::find_parts;
 use grimace::fit::{fit_rig, Part, PartOverrides, Template};
 use grimace::io::{builtin, landmarks::load_landmarks, obj};
 use grimace::landmarks::Landmarks;
-use grimace::model::{Activations, BoundRig, Mesh, Rig, Skin};
+use grimace::model::{Activations, BoundRig, Mesh, Rig, SkinRules};
 
 use crate::common;
 
@@ -163,7 +163,7 @@ pub(crate) fn poses(table: &AuTable, rig: &Rig) -> Vec<(String, Activations)> {
 }
 
 /// The poses of `head` that tear with `skin` (name, damage), printed with the worst figures.
-fn tears(head: &Head, skin: Skin) -> Vec<(String, Damage)> {
+fn tears(head: &Head, skin: SkinRules) -> Vec<(String, Damage)> {
     let bound = BoundRig::bind_with(&head.rig, &head.mesh, skin).expect("binds");
     let table = builtin::default_table();
     let mut worst = Damage::default();
@@ -198,8 +198,8 @@ fn tears(head: &Head, skin: Skin) -> Vec<(String, Damage)> {
 /// The spread tears fewer poses, and turns fewer triangles over, than the muscles' own
 /// fields with the same slide and area bound.
 fn assert_the_spread_tears_less(head: &Head) {
-    let before = tears(head, Skin::DEFAULT);
-    let after = tears(head, Skin::TISSUE);
+    let before = tears(head, SkinRules::DEFAULT);
+    let after = tears(head, SkinRules::TISSUE);
     let flips = |t: &[(String, Damage)]| t.iter().map(|(_, d)| d.flips).sum::<usize>();
     assert!(
         after.len() < before.len() && flips(&after) < flips(&before),
@@ -236,7 +236,7 @@ fn fitted_shared_heads_tear_no_more_than_measured() {
             "MakeHuman base mesh" => (58, 2635),
             other => panic!("no bound for {other}"),
         };
-        let torn = tears(&head, Skin::DEFAULT);
+        let torn = tears(&head, SkinRules::DEFAULT);
         let turned: usize = torn.iter().map(|(_, d)| d.flips).sum();
         assert!(
             torn.len() <= poses && turned <= flips,
@@ -254,7 +254,7 @@ fn fitted_shared_heads_tear_no_more_than_measured() {
 fn no_jawless_au_or_expression_turns_the_builtin_face_over() {
     let head = builtin_head();
     let table = builtin::default_table();
-    for skin in [Skin::DEFAULT, Skin::TISSUE] {
+    for skin in [SkinRules::DEFAULT, SkinRules::TISSUE] {
         let bound = BoundRig::bind_with(&head.rig, &head.mesh, skin).expect("binds");
         let mut out = Vec::new();
         for (name, act) in poses(&table, &head.rig) {

@@ -31,7 +31,7 @@ use crate::model::mesh::Mesh;
 
 /// How displaced skin is kept on the face, beyond the paper's equations.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Skin {
+pub struct SkinRules {
     /// Fraction of a vertex's sink below the rest surface that is removed: 0 keeps the
     /// paper's displacement, 1 keeps the vertex on the fitted rest surface.
     pub slide: f32,
@@ -47,9 +47,9 @@ pub struct Skin {
     pub spread: f32,
 }
 
-impl Skin {
+impl SkinRules {
     /// The paper's deformation: no slide, no area bound.
-    pub const PAPER: Skin = Skin {
+    pub const PAPER: SkinRules = SkinRules {
         slide: 0.0,
         min_area: 0.0,
         patch: 0.05,
@@ -59,21 +59,21 @@ impl Skin {
     /// What the editor, `grimace play` and `grimace render` bind with: 85 % of the sink removed, every triangle keeps at
     /// least 20 % of its rest area, patches of 5 % of the face's diagonal (about 14 mm on
     /// the default face).
-    pub const DEFAULT: Skin = Skin {
+    pub const DEFAULT: SkinRules = SkinRules {
         slide: 0.85,
         min_area: 0.2,
         patch: 0.05,
         spread: 0.0,
     };
 
-    /// [`Skin::DEFAULT`] with each linear and sheet muscle's pull spread into the skin around
+    /// [`SkinRules::DEFAULT`] with each linear and sheet muscle's pull spread into the skin around
     /// it over 2 % of the diagonal of the box around the rig's muscles (about 4 mm on the
     /// built-in face; `docs/model.md`, "The skin spread"). Fewer tears; not yet the default
     /// because it moves some AUs of the built-in table (AU17 pushes the lower lip through
     /// the upper).
-    pub const TISSUE: Skin = Skin {
+    pub const TISSUE: SkinRules = SkinRules {
         spread: 0.02,
-        ..Skin::DEFAULT
+        ..SkinRules::DEFAULT
     };
 
     /// True when every rule is off.
@@ -105,9 +105,9 @@ impl Skin {
     }
 }
 
-impl Default for Skin {
-    fn default() -> Skin {
-        Skin::DEFAULT
+impl Default for SkinRules {
+    fn default() -> SkinRules {
+        SkinRules::DEFAULT
     }
 }
 

@@ -192,13 +192,13 @@ fn sum_and_average_combine() {
         jaw: 0.0,
     };
     let mut out = Vec::new();
-    BoundRig::bind_with(&r, &mesh(), Skin::PAPER)
+    BoundRig::bind_with(&r, &mesh(), SkinRules::PAPER)
         .unwrap()
         .deform(&act, &mut out)
         .unwrap();
     assert!((out[0].z - (0.5 - 0.75)).abs() < 1e-6);
     r.combine = Combine::Average;
-    let bound = BoundRig::bind_with(&r, &mesh(), Skin::PAPER).unwrap();
+    let bound = BoundRig::bind_with(&r, &mesh(), SkinRules::PAPER).unwrap();
     bound.deform(&act, &mut out).unwrap();
     assert!((out[0].z - (0.5 - 0.375)).abs() < 1e-6);
     // One active muscle: average equals sum (nothing to divide by).
@@ -374,7 +374,7 @@ fn inactive_muscles_keep_rest_coordinates_bit_for_bit() {
     let mut out = Vec::new();
     skinned.deform(&Activations::zero(&r), &mut out).unwrap();
     assert_eq!(out[0].x.to_bits(), (-0.0f32).to_bits());
-    let bound = BoundRig::bind_with(&r, &mesh, Skin::PAPER).unwrap();
+    let bound = BoundRig::bind_with(&r, &mesh, SkinRules::PAPER).unwrap();
     for muscles in [vec![0.0, 0.0], vec![0.0, 1.0]] {
         bound
             .deform(&Activations { muscles, jaw: 0.0 }, &mut out)
@@ -388,29 +388,29 @@ fn inactive_muscles_keep_rest_coordinates_bit_for_bit() {
 fn bind_refuses_skin_rules_out_of_range() {
     let r = rig(vec![linear("a")], None);
     for skin in [
-        Skin {
+        SkinRules {
             slide: 1.5,
-            ..Skin::DEFAULT
+            ..SkinRules::DEFAULT
         },
-        Skin {
+        SkinRules {
             min_area: 1.0,
-            ..Skin::DEFAULT
+            ..SkinRules::DEFAULT
         },
-        Skin {
+        SkinRules {
             patch: 0.0,
-            ..Skin::DEFAULT
+            ..SkinRules::DEFAULT
         },
-        Skin {
+        SkinRules {
             slide: f32::NAN,
-            ..Skin::DEFAULT
+            ..SkinRules::DEFAULT
         },
-        Skin {
+        SkinRules {
             spread: -0.1,
-            ..Skin::DEFAULT
+            ..SkinRules::DEFAULT
         },
-        Skin {
+        SkinRules {
             spread: f32::INFINITY,
-            ..Skin::DEFAULT
+            ..SkinRules::DEFAULT
         },
     ] {
         let err = BoundRig::bind_with(&r, &mesh(), skin).unwrap_err();
