@@ -25,8 +25,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::Vec3;
 use thiserror::Error;
 
-use super::rigs::{self, round3, rounded};
+use super::rigs;
 use super::topology;
+use super::{round3, rounded};
 use crate::fit::propose::carry;
 use crate::fit::regions::smoothstep;
 use crate::model::{Convergence, Frame, Jaw, Mesh, Muscle, MuscleKind, Sheet, Side, Sphincter};

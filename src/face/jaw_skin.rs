@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::anthropometry::units;
-use super::rigs::round3;
+use super::round3;
 use crate::model::Mesh;
 
 /// How far (mm) beyond the skin that the analytic jaw weights move the relaxed weights may

@@ -17,3 +17,15 @@ pub mod surface;
 pub mod topology;
 
 pub use generator::generate;
+
+use glam::Vec3;
+
+/// Rounds to 3 decimals so rig files stay readable (0.001 units is 0.01 mm).
+pub(crate) fn round3(v: f32) -> f32 {
+    (v * 1000.0).round() / 1000.0
+}
+
+/// Each coordinate rounded with [`round3`].
+pub(crate) fn rounded(p: Vec3) -> Vec3 {
+    Vec3::new(round3(p.x), round3(p.y), round3(p.z))
+}

@@ -14,6 +14,7 @@ use super::anthropometry::*;
 use super::jaw_skin::{relax_jaw_weights, MouthSlit};
 use super::lids::{closing_gain, LidProfile, Margin};
 use super::surface;
+use super::{round3, rounded};
 use crate::model::{
     Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
     RIG_VERSION,
@@ -895,13 +896,3 @@ pub(crate) fn pair(name: &str, left: MuscleKind, right: MuscleKind) -> [Muscle; 
 
 /// The point reflected across the face's midline (x = 0).
 pub(crate) use crate::model::muscle::mirror_x as mirror;
-
-/// Rounds to 3 decimals so rig files stay readable (0.001 units is 0.01 mm).
-pub(crate) fn round3(v: f32) -> f32 {
-    (v * 1000.0).round() / 1000.0
-}
-
-/// Each coordinate rounded with [`round3`].
-pub(crate) fn rounded(p: Vec3) -> Vec3 {
-    Vec3::new(round3(p.x), round3(p.y), round3(p.z))
-}

@@ -13,8 +13,8 @@ use rayon::prelude::*;
 use super::nearest::Nearest;
 use super::parts::{Part, Parts};
 use super::regions::{smoothstep, Opening, Side};
-use super::transport::Template;
 use super::warp::Warp;
+use super::Template;
 use crate::model::{Jaw, Mesh};
 
 /// Weights fade out between these distances from the nearest carried template vertex, as

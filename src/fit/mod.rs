@@ -31,5 +31,20 @@ pub mod warp;
 
 pub use parts::{Part, PartOverrides, Parts};
 pub use solve::{fit_au, AuFit, SolveError};
-pub use transport::{fit_rig, FitError, Fitted, Template};
+pub use transport::{fit_rig, FitError, Fitted};
 pub use warp::Warp;
+
+use glam::Vec3;
+
+use crate::model::{Mesh, Rig};
+
+/// A rig with the mesh it is placed on and that mesh's landmarks: what a fit starts from.
+#[derive(Debug, Clone, Copy)]
+pub struct Template<'a> {
+    /// The rig to carry.
+    pub rig: &'a Rig,
+    /// The mesh it is placed on.
+    pub mesh: &'a Mesh,
+    /// The 68 landmark positions on that mesh.
+    pub landmarks: &'a [Vec3],
+}

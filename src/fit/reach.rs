@@ -13,8 +13,9 @@
 
 use glam::{DMat3, DVec3, Vec3};
 
-use super::transport::{Sources, Template};
+use super::transport::Sources;
 use super::warp::Warp;
+use super::Template;
 use crate::model::{Field, Mask, Mesh, MuscleKind, Rig, Sphincter};
 
 /// Weights this close to 1 are left out of a mask.

@@ -17,21 +17,11 @@ use thiserror::Error;
 use super::parts::{find_parts, Part, PartOverrides, Parts};
 use super::regions::{Extent, Opening, Side, CONTOURS};
 use super::warp::{Similarity, Warp};
+use super::Template;
 use crate::landmarks::{check_shape, order_problems, FaceFrame, LandmarkError, Landmarks};
 use crate::model::{
     Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Sphincter,
 };
-
-/// A rig with the mesh it is placed on and that mesh's landmarks: what a fit starts from.
-#[derive(Debug, Clone, Copy)]
-pub struct Template<'a> {
-    /// The rig to carry.
-    pub rig: &'a Rig,
-    /// The mesh it is placed on.
-    pub mesh: &'a Mesh,
-    /// The 68 landmark positions on that mesh.
-    pub landmarks: &'a [Vec3],
-}
 
 /// Why a rig cannot be fitted.
 #[derive(Debug, Clone, PartialEq, Error)]

@@ -9,7 +9,6 @@
 //! nothing once the output buffer has the mesh's size.
 
 use std::cell::RefCell;
-use std::collections::BTreeSet;
 use std::sync::Arc;
 
 use glam::Vec3;
@@ -261,7 +260,7 @@ impl BoundRig {
     pub fn bind_with(rig: &Rig, mesh: &Mesh, skin: SkinRules) -> Result<BoundRig, BindError> {
         skin.check().map_err(BindError::Skin)?;
         mesh.validate()?;
-        validate_names(rig)?;
+        checks::validate_names(rig)?;
         for muscle in &rig.muscles {
             validate_muscle(muscle)?;
         }
@@ -815,27 +814,6 @@ pub fn deform(
 /// The most `(vertex, muscle)` pairs a rig may influence: each costs about 36 bytes bound
 /// (its field entry, its CSR entry and its row), so the limit is about 1.2 GB.
 pub const MAX_INFLUENCES: usize = 1 << 25;
-
-/// Unique muscle names, and every mirror partner present.
-fn validate_names(rig: &Rig) -> Result<(), BindError> {
-    let mut seen = BTreeSet::new();
-    for m in &rig.muscles {
-        if !seen.insert(m.name.as_str()) {
-            return Err(BindError::DuplicateMuscle(m.name.clone()));
-        }
-    }
-    for m in &rig.muscles {
-        if let Some(mirror) = &m.mirror {
-            if !seen.contains(mirror.as_str()) {
-                return Err(BindError::MissingMirror {
-                    muscle: m.name.clone(),
-                    mirror: mirror.clone(),
-                });
-            }
-        }
-    }
-    Ok(())
-}
 
 /// Checks the jaw and keeps its vertices of non-zero weight, sorted.
 fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {

@@ -1,5 +1,8 @@
-//! The checks of a rig's fields at bind time that are not about one muscle's parameters: the
-//! influence budget, the masks and the reach at full activation.
+//! The checks of a rig at bind time that are not about one muscle's parameters: unique
+//! names and mirror partners, the influence budget, the masks and the reach at full
+//! activation.
+
+use std::collections::BTreeSet;
 
 use glam::Vec3;
 
@@ -90,6 +93,27 @@ pub(super) fn check_reach(rig: &Rig, rest: &[Vec3], fields: &[Field]) -> Result<
                 return Err(BindError::OutOfReach {
                     muscle: muscle.name.clone(),
                     vertex: v,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Unique muscle names, and every mirror partner present.
+pub(super) fn validate_names(rig: &Rig) -> Result<(), BindError> {
+    let mut seen = BTreeSet::new();
+    for m in &rig.muscles {
+        if !seen.insert(m.name.as_str()) {
+            return Err(BindError::DuplicateMuscle(m.name.clone()));
+        }
+    }
+    for m in &rig.muscles {
+        if let Some(mirror) = &m.mirror {
+            if !seen.contains(mirror.as_str()) {
+                return Err(BindError::MissingMirror {
+                    muscle: m.name.clone(),
+                    mirror: mirror.clone(),
                 });
             }
         }

@@ -2,6 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::grid::{ceil_nonneg, floor_end};
 use super::lines::{walk_line, LineDot};
 use super::Renderer;
 use crate::render::canvas::DotCanvas;
@@ -288,37 +289,4 @@ pub(super) fn depth_triangle_in(
             z += zx;
         }
     }
-}
-
-/// `ceil(v)` for the dot grid, clamped at 0 (no libm call: this runs per row).
-#[inline]
-pub(super) fn ceil_nonneg(v: f32) -> usize {
-    if v.is_nan() || v <= 0.0 {
-        return 0;
-    }
-    // The cast saturates for huge values and infinity: do not step past it.
-    let t = v as usize;
-    if (t as f32) < v {
-        t.saturating_add(1)
-    } else {
-        t
-    }
-}
-
-/// `floor(v) + 1` clamped to `0..=limit`: the end of a range of dots (no libm call).
-#[inline]
-pub(super) fn floor_end(v: f32, limit: usize) -> usize {
-    if v.is_nan() {
-        return 0;
-    }
-    // Saturating: the cast saturates at infinities, and one more step must not overflow.
-    let t = v as i64;
-    let floor = if (t as f32) > v {
-        t.saturating_sub(1)
-    } else {
-        t
-    };
-    floor
-        .saturating_add(1)
-        .clamp(0, limit.min(i64::MAX as usize) as i64) as usize
 }

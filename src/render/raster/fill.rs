@@ -2,8 +2,9 @@
 
 use glam::Vec3;
 
-use super::depth::{ceil_nonneg, corner_weights, dot_span, floor_end, triangle_box};
+use super::depth::{corner_weights, dot_span, triangle_box};
 use super::features::HEAT_FLOOR;
+use super::grid::{ceil_nonneg, floor_end};
 use super::Renderer;
 use crate::model::Mesh;
 use crate::render::canvas::{DotCanvas, Layer, Rgb};

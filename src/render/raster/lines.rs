@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use super::depth::ceil_nonneg;
+use super::grid::ceil_nonneg;
 use super::project::{classify, project_all};
 use super::{Renderer, Run, NONE};
 use crate::render::camera::Projection;

@@ -19,6 +19,7 @@
 mod depth;
 mod features;
 mod fill;
+mod grid;
 mod lines;
 mod project;
 

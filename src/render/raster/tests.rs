@@ -6,6 +6,7 @@ use proptest::prelude::*;
 use super::depth::*;
 use super::features::{crosses, iso_crossing};
 use super::fill::{normalize_or_zero_all, raster_triangle};
+use super::grid::{ceil_nonneg, floor_end};
 use super::lines::*;
 use crate::render::canvas::{DotCanvas, Pen, Rgb};
 
