@@ -393,105 +393,126 @@ impl SheetShape {
 
 /// Checks a muscle's parameters, naming the muscle and the parameter on failure.
 pub fn validate_muscle(muscle: &Muscle) -> Result<(), BindError> {
-    let bad = |parameter: &'static str, message: String| BindError::InvalidParameter {
-        muscle: muscle.name.clone(),
-        parameter,
-        message,
+    let check = ParameterCheck {
+        muscle: &muscle.name,
     };
-    let finite = |parameter: &'static str, v: Vec3| {
+    match &muscle.kind {
+        MuscleKind::Linear(m) => check.linear(m),
+        MuscleKind::Sphincter(m) => check.sphincter(m),
+        MuscleKind::Sheet(m) => check.sheet(m),
+    }
+}
+
+/// The parameter checks of one muscle, whose errors name it.
+struct ParameterCheck<'a> {
+    muscle: &'a str,
+}
+
+impl ParameterCheck<'_> {
+    fn bad(&self, parameter: &'static str, message: String) -> BindError {
+        BindError::InvalidParameter {
+            muscle: self.muscle.to_string(),
+            parameter,
+            message,
+        }
+    }
+
+    fn finite(&self, parameter: &'static str, v: Vec3) -> Result<(), BindError> {
         if v.is_finite() {
             Ok(())
         } else {
-            Err(bad(parameter, format!("{v} is not finite")))
-        }
-    };
-    match &muscle.kind {
-        MuscleKind::Linear(m) => {
-            finite("attachment", m.attachment)?;
-            finite("insertion", m.insertion)?;
-            if !(m.zone.is_finite() && m.zone > 0.0 && m.zone < 90.0) {
-                return Err(bad(
-                    "zone",
-                    format!("{} must lie strictly between 0 and 90 degrees", m.zone),
-                ));
-            }
-            if !(m.falloff_start.is_finite() && m.falloff_start >= 0.0) {
-                return Err(bad(
-                    "falloff_start",
-                    format!("{} must be a finite number >= 0", m.falloff_start),
-                ));
-            }
-            if !(m.falloff_end.is_finite() && m.falloff_end > m.falloff_start) {
-                return Err(bad(
-                    "falloff_end",
-                    format!(
-                        "{} must be finite and greater than falloff_start ({})",
-                        m.falloff_end, m.falloff_start
-                    ),
-                ));
-            }
-            if (m.insertion.as_dvec3() - m.attachment.as_dvec3()).length() == 0.0 {
-                return Err(bad(
-                    "insertion",
-                    "coincides with the attachment, so the muscle has no direction".into(),
-                ));
-            }
-        }
-        MuscleKind::Sphincter(m) => {
-            finite("centre", m.centre)?;
-            m.frame.check().map_err(|message| bad("frame", message))?;
-            for (parameter, v) in [
-                ("semi_major", m.semi_major),
-                ("semi_minor", m.semi_minor),
-                ("bulge", m.bulge),
-            ] {
-                if !(v.is_finite() && v > 0.0) {
-                    return Err(bad(parameter, format!("{v} must be a finite number > 0")));
-                }
-            }
-        }
-        MuscleKind::Sheet(m) => {
-            for (parameter, v) in [
-                ("attachment", m.attachment[0]),
-                ("attachment", m.attachment[1]),
-                ("insertion", m.insertion[0]),
-                ("insertion", m.insertion[1]),
-            ] {
-                finite(parameter, v)?;
-            }
-            if !(m.width.is_finite() && m.width > 0.0) {
-                return Err(bad(
-                    "width",
-                    format!("{} must be a finite number > 0", m.width),
-                ));
-            }
-            let shape = SheetShape::new(m);
-            if shape.span <= 0.0 {
-                return Err(bad(
-                    "insertion",
-                    "the insertion line's midpoint coincides with the attachment line's".into(),
-                ));
-            }
-            // L = |Ac lc| would end the sheet at full strength on its insertion line: a tear.
-            if !(m.length.is_finite() && m.length as f64 > shape.span) {
-                return Err(bad(
-                    "length",
-                    format!(
-                        "{} must be finite and longer than the attachment-to-insertion distance \
-                         {:.6} (a sheet ending on its insertion line tears the skin there)",
-                        m.length, shape.span
-                    ),
-                ));
-            }
-            if shape.lateral == DVec3::ZERO {
-                return Err(bad(
-                    "attachment",
-                    "the attachment line has no extent across the sheet's axis".into(),
-                ));
-            }
+            Err(self.bad(parameter, format!("{v} is not finite")))
         }
     }
-    Ok(())
+
+    fn linear(&self, m: &Linear) -> Result<(), BindError> {
+        self.finite("attachment", m.attachment)?;
+        self.finite("insertion", m.insertion)?;
+        if !(m.zone.is_finite() && m.zone > 0.0 && m.zone < 90.0) {
+            return Err(self.bad(
+                "zone",
+                format!("{} must lie strictly between 0 and 90 degrees", m.zone),
+            ));
+        }
+        if !(m.falloff_start.is_finite() && m.falloff_start >= 0.0) {
+            return Err(self.bad(
+                "falloff_start",
+                format!("{} must be a finite number >= 0", m.falloff_start),
+            ));
+        }
+        if !(m.falloff_end.is_finite() && m.falloff_end > m.falloff_start) {
+            return Err(self.bad(
+                "falloff_end",
+                format!(
+                    "{} must be finite and greater than falloff_start ({})",
+                    m.falloff_end, m.falloff_start
+                ),
+            ));
+        }
+        if (m.insertion.as_dvec3() - m.attachment.as_dvec3()).length() == 0.0 {
+            return Err(self.bad(
+                "insertion",
+                "coincides with the attachment, so the muscle has no direction".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    fn sphincter(&self, m: &Sphincter) -> Result<(), BindError> {
+        self.finite("centre", m.centre)?;
+        m.frame
+            .check()
+            .map_err(|message| self.bad("frame", message))?;
+        for (parameter, v) in [
+            ("semi_major", m.semi_major),
+            ("semi_minor", m.semi_minor),
+            ("bulge", m.bulge),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(self.bad(parameter, format!("{v} must be a finite number > 0")));
+            }
+        }
+        Ok(())
+    }
+
+    fn sheet(&self, m: &Sheet) -> Result<(), BindError> {
+        for (parameter, v) in [
+            ("attachment", m.attachment[0]),
+            ("attachment", m.attachment[1]),
+            ("insertion", m.insertion[0]),
+            ("insertion", m.insertion[1]),
+        ] {
+            self.finite(parameter, v)?;
+        }
+        if !(m.width.is_finite() && m.width > 0.0) {
+            return Err(self.bad("width", format!("{} must be a finite number > 0", m.width)));
+        }
+        let shape = SheetShape::new(m);
+        if shape.span <= 0.0 {
+            return Err(self.bad(
+                "insertion",
+                "the insertion line's midpoint coincides with the attachment line's".into(),
+            ));
+        }
+        // L = |Ac lc| would end the sheet at full strength on its insertion line: a tear.
+        if !(m.length.is_finite() && m.length as f64 > shape.span) {
+            return Err(self.bad(
+                "length",
+                format!(
+                    "{} must be finite and longer than the attachment-to-insertion distance \
+                     {:.6} (a sheet ending on its insertion line tears the skin there)",
+                    m.length, shape.span
+                ),
+            ));
+        }
+        if shape.lateral == DVec3::ZERO {
+            return Err(self.bad(
+                "attachment",
+                "the attachment line has no extent across the sheet's axis".into(),
+            ));
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]
