@@ -3,8 +3,9 @@
 
 use glam::Vec3;
 
-use super::anthropometry::units;
+use super::anthropometry::{units, y_units, GNATHION_Y, GONION_X};
 use super::round3;
+use super::surface;
 use crate::model::Mesh;
 
 /// How far (mm) beyond the skin that the analytic jaw weights move the relaxed weights may
@@ -91,7 +92,7 @@ impl MouthSlit {
 /// [`JAW_CARRY_MM`] of every moving vertex; free: every other skin vertex, which takes the
 /// mean of its neighbours weighted by `1 / length^2` (the discrete Laplace equation, solved by
 /// Gauss-Seidel sweeps in a fixed order, so the result is deterministic). The upper lip is
-/// held only beyond the corners' reach (`face::rigs::JAW_CORNER_REACH_MM`): held up to the corner, the
+/// held only beyond the corners' reach ([`JAW_CORNER_REACH_MM`]): held up to the corner, the
 /// map's slope grows without bound at the corner, the tip of the slit between a lower lip
 /// that drops and an upper lip that stays. (A biharmonic map was tried: with the mandible
 /// held at 1 it overshoots below the corners and stretches more.)
@@ -180,4 +181,53 @@ pub(super) fn relax_jaw_weights(
             (x > 0.0).then_some((v as u32, x))
         })
         .collect()
+}
+
+/// Jaw weight at the mouth corners: a dropped jaw pulls the corners a little down (they are
+/// part of both lips), about a third of the lower lip's drop.
+pub const JAW_CORNER_WEIGHT: f64 = 0.3;
+
+/// Radius (mm) of the skin round each mouth corner that follows the corner down.
+pub(super) const JAW_CORNER_REACH_MM: f64 = 9.0;
+
+/// Jaw weights. Below the mouth line: 1 across the middle of the lower lip and chin, falling
+/// along a quarter ellipse (`sqrt(1 - u^2)`, steep only near the corner) to
+/// [`JAW_CORNER_WEIGHT`] at the mouth corners, so the opening is an oval rather than a
+/// crescent whose sides barely part; lower down the band that moves widens to the whole
+/// mandible. On and above the mouth line only the skin beside each corner moves (not the
+/// upper lip), with the corner's weight fading to 0 within [`JAW_CORNER_REACH_MM`]: the
+/// corners sink a little and the upper lip stays.
+pub fn jaw_weights(positions: &[Vec3], mouth_y: f32, corner_x: f32) -> Vec<(u32, f32)> {
+    let chin_y = y_units(GNATHION_Y) as f32;
+    let corner = (f64::from(corner_x), f64::from(mouth_y));
+    let reach = units(JAW_CORNER_REACH_MM);
+    let mut weights = Vec::new();
+    for (i, p) in positions.iter().enumerate() {
+        let (x, y) = (f64::from(p.x.abs()), f64::from(p.y));
+        let w = if p.y >= mouth_y && x < corner.0 {
+            // the upper lip: parts from the lower lip (a fitted rig splits it off the same way)
+            0.0
+        } else if p.y >= mouth_y {
+            let from_corner = ((x - corner.0).powi(2) + (y - corner.1).powi(2)).sqrt();
+            JAW_CORNER_WEIGHT * (1.0 - surface::smoothstep(0.0, reach, from_corner))
+        } else {
+            let depth = f64::from(((mouth_y - p.y) / (mouth_y - chin_y)).clamp(0.0, 1.0));
+            let ease = surface::smoothstep(0.0, 0.6, depth);
+            let inner = ease * units(GONION_X - 8.0);
+            let outer = corner.0 + ease * (units(GONION_X + 16.0) - corner.0);
+            let u = ((x - inner) / (outer - inner)).clamp(0.0, 1.0);
+            // near the lips: a quarter ellipse down to the corner's weight, which fades
+            // beyond the corner as it does above the mouth line; lower down the smoothstep
+            // across the mandible, whose edge stays soft
+            let tail = JAW_CORNER_WEIGHT * (1.0 - surface::smoothstep(outer, outer + reach, x));
+            let oval = (1.0 - JAW_CORNER_WEIGHT) * (1.0 - u * u).sqrt() + tail;
+            let soft = 1.0 - surface::smoothstep(0.0, 1.0, u);
+            oval * (1.0 - ease) + soft * ease
+        };
+        let w = round3(w as f32);
+        if w > 0.0 {
+            weights.push((i as u32, w));
+        }
+    }
+    weights
 }

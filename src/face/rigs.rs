@@ -11,7 +11,8 @@ use glam::Vec3;
 use thiserror::Error;
 
 use super::anthropometry::*;
-use super::jaw_skin::{relax_jaw_weights, MouthSlit};
+pub use super::jaw_skin::{jaw_weights, JAW_CORNER_WEIGHT};
+use super::jaw_skin::{relax_jaw_weights, MouthSlit, JAW_CORNER_REACH_MM};
 use super::lids::{closing_gain, LidProfile, Margin};
 use super::surface;
 use super::{round3, rounded};
@@ -529,17 +530,7 @@ impl Placer<'_> {
         // ring's middle column, so the lids
         // close along the slit's own slope and meet at the lower lid's depth; heights are
         // measured along it (`local`).
-        let in_column = |group: &str| {
-            let lid = self.mesh.groups.get(group).map_or(&[][..], Vec::as_slice);
-            lid.iter()
-                .map(|&v| self.mesh.positions[v as usize])
-                .min_by(|a, b| (a.x - centre.x).abs().total_cmp(&(b.x - centre.x).abs()))
-        };
-        let (Some(top), Some(bottom)) = (in_column("left_upper_lid"), in_column("left_lower_lid"))
-        else {
-            return Err(missing());
-        };
-        let up = rounded(Vec3::new(0.0, top.y - bottom.y, top.z - bottom.z).normalize());
+        let up = self.lid_up(centre).ok_or_else(missing)?;
         let up_unit = up.normalize();
         let local = |p: Vec3| Vec3::new(p.x.abs(), centre.y + (p - centre).dot(up_unit), 0.0);
         // the lid skin: from each margin as far as the upper margin lies below the brow
@@ -567,15 +558,7 @@ impl Placer<'_> {
             frame: Frame { x: Vec3::X, y: up },
         };
         let gain = closing_gain(&closing, &upper_margin, &profile).ok_or_else(missing)?;
-        for muscle in &mut rig.muscles {
-            let left = muscle.name == "L_Orbicularis_Oculi";
-            if left || muscle.name == "R_Orbicularis_Oculi" {
-                muscle.kind = MuscleKind::Sphincter(Sphincter {
-                    centre: if left { centre } else { mirror(centre) },
-                    ..closing.clone()
-                });
-            }
-        }
+        set_closing_rings(rig, &closing);
         rig.muscles.extend(pair(
             "Orbicularis_Oculi_Lower",
             lower_left.kind.clone(),
@@ -599,7 +582,29 @@ impl Placer<'_> {
         let MuscleKind::Sphincter(lower_ring) = &lower_left.kind else {
             return Err(missing());
         };
-        rig.masks.push(Mask {
+        rig.masks.push(self.lower_lid_mask(lower_ring));
+        Ok(())
+    }
+
+    /// The closing ring's up direction: from the lower lid margin to the upper one in the
+    /// ring's middle column (the lid vertices nearest the centre's x).
+    fn lid_up(&self, centre: Vec3) -> Option<Vec3> {
+        let in_column = |group: &str| {
+            let lid = self.mesh.groups.get(group).map_or(&[][..], Vec::as_slice);
+            lid.iter()
+                .map(|&v| self.mesh.positions[v as usize])
+                .min_by(|a, b| (a.x - centre.x).abs().total_cmp(&(b.x - centre.x).abs()))
+        };
+        let (top, bottom) = (in_column("left_upper_lid")?, in_column("left_lower_lid")?);
+        Some(rounded(
+            Vec3::new(0.0, top.y - bottom.y, top.z - bottom.z).normalize(),
+        ))
+    }
+
+    /// The lower lid's own ring acts only below its axis: the vertices above it, within its
+    /// reach, are held at 0.
+    fn lower_lid_mask(&self, lower_ring: &Sphincter) -> Mask {
+        Mask {
             muscles: vec![
                 "L_Orbicularis_Oculi_Lower".into(),
                 "R_Orbicularis_Oculi_Lower".into(),
@@ -617,8 +622,7 @@ impl Placer<'_> {
                 })
                 .map(|(i, _)| (i as u32, 0.0))
                 .collect(),
-        });
-        Ok(())
+        }
     }
 
     /// A mask keeping the muscle `name` to the upper (`upper`) or the lower lip on its own
@@ -739,55 +743,6 @@ impl Placer<'_> {
     }
 }
 
-/// Jaw weight at the mouth corners: a dropped jaw pulls the corners a little down (they are
-/// part of both lips), about a third of the lower lip's drop.
-pub const JAW_CORNER_WEIGHT: f64 = 0.3;
-
-/// Radius (mm) of the skin round each mouth corner that follows the corner down.
-const JAW_CORNER_REACH_MM: f64 = 9.0;
-
-/// Jaw weights. Below the mouth line: 1 across the middle of the lower lip and chin, falling
-/// along a quarter ellipse (`sqrt(1 - u^2)`, steep only near the corner) to
-/// [`JAW_CORNER_WEIGHT`] at the mouth corners, so the opening is an oval rather than a
-/// crescent whose sides barely part; lower down the band that moves widens to the whole
-/// mandible. On and above the mouth line only the skin beside each corner moves (not the
-/// upper lip), with the corner's weight fading to 0 within [`JAW_CORNER_REACH_MM`]: the
-/// corners sink a little and the upper lip stays.
-pub fn jaw_weights(positions: &[Vec3], mouth_y: f32, corner_x: f32) -> Vec<(u32, f32)> {
-    let chin_y = y_units(GNATHION_Y) as f32;
-    let corner = (f64::from(corner_x), f64::from(mouth_y));
-    let reach = units(JAW_CORNER_REACH_MM);
-    let mut weights = Vec::new();
-    for (i, p) in positions.iter().enumerate() {
-        let (x, y) = (f64::from(p.x.abs()), f64::from(p.y));
-        let w = if p.y >= mouth_y && x < corner.0 {
-            // the upper lip: parts from the lower lip (a fitted rig splits it off the same way)
-            0.0
-        } else if p.y >= mouth_y {
-            let from_corner = ((x - corner.0).powi(2) + (y - corner.1).powi(2)).sqrt();
-            JAW_CORNER_WEIGHT * (1.0 - surface::smoothstep(0.0, reach, from_corner))
-        } else {
-            let depth = f64::from(((mouth_y - p.y) / (mouth_y - chin_y)).clamp(0.0, 1.0));
-            let ease = surface::smoothstep(0.0, 0.6, depth);
-            let inner = ease * units(GONION_X - 8.0);
-            let outer = corner.0 + ease * (units(GONION_X + 16.0) - corner.0);
-            let u = ((x - inner) / (outer - inner)).clamp(0.0, 1.0);
-            // near the lips: a quarter ellipse down to the corner's weight, which fades
-            // beyond the corner as it does above the mouth line; lower down the smoothstep
-            // across the mandible, whose edge stays soft
-            let tail = JAW_CORNER_WEIGHT * (1.0 - surface::smoothstep(outer, outer + reach, x));
-            let oval = (1.0 - JAW_CORNER_WEIGHT) * (1.0 - u * u).sqrt() + tail;
-            let soft = 1.0 - surface::smoothstep(0.0, 1.0, u);
-            oval * (1.0 - ease) + soft * ease
-        };
-        let w = round3(w as f32);
-        if w > 0.0 {
-            weights.push((i as u32, w));
-        }
-    }
-    weights
-}
-
 /// The highest-z point of the skin under front-view position `(x, y)` (mesh units), found
 /// on the triangles that face the viewer.
 pub fn skin_under(mesh: &Mesh, x: f32, y: f32) -> Option<Vec3> {
@@ -814,6 +769,24 @@ pub fn skin_under(mesh: &Mesh, x: f32, y: f32) -> Option<Vec3> {
         }
     }
     best
+}
+
+/// Both orbicularis oculi become the closing ring `closing` (placed on the subject's left),
+/// the right one mirrored.
+fn set_closing_rings(rig: &mut Rig, closing: &Sphincter) {
+    for muscle in &mut rig.muscles {
+        let left = muscle.name == "L_Orbicularis_Oculi";
+        if left || muscle.name == "R_Orbicularis_Oculi" {
+            muscle.kind = MuscleKind::Sphincter(Sphincter {
+                centre: if left {
+                    closing.centre
+                } else {
+                    mirror(closing.centre)
+                },
+                ..closing.clone()
+            });
+        }
+    }
 }
 
 /// Both eye sphincters from the left eye's corners and lid-margin centres: centred on the
