@@ -449,11 +449,20 @@ impl Guard {
     /// vertex moves at most `reach[v]`; `moved[k]` lists what muscle `k` (the last entry:
     /// the jaw) moves.
     pub(super) fn new(mesh: &Mesh, min_area: f32, reach: &[f32], moved: &[&[u32]]) -> Guard {
-        let rest = &mesh.positions;
         let mut guard = Guard::default();
         if min_area <= 0.0 {
             return guard;
         }
+        guard.check_triangles(mesh, min_area, reach);
+        guard.index_vertices(mesh.positions.len());
+        guard.plan_updates(moved, mesh.positions.len());
+        guard
+    }
+
+    /// Keeps the triangles that could shrink below `min_area` of their rest area, with their
+    /// rest shapes.
+    fn check_triangles(&mut self, mesh: &Mesh, min_area: f32, reach: &[f32]) {
+        let rest = &mesh.positions;
         for t in &mesh.triangles {
             let [p0, p1, p2] = t.map(|i| rest[i as usize].as_dvec3());
             let [b0, b1, b2] = t.map(|i| reach[i as usize] as f64);
@@ -468,9 +477,9 @@ impl Guard {
             if worst >= min_area as f64 * a0 {
                 continue;
             }
-            guard.triangles.push(*t);
+            self.triangles.push(*t);
             let unit = n / a0;
-            guard.shapes.push(TriangleShape {
+            self.shapes.push(TriangleShape {
                 across_e1: unit.cross(e1).as_vec3(),
                 across_e2: e2.cross(unit).as_vec3(),
                 normal: unit.as_vec3(),
@@ -478,49 +487,57 @@ impl Guard {
                 floor: (min_area as f64 * a0) as f32,
             });
         }
-        let n = rest.len();
+    }
+
+    /// Lists the checked triangles' vertices and, per vertex, its checked triangles (CSR).
+    fn index_vertices(&mut self, n: usize) {
         let mut count = vec![0u32; n];
-        for t in &guard.triangles {
+        for t in &self.triangles {
             for &v in t {
                 count[v as usize] += 1;
             }
         }
-        guard.index = vec![NO_ROW; n];
-        guard.tri_start.push(0);
+        self.index = vec![NO_ROW; n];
+        self.tri_start.push(0);
         for (v, &c) in count.iter().enumerate() {
             if c > 0 {
-                guard.index[v] = guard.vertices.len() as u32;
-                guard.vertices.push(v as u32);
-                let last = *guard.tri_start.last().unwrap_or(&0);
-                guard.tri_start.push(last + c);
+                self.index[v] = self.vertices.len() as u32;
+                self.vertices.push(v as u32);
+                let last = *self.tri_start.last().unwrap_or(&0);
+                self.tri_start.push(last + c);
             }
         }
-        let mut fill: Vec<u32> = guard.tri_start[..guard.vertices.len()].to_vec();
-        guard.tri_list = vec![0; *guard.tri_start.last().unwrap_or(&0) as usize];
-        for (k, t) in guard.triangles.iter().enumerate() {
+        let mut fill: Vec<u32> = self.tri_start[..self.vertices.len()].to_vec();
+        self.tri_list = vec![0; *self.tri_start.last().unwrap_or(&0) as usize];
+        for (k, t) in self.triangles.iter().enumerate() {
             for &v in t {
-                let g = guard.index[v as usize] as usize;
-                guard.tri_list[fill[g] as usize] = k as u32;
+                let g = self.index[v as usize] as usize;
+                self.tri_list[fill[g] as usize] = k as u32;
                 fill[g] += 1;
             }
         }
+    }
+
+    /// Per muscle (then the jaw), what its change can alter: the vertices whose scale may
+    /// change, the vertices those scales read and the triangles to rescale.
+    fn plan_updates(&mut self, moved: &[&[u32]], n: usize) {
         let mut stamp = vec![u32::MAX; n];
-        let mut tri_stamp = vec![u32::MAX; guard.triangles.len()];
+        let mut tri_stamp = vec![u32::MAX; self.triangles.len()];
         for (k, vertices) in moved.iter().enumerate() {
             let k32 = k as u32;
             // checked triangles with a moved vertex; their vertices' scales may change
             let mut settle = Vec::new();
             for &v in vertices.iter() {
-                let g = guard.index[v as usize];
+                let g = self.index[v as usize];
                 if g == NO_ROW {
                     continue;
                 }
-                for &t in guard.triangles_of(g as usize) {
+                for &t in self.triangles_of(g as usize) {
                     if tri_stamp[t as usize] == k32 {
                         continue;
                     }
                     tri_stamp[t as usize] = k32;
-                    for &w in &guard.triangles[t as usize] {
+                    for &w in &self.triangles[t as usize] {
                         if stamp[w as usize] != k32 {
                             stamp[w as usize] = k32;
                             settle.push(w);
@@ -535,13 +552,13 @@ impl Guard {
             let second = k32 + moved.len() as u32;
             let third = second + moved.len() as u32;
             for &v in &settle {
-                let g = guard.index[v as usize] as usize;
-                for &t in guard.triangles_of(g) {
+                let g = self.index[v as usize] as usize;
+                for &t in self.triangles_of(g) {
                     if tri_stamp[t as usize] != third {
                         tri_stamp[t as usize] = third;
                         rescale.push(t);
                     }
-                    for &w in &guard.triangles[t as usize] {
+                    for &w in &self.triangles[t as usize] {
                         if stamp[w as usize] != second {
                             stamp[w as usize] = second;
                             recompute.push(w);
@@ -551,11 +568,10 @@ impl Guard {
             }
             recompute.sort_unstable();
             rescale.sort_unstable();
-            guard.settle.push(settle);
-            guard.recompute.push(recompute);
-            guard.rescale.push(rescale);
+            self.settle.push(settle);
+            self.recompute.push(recompute);
+            self.rescale.push(rescale);
         }
-        guard
     }
 
     /// True when no triangle needs checking.
