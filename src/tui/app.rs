@@ -212,6 +212,16 @@ pub struct Message {
     pub severity: Severity,
 }
 
+impl Message {
+    /// A message of `severity`: what the editor's and the picker's status lines show.
+    pub fn new(severity: Severity, text: impl Into<String>) -> Message {
+        Message {
+            text: text.into(),
+            severity,
+        }
+    }
+}
+
 /// What a line of typed input is for.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum InputKind {
@@ -589,26 +599,17 @@ impl App {
 
     /// Sets an info message.
     pub fn info(&mut self, text: impl Into<String>) {
-        self.message = Some(Message {
-            text: text.into(),
-            severity: Severity::Info,
-        });
+        self.message = Some(Message::new(Severity::Info, text));
     }
 
     /// Sets a warning.
     pub fn warn(&mut self, text: impl Into<String>) {
-        self.message = Some(Message {
-            text: text.into(),
-            severity: Severity::Warning,
-        });
+        self.message = Some(Message::new(Severity::Warning, text));
     }
 
     /// Sets an error message.
     pub fn error(&mut self, text: impl Into<String>) {
-        self.message = Some(Message {
-            text: text.into(),
-            severity: Severity::Error,
-        });
+        self.message = Some(Message::new(Severity::Error, text));
     }
 }
 

@@ -316,25 +316,16 @@ impl PickApp {
 
     /// Says something on the status line.
     pub fn info(&mut self, text: impl Into<String>) {
-        self.message = Some(Message {
-            text: text.into(),
-            severity: Severity::Info,
-        });
+        self.message = Some(Message::new(Severity::Info, text));
     }
 
     /// Warns on the status line.
     pub fn warn(&mut self, text: impl Into<String>) {
-        self.message = Some(Message {
-            text: text.into(),
-            severity: Severity::Warning,
-        });
+        self.message = Some(Message::new(Severity::Warning, text));
     }
 
     fn error(&mut self, text: impl Into<String>) {
-        self.message = Some(Message {
-            text: text.into(),
-            severity: Severity::Error,
-        });
+        self.message = Some(Message::new(Severity::Error, text));
     }
 
     /// How many landmarks have a vertex.
