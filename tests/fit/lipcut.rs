@@ -42,17 +42,6 @@ fn fit_and_bind(cut: &LipCut) -> BoundRig {
     Deformation::default().bind(&rig, mesh).unwrap()
 }
 
-/// Positions of `bound` at an AU of the built-in table.
-fn at_au(bound: &BoundRig, key: &str) -> Vec<Vec3> {
-    let table = builtin::default_table();
-    let act = table
-        .entry_activations(&key.parse().unwrap(), bound.rig())
-        .unwrap();
-    let mut out = Vec::new();
-    bound.deform(&act, &mut out).unwrap();
-    out
-}
-
 /// The largest stretch of an edge between the lips: of the triangles on the cut (touching a
 /// vertex inside the line or a copy) and not at the corners, where the lips stay joined.
 fn worst_stretch(cut: &LipCut, moved: &[Vec3]) -> (f32, [u32; 2]) {
@@ -113,7 +102,7 @@ fn mediapipe_lips_part_without_tearing_between_them() {
     let bound = fit_and_bind(&cut);
     let rest_gap = lipcut::mouth_gap(&cut.mesh.positions, &cut.landmarks);
     for au in ["26", "27"] {
-        let moved = at_au(&bound, au);
+        let moved = crate::positions_at_au(&bound, au);
         let (stretch, edge) = worst_stretch(&cut, &moved);
         let gap = (lipcut::mouth_gap(&moved, &cut.landmarks) - rest_gap) * mm;
         eprintln!("AU{au}: stretch {stretch:.2} at {edge:?}, gap grows {gap:.1} mm");
@@ -229,7 +218,7 @@ fn welded_lips_open_at_au26() {
     let (welded, marks, _, _) = welded_face();
     let cut = joined(lipcut::find(&welded, &marks));
     let bound = fit_and_bind(&cut);
-    let moved = at_au(&bound, "26");
+    let moved = crate::positions_at_au(&bound, "26");
     let (stretch, edge) = worst_stretch(&cut, &moved);
     assert!(stretch <= 2.5, "AU26: {stretch:.2}x at {edge:?}");
     let rest = lipcut::mouth_gap(&cut.mesh.positions, &cut.landmarks);

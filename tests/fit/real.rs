@@ -36,12 +36,7 @@ fn fit(mesh: &Mesh, landmarks: &Landmarks) -> Fitted {
 
 /// Displacements of every vertex for an AU of the built-in table.
 fn au(bound: &BoundRig, key: &str) -> Vec<Vec3> {
-    let table = builtin::default_table();
-    let act = table
-        .entry_activations(&key.parse().unwrap(), bound.rig())
-        .unwrap();
-    let mut out = Vec::new();
-    bound.deform(&act, &mut out).unwrap();
+    let out = crate::positions_at_au(bound, key);
     out.iter().zip(bound.rest()).map(|(a, b)| *a - *b).collect()
 }
 
