@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use glam::Vec3;
 
 use super::action::{Action, Effect, RigAction};
-use super::app::{App, Input, InputKind, Mode, Row, Step};
+use super::app::{App, FileStamp, Input, InputKind, Mode, Row, Step};
 use crate::io::rig_file::check_rig;
 use crate::model::{Activations, MuscleKind, Rig};
 
@@ -78,79 +78,86 @@ pub fn update(app: &mut App, action: RigAction, fx: &mut Vec<Effect>) {
             app.rig_edit.param = (app.rig_edit.param.min(n.saturating_sub(1)) + 1) % n.max(1);
             app.info(describe(app));
         }
-        RigAction::Move { right, up, coarse } => {
-            let step = face_size(app)
-                * if coarse {
-                    COARSE_FRACTION
-                } else {
-                    FINE_FRACTION
-                };
-            let (r, u) = view_axes(app);
-            let by = (r * f32::from(right) + u * f32::from(up)) * step;
-            let points = point_names(kind_of(app.rig(), app.selected_row()));
-            let i = app.rig_edit.point.min(points.len().saturating_sub(1));
-            edit(app, Change::Move(i, by), points.get(i).copied(), fx);
-        }
-        RigAction::Param { by, coarse } => {
-            let list = params(kind_of(app.rig(), app.selected_row()));
-            let i = app.rig_edit.param.min(list.len().saturating_sub(1));
-            let Some(&(name, unit)) = list.get(i) else {
-                return;
-            };
-            let pick = |fine: f32, coarse_step: f32| if coarse { coarse_step } else { fine };
-            let change = match unit {
-                Unit::Length => Change::Param(
-                    i,
-                    f32::from(by) * face_size(app) * pick(FINE_FRACTION, COARSE_FRACTION),
-                ),
-                Unit::Fixed(fine, coarse_step) => {
-                    Change::Param(i, f32::from(by) * pick(fine, coarse_step))
-                }
-                Unit::Angle(fine, coarse_step) => {
-                    if let Some(reason) = cannot_turn(app) {
-                        return app.error(reason);
-                    }
-                    Change::Turn {
-                        axis: view_out(app),
-                        radians: (f32::from(by) * pick(fine, coarse_step)).to_radians(),
-                    }
-                }
-            };
-            edit(app, change, Some(name), fx);
-        }
+        RigAction::Move { right, up, coarse } => move_point(app, (right, up), coarse, fx),
+        RigAction::Param { by, coarse } => change_param(app, by, coarse, fx),
         RigAction::Held(by) => {
             let (lo, hi) = app.range(app.selected_row());
             let held = (app.rig_edit.held + f32::from(by) * HELD_STEP).clamp(lo.max(0.0), hi);
             app.rig_edit.held = held;
             app.info(format!("held at {held:.2}"));
         }
-        RigAction::Saved { path, file, stamp } => {
-            if app.doc.table.rig == file {
-                app.info(format!("saved the rig to {}", path.display()));
-            } else {
-                // The table goes with the rig shown: reopened, it must load this rig.
-                app.doc.table.rig = file;
-                app.info(format!(
-                    "saved the rig to {}; the table now names it (:w saves the table)",
-                    path.display()
-                ));
-            }
-            app.rig_edit.path = Some(path);
-            app.rig_edit.stamp = Some(stamp);
-            app.rig_edit.saved = Some(app.rig().clone());
-            // The recovery file now holds only what is still unsaved, if anything.
-            fx.push(if app.dirty() {
-                Effect::RecoveryDue
-            } else {
-                Effect::RemoveRecovery
-            });
-        }
+        RigAction::Saved { path, file, stamp } => saved(app, path, file, stamp, fx),
         RigAction::SaveFailed { path, error } => app.error(format!(
             "could not save the rig to {}: {error}; your edits are kept",
             path.display()
         )),
     }
     sync(app);
+}
+
+/// Moves the selected point of the selected muscle along the view's right and up.
+fn move_point(app: &mut App, (right, up): (i8, i8), coarse: bool, fx: &mut Vec<Effect>) {
+    let step = face_size(app)
+        * if coarse {
+            COARSE_FRACTION
+        } else {
+            FINE_FRACTION
+        };
+    let (r, u) = view_axes(app);
+    let by = (r * f32::from(right) + u * f32::from(up)) * step;
+    let points = point_names(kind_of(app.rig(), app.selected_row()));
+    let i = app.rig_edit.point.min(points.len().saturating_sub(1));
+    edit(app, Change::Move(i, by), points.get(i).copied(), fx);
+}
+
+/// Steps the selected parameter of the selected muscle (a length, a number or a turn).
+fn change_param(app: &mut App, by: i8, coarse: bool, fx: &mut Vec<Effect>) {
+    let list = params(kind_of(app.rig(), app.selected_row()));
+    let i = app.rig_edit.param.min(list.len().saturating_sub(1));
+    let Some(&(name, unit)) = list.get(i) else {
+        return;
+    };
+    let pick = |fine: f32, coarse_step: f32| if coarse { coarse_step } else { fine };
+    let change = match unit {
+        Unit::Length => Change::Param(
+            i,
+            f32::from(by) * face_size(app) * pick(FINE_FRACTION, COARSE_FRACTION),
+        ),
+        Unit::Fixed(fine, coarse_step) => Change::Param(i, f32::from(by) * pick(fine, coarse_step)),
+        Unit::Angle(fine, coarse_step) => {
+            if let Some(reason) = cannot_turn(app) {
+                return app.error(reason);
+            }
+            Change::Turn {
+                axis: view_out(app),
+                radians: (f32::from(by) * pick(fine, coarse_step)).to_radians(),
+            }
+        }
+    };
+    edit(app, change, Some(name), fx);
+}
+
+/// Records a finished rig save: the table names the rig file, the recovery file shrinks.
+fn saved(app: &mut App, path: PathBuf, file: PathBuf, stamp: FileStamp, fx: &mut Vec<Effect>) {
+    if app.doc.table.rig == file {
+        app.info(format!("saved the rig to {}", path.display()));
+    } else {
+        // The table goes with the rig shown: reopened, it must load this rig.
+        app.doc.table.rig = file;
+        app.info(format!(
+            "saved the rig to {}; the table now names it (:w saves the table)",
+            path.display()
+        ));
+    }
+    app.rig_edit.path = Some(path);
+    app.rig_edit.stamp = Some(stamp);
+    app.rig_edit.saved = Some(app.rig().clone());
+    // The recovery file now holds only what is still unsaved, if anything.
+    fx.push(if app.dirty() {
+        Effect::RecoveryDue
+    } else {
+        Effect::RemoveRecovery
+    });
 }
 
 /// Why the selected direction cannot be turned in this view, if it cannot: the jaw's axis

@@ -75,12 +75,6 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         Action::Save => save(app, None, false, &mut fx),
         Action::Quit => quit(app, &mut fx),
         Action::StartCommand => open(app, InputKind::Command, ""),
-        Action::ToggleHelp => {
-            app.mode = match app.mode {
-                Mode::Help(_) => Mode::Normal,
-                _ => Mode::Help(0),
-            }
-        }
         Action::Command(line) => command::run(app, &line, &mut fx),
         action @ (Action::InputChar(_)
         | Action::InputBackspace
@@ -91,27 +85,11 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
         | Action::InputEnd
         | Action::InputClear
         | Action::InputComplete) => prompt::edit(app, action),
-        Action::InputSubmit => {
-            if let Mode::Input(input) = std::mem::replace(&mut app.mode, Mode::Normal) {
-                submit(app, input, &mut fx);
-            }
-        }
-        Action::Cancel => {
-            if matches!(app.mode, Mode::Confirm(_)) {
-                return update(app, Action::Answer(false));
-            }
-            app.mode = Mode::Normal;
-        }
-        Action::Answer(yes) => {
-            if let Mode::Confirm(question) = std::mem::replace(&mut app.mode, Mode::Normal) {
-                answer(app, question, yes, &mut fx);
-            }
-        }
-        Action::HelpScroll(by) => {
-            if let Mode::Help(scroll) = &mut app.mode {
-                *scroll = (i32::from(*scroll) + i32::from(by)).clamp(0, 500) as u16;
-            }
-        }
+        action @ (Action::ToggleHelp
+        | Action::InputSubmit
+        | Action::Cancel
+        | Action::Answer(_)
+        | Action::HelpScroll(_)) => leave_or_scroll(app, action, &mut fx),
         Action::Resize(w, h) => app.view.size = (w, h),
         Action::Rig(action) => crate::tui::rig::update(app, action, &mut fx),
         action @ (Action::Saved { .. }
@@ -121,6 +99,40 @@ pub fn update(app: &mut App, action: Action) -> Vec<Effect> {
     }
     crate::tui::rig::sync(app);
     fx
+}
+
+/// The keys that open, answer or leave a mode: help, the prompt, a question.
+fn leave_or_scroll(app: &mut App, action: Action, fx: &mut Vec<Effect>) {
+    match action {
+        Action::ToggleHelp => {
+            app.mode = match app.mode {
+                Mode::Help(_) => Mode::Normal,
+                _ => Mode::Help(0),
+            }
+        }
+        Action::InputSubmit => {
+            if let Mode::Input(input) = std::mem::replace(&mut app.mode, Mode::Normal) {
+                submit(app, input, fx);
+            }
+        }
+        // Leaving a question is answering no; leaving anything else goes back to normal.
+        Action::Cancel => {
+            if let Mode::Confirm(question) = std::mem::replace(&mut app.mode, Mode::Normal) {
+                answer(app, question, false, fx);
+            }
+        }
+        Action::Answer(yes) => {
+            if let Mode::Confirm(question) = std::mem::replace(&mut app.mode, Mode::Normal) {
+                answer(app, question, yes, fx);
+            }
+        }
+        Action::HelpScroll(by) => {
+            if let Mode::Help(scroll) = &mut app.mode {
+                *scroll = (i32::from(*scroll) + i32::from(by)).clamp(0, 500) as u16;
+            }
+        }
+        _ => {}
+    }
 }
 
 /// The selection keys: which muscle row or table item, which panel.

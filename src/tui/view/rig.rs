@@ -7,7 +7,7 @@
 use glam::Vec3;
 
 use crate::model::mesh::bounds_of as bounds;
-use crate::model::{MuscleKind, Rig};
+use crate::model::{Jaw, Linear, MuscleKind, Rig};
 use crate::render::{displacement_ramp, Overlay, Palette, Rgb, Shape};
 use crate::tui::app::{App, Row};
 use crate::tui::rig::{point, point_names};
@@ -52,6 +52,8 @@ pub fn zone_overlays(app: &App, out: &mut Vec<Overlay>) {
     }
 }
 
+/// The selected row's zone: a linear muscle's cone, a ring's ellipse, a sheet's quad, the
+/// jaw's axis and weights.
 fn zone_of(rig: &Rig, rest: &[Vec3], row: Row, out: &mut Vec<Overlay>) {
     let kind = match row {
         Row::Muscle(i) => match rig.muscles.get(i) {
@@ -59,54 +61,14 @@ fn zone_of(rig: &Rig, rest: &[Vec3], row: Row, out: &mut Vec<Overlay>) {
             None => return,
         },
         Row::Jaw => {
-            // Each weighted vertex, coloured from blue (barely moves) to red (turns fully).
             if let Some(jaw) = &rig.jaw {
-                let (lo, hi) = bounds(rest);
-                let half = jaw.axis.normalize_or_zero() * ((hi - lo).y * AXIS_HALF);
-                out.push(segment(jaw.pivot - half, jaw.pivot + half, AXIS));
-                for &(v, w) in &jaw.weights {
-                    if let Some(&at) = rest.get(v as usize) {
-                        out.push(Overlay {
-                            shape: Shape::Point { at },
-                            color: displacement_ramp(w),
-                            selected: false,
-                        });
-                    }
-                }
+                jaw_zone(jaw, rest, out);
             }
             return;
         }
     };
     match kind {
-        MuscleKind::Linear(m) => {
-            let axis = (m.insertion - m.attachment).normalize_or_zero();
-            if axis == Vec3::ZERO {
-                return;
-            }
-            // The cone's edges and arcs are drawn in the plane of the axis and its
-            // perpendicular across the face: the cut a front view sees.
-            let across = Vec3::Z.cross(axis).normalize_or(Vec3::Y);
-            let half = m.zone.to_radians();
-            let dir = |a: f32| axis * a.cos() + across * a.sin();
-            let reach = m.falloff_end.max(m.falloff_start);
-            for a in [-half, half] {
-                out.push(segment(m.attachment, m.attachment + dir(a) * reach, ZONE));
-            }
-            for r in [m.falloff_start, m.falloff_end] {
-                let steps = ((half / std::f32::consts::FRAC_PI_2) * ARC_STEPS as f32)
-                    .ceil()
-                    .max(2.0) as usize;
-                for k in 0..steps {
-                    let a0 = -half + 2.0 * half * k as f32 / steps as f32;
-                    let a1 = -half + 2.0 * half * (k + 1) as f32 / steps as f32;
-                    out.push(segment(
-                        m.attachment + dir(a0) * r,
-                        m.attachment + dir(a1) * r,
-                        FALLOFF,
-                    ));
-                }
-            }
-        }
+        MuscleKind::Linear(m) => linear_zone(m, out),
         MuscleKind::Sphincter(m) => {
             let major = m.frame.axis_x() * m.semi_major;
             out.push(Overlay {
@@ -134,6 +96,54 @@ fn zone_of(rig: &Rig, rest: &[Vec3], row: Row, out: &mut Vec<Overlay>) {
                 color: ZONE,
                 selected: false,
             });
+        }
+    }
+}
+
+/// The jaw's axis, and each weighted vertex coloured from blue (barely moves) to red (turns
+/// fully).
+fn jaw_zone(jaw: &Jaw, rest: &[Vec3], out: &mut Vec<Overlay>) {
+    let (lo, hi) = bounds(rest);
+    let half = jaw.axis.normalize_or_zero() * ((hi - lo).y * AXIS_HALF);
+    out.push(segment(jaw.pivot - half, jaw.pivot + half, AXIS));
+    for &(v, w) in &jaw.weights {
+        if let Some(&at) = rest.get(v as usize) {
+            out.push(Overlay {
+                shape: Shape::Point { at },
+                color: displacement_ramp(w),
+                selected: false,
+            });
+        }
+    }
+}
+
+/// A linear muscle's cone: its two edges and its falloff arcs.
+fn linear_zone(m: &Linear, out: &mut Vec<Overlay>) {
+    let axis = (m.insertion - m.attachment).normalize_or_zero();
+    if axis == Vec3::ZERO {
+        return;
+    }
+    // The cone's edges and arcs are drawn in the plane of the axis and its perpendicular
+    // across the face: the cut a front view sees.
+    let across = Vec3::Z.cross(axis).normalize_or(Vec3::Y);
+    let half = m.zone.to_radians();
+    let dir = |a: f32| axis * a.cos() + across * a.sin();
+    let reach = m.falloff_end.max(m.falloff_start);
+    for a in [-half, half] {
+        out.push(segment(m.attachment, m.attachment + dir(a) * reach, ZONE));
+    }
+    for r in [m.falloff_start, m.falloff_end] {
+        let steps = ((half / std::f32::consts::FRAC_PI_2) * ARC_STEPS as f32)
+            .ceil()
+            .max(2.0) as usize;
+        for k in 0..steps {
+            let a0 = -half + 2.0 * half * k as f32 / steps as f32;
+            let a1 = -half + 2.0 * half * (k + 1) as f32 / steps as f32;
+            out.push(segment(
+                m.attachment + dir(a0) * r,
+                m.attachment + dir(a1) * r,
+                FALLOFF,
+            ));
         }
     }
 }
