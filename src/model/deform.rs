@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use thiserror::Error;
 
 use super::activations::{ActivationError, Activations, MUSCLE_RANGE};
-use super::field::{validate_muscle, Field};
+use super::field::{validate_muscle, Field, InvalidParameter};
 use super::mesh::{Mesh, MeshError};
 use super::muscle::MuscleKind;
 use super::rig::{Combine, Rig};
@@ -131,6 +131,16 @@ pub enum BindError {
         /// The vertex.
         vertex: u32,
     },
+}
+
+impl From<InvalidParameter> for BindError {
+    fn from(e: InvalidParameter) -> Self {
+        BindError::InvalidParameter {
+            muscle: e.muscle,
+            parameter: e.parameter,
+            message: e.message,
+        }
+    }
 }
 
 /// One `(muscle, displacement)` entry of a vertex's CSR row: 16 bytes, read in one stream.

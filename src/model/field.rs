@@ -15,7 +15,6 @@ use std::f64::consts::FRAC_PI_2;
 
 use glam::{DMat3, DVec3, Vec3};
 
-use super::deform::BindError;
 use super::muscle::{Convergence, Linear, Muscle, MuscleKind, Sheet, Sphincter};
 
 /// The displacement field of one muscle per unit activation, sparse and sorted by vertex.
@@ -391,8 +390,20 @@ impl SheetShape {
     }
 }
 
+/// A muscle parameter out of its range or not finite.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("muscle `{muscle}`: {parameter} {message}")]
+pub struct InvalidParameter {
+    /// The muscle's name.
+    pub muscle: String,
+    /// The parameter's name as written in rig files.
+    pub parameter: &'static str,
+    /// What is wrong with it.
+    pub message: String,
+}
+
 /// Checks a muscle's parameters, naming the muscle and the parameter on failure.
-pub fn validate_muscle(muscle: &Muscle) -> Result<(), BindError> {
+pub fn validate_muscle(muscle: &Muscle) -> Result<(), InvalidParameter> {
     let check = ParameterCheck {
         muscle: &muscle.name,
     };
@@ -409,15 +420,15 @@ struct ParameterCheck<'a> {
 }
 
 impl ParameterCheck<'_> {
-    fn bad(&self, parameter: &'static str, message: String) -> BindError {
-        BindError::InvalidParameter {
+    fn bad(&self, parameter: &'static str, message: String) -> InvalidParameter {
+        InvalidParameter {
             muscle: self.muscle.to_string(),
             parameter,
             message,
         }
     }
 
-    fn finite(&self, parameter: &'static str, v: Vec3) -> Result<(), BindError> {
+    fn finite(&self, parameter: &'static str, v: Vec3) -> Result<(), InvalidParameter> {
         if v.is_finite() {
             Ok(())
         } else {
@@ -425,7 +436,7 @@ impl ParameterCheck<'_> {
         }
     }
 
-    fn linear(&self, m: &Linear) -> Result<(), BindError> {
+    fn linear(&self, m: &Linear) -> Result<(), InvalidParameter> {
         self.finite("attachment", m.attachment)?;
         self.finite("insertion", m.insertion)?;
         if !(m.zone.is_finite() && m.zone > 0.0 && m.zone < 90.0) {
@@ -458,7 +469,7 @@ impl ParameterCheck<'_> {
         Ok(())
     }
 
-    fn sphincter(&self, m: &Sphincter) -> Result<(), BindError> {
+    fn sphincter(&self, m: &Sphincter) -> Result<(), InvalidParameter> {
         self.finite("centre", m.centre)?;
         m.frame
             .check()
@@ -475,7 +486,7 @@ impl ParameterCheck<'_> {
         Ok(())
     }
 
-    fn sheet(&self, m: &Sheet) -> Result<(), BindError> {
+    fn sheet(&self, m: &Sheet) -> Result<(), InvalidParameter> {
         for (parameter, v) in [
             ("attachment", m.attachment[0]),
             ("attachment", m.attachment[1]),
@@ -759,7 +770,7 @@ mod tests {
 
     fn parameter_of(kind: MuscleKind) -> &'static str {
         match validate_muscle(&named(kind)) {
-            Err(BindError::InvalidParameter { parameter, .. }) => parameter,
+            Err(InvalidParameter { parameter, .. }) => parameter,
             other => panic!("expected an invalid parameter, got {other:?}"),
         }
     }

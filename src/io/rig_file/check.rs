@@ -4,7 +4,7 @@
 use std::fmt;
 
 use crate::model::field::validate_muscle;
-use crate::model::{BindError, Jaw, Mask, Mesh, Muscle, Rig, RIG_VERSION};
+use crate::model::{Jaw, Mask, Mesh, Muscle, Rig, RIG_VERSION};
 
 /// A problem with a rig's contents, naming the muscle (and field) where it lies.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -206,23 +206,11 @@ fn check_mirror(rig: &Rig, muscle: &Muscle) -> Result<(), RigIssue> {
 /// Muscle parameters are checked by the model itself, so a rig file accepts exactly the
 /// muscles the deformation can bind.
 fn check_kind(muscle: &Muscle) -> Result<(), RigIssue> {
-    match validate_muscle(muscle) {
-        Ok(()) => Ok(()),
-        Err(BindError::InvalidParameter {
-            muscle,
-            parameter,
-            message,
-        }) => Err(RigIssue {
-            muscle: Some(muscle),
-            field: Some(parameter),
-            message: format!("{parameter} {message}"),
-        }),
-        Err(other) => Err(RigIssue {
-            muscle: Some(muscle.name.clone()),
-            field: None,
-            message: other.to_string(),
-        }),
-    }
+    validate_muscle(muscle).map_err(|e| RigIssue {
+        muscle: Some(e.muscle),
+        field: Some(e.parameter),
+        message: format!("{} {}", e.parameter, e.message),
+    })
 }
 
 fn check_jaw(jaw: &Jaw) -> Result<(), RigIssue> {
