@@ -103,7 +103,8 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
     }
-    let mut scene = Face::new(rig, mesh)?;
+    // A big head is bound on a thread: the first screen shows its rest pose at once.
+    let mut scene = Face::start(rig, mesh)?;
     if let Some(basis) = args.facing.basis().map_err(|e| e.to_string())? {
         scene.face(basis);
     }

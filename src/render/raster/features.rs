@@ -1,6 +1,7 @@
 //! Feature lines: which edges and contours a style draws, with their colour and depth bias.
 
 use glam::Vec3;
+use rayon::slice::ParallelSliceMut;
 
 use super::depth::depth_slope;
 use super::{Edge, Renderer, Segment, NONE};
@@ -222,6 +223,9 @@ pub(super) fn iso_crossing(p: [Vec3; 3], f: [f32; 3], level: f32) -> Option<(Vec
     (n == 2).then_some((hits[0], hits[1]))
 }
 
+/// Half edges from which [`build_edges`] sorts on the rayon pool.
+const PARALLEL_SORT: usize = 1 << 16;
+
 /// The sorted unique edges of `triangles` with the triangles on each side.
 pub(super) fn build_edges(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<Edge> {
     let mut half: Vec<(u32, u32, u32)> = Vec::with_capacity(triangles.len() * 3);
@@ -236,7 +240,13 @@ pub(super) fn build_edges(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<Ed
             }
         }
     }
-    half.sort_unstable();
+    // A big mesh's millions of half edges are sorted on the pool (the same order: equal
+    // items are identical); a small mesh's stay on this thread.
+    if half.len() >= PARALLEL_SORT {
+        half.par_sort_unstable();
+    } else {
+        half.sort_unstable();
+    }
     let mut edges: Vec<Edge> = Vec::with_capacity(half.len() / 2 + 1);
     for (a, b, t) in half {
         match edges.last_mut() {

@@ -20,7 +20,13 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         Mode::Normal if app.rig_edit.on => " RIG ".to_string(),
         _ => format!(" {} ", app.mode.name()),
     };
-    let file = format!(" {}{dirty} ", app.file_label());
+    // A big head's rig is bound on a thread: the rest pose is shown until it lands.
+    let binding = if app.doc.face.is_binding() {
+        "| binding... "
+    } else {
+        ""
+    };
+    let file = format!(" {}{dirty} {binding}", app.file_label());
     let view = format!(
         "| {} {} {} ",
         app.view.style.name(),
