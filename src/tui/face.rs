@@ -439,30 +439,9 @@ fn bind(rig: &Rig, mesh: &Mesh) -> Result<BoundRig, String> {
 
 #[cfg(test)]
 mod tests {
-    use std::collections::HashMap;
-
     use super::*;
     use crate::io::builtin;
-
-    /// The built-in face with each triangle split into four (old vertices keep their
-    /// numbers, so the built-in rig binds): big enough for levels of detail.
-    fn big_face() -> Mesh {
-        let face = builtin::default_mesh();
-        let mut positions = face.positions.clone();
-        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut triangles = Vec::new();
-        for &[a, b, c] in &face.triangles {
-            let mut at = |x: u32, y: u32| {
-                *mid.entry((x.min(y), x.max(y))).or_insert_with(|| {
-                    positions.push(0.5 * (positions[x as usize] + positions[y as usize]));
-                    positions.len() as u32 - 1
-                })
-            };
-            let (ab, bc, ca) = (at(a, b), at(b, c), at(c, a));
-            triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
-        }
-        Mesh::new(positions, triangles).unwrap()
-    }
+    use crate::tui::fixture::big_face;
 
     fn bits(p: &[Vec3]) -> Vec<[u32; 3]> {
         p.iter().map(|v| v.to_array().map(f32::to_bits)).collect()
