@@ -115,7 +115,10 @@ impl Face {
             mesh,
         );
         let mesh = Arc::clone(&face.mesh);
-        std::thread::spawn(move || slot.set(bind(&rig, &mesh)));
+        std::thread::spawn(move || {
+            // Only this thread fills the slot.
+            let _ = slot.set(bind(&rig, &mesh));
+        });
         Ok(face)
     }
 
