@@ -210,6 +210,7 @@ fn head(k: u32, runs: usize) {
         frames(&mesh, &bound, &framing, &lod, &act, runs);
     }
     drop((bound, lod));
+    editor_start(&fitted.rig, &mesh);
     editor(fitted.rig, mesh, runs);
     eprintln!("  peak RSS so far: {:.0} MB", peak_rss_mb());
 }
@@ -331,6 +332,75 @@ fn editor(rig: grimace::model::Rig, mesh: Mesh, runs: usize) {
             grimace::tui::draw(&mut term, &app, &mut cache).expect("draws")
         }),
     );
+}
+
+/// The editor's start on the head written as files (`grimace edit --rig R --mesh OBJ`
+/// in process, up to its first screen at 200x60), as it is now (the rig bound on a thread
+/// while the rest pose is shown) and as it was (loaded, bound, then drawn), in this run.
+fn editor_start(rig: &grimace::model::Rig, mesh: &Mesh) {
+    use grimace::cli::edit::{prepare, EditArgs};
+    use grimace::io::load::load_rig_ref;
+    use grimace::tui::face::Face;
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let (obj_path, rig_path) = (dir.path().join("head.obj"), dir.path().join("head.rig.ron"));
+    std::fs::write(&obj_path, obj::write_obj(mesh, &mesh.positions)).expect("write obj");
+    let on_file = grimace::io::reference::rig_for_file(&rig_path, rig);
+    std::fs::write(&rig_path, grimace::io::rig_to_ron(&on_file)).expect("write rig");
+    let args = EditArgs {
+        // A table that does not exist yet: its lock and recovery files stay in the folder.
+        file: Some(dir.path().join("head.au.ron")),
+        rig: Some(rig_path.clone()),
+        mesh: Some(obj_path.clone()),
+        ..EditArgs::default()
+    };
+    let ms = |start: Instant| start.elapsed().as_secs_f64() * 1e3;
+    for _ in 0..2 {
+        let start = Instant::now();
+        let (mut app, session) = prepare(&args).expect("the editor starts");
+        let loaded = ms(start);
+        let drawn = first_screen(&mut app);
+        let shown = ms(start);
+        app.doc.face.wait_for_bind().expect("binds");
+        eprintln!(
+            "  editor start, now: files read {loaded:.0} ms, first screen {shown:.0} ms \
+             (drawing {drawn:.0} ms), bound {:.0} ms",
+            ms(start)
+        );
+        drop((app, session));
+        let start = Instant::now();
+        let loaded = load_rig_ref(&rig_path, Some(&obj_path)).expect("loads");
+        let read = ms(start);
+        let face = Face::new(loaded.rig, loaded.mesh).expect("binds");
+        let bound = ms(start);
+        let mut app = grimace::tui::app::App::new(face, builtin::default_table(), None);
+        first_screen(&mut app);
+        eprintln!(
+            "  editor start, bound first: files read {read:.0} ms, bound {bound:.0} ms, \
+             first screen {:.0} ms",
+            ms(start)
+        );
+    }
+}
+
+/// Draws the editor's first screen at 200x60 into a counting writer; its milliseconds.
+fn first_screen(app: &mut grimace::tui::app::App) -> f64 {
+    use grimace::tui::action::Action;
+    use ratatui::backend::CrosstermBackend;
+    use ratatui::layout::Rect;
+    use ratatui::{Terminal, TerminalOptions, Viewport};
+    let start = Instant::now();
+    let mut term = Terminal::with_options(
+        CrosstermBackend::new(Counter::default()),
+        TerminalOptions {
+            viewport: Viewport::Fixed(Rect::new(0, 0, COLS as u16, ROWS as u16)),
+        },
+    )
+    .expect("a terminal on a counting writer");
+    app.view.colors = grimace::tui::app::ColorMode::Ansi16;
+    grimace::tui::update::update(app, Action::Resize(COLS as u16, ROWS as u16));
+    let mut cache = Default::default();
+    grimace::tui::draw(&mut term, app, &mut cache).expect("draws");
+    start.elapsed().as_secs_f64() * 1e3
 }
 
 /// Deform and draw at 200x60, full mesh against the level of detail.

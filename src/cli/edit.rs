@@ -29,7 +29,9 @@ version as NAME~; a file changed on disk since it was loaded is overwritten only
 A lock file .NAME.lock warns when the table is already open in another grimace.
 
 A table or rig that fails to load stops grimace before the screen changes, with the message
-FILE:LINE:COLUMN: what is wrong (exit status 1).";
+FILE:LINE:COLUMN: what is wrong (exit status 1). A big mesh (16384 vertices or more) is shown
+at rest while its rig is bound (binding... in the status line); a rig that does not bind to it
+then stops grimace with the reason.";
 
 /// Options of `grimace edit`.
 #[derive(Debug, Clone, Default, Args)]
@@ -103,7 +105,8 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
     }
-    let mut scene = Face::new(rig, mesh)?;
+    // A big head is bound on a thread: the first screen shows its rest pose at once.
+    let mut scene = Face::start(rig, mesh)?;
     if let Some(basis) = args.facing.basis().map_err(|e| e.to_string())? {
         scene.face(basis);
     }

@@ -146,10 +146,18 @@ pub fn load_rig_with(
     builtin: BuiltinMeshes,
 ) -> Result<LoadedRig, LoadError> {
     let text = read_text(path, MAX_FILE_BYTES)?;
-    let (mut rig, notice) = parse_rig_with(&text, path, builtin)?;
-    let (mesh, mesh_path) = match mesh_override {
-        Some(file) => (obj::read_obj(file)?, Some(file.to_path_buf())),
-        None => load_named_mesh(&rig, &text, path, builtin)?,
+    // A mesh given by name is read beside the rig's parse (both take a while on a big
+    // head); the rig's errors come first, as when they were read one after the other.
+    let (parsed, read) = std::thread::scope(|scope| {
+        let read = mesh_override.map(|file| scope.spawn(|| obj::read_obj(file)));
+        let parsed = parse_rig_with(&text, path, builtin);
+        (parsed, read.map(|thread| thread.join()))
+    });
+    let (mut rig, notice) = parsed?;
+    let (mesh, mesh_path) = match (mesh_override, read) {
+        (Some(file), Some(Ok(read))) => (read?, Some(file.to_path_buf())),
+        (_, Some(Err(panic))) => std::panic::resume_unwind(panic),
+        _ => load_named_mesh(&rig, &text, path, builtin)?,
     };
     if let (None, MeshRef::Builtin(name)) = (mesh_override, mesh_ref(path, &rig.mesh)) {
         builtin::hold_eyes_still(&name, &mesh, &mut rig);

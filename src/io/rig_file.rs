@@ -49,8 +49,17 @@ pub fn parse_rig_with(
     path: &Path,
     builtin: BuiltinMeshes,
 ) -> Result<(Rig, Option<String>), LoadError> {
-    ron_text::check_version_in(path, text, OLDEST_RIG_VERSION..=RIG_VERSION, "rig")?;
-    let file: RigFile = ron_text::parse(path, text, "a rig")?;
+    // One pass over the text when it reads (a big head's rig is megabytes): the version is
+    // looked for on its own only when the file fails or is of another version, so a newer
+    // grimace's file is named as such rather than by what this one cannot parse in it.
+    let versions = OLDEST_RIG_VERSION..=RIG_VERSION;
+    let file = match ron_text::parse::<RigFile>(path, text, "a rig") {
+        Ok(file) if versions.contains(&file.version) => file,
+        other => {
+            ron_text::check_version_in(path, text, versions, "rig")?;
+            other?
+        }
+    };
     let mut rig = file.into_rig();
     let notice = (rig.version == 1).then(|| {
         let what = upgrade_v1(&mut rig, builtin);

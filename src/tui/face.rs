@@ -3,6 +3,11 @@
 //! All deformation is done by the core library ([`crate::model::BoundRig`]); this module only
 //! keeps the results.
 //!
+//! The editor starts a big mesh with [`Face::start`]: the rest pose needs no bind (zero
+//! activations give it exactly), so the first screen shows it at once while the rig is bound on
+//! a thread; activations changed meanwhile are kept and applied when the bind lands
+//! ([`Face::poll_bind`]), so no face is shown that the bound model would not give.
+//!
 //! A big mesh has levels of detail ([`Lod`]), made on a thread of their own so the first
 //! screen does not wait for them (until they are there the full mesh is drawn): the viewport
 //! draws one of them, so only its vertices are deformed for a frame ([`Face::sample`]);
@@ -26,7 +31,8 @@ use crate::render::{Framing, Level, Lod};
 /// activations.
 #[derive(Debug, Clone)]
 pub struct Face {
-    bound: BoundRig,
+    /// The bound rig, or the rig while it is bound on a thread.
+    binding: Binding,
     /// Shared with the thread that makes the levels of detail (no copy of a big mesh).
     mesh: Arc<Mesh>,
     /// The whole mesh's deformed positions: always there without levels of detail, else
@@ -49,6 +55,18 @@ pub struct Face {
     /// Millimetres per mesh unit when the mesh's scale is known (the built-in face), found
     /// once: the displacement legend reads it every frame.
     mm_per_unit: Option<f32>,
+}
+
+/// The rig bound to the mesh, or being bound.
+#[derive(Debug, Clone)]
+enum Binding {
+    Bound(Box<BoundRig>),
+    /// Bound on a thread that fills `slot` (with the bind's error as a message); `rig` is
+    /// what the editor shows meanwhile.
+    Pending {
+        rig: Arc<Rig>,
+        slot: Arc<OnceLock<Result<BoundRig, String>>>,
+    },
 }
 
 /// The sampled pose of the level drawn last, and what changed since.
@@ -76,19 +94,51 @@ impl KeptPose {
 impl Face {
     /// Binds a rig to its mesh. Fails with a message when the rig does not fit the mesh.
     pub fn new(rig: Rig, mesh: Mesh) -> Result<Face, String> {
-        let bound = Deformation::default()
-            .bind(&rig, &mesh)
-            .map_err(|e| format!("the rig does not fit its mesh: {e}"))?;
+        let bound = bind(&rig, &mesh)?;
+        Ok(Face::with(Binding::Bound(Box::new(bound)), mesh))
+    }
+
+    /// Like [`Face::new`], but a big mesh (one with levels of detail) is bound on a thread:
+    /// until [`Face::poll_bind`] takes the bound rig the face shows its rest pose, and a
+    /// bind that fails is reported there.
+    pub fn start(rig: Rig, mesh: Mesh) -> Result<Face, String> {
+        if mesh.positions.len() < LOD_MIN_VERTICES {
+            return Face::new(rig, mesh);
+        }
+        let rig = Arc::new(rig);
+        let slot = Arc::new(OnceLock::new());
+        let face = Face::with(
+            Binding::Pending {
+                rig: Arc::clone(&rig),
+                slot: Arc::clone(&slot),
+            },
+            mesh,
+        );
+        let mesh = Arc::clone(&face.mesh);
+        std::thread::spawn(move || {
+            // Only this thread fills the slot.
+            let _ = slot.set(bind(&rig, &mesh));
+        });
+        Ok(face)
+    }
+
+    /// The face around a binding: its framing, and its levels of detail started on a thread.
+    fn with(binding: Binding, mesh: Mesh) -> Face {
+        let rig = match &binding {
+            Binding::Bound(bound) => bound.rig(),
+            Binding::Pending { rig, .. } => rig,
+        };
         // Once, from the rig as loaded: rig-mode edits do not move the view.
-        let framing = Framing::of_rig(&rig, &mesh);
+        let framing = Framing::of_rig(rig, &mesh);
         let big = mesh.positions.len() >= LOD_MIN_VERTICES;
         let positions = OnceCell::from(mesh.positions.clone());
+        let activations = Activations::zero(rig);
         let mesh = Arc::new(mesh);
         let lod = Arc::new(OnceLock::new());
         if big {
             // The thread gets the labels, the framed points and the shared mesh: no copy of
             // the rig or the mesh.
-            let parts = Lod::rig_parts(&rig, mesh.positions.len());
+            let parts = Lod::rig_parts(rig, mesh.positions.len());
             let frame = framing.focus.clone();
             let (cell, mesh) = (Arc::clone(&lod), Arc::clone(&mesh));
             std::thread::spawn(move || {
@@ -99,19 +149,84 @@ impl Face {
             let _ = lod.set(Lod::default());
         }
         let mm_per_unit = crate::io::builtin::mm_per_unit(&mesh);
-        Ok(Face {
+        Face {
             samplers: OnceCell::new(),
             kept: RefCell::default(),
             big,
-            activations: Activations::zero(&rig),
-            bound,
+            activations,
+            binding,
             mesh,
             positions,
             lod,
             generation: 0,
             framing,
             mm_per_unit,
-        })
+        }
+    }
+
+    /// Whether the rig is still being bound (the face shows its rest pose meanwhile).
+    pub fn is_binding(&self) -> bool {
+        matches!(self.binding, Binding::Pending { .. })
+    }
+
+    /// Takes the rig bound on a thread once it is there: `None` while it is not (or when
+    /// there was nothing to wait for), else whether it bound. From then on the face shows
+    /// the activations given meanwhile.
+    pub fn poll_bind(&mut self) -> Option<Result<(), String>> {
+        let Binding::Pending { slot, .. } = &mut self.binding else {
+            return None;
+        };
+        slot.get()?;
+        let slot = std::mem::replace(slot, Arc::new(OnceLock::new()));
+        // The thread's reference goes with it: the slot is ours alone unless the face was
+        // cloned meanwhile, which then copies the bound rig.
+        let result = Arc::try_unwrap(slot)
+            .map(|cell| cell.into_inner().expect("the slot is filled"))
+            .unwrap_or_else(|shared| shared.get().expect("the slot is filled").clone());
+        let bound = match result {
+            Ok(bound) => bound,
+            Err(message) => {
+                if let Binding::Pending { slot, .. } = &mut self.binding {
+                    *slot = Arc::new(OnceLock::from(Err(message.clone())));
+                }
+                return Some(Err(message));
+            }
+        };
+        self.binding = Binding::Bound(Box::new(bound));
+        self.samplers = OnceCell::new();
+        self.kept = RefCell::default();
+        self.positions = OnceCell::new();
+        self.generation += 1;
+        Some(Ok(()))
+    }
+
+    /// Waits for a rig bound on a thread and takes it (for rig edits, tests and
+    /// benchmarks); at once when it is bound already.
+    pub fn wait_for_bind(&mut self) -> Result<(), String> {
+        while self.is_binding() {
+            if let Some(result) = self.poll_bind() {
+                return result;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        Ok(())
+    }
+
+    /// The bound rig, once bound.
+    fn bound(&self) -> Option<&BoundRig> {
+        match &self.binding {
+            Binding::Bound(bound) => Some(bound),
+            Binding::Pending { .. } => None,
+        }
+    }
+
+    /// The bound rig, waiting for a bind still running.
+    fn bound_mut(&mut self) -> Result<&mut BoundRig, String> {
+        self.wait_for_bind()?;
+        match &mut self.binding {
+            Binding::Bound(bound) => Ok(bound),
+            Binding::Pending { .. } => Err("the rig is not bound".to_string()),
+        }
     }
 
     /// The levels of detail the viewport draws from (none for a small mesh).
@@ -132,10 +247,11 @@ impl Face {
     /// whole deformation's where it is there, else only those vertices deformed (only those
     /// the muscles changed since the last frame reach, when it drew the same level).
     pub fn sample(&self, level: &Level, out: &mut Vec<Vec3>) {
-        if let Some(full) = self.positions.get() {
-            level.gather(full, out);
+        let (Some(bound), None) = (self.bound(), self.positions.get()) else {
+            // The whole deformation is there (or, while binding, the rest pose).
+            level.gather(self.positions.get().unwrap_or(&self.mesh.positions), out);
             return;
-        }
+        };
         let levels = self.lod().levels();
         let index = levels.iter().position(|l| std::ptr::eq(l, level));
         let samplers = self
@@ -143,7 +259,7 @@ impl Face {
             .get_or_init(|| vec![OnceCell::new(); levels.len()]);
         let sampler = index.and_then(|i| {
             let cell = samplers.get(i)?;
-            Some(cell.get_or_init(|| self.bound.sampler(&level.source).unwrap_or_default()))
+            Some(cell.get_or_init(|| bound.sampler(&level.source).unwrap_or_default()))
         });
         let deformed = match (index, sampler) {
             (Some(i), Some(sampler)) if sampler.len() == level.source.len() => {
@@ -151,13 +267,9 @@ impl Face {
                 let changed = kept.changed.take().filter(|_| kept.level == Some(i));
                 let done = match changed {
                     Some(list) => {
-                        self.bound
-                            .update_sampled(&self.activations, &list, sampler, &mut kept.pose)
+                        bound.update_sampled(&self.activations, &list, sampler, &mut kept.pose)
                     }
-                    None => {
-                        self.bound
-                            .deform_sampled_pose(&self.activations, sampler, &mut kept.pose)
-                    }
+                    None => bound.deform_sampled_pose(&self.activations, sampler, &mut kept.pose),
                 }
                 .is_ok();
                 kept.level = done.then_some(i);
@@ -166,8 +278,7 @@ impl Face {
                 out.extend_from_slice(kept.pose.positions());
                 done
             }
-            _ => self
-                .bound
+            _ => bound
                 .deform_at(&self.activations, &level.source, out)
                 .is_ok(),
         };
@@ -178,7 +289,10 @@ impl Face {
 
     /// The rig.
     pub fn rig(&self) -> &Rig {
-        self.bound.rig()
+        match &self.binding {
+            Binding::Bound(bound) => bound.rig(),
+            Binding::Pending { rig, .. } => rig,
+        }
     }
 
     /// How the face is shown: its axes and the region views fit.
@@ -206,7 +320,8 @@ impl Face {
     pub fn positions(&self) -> &[Vec3] {
         self.positions.get_or_init(|| {
             let mut out = Vec::new();
-            if self.bound.deform(&self.activations, &mut out).is_err() {
+            let deformed = self.bound().map(|b| b.deform(&self.activations, &mut out));
+            if !matches!(deformed, Some(Ok(()))) {
                 out.clone_from(&self.mesh.positions);
             }
             out
@@ -221,14 +336,18 @@ impl Face {
     /// Recomputes every deformed position. Activations the model refuses (the editor keeps
     /// them in range, so this does not happen) leave the face as it was.
     pub fn deform(&mut self, activations: &Activations) {
-        self.generation += 1;
         self.activations.clone_from(activations);
+        let Binding::Bound(bound) = &self.binding else {
+            // Kept for when the bind lands; the rest pose stays on screen.
+            return;
+        };
+        self.generation += 1;
         if self.big {
             // Deformed when asked for: a frame deforms only the level it draws.
             self.positions = OnceCell::new();
             self.kept.get_mut().changed = None;
         } else if let Some(positions) = self.positions.get_mut() {
-            let _ = self.bound.deform(activations, positions);
+            let _ = bound.deform(activations, positions);
         }
     }
 
@@ -240,11 +359,13 @@ impl Face {
     /// Replaces the rig (rig mode's edits), keeping the old one when the new one does not
     /// bind to the mesh. The positions are those of the rest pose until the next deform.
     pub fn set_rig(&mut self, rig: Rig) -> Result<(), String> {
-        self.bound = Deformation::default()
+        let bound = Deformation::default()
             .bind(&rig, &self.mesh)
             .map_err(|e| e.to_string())?;
+        // A bind still running on a thread is of the old rig: its result is let go.
+        self.binding = Binding::Bound(Box::new(bound));
         self.positions = OnceCell::from(self.mesh.positions.clone());
-        self.activations = Activations::zero(self.bound.rig());
+        self.activations = Activations::zero(&rig);
         self.samplers = OnceCell::new();
         self.kept = RefCell::default();
         self.generation += 1;
@@ -255,7 +376,7 @@ impl Face {
     /// only their fields again; when the model refuses, the rig stays as it was and the
     /// reason is returned. The positions are those of the old rig until the next deform.
     pub fn rebind_muscles(&mut self, changes: Vec<(usize, MuscleKind)>) -> Result<(), String> {
-        self.bound
+        self.bound_mut()?
             .rebind_muscles(changes)
             .map_err(|e| e.to_string())?;
         self.samplers = OnceCell::new();
@@ -272,7 +393,7 @@ impl Face {
         axis: Vec3,
         degrees_per_unit: f32,
     ) -> Result<(), String> {
-        self.bound
+        self.bound_mut()?
             .rebind_jaw(pivot, axis, degrees_per_unit)
             .map_err(|e| e.to_string())?;
         self.samplers = OnceCell::new();
@@ -287,18 +408,20 @@ impl Face {
     /// and the whole mesh is deformed again when asked for (keeping it in step would cost
     /// milliseconds a key on a big head).
     pub fn update_muscle(&mut self, activations: &Activations, muscle: Option<usize>) {
+        let Binding::Bound(bound) = &self.binding else {
+            self.activations.clone_from(activations);
+            return;
+        };
         if self.big {
             self.generation += 1;
             self.activations.clone_from(activations);
             self.positions = OnceCell::new();
-            let which = muscle.unwrap_or(self.bound.muscle_count());
+            let which = muscle.unwrap_or(bound.muscle_count());
             self.kept.get_mut().change(which);
             return;
         }
         let updated = match (muscle, self.positions.get_mut()) {
-            (Some(i), Some(positions)) => {
-                self.bound.update_muscle(activations, i, positions).is_ok()
-            }
+            (Some(i), Some(positions)) => bound.update_muscle(activations, i, positions).is_ok(),
             _ => false,
         };
         if updated {
@@ -310,32 +433,18 @@ impl Face {
     }
 }
 
+/// The editor's deformation of `rig` on `mesh`, its error as the editor says it.
+fn bind(rig: &Rig, mesh: &Mesh) -> Result<BoundRig, String> {
+    Deformation::default()
+        .bind(rig, mesh)
+        .map_err(|e| format!("the rig does not fit its mesh: {e}"))
+}
+
 #[cfg(test)]
 mod tests {
-    use std::collections::HashMap;
-
     use super::*;
     use crate::io::builtin;
-
-    /// The built-in face with each triangle split into four (old vertices keep their
-    /// numbers, so the built-in rig binds): big enough for levels of detail.
-    fn big_face() -> Mesh {
-        let face = builtin::default_mesh();
-        let mut positions = face.positions.clone();
-        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut triangles = Vec::new();
-        for &[a, b, c] in &face.triangles {
-            let mut at = |x: u32, y: u32| {
-                *mid.entry((x.min(y), x.max(y))).or_insert_with(|| {
-                    positions.push(0.5 * (positions[x as usize] + positions[y as usize]));
-                    positions.len() as u32 - 1
-                })
-            };
-            let (ab, bc, ca) = (at(a, b), at(b, c), at(c, a));
-            triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
-        }
-        Mesh::new(positions, triangles).unwrap()
-    }
+    use crate::tui::fixture::big_face;
 
     fn bits(p: &[Vec3]) -> Vec<[u32; 3]> {
         p.iter().map(|v| v.to_array().map(f32::to_bits)).collect()
@@ -379,6 +488,71 @@ mod tests {
                 assert_eq!(bits(scene.positions()), bits(&whole), "step {step}");
             }
         }
+    }
+
+    #[test]
+    fn a_started_big_face_shows_its_rest_pose_until_the_bind_lands_then_what_was_given_meanwhile() {
+        let rig = builtin::default_rig();
+        let mut scene = Face::start(rig.clone(), big_face()).unwrap();
+        // The slot is taken only by a poll: until then the face is binding, whatever the
+        // thread has done.
+        assert!(scene.is_binding());
+        let rest = bits(&scene.mesh().positions);
+        let mut act = builtin::default_table()
+            .expression_activations("happiness", &rig)
+            .unwrap();
+        scene.deform(&act);
+        act.muscles[2] = 0.7;
+        scene.update_muscle(&act, Some(2));
+        act.jaw = 1.5;
+        scene.update_muscle(&act, None);
+        assert_eq!(bits(scene.positions()), rest);
+        assert_eq!(scene.generation(), 0, "nothing new to draw while binding");
+        let level = scene.wait_for_lod().levels()[0].clone();
+        let mut sampled = Vec::new();
+        scene.sample(&level, &mut sampled);
+        let mut gathered = Vec::new();
+        level.gather(&scene.mesh().positions, &mut gathered);
+        assert_eq!(bits(&sampled), bits(&gathered), "the level at rest too");
+        scene.wait_for_bind().unwrap();
+        assert!(!scene.is_binding());
+        assert!(scene.poll_bind().is_none(), "nothing left to take");
+        assert_eq!(scene.generation(), 1);
+        let mut whole = Vec::new();
+        let bound = Deformation::default().bind(&rig, scene.mesh()).unwrap();
+        bound.deform(&act, &mut whole).unwrap();
+        scene.sample(&level, &mut sampled);
+        level.gather(&whole, &mut gathered);
+        assert_eq!(bits(&sampled), bits(&gathered));
+        assert_eq!(bits(scene.positions()), bits(&whole));
+        assert_ne!(bits(&whole), rest);
+    }
+
+    #[test]
+    fn a_started_big_face_whose_rig_does_not_bind_says_why_when_polled() {
+        let mut rig = builtin::default_rig();
+        // A cone wider than a half turn: the load checks pass it, the bind does not.
+        let (name, linear) = rig
+            .muscles
+            .iter_mut()
+            .find_map(|m| match &mut m.kind {
+                MuscleKind::Linear(linear) => Some((m.name.clone(), linear)),
+                _ => None,
+            })
+            .expect("a linear muscle");
+        linear.zone = 120.0;
+        let mut scene = Face::start(rig, big_face()).unwrap();
+        let error = scene.wait_for_bind().unwrap_err();
+        assert!(
+            error.starts_with("the rig does not fit its mesh"),
+            "{error}"
+        );
+        assert!(error.contains(&name), "{error}");
+        assert!(scene.is_binding(), "the rest pose stays");
+        assert_eq!(scene.poll_bind(), Some(Err(error)), "told again");
+        // A small face binds at once, its errors before anything is shown.
+        assert!(Face::start(builtin::default_rig(), builtin::default_mesh())
+            .is_ok_and(|face| !face.is_binding()));
     }
 
     #[test]

@@ -106,3 +106,23 @@ pub(crate) fn app() -> App {
     app.doc.file_stamp = Some(FileStamp { len: 1, hash: 1 });
     app
 }
+
+/// The built-in face with each triangle split into four (old vertices keep their
+/// numbers, so the built-in rig binds): big enough for levels of detail.
+pub(crate) fn big_face() -> Mesh {
+    let face = crate::io::builtin::default_mesh();
+    let mut positions = face.positions.clone();
+    let mut mid: std::collections::HashMap<(u32, u32), u32> = Default::default();
+    let mut triangles = Vec::new();
+    for &[a, b, c] in &face.triangles {
+        let mut at = |x: u32, y: u32| {
+            *mid.entry((x.min(y), x.max(y))).or_insert_with(|| {
+                positions.push(0.5 * (positions[x as usize] + positions[y as usize]));
+                positions.len() as u32 - 1
+            })
+        };
+        let (ab, bc, ca) = (at(a, b), at(b, c), at(c, a));
+        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    Mesh::new(positions, triangles).unwrap()
+}

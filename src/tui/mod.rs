@@ -81,18 +81,29 @@ impl program::Program for Editor {
     }
 
     fn tick(&mut self, now: Instant) -> anyhow::Result<bool> {
+        // A big head's rig bound on a thread: its face replaces the rest pose; a rig that
+        // does not bind stops the editor with the reason, as it would have before the start.
+        let bound = match self.app.doc.face.poll_bind() {
+            Some(result) => result.map_err(anyhow::Error::msg).map(|()| true)?,
+            None => false,
+        };
         if self.state.recovery_due.is_none_or(|due| now < due) {
-            return Ok(false);
+            return Ok(bound);
         }
         let before = self.app.message.clone();
         write_recovery(&mut self.app, &self.session);
         self.state.recovery_due = None;
         // Redraw only if writing had something to say (an idle editor sends nothing).
-        Ok(self.app.message != before)
+        Ok(bound || self.app.message != before)
     }
 
     fn wait(&self, now: Instant) -> Duration {
-        let idle = Duration::from_millis(200);
+        // While the rig binds, look for it often: its face is shown as soon as it lands.
+        let idle = Duration::from_millis(if self.app.doc.face.is_binding() {
+            20
+        } else {
+            200
+        });
         self.state
             .recovery_due
             .map_or(idle, |due| due.saturating_duration_since(now).min(idle))

@@ -223,35 +223,55 @@ pub(super) fn iso_crossing(p: [Vec3; 3], f: [f32; 3], level: f32) -> Option<(Vec
 }
 
 /// The sorted unique edges of `triangles` with the triangles on each side.
+///
+/// The half edges are bucketed by their smaller vertex (a counting sort: linear in the
+/// mesh, where sorting all of them was most of a big mesh's first frame), then each
+/// vertex's few are sorted by the other vertex and the triangle: the order of a sort by
+/// (smaller vertex, larger vertex, triangle).
 pub(super) fn build_edges(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<Edge> {
-    let mut half: Vec<(u32, u32, u32)> = Vec::with_capacity(triangles.len() * 3);
-    for (t, tri) in triangles.iter().enumerate() {
-        if tri.iter().any(|&i| i as usize >= vertex_count) {
-            continue;
-        }
-        for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-            let (a, b) = (tri[i].min(tri[j]), tri[i].max(tri[j]));
-            if a != b {
-                half.push((a, b, t as u32));
-            }
+    let halves = |tri: [u32; 3]| {
+        let valid = tri.iter().all(|&i| (i as usize) < vertex_count);
+        [(0, 1), (1, 2), (2, 0)]
+            .into_iter()
+            .map(move |(i, j)| (tri[i].min(tri[j]), tri[i].max(tri[j])))
+            .filter(move |&(a, b)| valid && a != b)
+    };
+    let mut start = vec![0u32; vertex_count + 1];
+    for &tri in triangles {
+        for (a, _) in halves(tri) {
+            start[a as usize + 1] += 1;
         }
     }
-    half.sort_unstable();
+    for v in 0..vertex_count {
+        start[v + 1] += start[v];
+    }
+    let mut next = start.clone();
+    let mut half = vec![(0u32, 0u32); start[vertex_count] as usize];
+    for (t, &tri) in triangles.iter().enumerate() {
+        for (a, b) in halves(tri) {
+            half[next[a as usize] as usize] = (b, t as u32);
+            next[a as usize] += 1;
+        }
+    }
     let mut edges: Vec<Edge> = Vec::with_capacity(half.len() / 2 + 1);
-    for (a, b, t) in half {
-        match edges.last_mut() {
-            Some(e) if e.a == a && e.b == b => {
-                // A third triangle on one edge (non-manifold) is ignored.
-                if e.t1 == NONE {
-                    e.t1 = t;
+    for a in 0..vertex_count {
+        let bucket = &mut half[start[a] as usize..start[a + 1] as usize];
+        bucket.sort_unstable();
+        for &(b, t) in bucket.iter() {
+            match edges.last_mut() {
+                Some(e) if e.a == a as u32 && e.b == b => {
+                    // A third triangle on one edge (non-manifold) is ignored.
+                    if e.t1 == NONE {
+                        e.t1 = t;
+                    }
                 }
+                _ => edges.push(Edge {
+                    a: a as u32,
+                    b,
+                    t0: t,
+                    t1: NONE,
+                }),
             }
-            _ => edges.push(Edge {
-                a,
-                b,
-                t0: t,
-                t1: NONE,
-            }),
         }
     }
     edges

@@ -412,3 +412,47 @@ fn a_kept_renderer_refits_when_camera_canvas_or_rest_pose_change() {
         assert!(lit > 500, "frame {n}: {lit} dots lit");
     }
 }
+
+/// The edges as sorting every half edge gives them (the reference of `build_edges`).
+fn edges_by_sorting(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<(u32, u32, u32, u32)> {
+    let mut half = Vec::new();
+    for (t, tri) in triangles.iter().enumerate() {
+        if tri.iter().any(|&i| i as usize >= vertex_count) {
+            continue;
+        }
+        for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+            let (a, b) = (tri[i].min(tri[j]), tri[i].max(tri[j]));
+            if a != b {
+                half.push((a, b, t as u32));
+            }
+        }
+    }
+    half.sort_unstable();
+    let mut edges: Vec<(u32, u32, u32, u32)> = Vec::new();
+    for (a, b, t) in half {
+        match edges.last_mut() {
+            Some(e) if (e.0, e.1) == (a, b) => {
+                if e.3 == super::NONE {
+                    e.3 = t;
+                }
+            }
+            _ => edges.push((a, b, t, super::NONE)),
+        }
+    }
+    edges
+}
+
+proptest! {
+    /// Bucketed by vertex, the edges come out as sorting them all gives, with degenerate
+    /// triangles, out-of-range indices and edges of three triangles among them.
+    #[test]
+    fn edges_bucketed_by_vertex_are_the_sorted_edges(
+        triangles in prop::collection::vec(prop::array::uniform3(0u32..14), 0..60),
+    ) {
+        let got: Vec<_> = super::features::build_edges(&triangles, 12)
+            .iter()
+            .map(|e| (e.a, e.b, e.t0, e.t1))
+            .collect();
+        prop_assert_eq!(got, edges_by_sorting(&triangles, 12));
+    }
+}

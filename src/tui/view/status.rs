@@ -20,7 +20,13 @@ pub fn draw(app: &App, theme: &Theme, area: Rect, buf: &mut Buffer) {
         Mode::Normal if app.rig_edit.on => " RIG ".to_string(),
         _ => format!(" {} ", app.mode.name()),
     };
-    let file = format!(" {}{dirty} ", app.file_label());
+    // A big head's rig is bound on a thread: the rest pose is shown until it lands.
+    let binding = if app.doc.face.is_binding() {
+        "| binding... "
+    } else {
+        ""
+    };
+    let file = format!(" {}{dirty} {binding}", app.file_label());
     let view = format!(
         "| {} {} {} ",
         app.view.style.name(),
@@ -62,5 +68,39 @@ fn colors_label(colors: crate::render::ColorMode) -> String {
         crate::render::ColorMode::None => "no colour".into(),
         crate::render::ColorMode::TrueColor => "truecolor".into(),
         other => format!("{} colours", other.name()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use ratatui::buffer::Buffer;
+    use ratatui::layout::Rect;
+
+    use super::*;
+    use crate::io::builtin;
+    use crate::tui::face::Face;
+
+    fn status_text(app: &App) -> String {
+        let area = Rect::new(0, 0, 160, 1);
+        let mut buf = Buffer::empty(area);
+        draw(app, &Theme::new(app.view.colors), area, &mut buf);
+        buf.content().iter().map(|cell| cell.symbol()).collect()
+    }
+
+    #[test]
+    fn the_status_line_says_binding_until_the_bound_rig_is_taken() {
+        let face = Face::start(builtin::default_rig(), crate::tui::fixture::big_face()).unwrap();
+        let mut app = App::new(face, builtin::default_table(), None);
+        assert!(
+            status_text(&app).contains("| binding... "),
+            "{}",
+            status_text(&app)
+        );
+        app.doc.face.wait_for_bind().unwrap();
+        assert!(
+            !status_text(&app).contains("binding"),
+            "{}",
+            status_text(&app)
+        );
     }
 }
