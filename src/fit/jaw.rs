@@ -40,16 +40,15 @@ pub fn carried_slide(jaw: &Jaw, j: glam::DMat3, axis: Vec3) -> Vec3 {
     Vec3::select(axis.as_vec3().abs().cmpeq(Vec3::ONE), Vec3::ZERO, planar)
 }
 
-/// The jaw weights of `mesh`, sorted by vertex, zeros left out.
+/// The jaw weights of `mesh`, sorted by vertex, zeros left out; the template's mouth and
+/// lips, then the mesh's, say which lip each vertex is on.
 pub fn weights(
     template: Template<'_>,
     jaw: &Jaw,
     warp: &Warp,
     mesh: &Mesh,
     parts: &Parts,
-    mouth_from: Option<&Opening>,
-    mouth_to: Option<&Opening>,
-    [lips_from, lips]: [Option<&LipSides>; 2],
+    [(mouth_from, lips_from), (mouth_to, lips)]: [(Option<&Opening>, Option<&LipSides>); 2],
 ) -> Vec<(u32, f32)> {
     let mut dense = vec![0.0f32; template.mesh.vertex_count()];
     for &(v, w) in &jaw.weights {

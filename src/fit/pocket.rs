@@ -13,6 +13,8 @@
 //! vertex the weight of the lip vertex it sits behind) and meet halfway between the lips'
 //! weights at the back row, so the lower sheet turns with the jaw and the upper stays.
 
+use std::f32::consts::PI;
+
 use glam::Vec3;
 
 use crate::landmarks::FaceFrame;
@@ -66,54 +68,57 @@ impl Pocket {
         let first = mesh.vertex_count() as u32;
         let mut positions: Vec<Vec3> = Vec::new();
         let mut sources: Vec<(u32, u32, f32)> = Vec::new();
-        // the corners: one vertex each, shared by every row of both sheets
-        let corner = |k: usize, positions: &mut Vec<Vec3>, sources: &mut Vec<(u32, u32, f32)>| {
-            positions.push(at(upper[k]) - fwd * INSET * width);
-            sources.push((upper[k], lower[k], 0.5));
+        let mut add = |p: Vec3, source: (u32, u32, f32)| {
+            positions.push(p);
+            sources.push(source);
             first + positions.len() as u32 - 1
         };
-        let corners = [
-            corner(0, &mut positions, &mut sources),
-            corner(m - 1, &mut positions, &mut sources),
-        ];
         let back_of = |i: usize| {
             let mid = 0.5 * (at(upper[i]) + at(lower[i]));
-            let t = arc_share(i, m);
-            mid - fwd * (INSET + DEPTH * t) * width
+            mid - fwd * (INSET + DEPTH * arc_share(i, m)) * width
         };
-        // grid[sheet][row][column]: the vertex there
-        let mut grid = vec![vec![vec![0u32; m]; ROWS + 1]; 2];
-        for (sheet, (edge, sign)) in [(upper, 1.0f32), (lower, -1.0)].into_iter().enumerate() {
-            for row in 0..=ROWS {
-                for i in 0..m {
-                    if i == 0 || i == m - 1 {
-                        grid[sheet][row][i] = corners[usize::from(i != 0)];
-                        continue;
+        // the corners: one vertex each, shared by every row of both sheets
+        let corners = [0, m - 1].map(|k| add(back_of(k), (upper[k], lower[k], 0.5)));
+        let row_of = |add: &mut dyn FnMut(Vec3, (u32, u32, f32)) -> u32,
+                      place: &dyn Fn(usize) -> (Vec3, f32)| {
+            (0..m)
+                .map(|i| match i {
+                    0 => corners[0],
+                    i if i == m - 1 => corners[1],
+                    i => {
+                        let (p, share) = place(i);
+                        add(p, (upper[i], lower[i], share))
                     }
-                    if row == ROWS && sheet == 1 {
-                        grid[1][row][i] = grid[0][row][i];
-                        continue;
-                    }
+                })
+                .collect::<Vec<u32>>()
+        };
+        let back = row_of(&mut add, &|i| (back_of(i), 0.5));
+        // rows[sheet][row][column]: the vertex there; both sheets end on the back row
+        let mut rows: Vec<Vec<Vec<u32>>> = Vec::new();
+        for (edge, sign, rim_share) in [(upper, 1.0f32, 0.0f32), (lower, -1.0, 1.0)] {
+            let mut sheet: Vec<Vec<u32>> = (0..ROWS)
+                .map(|row| {
                     let s = row as f32 / ROWS as f32;
-                    let rim = at(edge[i]) - fwd * INSET * width;
-                    let bulge =
-                        sign * BULGE * width * arc_share(i, m) * (std::f32::consts::PI * s).sin();
-                    positions.push(rim.lerp(back_of(i), s) + up * bulge);
-                    let share = if sheet == 0 { 0.5 * s } else { 1.0 - 0.5 * s };
-                    sources.push((upper[i], lower[i], share));
-                    grid[sheet][row][i] = first + positions.len() as u32 - 1;
-                }
-            }
+                    let place = |i: usize| {
+                        let rim = at(edge[i]) - fwd * INSET * width;
+                        let lift = sign * BULGE * width * arc_share(i, m) * (PI * s).sin();
+                        let share = rim_share + (0.5 - rim_share) * s;
+                        (rim.lerp(back_of(i), s) + up * lift, share)
+                    };
+                    row_of(&mut add, &place)
+                })
+                .collect();
+            sheet.push(back.clone());
+            rows.push(sheet);
         }
         let centre = (0..m).map(&back_of).sum::<Vec3>() / m as f32;
         let front = centre + fwd * 2.0 * DEPTH * width;
         let before = mesh.triangles.len();
         mesh.positions.extend(positions);
-        for sheet in &grid {
-            for row in 0..ROWS {
+        for sheet in &rows {
+            for (near, far) in sheet.iter().zip(&sheet[1..]) {
                 for i in 0..m - 1 {
-                    let [a, b] = [sheet[row][i], sheet[row][i + 1]];
-                    let [c, d] = [sheet[row + 1][i + 1], sheet[row + 1][i]];
+                    let [a, b, c, d] = [near[i], near[i + 1], far[i + 1], far[i]];
                     for tri in [[a, b, c], [a, c, d]] {
                         if tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2] {
                             mesh.triangles.push(facing(&mesh.positions, tri, front));

@@ -503,9 +503,10 @@ fn carry_jaw(
         warp,
         mesh,
         parts,
-        openings_from.first(),
-        openings_to.first(),
-        lips,
+        [
+            (openings_from.first(), lips[0]),
+            (openings_to.first(), lips[1]),
+        ],
     );
     Jaw {
         pivot: warp.apply_f32(jaw.pivot),
