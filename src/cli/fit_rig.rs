@@ -10,7 +10,8 @@
 //!
 //! When the lips are joined (one surface across the mouth, [`fit::lipcut`]), the skin is cut
 //! along the inner lip line unless `--keep-lips` is given: the opened mesh is written beside
-//! the rig as `NAME.opened.obj` (the given mesh is never changed) with its landmarks as
+//! the rig as `NAME.opened.obj` (the given mesh is never changed, a dark mouth pocket is
+//! appended behind the lips, [`fit::pocket`]) with its landmarks as
 //! `NAME.opened.landmarks.ron`, and the rig is fitted to it and names it.
 
 use std::fmt::Write as _;

@@ -116,16 +116,7 @@ impl Pocket {
         let before = mesh.triangles.len();
         mesh.positions.extend(positions);
         for sheet in &rows {
-            for (near, far) in sheet.iter().zip(&sheet[1..]) {
-                for i in 0..m - 1 {
-                    let [a, b, c, d] = [near[i], near[i + 1], far[i + 1], far[i]];
-                    for tri in [[a, b, c], [a, c, d]] {
-                        if tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2] {
-                            mesh.triangles.push(facing(&mesh.positions, tri, front));
-                        }
-                    }
-                }
-            }
+            stitch(mesh, sheet, front);
         }
         let members: Vec<u32> = (first..mesh.vertex_count() as u32).collect();
         mesh.groups.insert(GROUP.to_string(), members);
@@ -147,6 +138,21 @@ impl Pocket {
                 (self.first + k as u32, w)
             })
             .collect()
+    }
+}
+
+/// Joins each row of a sheet to the next by two triangles per column, facing `front`; the
+/// triangles at the shared corner vertices (two of whose corners are one vertex) are left out.
+fn stitch(mesh: &mut Mesh, sheet: &[Vec<u32>], front: Vec3) {
+    for (near, far) in sheet.iter().zip(&sheet[1..]) {
+        for (i, pair) in near.windows(2).enumerate() {
+            let [a, b, c, d] = [pair[0], pair[1], far[i + 1], far[i]];
+            for tri in [[a, b, c], [a, c, d]] {
+                if tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2] {
+                    mesh.triangles.push(facing(&mesh.positions, tri, front));
+                }
+            }
+        }
     }
 }
 
