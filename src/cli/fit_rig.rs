@@ -10,7 +10,8 @@
 //!
 //! When the lips are joined (one surface across the mouth, [`fit::lipcut`]), the skin is cut
 //! along the inner lip line unless `--keep-lips` is given: the opened mesh is written beside
-//! the rig as `NAME.opened.obj` (the given mesh is never changed) with its landmarks as
+//! the rig as `NAME.opened.obj` (the given mesh is never changed, a dark mouth pocket is
+//! appended behind the lips, [`fit::pocket`]) with its landmarks as
 //! `NAME.opened.landmarks.ron`, and the rig is fitted to it and names it.
 
 use std::fmt::Write as _;
@@ -208,7 +209,7 @@ fn lips_summary(args: &FitRigArgs, lips: &Lips, written: Option<&PathBuf>) -> St
         (Lips::Joined(cut), Some(obj_file)) => format!(
             "  lips: joined along the inner lip line ({} vertices{}); cut open there: {} is {} \
              with the {} vertices inside the line copied for the lower lip (vertices {} to {}; \
-             its `# copy` lines name each original), its landmarks in {}; the rig names it. \
+             its `# copy` lines name each original){}, its landmarks in {}; the rig names it. \
              --keep-lips keeps {}'s own topology (the mouth then opens by stretching the skin \
              between the lips)\n",
             cut.line.len(),
@@ -217,7 +218,8 @@ fn lips_summary(args: &FitRigArgs, lips: &Lips, written: Option<&PathBuf>) -> St
             mesh,
             cut.copies.len(),
             cut.original_count() + 1,
-            cut.mesh.vertex_count(),
+            cut.original_count() + cut.copies.len(),
+            pocket_words(cut),
             beside(obj_file).display(),
             mesh
         ),
@@ -237,6 +239,20 @@ fn lips_summary(args: &FitRigArgs, lips: &Lips, written: Option<&PathBuf>) -> St
         (Lips::NotFound, _) => {
             "  lips: no inner lip line found between landmarks 60-67: nothing cut\n".into()
         }
+    }
+}
+
+fn pocket_words(cut: &LipCut) -> String {
+    match &cut.pocket {
+        Some(p) => format!(
+            " and a mouth pocket of {} triangles behind the lips (vertices {} to {}, group {}: \
+             drawn dark, its lower half turning with the jaw)",
+            p.triangles,
+            p.first + 1,
+            cut.mesh.vertex_count(),
+            fit::pocket::GROUP
+        ),
+        None => String::new(),
     }
 }
 
@@ -302,7 +318,32 @@ fn opened_obj(text: &str, cut: &LipCut, source: &Path) -> String {
             push_copies(&mut out, cut, n);
         }
     }
+    push_pocket(&mut out, cut);
     out
+}
+
+/// The mouth pocket's vertices (after the copies) and triangles (at the end of the file, in
+/// its own object, group and material `mouth_interior`).
+fn push_pocket(out: &mut String, cut: &LipCut) {
+    let Some(pocket) = &cut.pocket else {
+        return;
+    };
+    if !out.ends_with('\n') {
+        out.push('\n');
+    }
+    let first = pocket.first as usize;
+    let _ = writeln!(
+        out,
+        "# the mouth pocket: vertices {} to {}, drawn dark behind the opened lips",
+        first + 1,
+        cut.mesh.vertex_count()
+    );
+    let name = fit::pocket::GROUP;
+    let _ = writeln!(out, "o {name}\ng {name}\nusemtl {name}");
+    let triangles = &cut.mesh.triangles[cut.mesh.triangles.len() - pocket.triangles..];
+    for t in triangles {
+        let _ = writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
 }
 
 fn push_copies(out: &mut String, cut: &LipCut, n: usize) {
@@ -310,6 +351,11 @@ fn push_copies(out: &mut String, cut: &LipCut, n: usize) {
         let p = cut.mesh.positions[n + k];
         let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
         let _ = writeln!(out, "# copy {} of {}", n + k + 1, original + 1);
+    }
+    if let Some(pocket) = &cut.pocket {
+        for p in &cut.mesh.positions[pocket.first as usize..] {
+            let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
+        }
     }
 }
 
@@ -550,6 +596,7 @@ mod tests {
             line: vec![0, 2, 1],
             band: 0,
             landmarks: vec![],
+            pocket: None,
         };
         let written = opened_obj(text, &cut, Path::new("q.obj"));
         assert!(

@@ -3,13 +3,16 @@
 //!
 //! Each skin vertex takes the weight of the nearest template vertex after the warp, fading to
 //! 0 where no template vertex is near (a neck or body beyond the template's face). Between
-//! the mouth corners, a vertex above the inner lip line gets 0 (tapering back to the carried
-//! weight at the corners), and one below takes its weight from the template's lower lip
-//! only. Parts that turn with the jaw (lower teeth, tongue) get 1, still parts 0.
+//! the mouth corners, a vertex of the upper lip gets 0 (tapering back to the carried weight
+//! at the corners), and one of the lower lip takes its weight from the template's lower lip
+//! only. Which lip a vertex is on goes by connectivity ([`LipSides`]: the lip it is reached
+//! from along the mesh without crossing the slit), not by height: a full upper lip curls
+//! below the line between the inner lip landmarks. Parts that turn with the jaw (lower teeth, tongue) get 1, still parts 0.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::lipsides::{side_weight, LipSides};
 use super::nearest::Nearest;
 use super::parts::{Part, Parts};
 use super::regions::{smoothstep, Opening, Side};
@@ -37,15 +40,15 @@ pub fn carried_slide(jaw: &Jaw, j: glam::DMat3, axis: Vec3) -> Vec3 {
     Vec3::select(axis.as_vec3().abs().cmpeq(Vec3::ONE), Vec3::ZERO, planar)
 }
 
-/// The jaw weights of `mesh`, sorted by vertex, zeros left out.
+/// The jaw weights of `mesh`, sorted by vertex, zeros left out; the template's mouth and
+/// lips, then the mesh's, say which lip each vertex is on.
 pub fn weights(
     template: Template<'_>,
     jaw: &Jaw,
     warp: &Warp,
     mesh: &Mesh,
     parts: &Parts,
-    mouth_from: Option<&Opening>,
-    mouth_to: Option<&Opening>,
+    [(mouth_from, lips_from), (mouth_to, lips)]: [(Option<&Opening>, Option<&LipSides>); 2],
 ) -> Vec<(u32, f32)> {
     let mut dense = vec![0.0f32; template.mesh.vertex_count()];
     for &(v, w) in &jaw.weights {
@@ -65,7 +68,10 @@ pub fn weights(
     let side_index = |side: Side| {
         let ids: Vec<u32> = match mouth_from {
             Some(m) => (0..carried.len() as u32)
-                .filter(|&v| m.side_weight(template.mesh.positions[v as usize], side) > 0.0)
+                .filter(|&v| {
+                    let p = template.mesh.positions[v as usize];
+                    side_weight(lips_from, m, v as usize, p, side) > 0.0
+                })
                 .collect(),
             None => Vec::new(),
         };
@@ -80,8 +86,8 @@ pub fn weights(
             Part::Still => 0.0,
             Part::Jaw => 1.0,
             Part::Skin => {
-                let below = mouth_to.map_or(0.0, |m| m.side_weight(*p, Side::Lower));
-                let above = mouth_to.map_or(0.0, |m| m.side_weight(*p, Side::Upper));
+                let side = |s: Side| mouth_to.map_or(0.0, |m| side_weight(lips, m, v, *p, s));
+                let (below, above) = (side(Side::Lower), side(Side::Upper));
                 let index = if below > 0.0 {
                     &lower
                 } else if above > 0.0 {
@@ -106,11 +112,111 @@ pub fn weights(
             }
         }
     };
-    let all_weights: Vec<f32> = mesh.positions.par_iter().enumerate().map(weight).collect();
+    let mut all_weights: Vec<f32> = mesh.positions.par_iter().enumerate().map(weight).collect();
+    if let Some(lips) = lips {
+        let limit = steepest(template.mesh, &dense) / warp.similarity.scale;
+        ease_corners(mesh, parts, &mut all_weights, lips, limit);
+    }
     all_weights
         .into_iter()
         .enumerate()
         .filter(|&(_, w)| w > 0.0)
         .map(|(v, w)| (v as u32, w))
         .collect()
+}
+
+/// How far round each mouth corner the jaw's weights are eased, in outer mouth widths.
+const CORNER_REACH: f32 = 0.25;
+/// Relaxation rounds at most.
+const EASE_ROUNDS: usize = 400;
+
+/// The steepest change of the template's jaw weights along any of its edges, per unit
+/// length: how fast the template's own corners let the weight change.
+fn steepest(mesh: &Mesh, weights: &[f32]) -> f64 {
+    mesh.edges()
+        .into_iter()
+        .filter_map(|[a, b]| {
+            let len = f64::from(mesh.positions[a as usize].distance(mesh.positions[b as usize]));
+            let jump = f64::from(weights[a as usize] - weights[b as usize]).abs();
+            (len > 0.0).then_some(jump / len)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Eases the jaw weights round the mouth corners, where the skin joins the lips and the
+/// weight changes from the upper lip's (still) to the lower lip's (the jaw's). Carried by
+/// nearest point from a template whose slit runs further into the corner, or split by lip
+/// onto a mesh whose lips join a little sooner, two vertices a fraction of a millimetre apart
+/// can take weights a third apart (MakeHuman's corners: 0.19 and 0.46 across a 0.6 mm edge,
+/// a 7x stretch at AU26). Within [`CORNER_REACH`] of a corner, wherever an edge's weights
+/// change faster than anywhere on the template (`limit`, per mesh unit), its ends and their
+/// neighbours take the mean of their neighbours (weighted by `1 / length^2`), round after
+/// round, until no edge there is steeper: the jump across the corner then grows from the
+/// corner as on the template. A fit to the template itself has no steeper edge and changes
+/// nothing; the open slit has no edges across it, so the lips stay split.
+fn ease_corners(
+    mesh: &Mesh,
+    parts: &Parts,
+    w: &mut [f32],
+    lips: &super::lipsides::LipSides,
+    limit: f64,
+) {
+    let reach = CORNER_REACH * lips.width();
+    let near: Vec<bool> = mesh
+        .positions
+        .iter()
+        .zip(&parts.of_vertex)
+        .map(|(p, part)| *part == Part::Skin && lips.corner_distance(*p) <= reach)
+        .collect();
+    let edges: Vec<(usize, usize, f64)> = mesh
+        .edges()
+        .into_iter()
+        .map(|[a, b]| (a as usize, b as usize))
+        .filter(|&(a, b)| near[a] || near[b])
+        .filter(|&(a, b)| parts.of_vertex[a] == Part::Skin && parts.of_vertex[b] == Part::Skin)
+        .map(|(a, b)| {
+            (
+                a,
+                b,
+                f64::from(mesh.positions[a].distance(mesh.positions[b])),
+            )
+        })
+        .filter(|&(_, _, len)| len > 0.0)
+        .collect();
+    let mut neighbours: std::collections::HashMap<usize, Vec<(usize, f64)>> = Default::default();
+    for &(a, b, len) in &edges {
+        neighbours
+            .entry(a)
+            .or_default()
+            .push((b, 1.0 / (len * len)));
+        neighbours
+            .entry(b)
+            .or_default()
+            .push((a, 1.0 / (len * len)));
+    }
+    for _ in 0..EASE_ROUNDS {
+        let mut free: Vec<usize> = Vec::new();
+        for &(a, b, len) in &edges {
+            if f64::from(w[a] - w[b]).abs() > limit * len * (1.0 + 1e-3) {
+                for v in [a, b] {
+                    free.push(v);
+                    free.extend(neighbours[&v].iter().map(|&(n, _)| n));
+                }
+            }
+        }
+        free.retain(|&v| near[v]);
+        free.sort_unstable();
+        free.dedup();
+        if free.is_empty() {
+            break;
+        }
+        for v in free {
+            let (sum, total) = neighbours[&v].iter().fold((0.0, 0.0), |(s, t), &(n, k)| {
+                (s + k * f64::from(w[n]), t + k)
+            });
+            if total > 0.0 {
+                w[v] = (sum / total) as f32;
+            }
+        }
+    }
 }

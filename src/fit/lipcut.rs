@@ -23,6 +23,7 @@ use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
 
 use glam::Vec3;
 
+use super::pocket::Pocket;
 use crate::landmarks::{COUNT, INNER_LOWER, INNER_UPPER};
 use crate::model::{Mesh, Rig};
 
@@ -70,12 +71,31 @@ pub struct LipCut {
     /// The 68 landmarks as vertices of the opened mesh: lower lip landmarks on a cut vertex
     /// name its copy.
     pub landmarks: Vec<u32>,
+    /// The mouth pocket appended after the copies (its vertices last, its triangles last):
+    /// the inside of the opened mouth ([`Pocket`]).
+    pub pocket: Option<Pocket>,
 }
 
 impl LipCut {
     /// The original vertex count.
     pub fn original_count(&self) -> usize {
-        self.mesh.vertex_count() - self.copies.len()
+        self.pocket
+            .as_ref()
+            .map_or(self.mesh.vertex_count(), |p| p.first as usize)
+            - self.copies.len()
+    }
+
+    /// The lower lip's inner edge after the cut, from the right corner to the left: the
+    /// line's copies where it was cut, its own vertices elsewhere.
+    pub fn lower_edge(&self) -> Vec<u32> {
+        let n = self.original_count() as u32;
+        self.line
+            .iter()
+            .map(|&v| match self.copies.iter().position(|&o| o == v) {
+                Some(k) => n + k as u32,
+                None => v,
+            })
+            .collect()
     }
 }
 
@@ -114,17 +134,27 @@ pub fn find(mesh: &Mesh, landmarks: &[u32]) -> Lips {
             landmarks[i] = (mesh.vertex_count() + k) as u32;
         }
     }
-    Lips::Joined(LipCut {
+    let mut cut = LipCut {
         mesh: cut.mesh,
         copies: cut.copies,
         line: upper,
         band,
         landmarks,
-    })
+        pocket: None,
+    };
+    let points: Vec<Vec3> = cut
+        .landmarks
+        .iter()
+        .map(|&v| cut.mesh.positions[v as usize])
+        .collect();
+    let lower = cut.lower_edge();
+    cut.pocket = Pocket::append(&mut cut.mesh, &cut.line, &lower, &points);
+    Lips::Joined(cut)
 }
 
 /// Gives the vertices on each side of the cut line the jaw and mask weights of the skin next
-/// to them on their own side: fitting splits weights by position at the line halfway between
+/// to them on their own side, and the mouth pocket the jaw weights of the lips it lies
+/// behind ([`Pocket::jaw_weights`]): fitting splits weights by position at the line halfway between
 /// the inner lip landmarks, where a cut line's vertices and their copies lie on top of each
 /// other (or the copies lie above it, on a band's upper row), so the line itself is set from
 /// its neighbours. `rig` must be fitted to `cut.mesh`.
@@ -132,6 +162,20 @@ pub fn weights_by_side(rig: &mut Rig, cut: &LipCut) {
     let sources = side_neighbours(cut);
     if let Some(jaw) = &mut rig.jaw {
         set_from_neighbours(&mut jaw.weights, &sources, 0.0);
+        if let Some(pocket) = &cut.pocket {
+            // the pocket follows the lips it lies behind
+            let mut map: BTreeMap<u32, f32> = jaw.weights.iter().copied().collect();
+            let lips = map.clone();
+            let weight = |v: u32| lips.get(&v).copied().unwrap_or(0.0);
+            for (v, w) in pocket.jaw_weights(weight) {
+                if w > 0.0 {
+                    map.insert(v, w);
+                } else {
+                    map.remove(&v);
+                }
+            }
+            jaw.weights = map.into_iter().collect();
+        }
     }
     for mask in &mut rig.masks {
         set_from_neighbours(&mut mask.weights, &sources, 1.0);

@@ -9,6 +9,8 @@
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh;
 //! - [`lipcut`]: joined lips found and cut open;
+//! - [`lipsides`]: which lip each vertex is on, by connectivity;
+//! - [`pocket`]: the inside of a mouth whose lips were cut;
 //! - [`transport`]: the whole fit ([`fit_rig`]);
 //! - [`lsq`]: the one bounded least-squares solver (`fit-au`, `capture`);
 //! - [`solve`]: activations that best reproduce a target shape ([`fit_au`]);
@@ -18,9 +20,11 @@
 
 pub mod jaw;
 pub mod lipcut;
+pub mod lipsides;
 pub mod lsq;
 pub mod nearest;
 pub mod parts;
+pub mod pocket;
 pub mod propose;
 pub mod quality;
 mod reach;

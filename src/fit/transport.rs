@@ -154,6 +154,10 @@ pub fn fit_rig(
     let (muscles, gains) = carry_muscles(template, &warp, &rings);
     let openings_from = Opening::all(template.landmarks);
     let openings_to = Opening::all(&target);
+    let lips = [
+        super::lipsides::LipSides::of_template(template),
+        super::lipsides::LipSides::find(mesh, &landmarks.vertices(mesh), &parts),
+    ];
     let jaw = template.rig.jaw.as_ref().map(|jaw| {
         carry_jaw(
             jaw,
@@ -161,8 +165,11 @@ pub fn fit_rig(
             template,
             mesh,
             &parts,
-            &openings_from,
-            &openings_to,
+            (
+                &openings_from,
+                &openings_to,
+                [lips[0].as_ref(), lips[1].as_ref()],
+            ),
         )
     });
     let mut rig = Rig {
@@ -179,8 +186,11 @@ pub fn fit_rig(
         template,
         mesh,
         &sources,
-        &openings_from,
-        &openings_to,
+        (
+            &openings_from,
+            &openings_to,
+            [lips[0].as_ref(), lips[1].as_ref()],
+        ),
     );
     rig.masks.extend(carry_masks(template, &sources));
     rig.masks.extend(still_mask(&rig, &parts));
@@ -466,6 +476,14 @@ fn carry(kind: &MuscleKind, warp: &Warp, rings: &[RingFit]) -> (MuscleKind, f64)
     }
 }
 
+/// The template's openings, the mesh's, and the lips of each found by connectivity (the
+/// mouth's sides go by them, [`super::lipsides`]).
+type Openings<'a> = (
+    &'a [Opening],
+    &'a [Opening],
+    [Option<&'a super::lipsides::LipSides>; 2],
+);
+
 /// The jaw through the warp: pivot and axis carried, weights made for the new mesh.
 fn carry_jaw(
     jaw: &Jaw,
@@ -473,8 +491,7 @@ fn carry_jaw(
     template: Template<'_>,
     mesh: &Mesh,
     parts: &Parts,
-    openings_from: &[Opening],
-    openings_to: &[Opening],
+    (openings_from, openings_to, lips): Openings<'_>,
 ) -> Jaw {
     let j: DMat3 = warp.jacobian(jaw.pivot.as_dvec3());
     let axis = (j * jaw.axis.as_dvec3()).normalize_or_zero();
@@ -486,8 +503,10 @@ fn carry_jaw(
         warp,
         mesh,
         parts,
-        openings_from.first(),
-        openings_to.first(),
+        [
+            (openings_from.first(), lips[0]),
+            (openings_to.first(), lips[1]),
+        ],
     );
     Jaw {
         pivot: warp.apply_f32(jaw.pivot),
@@ -538,8 +557,7 @@ fn side_masks(
     template: Template<'_>,
     mesh: &Mesh,
     sources: &Sources,
-    openings_from: &[Opening],
-    openings_to: &[Opening],
+    (openings_from, openings_to, lips): Openings<'_>,
 ) -> Vec<(String, Vec<String>, Vec<String>)> {
     let mut report = Vec::new();
     for (from, to) in openings_from.iter().zip(openings_to) {
@@ -562,8 +580,9 @@ fn side_masks(
                 .enumerate()
                 .filter_map(|(v, p)| {
                     let (id, share) = sources.of_vertex[v]?;
-                    let w = to.side_weight(*p, other);
-                    let was = share * from.side_weight(template.mesh.positions[id as usize], other);
+                    let w = super::lipsides::side_weight(lips[1], to, v, *p, other);
+                    let (id, at) = (id as usize, template.mesh.positions[id as usize]);
+                    let was = share * super::lipsides::side_weight(lips[0], from, id, at, other);
                     let cut = w - was;
                     (cut > GAIN_EPSILON).then_some((v as u32, (1.0 - cut) as f32))
                 })
@@ -698,7 +717,7 @@ impl Sources {
 }
 
 /// A mask holding a rig's still parts: weight 0 everywhere it lists, for every muscle.
-fn is_still(rig: &Rig, mask: &Mask) -> bool {
+pub(super) fn is_still(rig: &Rig, mask: &Mask) -> bool {
     mask.weights.iter().all(|&(_, w)| w == 0.0)
         && rig
             .muscles

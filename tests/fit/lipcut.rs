@@ -115,7 +115,7 @@ fn mediapipe_lips_part_without_tearing_between_them() {
 }
 
 /// The vertices along the mesh's boundary from `from` to `to` through `via`.
-fn boundary_walk(mesh: &Mesh, from: u32, via: u32, to: u32) -> Vec<u32> {
+pub(crate) fn boundary_walk(mesh: &Mesh, from: u32, via: u32, to: u32) -> Vec<u32> {
     let mut count: HashMap<[u32; 2], usize> = HashMap::new();
     for tri in &mesh.triangles {
         for k in 0..3 {

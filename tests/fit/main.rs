@@ -10,6 +10,7 @@ mod au;
 mod classic;
 mod cli;
 mod lipcut;
+mod mouth;
 mod parts;
 mod real;
 mod rig;
