@@ -17,6 +17,7 @@
 //! Nothing here reads files or knows about terminals.
 
 pub mod jaw;
+mod lids;
 pub mod lipcut;
 pub mod lsq;
 pub mod nearest;

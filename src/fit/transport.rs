@@ -199,6 +199,9 @@ pub fn fit_rig(
             weights: Vec::new(),
         });
     }
+    // the closing eye rings: shaped from the mesh's own lids where the carried mask does
+    // not close them as the template's closes the template's
+    super::lids::shape_lids(&mut rig, template, mesh, &warp, &parts, &target);
     Ok(Fitted {
         rig,
         parts,
