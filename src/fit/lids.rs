@@ -130,9 +130,8 @@ struct Profile {
     /// Where the lids meet, as a share of the opening above the lower margin: the axis's
     /// place in the middle column, so the line where they meet runs into both corners.
     share: f64,
-    /// The opening in the middle column: the lid skin inside the opening more than a
-    /// quarter of it behind its margin (the socket's lining behind the globe) fades out by
-    /// half of it.
+    /// The opening in the middle column: skin more than 0.4 of it behind its margin's
+    /// depth (the socket's lining behind the globe) fades out by 0.9 of it.
     opening: f64,
     /// The height of the upper lid's skin's end (the brow) above the axis.
     reach: f64,
@@ -151,6 +150,11 @@ impl Profile {
         })
     }
 
+    /// 0 at or beyond the axis, rising smoothly to 1 a fifth of the opening away from it.
+    fn off_axis(&self, height: f64) -> f64 {
+        super::regions::smoothstep(0.0, 0.2 * self.opening, height)
+    }
+
     fn travel(&self, p: DVec3) -> f64 {
         let (Some(up), Some(low)) = (self.upper.at(p.x), self.lower.at(p.x)) else {
             return 0.0;
@@ -167,21 +171,31 @@ impl Profile {
                 travel * (1.0 - from_margin / to_rim)
             }
         };
-        if p.y >= up.y {
-            return ramp(upper_travel, p.y - up.y, self.reach - up.y);
-        }
-        if p.y <= low.y {
-            return ramp(lower_travel, low.y - p.y, low.y + self.reach);
-        }
-        // inside the opening: a lid's inner fold goes with its margin, never past the line
-        // where the lids meet; the lining deep behind it stays
-        let (margin, travel) = if self.upper.distance(p) <= self.lower.distance(p) {
-            (up, upper_travel.min((p.y - meet.max(0.0)).max(0.0)))
+        let (depth, travel) = if p.y >= up.y {
+            (up.z, ramp(upper_travel, p.y - up.y, self.reach - up.y))
+        } else if p.y <= low.y {
+            (low.z, ramp(lower_travel, low.y - p.y, low.y + self.reach))
         } else {
-            (low, lower_travel.min((meet.min(0.0) - p.y).max(0.0)))
+            // inside the opening: a lid's inner fold goes with its margin, so its rows keep
+            // their shape (a ring pulls from the rest place: a row may pass the axis), blended
+            // between the lids by which margin is nearer; the ring cannot pull a point across
+            // the axis from the other side, so the travel fades out toward the axis
+            let (to_upper, to_lower) = (self.upper.distance(p), self.lower.distance(p));
+            let s = super::regions::smoothstep(
+                0.3,
+                0.7,
+                to_lower / (to_upper + to_lower).max(f64::EPSILON),
+            );
+            let travel = if p.y > 0.0 {
+                s * upper_travel * self.off_axis(p.y)
+            } else {
+                (1.0 - s) * lower_travel * self.off_axis(-p.y)
+            };
+            (s * up.z + (1.0 - s) * low.z, travel)
         };
-        let behind = (margin.z - p.z) / self.opening;
-        travel * (1.0 - super::regions::smoothstep(0.25, 0.75, behind))
+        // the socket's lining far behind the margin stays (the globe lies between)
+        let behind = (depth - p.z) / self.opening;
+        travel * (1.0 - super::regions::smoothstep(0.4, 0.9, behind))
     }
 }
 
@@ -376,10 +390,22 @@ fn lid_mask(
         let own = own_pull(s, p);
         (own > 0.0).then(|| profile.travel(p) / own)
     };
+    // the gain lets the lid landmarks and every point with a tenth of the ring's pull or
+    // more (the lid's inner fold near the axis has little) reach their travel
     let lid_points = eye.upper[1..3].iter().chain(&eye.lower[1..3]);
-    let gain = lid_points
+    let at_lids = lid_points
         .filter_map(|&i| need(local(i)))
         .fold(0.0, f64::max);
+    let gain = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .filter(|&(v, _)| parts.of_vertex[v] == Part::Skin)
+        .filter_map(|(_, p)| {
+            let q = frame.local(*p);
+            (own_pull(s, q) >= 0.1).then(|| need(q)).flatten()
+        })
+        .fold(at_lids, f64::max);
     if !(gain.is_finite() && gain > 0.0) {
         return None;
     }

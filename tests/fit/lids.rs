@@ -166,5 +166,29 @@ fn diagnose_makehuman_blink() {
         );
     }
     println!("{n} turned");
+    for t in &mesh.triangles {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            let (a, b) = (a as usize, b as usize);
+            let r = moved[a].distance(moved[b]) / mesh.positions[a].distance(mesh.positions[b]);
+            if r > 2.5 && mesh.positions[a].x > 0.0 {
+                let info = |v: usize| {
+                    let rel = mesh.positions[v] - c;
+                    format!(
+                        "({:.2} {:.2} {:.2} travel {:.2})",
+                        rel.dot(across) / open,
+                        rel.dot(up) / open,
+                        rel.dot(out) / open,
+                        (moved[v] - mesh.positions[v]).dot(up) / open
+                    )
+                };
+                println!(
+                    "edge {a}-{b} stretch {r:.2} {} {} {}",
+                    info(a),
+                    info(b),
+                    group_of(a as u32)
+                );
+            }
+        }
+    }
     panic!("diagnostic");
 }
