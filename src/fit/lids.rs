@@ -281,7 +281,8 @@ pub type Reshaped = Vec<String>;
 
 /// Rebuilds the closing eye rings' masks from the mesh's lids, unless the mesh there is the
 /// template's own (module docs); returns the rings rebuilt.
-/// `rig` is the fitted rig with all its masks; `target` the mesh's landmarks.
+/// `rig` is the fitted rig with all its masks; `target` the mesh's landmarks, `marks` their
+/// vertices.
 pub(super) fn shape_lids(
     rig: &mut Rig,
     template: Template<'_>,
@@ -289,6 +290,7 @@ pub(super) fn shape_lids(
     warp: &Warp,
     parts: &Parts,
     target: &[Vec3],
+    marks: &[u32],
 ) -> Reshaped {
     let mut reshaped = Vec::new();
     let names: Vec<String> = rig.muscles.iter().map(|m| m.name.clone()).collect();
@@ -320,7 +322,7 @@ pub(super) fn shape_lids(
         if ring.frame.rotation().is_none() {
             continue;
         }
-        if let Some(mask) = lid_mask(&ring, &name, mesh, parts, target, eye) {
+        if let Some(mask) = lid_mask(&ring, &name, mesh, parts, target, marks, eye) {
             if let Some(m) = rig.muscles.iter_mut().find(|m| m.name == name) {
                 m.kind = MuscleKind::Sphincter(ring);
             }
@@ -368,6 +370,53 @@ fn release(rig: &mut Rig, name: &str) {
     rig.masks.retain(|m| !m.muscles.is_empty());
 }
 
+/// Per vertex, for the skin inside ring `s`: its place in the ring's frame and how far the
+/// ring should move it at 2.0 (the profile's travel). Skin on a piece of its own, holding no
+/// landmark (lashes, whether their group says so or not), takes the travel of the nearest
+/// skin vertex of the face's pieces inside the ring: the lid edge it grows from.
+fn wanted_travel(
+    s: &Sphincter,
+    frame: &RingFrame,
+    profile: &Profile,
+    mesh: &Mesh,
+    parts: &Parts,
+    marks: &[u32],
+) -> Vec<Option<(DVec3, f64)>> {
+    let piece = super::parts::components(mesh);
+    let face: Vec<u32> = marks.iter().map(|&v| piece[v as usize]).collect();
+    let inside: Vec<Option<DVec3>> = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(v, p)| {
+            let q = frame.local(*p);
+            (parts.of_vertex[v] == Part::Skin && own_pull(s, q) > 0.0).then_some(q)
+        })
+        .collect();
+    let on_face = |v: usize| face.contains(&piece[v]);
+    let lid: Vec<(Vec3, f64)> = inside
+        .iter()
+        .enumerate()
+        .filter(|&(v, q)| q.is_some() && on_face(v))
+        .filter_map(|(v, q)| Some((mesh.positions[v], profile.travel((*q)?))))
+        .collect();
+    inside
+        .iter()
+        .enumerate()
+        .map(|(v, q)| {
+            let q = (*q)?;
+            if on_face(v) {
+                return Some((q, profile.travel(q)));
+            }
+            let p = mesh.positions[v];
+            let nearest = lid
+                .iter()
+                .min_by(|a, b| a.0.distance_squared(p).total_cmp(&b.0.distance_squared(p)))?;
+            Some((q, nearest.1))
+        })
+        .collect()
+}
+
 /// The mask that makes ring `s` close the eye's lids on `mesh` as the profile asks.
 fn lid_mask(
     s: &Sphincter,
@@ -375,6 +424,7 @@ fn lid_mask(
     mesh: &Mesh,
     parts: &Parts,
     target: &[Vec3],
+    marks: &[u32],
     eye: &EyeLandmarks,
 ) -> Option<Mask> {
     let frame = RingFrame::of(s);
@@ -385,37 +435,32 @@ fn lid_mask(
         Margin::new(eye.lower.iter().map(|&i| local(i)).collect()),
         brow.min(f64::from(s.semi_minor)),
     )?;
+    let wanted = wanted_travel(s, &frame, &profile, mesh, parts, marks);
     // the share of the ring's own pull each point needs
-    let need = |p: DVec3| {
+    let need = |(p, want): (DVec3, f64)| {
         let own = own_pull(s, p);
-        (own > 0.0).then(|| profile.travel(p) / own)
+        (own > 0.0).then(|| want / own)
     };
     // the gain lets the lid landmarks and every point with a tenth of the ring's pull or
     // more (the lid's inner fold near the axis has little) reach their travel
     let lid_points = eye.upper[1..3].iter().chain(&eye.lower[1..3]);
     let at_lids = lid_points
-        .filter_map(|&i| need(local(i)))
+        .filter_map(|&i| need((local(i), profile.travel(local(i)))))
         .fold(0.0, f64::max);
-    let gain = mesh
-        .positions
+    let gain = wanted
         .iter()
-        .enumerate()
-        .filter(|&(v, _)| parts.of_vertex[v] == Part::Skin)
-        .filter_map(|(_, p)| {
-            let q = frame.local(*p);
-            (own_pull(s, q) >= 0.1).then(|| need(q)).flatten()
-        })
+        .flatten()
+        .filter(|(q, _)| own_pull(s, *q) >= 0.1)
+        .filter_map(|&w| need(w))
         .fold(at_lids, f64::max);
     if !(gain.is_finite() && gain > 0.0) {
         return None;
     }
-    let weights: Vec<(u32, f32)> = mesh
-        .positions
+    let weights: Vec<(u32, f32)> = wanted
         .iter()
         .enumerate()
-        .filter(|&(v, _)| parts.of_vertex[v] == Part::Skin)
-        .filter_map(|(v, p)| {
-            let w = (need(frame.local(*p))? / gain).min(1.0);
+        .filter_map(|(v, w)| {
+            let w = (need((*w)?)? / gain).min(1.0);
             (w < 1.0).then_some((v as u32, w as f32))
         })
         .collect();

@@ -74,7 +74,11 @@ fn assert_lids_close(name: &str, mesh: &Mesh, landmarks: &Landmarks, turned: usi
         );
         assert!(gap < 0.10, "{name} AU{key}: the lids leave {gap}");
         assert!(q.turned <= turned, "{name} AU{key}: {} turned", q.turned);
-        assert!(q.stretch <= stretch, "{name} AU{key}: stretch {}", q.stretch);
+        assert!(
+            q.stretch <= stretch,
+            "{name} AU{key}: stretch {}",
+            q.stretch
+        );
     }
 }
 
@@ -90,4 +94,51 @@ fn makehuman_lids_close_with_fewer_tears() {
     if let Some((mesh, landmarks)) = makehuman() {
         assert_lids_close("MakeHuman", &mesh, &landmarks, 70, 3.0);
     }
+}
+
+/// MakeHuman's lashes (pieces of their own, holding no landmark) take their lid's travel at
+/// AU45: a lash vertex moves, on average, within 1 % of the upper lid's travel of the
+/// nearest body vertex (the lid edge it grows from). Before, they took the ring's pull at
+/// their own place.
+#[test]
+fn makehuman_lashes_move_with_their_lid_edge() {
+    let Some((mesh, landmarks)) = makehuman() else {
+        return;
+    };
+    let fitted = fit(&mesh, &landmarks);
+    let bound = BoundRig::bind_with(&fitted.rig, &mesh, SkinRules::DEFAULT).unwrap();
+    let moved = crate::positions_at_au(&bound, "45");
+    let d = |v: usize| moved[v] - mesh.positions[v];
+    let marks = landmarks.vertices(&mesh);
+    let lid = [37, 38, 43, 44]
+        .map(|l| d(marks[l] as usize).length())
+        .into_iter()
+        .fold(0.0f32, f32::max);
+    let body = &mesh.groups["body"];
+    let lashes: Vec<u32> = mesh
+        .groups
+        .iter()
+        .filter(|(n, _)| n.contains("eyelashes"))
+        .flat_map(|(_, m)| m.iter().copied())
+        .collect();
+    let mean = lashes
+        .iter()
+        .map(|&v| {
+            let p = mesh.positions[v as usize];
+            let edge = *body
+                .iter()
+                .min_by(|&&a, &&b| {
+                    let da = mesh.positions[a as usize].distance_squared(p);
+                    da.total_cmp(&mesh.positions[b as usize].distance_squared(p))
+                })
+                .unwrap();
+            d(v as usize).distance(d(edge as usize))
+        })
+        .sum::<f32>()
+        / lashes.len() as f32;
+    println!("a lash vertex moves {mean} from its lid edge's travel (lid {lid})");
+    assert!(
+        mean < 0.01 * lid,
+        "lashes {mean} off their lid, lid travel {lid}"
+    );
 }
