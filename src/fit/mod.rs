@@ -19,6 +19,7 @@
 //! Nothing here reads files or knows about terminals.
 
 pub mod jaw;
+mod lids;
 pub mod lipcut;
 pub mod lipsides;
 pub mod lsq;

@@ -209,6 +209,10 @@ pub fn fit_rig(
             weights: Vec::new(),
         });
     }
+    // the closing eye rings: shaped from the mesh's own lids where the carried mask does
+    // not close them as the template's closes the template's
+    let marks = landmarks.vertices(mesh);
+    super::lids::shape_lids(&mut rig, template, mesh, &warp, &parts, &target, &marks);
     Ok(Fitted {
         rig,
         parts,

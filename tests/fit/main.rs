@@ -9,6 +9,7 @@ mod common;
 mod au;
 mod classic;
 mod cli;
+mod lids;
 mod lipcut;
 mod mouth;
 mod parts;

@@ -1,0 +1,472 @@
+//! The closing lids of a fitted head, shaped from the mesh's own lids.
+//!
+//! The template's closing eye ring (`Orbicularis_Oculi` in the default rig) carries a mask
+//! made for the template's lids (`face::lids`): each lid margin closes to near where the lids
+//! meet, and the skin beyond it follows less and less, to nothing at the brow. Carried to a
+//! head whose lids are shaped otherwise (MakeHuman's several close rows folding into the
+//! socket, MediaPipe's coarse lids), that mask no longer matches the lids: neighbouring rows
+//! take different shares of the pull and turn over, and the margins stop short (a tenth of the
+//! opening and more is left at AU45, where the skin rules' area bound holds back the rows
+//! that would collapse). The closing ring's per-vertex mask and gain are therefore rebuilt
+//! from the mesh's lid landmarks, the same way the default rig builds them from its lids:
+//!
+//! - In the ring's frame (`x` across the eye, `y` up, centred on its axis, where the lids
+//!   meet), the upper margin is the polyline through the eye's corners and upper lid
+//!   landmarks (37, 38 or 43, 44), the lower one through the lower lid landmarks.
+//! - At 2.0 each margin travels to within [`STOP_SHORT`] of where the lids meet (the axis, or
+//!   the lower margin where it lies above the axis) in its own column; skin beyond the upper
+//!   margin follows linearly less, to nothing at the brow's height (the brow landmarks of that
+//!   side), and below the lower margin over a band as tall. Skin inside the opening (a lid's
+//!   inner fold, rows folding back into the socket) moves with the margin nearer to it, so
+//!   the rows of a lid's edge move together and do not turn over. Nothing beyond the corners
+//!   moves.
+//! - The ring's gain is the smallest that lets its own pull (`2 g f t` at 2.0) reach that
+//!   travel at every lid landmark; each vertex's weight is the share of that pull it needs.
+//!
+//! Where the mesh's skin inside the ring is the template's own (the template fitted to
+//! itself) the carried mask is exact and is kept, so the identity fit is unchanged.
+
+use glam::{DMat3, DVec3, Vec3};
+
+use super::parts::{Part, Parts};
+use super::warp::Warp;
+use super::Template;
+use crate::model::{Convergence, Mask, Mesh, MuscleKind, Rig, Sphincter};
+
+/// How far short of where the lids meet each margin stops at 2.0, as a share of its travel.
+pub const STOP_SHORT: f64 = 0.015;
+
+/// The activation a profile is made for (the default table's AU43/45 use 2.0).
+const FULL: f64 = 2.0;
+
+/// The landmarks of each eye: outer and inner corners' order as in the iBUG scheme, the
+/// upper lid (corner, two lid points, corner), the lower lid (corner, two lid points,
+/// corner), and the brow above it.
+struct EyeLandmarks {
+    upper: [usize; 4],
+    lower: [usize; 4],
+    brow: [usize; 5],
+}
+
+/// The subject's right eye, then the left.
+const EYES: [EyeLandmarks; 2] = [
+    EyeLandmarks {
+        upper: [36, 37, 38, 39],
+        lower: [39, 40, 41, 36],
+        brow: [17, 18, 19, 20, 21],
+    },
+    EyeLandmarks {
+        upper: [42, 43, 44, 45],
+        lower: [45, 46, 47, 42],
+        brow: [22, 23, 24, 25, 26],
+    },
+];
+
+/// The facing lid landmarks (upper, lower) of an eye.
+fn pairs(eye: &EyeLandmarks) -> [(usize, usize); 2] {
+    [(eye.upper[1], eye.lower[2]), (eye.upper[2], eye.lower[1])]
+}
+
+/// The direction from the lower lid landmarks' middle to the upper ones' (the eye's middle
+/// column): the way a closing upper lid travels to meet the lower one.
+fn lid_up(target: &[Vec3], eye: &EyeLandmarks) -> Vec3 {
+    let mean = |ids: &[usize]| ids.iter().map(|&i| target[i]).sum::<Vec3>() / ids.len() as f32;
+    mean(&eye.upper[1..3]) - mean(&eye.lower[1..3])
+}
+
+/// A ring's frame about its centre: local `(x, y, z)` of mesh points.
+struct RingFrame {
+    centre: DVec3,
+    rotation: DMat3,
+}
+
+impl RingFrame {
+    fn of(s: &Sphincter) -> RingFrame {
+        RingFrame {
+            centre: s.centre.as_dvec3(),
+            rotation: s.frame.rotation().unwrap_or(DMat3::IDENTITY),
+        }
+    }
+
+    fn local(&self, p: Vec3) -> DVec3 {
+        self.rotation.transpose() * (p.as_dvec3() - self.centre)
+    }
+}
+
+/// A margin in the ring's frame: `(x, y, z)` points sorted by x.
+struct Margin(Vec<DVec3>);
+
+impl Margin {
+    fn new(mut points: Vec<DVec3>) -> Margin {
+        points.sort_by(|a, b| a.x.total_cmp(&b.x));
+        Margin(points)
+    }
+
+    /// The margin's point in the column at `x`; `None` beyond the corners.
+    fn at(&self, x: f64) -> Option<DVec3> {
+        self.0
+            .windows(2)
+            .find(|w| w[0].x <= x && x <= w[1].x)
+            .map(|w| w[0].lerp(w[1], (x - w[0].x) / (w[1].x - w[0].x).max(f64::EPSILON)))
+    }
+
+    /// The distance from `p` to the margin's polyline.
+    fn distance(&self, p: DVec3) -> f64 {
+        self.0
+            .windows(2)
+            .map(|w| {
+                let d = w[1] - w[0];
+                let s = ((p - w[0]).dot(d) / d.length_squared().max(f64::EPSILON)).clamp(0.0, 1.0);
+                p.distance(w[0] + s * d)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// How far each point of a closing eye travels at 2.0 toward the ring's axis (`y = 0`).
+struct Profile {
+    upper: Margin,
+    lower: Margin,
+    /// Where the lids meet, as a share of the opening above the lower margin: the axis's
+    /// place in the middle column, so the line where they meet runs into both corners.
+    share: f64,
+    /// The opening in the middle column: skin more than 0.4 of it behind its margin's
+    /// depth (the socket's lining behind the globe) fades out by 0.9 of it.
+    opening: f64,
+    /// The height of the upper lid's skin's end (the brow) above the axis.
+    reach: f64,
+}
+
+impl Profile {
+    fn new(upper: Margin, lower: Margin, reach: f64) -> Option<Profile> {
+        let (up, low) = (upper.at(0.0)?, lower.at(0.0)?);
+        let opening = up.y - low.y;
+        (opening > 0.0).then(|| Profile {
+            share: (-low.y / opening).clamp(0.0, 1.0),
+            opening,
+            upper,
+            lower,
+            reach,
+        })
+    }
+
+    /// 0 at or beyond the axis, rising smoothly to 1 a fifth of the opening away from it.
+    fn off_axis(&self, height: f64) -> f64 {
+        super::regions::smoothstep(0.0, 0.2 * self.opening, height)
+    }
+
+    fn travel(&self, p: DVec3) -> f64 {
+        let (Some(up), Some(low)) = (self.upper.at(p.x), self.lower.at(p.x)) else {
+            return 0.0;
+        };
+        let keep = 1.0 - STOP_SHORT;
+        let meet = low.y + self.share * (up.y - low.y);
+        // the ring pulls toward its axis: neither lid crosses it
+        let upper_travel = keep * (up.y - meet.max(0.0)).max(0.0);
+        let lower_travel = keep * (meet.min(0.0) - low.y).max(0.0);
+        let ramp = |travel: f64, from_margin: f64, to_rim: f64| {
+            if to_rim <= 0.0 || from_margin >= to_rim {
+                0.0
+            } else {
+                travel * (1.0 - from_margin / to_rim)
+            }
+        };
+        let (depth, travel) = if p.y >= up.y {
+            (up.z, ramp(upper_travel, p.y - up.y, self.reach - up.y))
+        } else if p.y <= low.y {
+            (low.z, ramp(lower_travel, low.y - p.y, low.y + self.reach))
+        } else {
+            // inside the opening: a lid's inner fold goes with its margin, so its rows keep
+            // their shape (a ring pulls from the rest place: a row may pass the axis), blended
+            // between the lids by which margin is nearer; the ring cannot pull a point across
+            // the axis from the other side, so the travel fades out toward the axis
+            let (to_upper, to_lower) = (self.upper.distance(p), self.lower.distance(p));
+            let s = super::regions::smoothstep(
+                0.3,
+                0.7,
+                to_lower / (to_upper + to_lower).max(f64::EPSILON),
+            );
+            let travel = if p.y > 0.0 {
+                s * upper_travel * self.off_axis(p.y)
+            } else {
+                (1.0 - s) * lower_travel * self.off_axis(-p.y)
+            };
+            (s * up.z + (1.0 - s) * low.z, travel)
+        };
+        // the socket's lining far behind the margin stays (the globe lies between)
+        let behind = (depth - p.z) / self.opening;
+        travel * (1.0 - super::regions::smoothstep(0.4, 0.9, behind))
+    }
+}
+
+/// The ring's own pull toward its axis at 2.0 per unit weight (`2 f t`); 0 outside.
+fn own_pull(s: &Sphincter, local: DVec3) -> f64 {
+    let px = local.x / f64::from(s.semi_major);
+    let t = local.y.abs() / f64::from(s.semi_minor);
+    let f = 1.0 - px.hypot(t);
+    if f <= 0.0 {
+        0.0
+    } else {
+        FULL * f * t
+    }
+}
+
+/// The vertex of `mesh` nearest `p`.
+fn nearest_vertex(mesh: &Mesh, p: Vec3) -> usize {
+    mesh.positions
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.distance_squared(p).total_cmp(&b.1.distance_squared(p)))
+        .map_or(0, |(i, _)| i)
+}
+
+/// A muscle's weight at vertex `v`: the product of its masks' gains and weights.
+fn weight(rig: &Rig, name: &str, v: u32) -> f64 {
+    rig.masks
+        .iter()
+        .filter(|m| m.muscles.iter().any(|n| n == name))
+        .map(|m| {
+            let w = m
+                .weights
+                .binary_search_by_key(&v, |&(i, _)| i)
+                .map_or(1.0, |k| m.weights[k].1);
+            f64::from(m.gain) * f64::from(w)
+        })
+        .product()
+}
+
+/// The share of an eye's opening (summed over its facing lid landmarks) by which the ring
+/// `name` of `rig` brings the upper lid down at 2.0.
+fn upper_closure(
+    rig: &Rig,
+    name: &str,
+    mesh: &Mesh,
+    landmarks: &[Vec3],
+    eye: &EyeLandmarks,
+) -> Option<f64> {
+    let s = sphincter(rig, name)?;
+    let up = RingFrame::of(s).rotation.col(1);
+    let pull = |i: usize| {
+        let p = landmarks[i];
+        let v = nearest_vertex(mesh, p);
+        let d = crate::model::field::sphincter_displacement(s, mesh.positions[v], FULL as f32);
+        weight(rig, name, v as u32) * d.as_dvec3().dot(up)
+    };
+    let (mut open, mut upper) = (0.0, 0.0);
+    for (u, l) in pairs(eye) {
+        open += (landmarks[u] - landmarks[l]).as_dvec3().dot(up);
+        upper -= pull(u);
+    }
+    (open > 0.0).then(|| upper / open)
+}
+
+fn sphincter<'a>(rig: &'a Rig, name: &str) -> Option<&'a Sphincter> {
+    match &rig.muscles.iter().find(|m| m.name == name)?.kind {
+        MuscleKind::Sphincter(s) => Some(s),
+        _ => None,
+    }
+}
+
+/// The eye a ring centred at `c` closes: the eye whose lid landmarks' middle is within the
+/// eye's half-width of it.
+fn eye_of(landmarks: &[Vec3], c: Vec3) -> Option<&'static EyeLandmarks> {
+    EYES.iter().find(|eye| {
+        let (a, b) = (landmarks[eye.upper[0]], landmarks[eye.upper[3]]);
+        c.distance(0.5 * (a + b)) < 0.5 * a.distance(b)
+    })
+}
+
+/// The eye rings [`shape_lids`] rebuilt.
+pub type Reshaped = Vec<String>;
+
+/// Rebuilds the closing eye rings' masks from the mesh's lids, unless the mesh there is the
+/// template's own (module docs); returns the rings rebuilt.
+/// `rig` is the fitted rig with all its masks; `target` the mesh's landmarks, `marks` their
+/// vertices.
+pub(super) fn shape_lids(
+    rig: &mut Rig,
+    template: Template<'_>,
+    mesh: &Mesh,
+    warp: &Warp,
+    parts: &Parts,
+    target: &[Vec3],
+    marks: &[u32],
+) -> Reshaped {
+    let mut reshaped = Vec::new();
+    let names: Vec<String> = rig.muscles.iter().map(|m| m.name.clone()).collect();
+    for name in names {
+        let Some(s) = sphincter(rig, &name).cloned() else {
+            continue;
+        };
+        if s.convergence != Convergence::MajorAxis {
+            continue;
+        }
+        let Some(eye) = eye_of(target, s.centre) else {
+            continue;
+        };
+        let Some(upper) = upper_closure(rig, &name, mesh, target, eye) else {
+            continue;
+        };
+        // a ring that does not bring the upper lid down (the lower lid's own ring) is not
+        // the closing ring
+        if upper < 0.25 {
+            continue;
+        }
+        if is_template_here(&s, template, warp, mesh, parts) {
+            continue;
+        }
+        // the ring closes along the lids' own slope, so the upper margin comes down onto the
+        // lower one rather than stopping in front of or behind it
+        let mut ring = s.clone();
+        ring.frame.y = lid_up(target, eye);
+        if ring.frame.rotation().is_none() {
+            continue;
+        }
+        if let Some(mask) = lid_mask(&ring, &name, mesh, parts, target, marks, eye) {
+            if let Some(m) = rig.muscles.iter_mut().find(|m| m.name == name) {
+                m.kind = MuscleKind::Sphincter(ring);
+            }
+            release(rig, &name);
+            rig.masks.push(mask);
+            reshaped.push(name);
+        }
+    }
+    reshaped
+}
+
+/// Whether the mesh's skin inside ring `s` is the template's own, carried by the warp (each
+/// vertex within a ten-thousandth of the landmarks' spread of a warped template vertex): the
+/// template fitted to itself, whose carried mask is exact.
+fn is_template_here(
+    s: &Sphincter,
+    template: Template<'_>,
+    warp: &Warp,
+    mesh: &Mesh,
+    parts: &Parts,
+) -> bool {
+    let frame = RingFrame::of(s);
+    let near = (1e-4 * warp.spread) as f32;
+    let warped: Vec<Vec3> = template
+        .mesh
+        .positions
+        .iter()
+        .map(|&p| warp.apply_f32(p))
+        .collect();
+    mesh.positions
+        .iter()
+        .enumerate()
+        .filter(|&(v, p)| parts.of_vertex[v] == Part::Skin && own_pull(s, frame.local(*p)) > 0.0)
+        .all(|(_, p)| warped.iter().any(|w| w.distance(*p) <= near))
+}
+
+/// Takes muscle `name` out of every mask that is not all zeros (the still parts and the
+/// depth cut stay): its carried weights and gains, replaced by the lid mask.
+fn release(rig: &mut Rig, name: &str) {
+    for mask in &mut rig.masks {
+        if mask.weights.is_empty() || mask.weights.iter().any(|&(_, w)| w != 0.0) {
+            mask.muscles.retain(|n| n != name);
+        }
+    }
+    rig.masks.retain(|m| !m.muscles.is_empty());
+}
+
+/// Per vertex, for the skin inside ring `s`: its place in the ring's frame and how far the
+/// ring should move it at 2.0 (the profile's travel). Skin on a piece of its own, holding no
+/// landmark (lashes, whether their group says so or not), takes the travel of the nearest
+/// skin vertex of the face's pieces inside the ring: the lid edge it grows from.
+fn wanted_travel(
+    s: &Sphincter,
+    frame: &RingFrame,
+    profile: &Profile,
+    mesh: &Mesh,
+    parts: &Parts,
+    marks: &[u32],
+) -> Vec<Option<(DVec3, f64)>> {
+    let piece = super::parts::components(mesh);
+    let face: Vec<u32> = marks.iter().map(|&v| piece[v as usize]).collect();
+    let inside: Vec<Option<DVec3>> = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(v, p)| {
+            let q = frame.local(*p);
+            (parts.of_vertex[v] == Part::Skin && own_pull(s, q) > 0.0).then_some(q)
+        })
+        .collect();
+    let on_face = |v: usize| face.contains(&piece[v]);
+    let lid: Vec<(Vec3, f64)> = inside
+        .iter()
+        .enumerate()
+        .filter(|&(v, q)| q.is_some() && on_face(v))
+        .filter_map(|(v, q)| Some((mesh.positions[v], profile.travel((*q)?))))
+        .collect();
+    inside
+        .iter()
+        .enumerate()
+        .map(|(v, q)| {
+            let q = (*q)?;
+            if on_face(v) {
+                return Some((q, profile.travel(q)));
+            }
+            let p = mesh.positions[v];
+            let nearest = lid
+                .iter()
+                .min_by(|a, b| a.0.distance_squared(p).total_cmp(&b.0.distance_squared(p)))?;
+            Some((q, nearest.1))
+        })
+        .collect()
+}
+
+/// The mask that makes ring `s` close the eye's lids on `mesh` as the profile asks.
+fn lid_mask(
+    s: &Sphincter,
+    name: &str,
+    mesh: &Mesh,
+    parts: &Parts,
+    target: &[Vec3],
+    marks: &[u32],
+    eye: &EyeLandmarks,
+) -> Option<Mask> {
+    let frame = RingFrame::of(s);
+    let local = |i: usize| frame.local(target[i]);
+    let brow = eye.brow.iter().map(|&i| local(i).y).sum::<f64>() / eye.brow.len() as f64;
+    let profile = Profile::new(
+        Margin::new(eye.upper.iter().map(|&i| local(i)).collect()),
+        Margin::new(eye.lower.iter().map(|&i| local(i)).collect()),
+        brow.min(f64::from(s.semi_minor)),
+    )?;
+    let wanted = wanted_travel(s, &frame, &profile, mesh, parts, marks);
+    // the share of the ring's own pull each point needs
+    let need = |(p, want): (DVec3, f64)| {
+        let own = own_pull(s, p);
+        (own > 0.0).then(|| want / own)
+    };
+    // the gain lets the lid landmarks and every point with a tenth of the ring's pull or
+    // more (the lid's inner fold near the axis has little) reach their travel
+    let lid_points = eye.upper[1..3].iter().chain(&eye.lower[1..3]);
+    let at_lids = lid_points
+        .filter_map(|&i| need((local(i), profile.travel(local(i)))))
+        .fold(0.0, f64::max);
+    let gain = wanted
+        .iter()
+        .flatten()
+        .filter(|(q, _)| own_pull(s, *q) >= 0.1)
+        .filter_map(|&w| need(w))
+        .fold(at_lids, f64::max);
+    if !(gain.is_finite() && gain > 0.0) {
+        return None;
+    }
+    let weights: Vec<(u32, f32)> = wanted
+        .iter()
+        .enumerate()
+        .filter_map(|(v, w)| {
+            let w = (need((*w)?)? / gain).min(1.0);
+            (w < 1.0).then_some((v as u32, w as f32))
+        })
+        .collect();
+    Some(Mask {
+        muscles: vec![name.to_string()],
+        gain: gain as f32,
+        weights,
+    })
+}
