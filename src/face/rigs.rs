@@ -282,6 +282,7 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
     }
     rig.muscles.push(place.procerus()?);
     rig.muscles.push(place.orbicularis_oris_marginal()?);
+    rig.muscles.extend(place.frontalis_medial_sheets()?);
     let [left, right] = place.linear_pair(&LABII_NASI)?;
     for muscle in &mut rig.muscles {
         if muscle.name == left.name {
@@ -424,14 +425,38 @@ impl Placer<'_> {
         let l1 = self.anchor(name, Anchor::Skin(6.0, 8.0, 0.0))?;
         let l2 = self.anchor(name, Anchor::Skin(50.0, 6.0, 0.0))?;
         let axis = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
-        Ok(frontalis_pair(Sheet {
-            attachment: [a1, a2],
-            insertion: [l1, l2],
-            // the insertion runs just under the brows; the pull fades out 8 mm below it,
-            // above the upper lids
-            length: round3(axis + units(8.0) as f32),
-            width: round3(units(52.0) as f32),
-        }))
+        Ok(frontalis_pair(
+            "Frontalis_Sheet",
+            Sheet {
+                attachment: [a1, a2],
+                insertion: [l1, l2],
+                // the insertion runs just under the brows; the pull fades out 8 mm below it,
+                // above the upper lids
+                length: round3(axis + units(8.0) as f32),
+                width: round3(units(52.0) as f32),
+            },
+        ))
+    }
+
+    /// The frontalis' medial fibres as a sheet (default rig), 37 mm wide: AU1 lifts the
+    /// brow's head as a band and leaves the tail. (The linear `Frontalis_Inner` moves the
+    /// middle of the forehead most and the brow's head rose as a dent trackers do not read.)
+    fn frontalis_medial_sheets(&self) -> Result<[Muscle; 2], PlacementError> {
+        let name = "Frontalis_Medial";
+        let a1 = self.anchor(name, Anchor::Skin(4.0, 56.0, 3.0))?;
+        let a2 = self.anchor(name, Anchor::Skin(33.0, 46.0, 3.0))?;
+        let l1 = self.anchor(name, Anchor::Skin(6.0, 8.0, 0.0))?;
+        let l2 = self.anchor(name, Anchor::Skin(33.0, 7.0, 0.0))?;
+        let axis = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
+        Ok(frontalis_pair(
+            name,
+            Sheet {
+                attachment: [a1, a2],
+                insertion: [l1, l2],
+                length: round3(axis + units(8.0) as f32),
+                width: round3(units(37.0) as f32),
+            },
+        ))
     }
 
     /// The mouth sphincter, centred between the lips; its protected central disc keeps the
@@ -831,9 +856,10 @@ pub(crate) fn eye_sphincters(
     ))
 }
 
-/// Both frontalis sheets from the left one: the right mirrors its corners (listed in the
-/// same order around the sheet, so the mirror keeps the sheet's orientation).
-pub(crate) fn frontalis_pair(left: Sheet) -> [Muscle; 2] {
+/// A pair of frontalis sheets (`L_name`, `R_name`) from the left one: the right mirrors its
+/// corners (listed in the same order around the sheet, so the mirror keeps the sheet's
+/// orientation).
+pub(crate) fn frontalis_pair(name: &str, left: Sheet) -> [Muscle; 2] {
     let [a1, a2] = left.attachment;
     let [l1, l2] = left.insertion;
     let right = Sheet {
@@ -841,11 +867,7 @@ pub(crate) fn frontalis_pair(left: Sheet) -> [Muscle; 2] {
         insertion: [mirror(l2), mirror(l1)],
         ..left.clone()
     };
-    pair(
-        "Frontalis_Sheet",
-        MuscleKind::Sheet(left),
-        MuscleKind::Sheet(right),
-    )
+    pair(name, MuscleKind::Sheet(left), MuscleKind::Sheet(right))
 }
 
 /// The subject's left (x > 0) and right muscles of a pair, named `L_name` and `R_name`.
