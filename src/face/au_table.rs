@@ -54,8 +54,8 @@ const fn sided(number: u8, muscles: &'static [(&'static str, f32)], jaw: f32) ->
 
 /// The AUs of the default table, strongest natural intensity.
 const AUS: &[AuSpec] = &[
-    // the medial frontalis lifts the head of the brow as a band, 11.5 mm at its insertion
-    sided(1, &[("Frontalis_Medial", 1.0)], 0.0),
+    // the medial frontalis lifts the head of the brow as a band, 8.6 mm
+    sided(1, &[("Frontalis_Medial", 0.75)], 0.0),
     sided(
         2,
         &[
@@ -149,7 +149,7 @@ const AUS: &[AuSpec] = &[
 /// The EMFACS emotion prototypes (see `docs/au.md` for sources and intensity choices).
 pub const EXPRESSIONS: &[(&str, &str)] = &[
     ("happiness", "6C+12D"),
-    ("sadness", "1E+4A+15C"),
+    ("sadness", "1E+4C+15C"),
     ("surprise", "1D+2D+5B+26C"),
     ("fear", "1C+2C+4C+5D+7C+20C+26B"),
     ("anger", "4D+5C+7C+23D"),

@@ -185,7 +185,7 @@ pub(super) fn relax_jaw_weights(
 
 /// Jaw weight at the mouth corners: a dropped jaw pulls the corners a little down (they are
 /// part of both lips), about a third of the lower lip's drop.
-pub const JAW_CORNER_WEIGHT: f64 = 0.3;
+pub const JAW_CORNER_WEIGHT: f64 = 0.45;
 
 /// Radius (mm) of the skin round each mouth corner that follows the corner down.
 pub(super) const JAW_CORNER_REACH_MM: f64 = 9.0;

@@ -282,7 +282,13 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
     }
     rig.muscles.push(place.procerus()?);
     rig.muscles.push(place.orbicularis_oris_marginal()?);
-    rig.muscles.extend(place.frontalis_medial_sheets()?);
+    let medial = place.frontalis_medial_sheets()?;
+    for (muscle, side) in medial.iter().zip([1.0, -1.0]) {
+        let lowest = y_units(-5.0) as f32; // below the sheet's reach under the brows
+        rig.masks
+            .push(super::brow::medial_mask(mesh, &muscle.name, side, lowest));
+    }
+    rig.muscles.extend(medial);
     let [left, right] = place.linear_pair(&LABII_NASI)?;
     for muscle in &mut rig.muscles {
         if muscle.name == left.name {
@@ -438,25 +444,22 @@ impl Placer<'_> {
         ))
     }
 
-    /// The frontalis' medial fibres as a sheet (default rig), 37 mm wide: AU1 lifts the
-    /// brow's head as a band and leaves the tail. (The linear `Frontalis_Inner` moves the
-    /// middle of the forehead most and the brow's head rose as a dent trackers do not read.)
+    /// The frontalis' medial fibres (default rig): the sheet moved across the midline, its
+    /// medial share set by `brow::medial_mask`, so AU1 lifts the head of the brow as a band.
     fn frontalis_medial_sheets(&self) -> Result<[Muscle; 2], PlacementError> {
         let name = "Frontalis_Medial";
-        let a1 = self.anchor(name, Anchor::Skin(4.0, 56.0, 3.0))?;
-        let a2 = self.anchor(name, Anchor::Skin(33.0, 46.0, 3.0))?;
-        let l1 = self.anchor(name, Anchor::Skin(6.0, 8.0, 0.0))?;
-        let l2 = self.anchor(name, Anchor::Skin(33.0, 7.0, 0.0))?;
+        let a1 = self.anchor(name, Anchor::Skin(-10.0, 56.0, 3.0))?;
+        let a2 = self.anchor(name, Anchor::Skin(36.0, 50.0, 3.0))?;
+        let l1 = self.anchor(name, Anchor::Skin(-10.0, 8.0, 0.0))?;
+        let l2 = self.anchor(name, Anchor::Skin(36.0, 7.0, 0.0))?;
         let axis = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
-        Ok(frontalis_pair(
-            name,
-            Sheet {
-                attachment: [a1, a2],
-                insertion: [l1, l2],
-                length: round3(axis + units(8.0) as f32),
-                width: round3(units(37.0) as f32),
-            },
-        ))
+        let sheet = Sheet {
+            attachment: [a1, a2],
+            insertion: [l1, l2],
+            length: round3(axis + units(8.0) as f32),
+            width: round3(units(52.0) as f32),
+        };
+        Ok(frontalis_pair(name, sheet))
     }
 
     /// The mouth sphincter, centred between the lips; its protected central disc keeps the
