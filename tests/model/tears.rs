@@ -240,10 +240,13 @@ fn fitted_shared_heads_tear_no_more_than_measured() {
         let turned: usize = torn.iter().map(|(_, d)| d.flips).sum();
         assert!(
             torn.len() <= poses && turned <= flips,
-            "{}: {} poses tear ({} flips), measured {poses} ({flips})",
+            "{}: {} poses tear ({} flips), measured {poses} ({flips}): {:?}",
             head.name,
             torn.len(),
-            turned
+            turned,
+            torn.iter()
+                .map(|(name, d)| (name, d.flips))
+                .collect::<Vec<_>>()
         );
     }
 }
