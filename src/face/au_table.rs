@@ -154,7 +154,7 @@ pub const EXPRESSIONS: &[(&str, &str)] = &[
     ("fear", "1C+2C+4C+5D+7C+20C+26B"),
     ("anger", "4D+5C+7C+23D"),
     ("disgust", "9D+15C+16B"),
-    ("contempt", "R12A+R14A"),
+    ("contempt", "R12C+R14B"),
 ];
 
 /// Builds the default AU table.

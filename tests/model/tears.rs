@@ -233,7 +233,10 @@ fn fitted_shared_heads_tear_no_more_than_measured() {
     for head in shared_heads() {
         let (poses, flips) = match head.name {
             "MediaPipe canonical face" => (36, 251),
-            "MakeHuman base mesh" => (58, 2635),
+            // AU1's medial frontalis sheet (8.6 mm at the brow's head) turns 26 triangles
+            // over on this head, and sadness with it; the sheet at 2.0 63 on each side
+            // (the lateral frontalis sheet at 2.0 turns 119): 58 poses and 2635 before
+            "MakeHuman base mesh" => (64, 2827),
             other => panic!("no bound for {other}"),
         };
         let torn = tears(&head, SkinRules::DEFAULT);
