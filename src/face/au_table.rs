@@ -54,11 +54,8 @@ const fn sided(number: u8, muscles: &'static [(&'static str, f32)], jaw: f32) ->
 
 /// The AUs of the default table, strongest natural intensity.
 const AUS: &[AuSpec] = &[
-    sided(
-        1,
-        &[("Frontalis_Inner", 1.2), ("Secondary_Frontalis", 0.6)],
-        0.0,
-    ),
+    // the medial frontalis lifts the head of the brow as a band, 8.6 mm
+    sided(1, &[("Frontalis_Medial", 0.75)], 0.0),
     sided(
         2,
         &[
@@ -133,8 +130,9 @@ const AUS: &[AuSpec] = &[
         0.0,
     ),
     au(25, &[("Depressor_Labii_Inferioris", 0.6)], 0.8),
-    // the stretched lips draw the corners in round the opening (a light sphincter)
-    au(26, &[("Orbicularis_Oris", 0.4)], 2.2),
+    // the lips stay round the opening: the sphincter draws the corners in, so the corners
+    // do not stay wide and high above the dropped lower lip (which reads as a smile)
+    au(26, &[("Orbicularis_Oris", 1.0)], 2.2),
     au(27, &[("Orbicularis_Oris", 0.6)], 4.0),
     au(43, &[("Orbicularis_Oculi", 2.0)], 0.0),
     au(45, &[("Orbicularis_Oculi", 2.0)], 0.0),
@@ -156,7 +154,7 @@ pub const EXPRESSIONS: &[(&str, &str)] = &[
     ("fear", "1C+2C+4C+5D+7C+20C+26B"),
     ("anger", "4D+5C+7C+23D"),
     ("disgust", "9D+15C+16B"),
-    ("contempt", "R12A+R14A"),
+    ("contempt", "R12C+R14B"),
 ];
 
 /// Builds the default AU table.

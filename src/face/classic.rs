@@ -462,12 +462,15 @@ fn frontalis_sheets(
     } else {
         span * 1.05
     };
-    Ok(rigs::frontalis_pair(Sheet {
-        attachment: [a1, a2],
-        insertion: [l1, l2],
-        length: round3(length),
-        width: round3(inner.x + outer.x),
-    }))
+    Ok(rigs::frontalis_pair(
+        "Frontalis_Sheet",
+        Sheet {
+            attachment: [a1, a2],
+            insertion: [l1, l2],
+            length: round3(length),
+            width: round3(inner.x + outer.x),
+        },
+    ))
 }
 
 /// The mouth sphincter, centred between the lips at the midline. Its semi-minor axis is

@@ -183,12 +183,15 @@ pub(super) fn relax_jaw_weights(
         .collect()
 }
 
-/// Jaw weight at the mouth corners: a dropped jaw pulls the corners a little down (they are
-/// part of both lips), about a third of the lower lip's drop.
-pub const JAW_CORNER_WEIGHT: f64 = 0.3;
+/// Jaw weight at the mouth corners: a dropped jaw pulls the corners down (they are part of
+/// both lips), 0.4 of the lower lip's drop. At 0.3 the corners stayed wide and high above the
+/// dropped lip, a crescent that a face tracker reads as a smile (AU26 read mouthSmile 0.10 to
+/// 0.17, surprise 0.18); at 0.4 the opening is an oval and neither reads as one.
+pub const JAW_CORNER_WEIGHT: f64 = 0.4;
 
-/// Radius (mm) of the skin round each mouth corner that follows the corner down.
-pub(super) const JAW_CORNER_REACH_MM: f64 = 9.0;
+/// Radius (mm) of the skin round each mouth corner that follows the corner down (12 mm, was
+/// 9: with the heavier corner the cheek beside it stretched 2.50x at the jaw's 4.0, now 2.38x).
+pub(super) const JAW_CORNER_REACH_MM: f64 = 12.0;
 
 /// Jaw weights. Below the mouth line: 1 across the middle of the lower lip and chin, falling
 /// along a quarter ellipse (`sqrt(1 - u^2)`, steep only near the corner) to

@@ -6,6 +6,7 @@
 
 pub mod anthropometry;
 pub mod au_table;
+mod brow;
 pub mod classic;
 pub mod generator;
 pub mod groups;

@@ -282,6 +282,13 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
     }
     rig.muscles.push(place.procerus()?);
     rig.muscles.push(place.orbicularis_oris_marginal()?);
+    let medial = place.frontalis_medial_sheets()?;
+    for (muscle, side) in medial.iter().zip([1.0, -1.0]) {
+        let lowest = y_units(-5.0) as f32; // below the sheet's reach under the brows
+        rig.masks
+            .push(super::brow::medial_mask(mesh, &muscle.name, side, lowest));
+    }
+    rig.muscles.extend(medial);
     let [left, right] = place.linear_pair(&LABII_NASI)?;
     for muscle in &mut rig.muscles {
         if muscle.name == left.name {
@@ -424,14 +431,35 @@ impl Placer<'_> {
         let l1 = self.anchor(name, Anchor::Skin(6.0, 8.0, 0.0))?;
         let l2 = self.anchor(name, Anchor::Skin(50.0, 6.0, 0.0))?;
         let axis = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
-        Ok(frontalis_pair(Sheet {
+        Ok(frontalis_pair(
+            "Frontalis_Sheet",
+            Sheet {
+                attachment: [a1, a2],
+                insertion: [l1, l2],
+                // the insertion runs just under the brows; the pull fades out 8 mm below it,
+                // above the upper lids
+                length: round3(axis + units(8.0) as f32),
+                width: round3(units(52.0) as f32),
+            },
+        ))
+    }
+
+    /// The frontalis' medial fibres (default rig): the sheet moved across the midline, its
+    /// medial share set by `brow::medial_mask`, so AU1 lifts the head of the brow as a band.
+    fn frontalis_medial_sheets(&self) -> Result<[Muscle; 2], PlacementError> {
+        let name = "Frontalis_Medial";
+        let a1 = self.anchor(name, Anchor::Skin(-10.0, 56.0, 3.0))?;
+        let a2 = self.anchor(name, Anchor::Skin(36.0, 50.0, 3.0))?;
+        let l1 = self.anchor(name, Anchor::Skin(-10.0, 8.0, 0.0))?;
+        let l2 = self.anchor(name, Anchor::Skin(36.0, 7.0, 0.0))?;
+        let axis = (0.5 * (a1 + a2)).distance(0.5 * (l1 + l2));
+        let sheet = Sheet {
             attachment: [a1, a2],
             insertion: [l1, l2],
-            // the insertion runs just under the brows; the pull fades out 8 mm below it,
-            // above the upper lids
             length: round3(axis + units(8.0) as f32),
             width: round3(units(52.0) as f32),
-        }))
+        };
+        Ok(frontalis_pair(name, sheet))
     }
 
     /// The mouth sphincter, centred between the lips; its protected central disc keeps the
@@ -831,9 +859,10 @@ pub(crate) fn eye_sphincters(
     ))
 }
 
-/// Both frontalis sheets from the left one: the right mirrors its corners (listed in the
-/// same order around the sheet, so the mirror keeps the sheet's orientation).
-pub(crate) fn frontalis_pair(left: Sheet) -> [Muscle; 2] {
+/// A pair of frontalis sheets (`L_name`, `R_name`) from the left one: the right mirrors its
+/// corners (listed in the same order around the sheet, so the mirror keeps the sheet's
+/// orientation).
+pub(crate) fn frontalis_pair(name: &str, left: Sheet) -> [Muscle; 2] {
     let [a1, a2] = left.attachment;
     let [l1, l2] = left.insertion;
     let right = Sheet {
@@ -841,11 +870,7 @@ pub(crate) fn frontalis_pair(left: Sheet) -> [Muscle; 2] {
         insertion: [mirror(l2), mirror(l1)],
         ..left.clone()
     };
-    pair(
-        "Frontalis_Sheet",
-        MuscleKind::Sheet(left),
-        MuscleKind::Sheet(right),
-    )
+    pair(name, MuscleKind::Sheet(left), MuscleKind::Sheet(right))
 }
 
 /// The subject's left (x > 0) and right muscles of a pair, named `L_name` and `R_name`.

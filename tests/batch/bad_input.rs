@@ -100,7 +100,7 @@ fn validate_checks_a_plan_against_its_faces() {
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        out.status.success() && text.contains("167 states, 334 items"),
+        out.status.success() && text.contains("168 states, 336 items"),
         "{text}{}",
         stderr(&out)
     );

@@ -94,7 +94,7 @@ fn one_shard_and_three_shards_with_a_killed_one_give_the_same_batch() {
     let labels = std::fs::read_to_string(one.join("labels.csv")).unwrap();
     assert_eq!(
         labels.lines().count(),
-        1 + 334,
+        1 + 336,
         "the example plan's item count changed"
     );
 }
@@ -206,7 +206,7 @@ fn dry_run_counts_and_writes_nothing() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(
-        text.contains("334 items") && text.contains("--array=0-"),
+        text.contains("336 items") && text.contains("--array=0-"),
         "{text}"
     );
     assert!(!out_dir.exists());

@@ -291,6 +291,6 @@ fn the_example_plan_runs_as_a_slurm_array_with_a_cancelled_shard_resubmitted() {
         logs.contains("shard 2/4:") && logs.contains("already done"),
         "{logs}"
     );
-    assert!(logs.contains("merged 334 items"), "{logs}");
+    assert!(logs.contains("merged 336 items"), "{logs}");
     assert_same_batch(&one, &four);
 }

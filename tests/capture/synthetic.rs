@@ -76,8 +76,10 @@ fn poses(face: &Face) -> Vec<(Activations, &'static str)> {
     let held: [(Muscles, f32, &str); 5] = [
         (&[("L_Zygomatic_Major", 0.8)], 0.0, "left smile"),
         (&[("R_Zygomatic_Major", 0.5)], 0.0, "right smile"),
+        // AU1's muscle in the default rig (with it, a pose made with the overlapping
+        // `Frontalis_Inner` is explained only 0.965)
         (
-            &[("L_Frontalis_Inner", 1.0), ("R_Frontalis_Inner", 1.0)],
+            &[("L_Frontalis_Medial", 0.75), ("R_Frontalis_Medial", 0.75)],
             0.0,
             "inner brows",
         ),

@@ -42,8 +42,9 @@ fn every_entry_of_the_built_in_table_gets_a_row_with_its_numbers() {
         assert!(row(&report, "AU 45").contains('%'), "a lid gap at AU45");
         let au12 = row(&report, "AU 12");
         assert!(au12.contains(" mm") && au12.contains("mouth"), "{au12}");
+        // AU1 is the default rig's medial frontalis, which the paper's rig lacks
         assert!(
-            row(&report, "AU 1").contains("brow"),
+            rig == "builtin:paper" || row(&report, "AU 1").contains("brow"),
             "the inner brow raise"
         );
         assert!(row(&report, "AU 45").contains("eye"), "the blink");

@@ -543,21 +543,74 @@ fn lip_pucker_tightener_and_presser_differ_in_shape() {
     assert!(in24 < in23, "presser corners {in24}");
 }
 
-/// Contempt (`R12A+R14A`, both at trace intensity) visibly moves the right mouth corner: at
-/// least 1.5 mm in the front view, a few braille dots at 120x40.
+/// Contempt (`R12C+R14B`) raises the right mouth corner at least 4 mm, as FACS describes a
+/// one-sided raise (`docs/au.md`; the prototype's trace letters `R12A+R14A` raised it 1.3 mm),
+/// and leaves the left corner.
 #[test]
-fn contempt_moves_the_right_corner_visibly() {
+fn contempt_raises_the_right_corner_visibly() {
     let f = face();
-    let p = f.combo("R12A+R14A");
+    let combo = &f.table.expressions["contempt"];
+    let p = f.combo(combo);
     let right = f.moved(&p, "right_mouth_corner");
     let left = f.moved(&p, "left_mouth_corner");
     let front = Vec3::new(right.x, right.y, 0.0).length();
-    println!("R12A+R14A: right corner {right} mm ({front:.2} mm in the front view)");
-    assert!(
-        front >= 1.5,
-        "right corner moves {front} mm in the front view"
-    );
+    println!("{combo}: right corner {right} mm ({front:.2} mm in the front view)");
+    assert!(right.y >= 4.0, "the right corner rises {} mm", right.y);
     assert!(left.length() < 0.3, "the left corner moves {left} mm");
+}
+
+/// AU1 lifts the head of the brow as a band: at least 7.5 mm (the linear `Frontalis_Inner`
+/// raised it 6.0 mm with the forehead's middle moving most), the glabella between the heads
+/// at least half as far (no dent at the midline), and the tail of the brow under 2 mm.
+#[test]
+fn inner_brow_raiser_lifts_the_head_of_the_brow_as_a_band() {
+    let f = face();
+    let p = f.combo("1");
+    let head = f.moved(&p, "left_brow_inner");
+    let tail = f.moved(&p, "left_brow_outer");
+    let (l, r) = (
+        f.moved(&p, "left_brow_inner"),
+        f.moved(&p, "right_brow_inner"),
+    );
+    println!("AU1: head of the brow {head} mm, tail {tail} mm");
+    assert!(head.y >= 7.5, "the head of the brow rises {} mm", head.y);
+    assert!(tail.y < 2.0, "the tail of the brow rises {} mm", tail.y);
+    assert!((l.y - r.y).abs() < 1e-3, "both heads rise alike");
+    // the glabella: the midline skin vertex level with the heads of the brows
+    let brow_y = f.mesh.positions[f.vertex("left_brow_inner")].y;
+    let skin = grimace::face::groups::skin_len(&f.mesh);
+    let g = (0..skin)
+        .filter(|&v| f.mesh.positions[v].x == 0.0)
+        .min_by(|&a, &b| {
+            let d = |v: usize| (f.mesh.positions[v].y - brow_y).abs();
+            d(a).total_cmp(&d(b))
+        })
+        .expect("a midline vertex");
+    let glabella = (p[g] - f.mesh.positions[g]) * MM;
+    println!("AU1: glabella {glabella} mm");
+    assert!(
+        glabella.y >= 0.5 * head.y,
+        "the glabella rises {} mm, the heads {} mm",
+        glabella.y,
+        head.y
+    );
+}
+
+/// An open jaw sinks the mouth corners with the lower lip, at least a third of its drop (an
+/// oval opening: with the corners held high the tracker read AU26 as a smile).
+#[test]
+fn an_open_jaw_sinks_the_corners_with_the_lower_lip() {
+    let f = face();
+    let p = f.combo("26");
+    let corner = f.moved(&p, "left_mouth_corner");
+    let lip = f.moved(&p, "lower_lip_centre");
+    println!("AU26: corner {corner} mm, lower lip {lip} mm");
+    assert!(
+        corner.y <= lip.y / 3.0,
+        "the corner sinks {} mm for the lip's {} mm",
+        -corner.y,
+        -lip.y
+    );
 }
 
 /// Sadness shows the oblique brows of AU1+4: the head of the brow up and toward the

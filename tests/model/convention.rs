@@ -163,6 +163,15 @@ fn a_version_1_rig_on_the_built_in_face_is_mirrored_on_load() {
     assert!(notice.contains("rig version 1 converted"), "{notice}");
     assert_eq!(old.rig.version, RIG_VERSION);
     let mut current = builtin::default_rig();
+    // the medial frontalis (AU1's sheet, `face::brow`) came later: the file has none
+    let medial = |name: &str| name.ends_with("_Frontalis_Medial");
+    current.muscles.retain(|m| !medial(&m.name));
+    current
+        .masks
+        .retain(|m| !m.muscles.iter().all(|n| medial(n)));
+    for mask in &mut current.masks {
+        mask.muscles.retain(|n| !medial(n));
+    }
     // the mouth sphincter's bulge and the jaw's joint have changed since that file was
     // written (a stronger pucker, a jaw that slides); the conversion is about positions, so
     // compare with the bulge and the jaw's turn the file has

@@ -330,7 +330,8 @@ fn jaw_opens_the_mouth_without_tearing_its_corners() {
             w <= rigs::JAW_CORNER_WEIGHT as f32,
             "upper lip vertex {v} weighs {w}"
         );
-        if rest[v].x.abs() < 0.6 * corner_x {
+        // the corner's weight reaches 12 mm along the upper lip (`face::jaw_skin`)
+        if rest[v].x.abs() < 0.5 * corner_x {
             assert_eq!(w, 0.0, "upper lip vertex {v} away from the corners moves");
         }
     }

@@ -162,9 +162,10 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
                 // ... and the level draws few lines the full mesh does not (re-faceting a
                 // surface moves some facing contours and creases; the worst case, 80x24 at
                 // three-quarters, reads 0.796 since the built-in rig's lip masks fade with the
-                // angle about each mouth corner and so label more of the mouth's surface).
+                // angle about each mouth corner and so label more of the mouth's surface, and
+                // 0.762 since the medial frontalis' mask bands the forehead, `face::brow`).
                 assert!(
-                    added >= 0.78,
+                    added >= 0.75,
                     "{what}: {added} of the level's cells near a full one"
                 );
                 worst_added = worst_added.min(added);
