@@ -232,13 +232,14 @@ fn the_spread_tears_fitted_shared_heads_less() {
 fn fitted_shared_heads_tear_no_more_than_measured() {
     for head in shared_heads() {
         let (poses, flips) = match head.name {
-            "MediaPipe canonical face" => (9999, 99999),
-            "MakeHuman base mesh" => (9999, 99999),
+            "MediaPipe canonical face" => (29, 242),
+            // With the lids shaped from the mesh (57, 1760 before AU1's medial frontalis
+            // sheet, whose edge turns triangles over on this head at AU1, sadness and at 2.0)
+            "MakeHuman base mesh" => (60, 1941),
             other => panic!("no bound for {other}"),
         };
         let torn = tears(&head, SkinRules::DEFAULT);
         let turned: usize = torn.iter().map(|(_, d)| d.flips).sum();
-        eprintln!("MEASURED {} {} {}", head.name, torn.len(), turned);
         assert!(
             torn.len() <= poses && turned <= flips,
             "{}: {} poses tear ({} flips), measured {poses} ({flips}): {:?}",
