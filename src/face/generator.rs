@@ -80,21 +80,21 @@ struct Layout {
     ch_x: f64,
 }
 
-/// Builds the default face mesh with its named vertex groups (see [`super::groups`]).
-pub fn generate() -> Mesh {
+/// Builds the default face mesh, without its vertex groups, and the vertices along its
+/// openings that name them ([`super::generate`] adds the groups).
+pub fn build() -> (Mesh, Slits) {
     let layout = Layout::new();
     let mut builder = Builder::new(&layout);
     builder.place_vertices();
     builder.build_triangles();
     builder.add_eyeballs();
     super::mouth::append(&mut builder.positions, &mut builder.triangles);
-    let mut mesh = Mesh {
+    let mesh = Mesh {
         positions: builder.positions,
         triangles: builder.triangles,
         groups: BTreeMap::new(),
     };
-    mesh.groups = super::groups::find_groups(&mesh, &builder.slits);
-    mesh
+    (mesh, builder.slits)
 }
 
 impl Layout {

@@ -17,9 +17,16 @@ pub mod rigs;
 pub mod surface;
 pub mod topology;
 
-pub use generator::generate;
-
 use glam::Vec3;
+
+use crate::model::Mesh;
+
+/// Builds the default face mesh with its named vertex groups (see [`groups`]).
+pub fn generate() -> Mesh {
+    let (mut mesh, slits) = generator::build();
+    mesh.groups = groups::find_groups(&mesh, &slits);
+    mesh
+}
 
 /// Rounds to 3 decimals so rig files stay readable (0.001 units is 0.01 mm).
 pub(crate) fn round3(v: f32) -> f32 {

@@ -31,6 +31,7 @@ pub mod quality;
 mod reach;
 pub mod regions;
 pub mod solve;
+mod sources;
 pub mod transport;
 pub mod warp;
 

@@ -13,7 +13,7 @@
 
 use glam::{DMat3, DVec3, Vec3};
 
-use super::transport::Sources;
+use super::sources::Sources;
 use super::warp::Warp;
 use super::Template;
 use crate::model::{Field, Mask, Mesh, MuscleKind, Rig, Sphincter};
