@@ -283,7 +283,7 @@ fn editor(rig: grimace::model::Rig, mesh: Mesh, runs: usize) {
         time(runs, || press(&mut app)),
     );
     // The viewport's cells at 200x60 (the wide layout: muscles, face, table panels).
-    let camera = grimace::tui::view::viewport::camera(&app);
+    let camera = app.camera();
     let canvas = app.view.drawn_cells().canvas(126, 56);
     let drawn = app
         .doc
@@ -308,7 +308,7 @@ fn editor(rig: grimace::model::Rig, mesh: Mesh, runs: usize) {
     let mut draw_times = Vec::new();
     for _ in 0..runs {
         press(&mut app);
-        let camera = grimace::tui::view::viewport::camera(&app);
+        let camera = app.camera();
         if let Some(level) =
             app.doc
                 .face

@@ -3,7 +3,8 @@
 use std::path::PathBuf;
 
 use crate::facs::{AuKey, AuTable};
-use glam::Vec3;
+use crate::render::Camera;
+use glam::{Vec2, Vec3};
 
 use crate::model::{Activations, Jaw, MuscleKind, Rig};
 
@@ -471,6 +472,21 @@ pub struct App {
 }
 
 impl App {
+    /// The camera for the view settings: angles in degrees about the face's own axes, pan as a
+    /// fraction of the face's size. Every view of the editor (drawing, zoom focus, rig mode's
+    /// directions) derives from this one.
+    pub fn camera(&self) -> Camera {
+        let framing = self.doc.face.framing();
+        let extent = framing.size();
+        Camera {
+            yaw: self.view.yaw.to_radians(),
+            pitch: self.view.pitch.to_radians(),
+            zoom: self.view.zoom,
+            pan: Vec2::new(self.view.pan.0, self.view.pan.1) * extent,
+            basis: framing.basis,
+        }
+    }
+
     /// A new editor on a scene and a table.
     pub fn new(scene: Face, table: AuTable, file: Option<PathBuf>) -> App {
         let rows = rows_of(scene.rig());

@@ -7,8 +7,6 @@ use super::action::Action;
 use super::action::RigAction;
 use super::app::{App, Mode, ViewPreset};
 
-pub mod pick;
-
 /// One key binding in normal mode.
 #[derive(Debug, Clone)]
 pub struct Binding {
@@ -795,7 +793,7 @@ fn normal(key: KeyEvent) -> Option<Action> {
 }
 
 /// The modifiers that matter: Shift is part of the character for printable keys.
-fn significant(key: KeyEvent) -> KeyModifiers {
+pub(crate) fn significant(key: KeyEvent) -> KeyModifiers {
     let mut mods =
         key.modifiers & (KeyModifiers::CONTROL | KeyModifiers::ALT | KeyModifiers::SHIFT);
     if matches!(key.code, KeyCode::Char(_)) {

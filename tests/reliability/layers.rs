@@ -163,8 +163,14 @@ fn blank_literals_and_comments(text: &str) -> String {
 /// The top-level modules `code` names through `crate::`: `crate::io::x`, and the first names
 /// of `use crate::{io::x, fit}`.
 fn crate_uses(code: &str) -> BTreeSet<String> {
+    path_uses(code, "crate::")
+}
+
+/// The first names after `prefix` in `code`: `prefix` `io::x`, and the first names of
+/// `prefix` `{io::x, fit}`.
+fn path_uses(code: &str, prefix: &str) -> BTreeSet<String> {
     let mut names = BTreeSet::new();
-    for (at, _) in code.match_indices("crate::") {
+    for (at, _) in code.match_indices(prefix) {
         let word_before = code[..at]
             .chars()
             .next_back()
@@ -172,7 +178,7 @@ fn crate_uses(code: &str) -> BTreeSet<String> {
         if word_before {
             continue;
         }
-        let after = &code[at + "crate::".len()..];
+        let after = &code[at + prefix.len()..];
         if let Some(group) = after.strip_prefix('{') {
             let mut depth = 0;
             let mut item_start = true;
@@ -215,16 +221,16 @@ fn top_module(path: &Path) -> String {
         .into_owned()
 }
 
-#[test]
-fn no_module_uses_its_own_row_or_a_row_above() {
-    let ranks = ranks(&architecture());
+/// Every file of `src/` that is not test code, with its production code
+/// ([`production_code`]), in path order.
+fn production_sources() -> Vec<(PathBuf, String)> {
     let mut files = Vec::new();
     rust_files(&Path::new(ROOT).join("src"), &mut files);
     files.sort();
     let mut test_files = BTreeSet::new();
     let mut sources = Vec::new();
-    for path in &files {
-        let (code, test_modules) = production_code(&std::fs::read_to_string(path).unwrap());
+    for path in files {
+        let (code, test_modules) = production_code(&std::fs::read_to_string(&path).unwrap());
         let dir = match path.file_name().unwrap().to_str().unwrap() {
             "mod.rs" | "lib.rs" | "main.rs" => path.parent().unwrap().to_path_buf(),
             _ => path.with_extension(""),
@@ -235,11 +241,75 @@ fn no_module_uses_its_own_row_or_a_row_above() {
         }
         sources.push((path, code));
     }
+    sources.retain(|(path, _)| !test_files.contains(path));
+    sources
+}
+
+/// For a file of `src/TOP/...`, its top module and the sub-module of it the file belongs to
+/// (`src/fit/lids.rs` -> `fit`, `lids`), with the prefix naming a sibling sub-module from
+/// the file (`super::`, or `super::super::` one folder deeper); `None` for `src/TOP.rs`.
+fn sub_module(path: &Path) -> Option<(String, String, &'static str)> {
+    let relative = path.strip_prefix(Path::new(ROOT).join("src")).unwrap();
+    let parts: Vec<String> = relative
+        .components()
+        .map(|c| {
+            c.as_os_str()
+                .to_string_lossy()
+                .trim_end_matches(".rs")
+                .to_string()
+        })
+        .collect();
+    match parts.as_slice() {
+        [top, sub] if sub != "mod" => Some((top.clone(), sub.clone(), "super::")),
+        [top, sub, file] => {
+            let prefix = if file == "mod" {
+                "super::"
+            } else {
+                "super::super::"
+            };
+            Some((top.clone(), sub.clone(), prefix))
+        }
+        _ => None,
+    }
+}
+
+#[test]
+fn no_two_sub_modules_use_each_other() {
+    // (top, sub) -> the sibling sub-modules it names
+    let mut uses: BTreeMap<(String, String), BTreeSet<String>> = BTreeMap::new();
+    for (file, code) in production_sources() {
+        let Some((top, sub, prefix)) = sub_module(&file) else {
+            continue;
+        };
+        let mut named = path_uses(&code, prefix);
+        named.extend(path_uses(&code, &format!("crate::{top}::")));
+        named.remove(&sub);
+        uses.entry((top, sub)).or_default().extend(named);
+    }
+    let mut cycles = Vec::new();
+    for ((top, a), named) in &uses {
+        for b in named {
+            let back = uses.get(&(top.clone(), b.clone()));
+            if a < b && back.is_some_and(|n| n.contains(a)) {
+                cycles.push(format!("{top}::{a} <-> {top}::{b}"));
+            }
+        }
+    }
+    assert!(
+        cycles.is_empty(),
+        "sub-modules that use each other (one must not know the other): {cycles:?}"
+    );
+}
+
+#[test]
+fn no_module_uses_its_own_row_or_a_row_above() {
+    let ranks = ranks(&architecture());
+    let sources = production_sources();
     let mut wrong = Vec::new();
     let mut checked = 0;
-    for (path, code) in sources {
+    for (path, code) in &sources {
         let name = path.file_name().unwrap();
-        if name == "lib.rs" || name == "main.rs" || test_files.contains(path) {
+        if name == "lib.rs" || name == "main.rs" {
             continue;
         }
         let top = top_module(path);

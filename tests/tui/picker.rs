@@ -11,7 +11,7 @@ use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use grimace::landmarks::Landmarks;
 use grimace::landmarks::COUNT;
 use grimace::render::CellMode;
-use grimace::tui::keymap::pick::dispatch;
+use grimace::tui::pick::keys::dispatch;
 use grimace::tui::pick::PickApp;
 
 use crate::common;

@@ -6,7 +6,6 @@ use grimace::tui::action::Action;
 use grimace::tui::app::{App, Row};
 use grimace::tui::face::Face;
 use grimace::tui::update::update;
-use grimace::tui::view::viewport::camera;
 
 fn app() -> App {
     let (rig, mesh, table) = grimace::cli::edit::default_face().expect("the built-in face");
@@ -19,7 +18,7 @@ fn app() -> App {
 /// Where `p` lands on a 200 x 160 dot canvas, as a fraction of the canvas from its centre.
 fn from_centre(app: &App, p: Vec3) -> f32 {
     let mesh = app.doc.face.mesh();
-    let proj = camera(app).fit_points(&mesh.positions, 200, 160, 1.0);
+    let proj = app.camera().fit_points(&mesh.positions, 200, 160, 1.0);
     let q = proj.project(p);
     ((q.x - 100.0) / 200.0).hypot((q.y - 80.0) / 160.0)
 }

@@ -10,9 +10,10 @@
 //!
 //! The shape is the editor's: [`state`] holds the state and the pure update, [`view`] draws,
 //! [`screen`] projects the mesh and finds the visible vertex nearest the cursor, the keys are
-//! [`crate::tui::keymap::pick`], and [`run`] is the event loop. Every pick is written to a
+//! [`keys`], and [`run`] is the event loop. Every pick is written to a
 //! recovery file at once ([`crate::io::pick_recovery`]), so a dropped connection loses none.
 
+pub mod keys;
 pub mod screen;
 pub mod state;
 pub mod view;
@@ -20,7 +21,6 @@ pub mod view;
 use crossterm::event::{Event, KeyEventKind, MouseButton, MouseEventKind};
 use ratatui::layout::Rect;
 
-use super::keymap;
 use super::session::Session;
 use super::term;
 use crate::io::pick_recovery::{self, PickRecovery};
@@ -167,9 +167,7 @@ impl super::program::Program for Picker<'_> {
 pub fn actions_for(app: &PickApp, ev: &Event) -> Vec<PickAction> {
     match ev {
         Event::Key(key) if key.kind != KeyEventKind::Release => {
-            keymap::pick::dispatch(&app.mode, *key)
-                .into_iter()
-                .collect()
+            keys::dispatch(&app.mode, *key).into_iter().collect()
         }
         Event::Resize(w, h) => vec![PickAction::Resize(*w, *h)],
         Event::Mouse(mouse) if app.mode == state::Mode::Normal => match mouse.kind {

@@ -9,13 +9,13 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph, Widget, Wrap};
 use ratatui::Frame;
 
+use super::keys;
 use super::layout;
 use super::state::{Mode, PickApp, Question};
 use crate::landmarks::NAMES;
 use crate::render::{
     Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Scene, Style as Look,
 };
-use crate::tui::keymap::pick as keys;
 use crate::tui::view::cells::CellGridView;
 use crate::tui::view::theme::Theme;
 use crate::tui::view::wrap_words;

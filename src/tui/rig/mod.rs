@@ -37,7 +37,7 @@ fn face_size(app: &App) -> f32 {
 
 /// The screen's right and up directions in mesh coordinates, for the current view.
 pub fn view_axes(app: &App) -> (Vec3, Vec3) {
-    let back = super::view::viewport::camera(app).view_matrix().transpose();
+    let back = app.camera().view_matrix().transpose();
     (back * Vec3::X, back * Vec3::Y)
 }
 

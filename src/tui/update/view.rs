@@ -131,7 +131,7 @@ fn focus_pan(app: &App) -> Option<(f32, f32)> {
     let focus = zoom_focus(app)?;
     let mesh = app.doc.face.mesh();
     let framing = app.doc.face.framing();
-    let view = crate::tui::view::viewport::camera(app).view_matrix();
+    let view = app.camera().view_matrix();
     // The centre the camera fits the framed points around, as it sees it.
     let (mut lo, mut hi) = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);
     let framed = framing.focus.as_deref().unwrap_or(&mesh.positions);

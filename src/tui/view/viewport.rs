@@ -1,7 +1,6 @@
 //! The viewport: the deformed face, drawn by the core renderer ([`crate::render`]) and copied
 //! cell by cell into the ratatui buffer.
 
-use glam::Vec2;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::widgets::{Block, Borders, Widget};
@@ -9,8 +8,7 @@ use ratatui::widgets::{Block, Borders, Widget};
 use super::cells::CellGridView;
 use super::theme::Theme;
 use crate::render::{
-    muscle_overlays, Camera, CellGrid, DisplacementLegend, DotCanvas, Overlay, Palette, Renderer,
-    Scene,
+    muscle_overlays, CellGrid, DisplacementLegend, DotCanvas, Overlay, Palette, Renderer, Scene,
 };
 use crate::tui::app::{App, Row};
 
@@ -40,21 +38,6 @@ struct CacheKey {
     selected: Option<usize>,
     /// Rig mode's selected point, while rig mode is on.
     rig: Option<usize>,
-}
-
-/// The camera for the view settings: angles in degrees about the face's own axes, pan as a
-/// fraction of the face's size. Every view of the editor (drawing, zoom focus, rig mode's
-/// directions) derives from this one.
-pub fn camera(app: &App) -> Camera {
-    let framing = app.doc.face.framing();
-    let extent = framing.size();
-    Camera {
-        yaw: app.view.yaw.to_radians(),
-        pitch: app.view.pitch.to_radians(),
-        zoom: app.view.zoom,
-        pan: Vec2::new(app.view.pan.0, app.view.pan.1) * extent,
-        basis: framing.basis,
-    }
 }
 
 /// Draws the viewport panel, reusing the buffers in `cache`.
@@ -146,7 +129,7 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
     if app.rig_edit.on {
         super::rig::zone_overlays(app, overlays);
     }
-    let camera = camera(app);
+    let camera = app.camera();
     let level =
         app.doc
             .face

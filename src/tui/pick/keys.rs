@@ -3,8 +3,8 @@
 
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-use super::{key_label, significant};
-use crate::tui::pick::state::{Mode, PickAction, COARSE, TILT_DEGREES, TURN_DEGREES, ZOOM_STEP};
+use super::state::{Mode, PickAction, COARSE, TILT_DEGREES, TURN_DEGREES, ZOOM_STEP};
+use crate::tui::keymap::{key_label, significant};
 
 /// One key of the picker.
 #[derive(Debug, Clone)]
