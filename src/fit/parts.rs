@@ -100,19 +100,10 @@ fn rigid_name(name: &str) -> bool {
     RIGID_WORDS.iter().any(|w| lower.contains(w))
 }
 
-/// Words in a rigid group's name that mark anatomy (eyes, teeth, gums, tongue, the mouth's
-/// inside); the rest of [`RIGID_WORDS`] mark helper geometry.
+/// Words in a `helper` group's name that mark anatomy (eyes, teeth, gums, tongue, the
+/// mouth's inside): such a helper is drawn ([`helper_name`]).
 const ANATOMY_WORDS: [&str; 10] = [
-    "eye",
-    "iris",
-    "pupil",
-    "cornea",
-    "sclera",
-    "teeth",
-    "tooth",
-    "gum",
-    "tongue",
-    "mouth",
+    "eye", "iris", "pupil", "cornea", "sclera", "teeth", "tooth", "gum", "tongue", "mouth",
 ];
 
 /// True when a group's name says it is helper geometry that is not anatomy: a joint
@@ -532,10 +523,21 @@ mod tests {
         ] {
             assert!(!rigid_name(name), "{name}");
         }
-        for name in ["helper-hair", "helper-Skirt", "joint-jaw", "joint-l-eye-target"] {
+        for name in [
+            "helper-hair",
+            "helper-Skirt",
+            "joint-jaw",
+            "joint-l-eye-target",
+        ] {
             assert!(helper_name(name), "{name}");
         }
-        for name in ["hair", "body", "helper-tongue", "helper-upper-teeth", "Eyelashes"] {
+        for name in [
+            "hair",
+            "body",
+            "helper-tongue",
+            "helper-upper-teeth",
+            "Eyelashes",
+        ] {
             assert!(!helper_name(name), "{name}");
         }
         assert!(!helper_name("helper-l-eyelashes-1"));
