@@ -100,6 +100,59 @@ fn rigid_name(name: &str) -> bool {
     RIGID_WORDS.iter().any(|w| lower.contains(w))
 }
 
+/// Words in a `helper` group's name that mark anatomy (eyes, teeth, gums, tongue, the
+/// mouth's inside): such a helper is drawn ([`helper_name`]).
+const ANATOMY_WORDS: [&str; 10] = [
+    "eye", "iris", "pupil", "cornea", "sclera", "teeth", "tooth", "gum", "tongue", "mouth",
+];
+
+/// True when a group's name says it is helper geometry that is not anatomy: a joint
+/// marker (`joint-jaw`, `joint-l-eye-target`: never anatomy), or a rigid `helper` proxy
+/// that names no eye, tooth, gum, tongue, mouth or lash (`helper-hair`, `helper-skirt`).
+/// Modelling tools keep such proxies and markers in the file but never show them; grimace
+/// does not draw them either ([`drawn_triangles`]). A plain `hair` group is the user's hair
+/// and is drawn.
+pub fn helper_name(name: &str) -> bool {
+    let lower = name.to_ascii_lowercase();
+    rigid_name(name)
+        && (lower.contains("joint")
+            || (lower.contains("helper") && !ANATOMY_WORDS.iter().any(|w| lower.contains(w))))
+}
+
+/// The triangles to draw: every triangle but those whose corners all belong to helper
+/// groups ([`helper_name`]) and to no other group. `None` when that is every triangle
+/// (a mesh without helper groups draws exactly as read). Export keeps every triangle.
+pub fn drawn_triangles(mesh: &Mesh) -> Option<Vec<[u32; 3]>> {
+    let helpers: Vec<&Vec<u32>> = mesh
+        .groups
+        .iter()
+        .filter(|(name, _)| helper_name(name))
+        .map(|(_, members)| members)
+        .collect();
+    if helpers.is_empty() {
+        return None;
+    }
+    let mut hidden = vec![false; mesh.vertex_count()];
+    for &v in helpers.into_iter().flatten() {
+        hidden[v as usize] = true;
+    }
+    // A vertex a drawn group also holds stays drawn.
+    for (name, members) in &mesh.groups {
+        if !helper_name(name) {
+            for &v in members {
+                hidden[v as usize] = false;
+            }
+        }
+    }
+    let drawn: Vec<[u32; 3]> = mesh
+        .triangles
+        .iter()
+        .filter(|t| !t.iter().all(|&v| hidden[v as usize]))
+        .copied()
+        .collect();
+    (drawn.len() < mesh.triangles.len()).then_some(drawn)
+}
+
 /// True when a rigid group's name says it holds the mouth's parts without saying which jaw
 /// they belong to (`teeth`, `gums`, `mouth`, `teeth_tongue`, but not `upper_teeth` or a
 /// lone `tongue`): its pieces are sorted by the occlusal plane.
@@ -470,6 +523,24 @@ mod tests {
         ] {
             assert!(!rigid_name(name), "{name}");
         }
+        for name in [
+            "helper-hair",
+            "helper-Skirt",
+            "joint-jaw",
+            "joint-l-eye-target",
+        ] {
+            assert!(helper_name(name), "{name}");
+        }
+        for name in [
+            "hair",
+            "body",
+            "helper-tongue",
+            "helper-upper-teeth",
+            "Eyelashes",
+        ] {
+            assert!(!helper_name(name), "{name}");
+        }
+        assert!(!helper_name("helper-l-eyelashes-1"));
         assert!(lash_name("helper-r-eyelashes-2") && lash_name("Eyelashes"));
         assert!(!lash_name("eyebrows"));
         assert!(jaw_name("helper-lower-teeth"));

@@ -16,4 +16,5 @@ mod files;
 mod framing;
 mod geometry;
 mod ghost;
+mod helpers;
 mod lod;

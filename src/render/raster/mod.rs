@@ -96,6 +96,9 @@ pub struct LitTriangle {
 #[derive(Debug, Clone, Default)]
 pub struct Renderer {
     triangles: Vec<[u32; 3]>,
+    /// The mesh's own triangles when `triangles` leaves helper geometry out (empty when it
+    /// draws them all), to tell a new mesh from the same one.
+    source: Vec<[u32; 3]>,
     edges: Vec<Edge>,
     /// +1 when right-hand normals point outward, -1 when inward (auto-detected at build).
     auto_sign: f32,
@@ -147,8 +150,16 @@ impl Renderer {
 
     fn rebuild(&mut self, mesh: &Mesh) {
         self.triangles.clear();
-        self.triangles.extend_from_slice(&mesh.triangles);
-        self.edges = build_edges(&mesh.triangles, mesh.positions.len());
+        self.source.clear();
+        // Helper geometry (proxies, joint markers) is never drawn: one rule, in fit::parts.
+        match crate::fit::parts::drawn_triangles(mesh) {
+            Some(drawn) => {
+                self.triangles = drawn;
+                self.source.extend_from_slice(&mesh.triangles);
+            }
+            None => self.triangles.extend_from_slice(&mesh.triangles),
+        }
+        self.edges = build_edges(&self.triangles, mesh.positions.len());
         self.auto_sign = detect_orientation(mesh);
         fill::vertex_tones(mesh, &mut self.vertex_tone);
     }
@@ -232,7 +243,12 @@ impl Renderer {
         height: usize,
         dot_aspect: f32,
     ) -> Option<Projection> {
-        if scene.mesh.triangles != self.triangles {
+        let drawn_from = if self.source.is_empty() {
+            &self.triangles
+        } else {
+            &self.source
+        };
+        if scene.mesh.triangles != *drawn_from {
             self.rebuild(scene.mesh);
         }
         if width == 0 || height == 0 {

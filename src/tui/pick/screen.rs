@@ -134,7 +134,9 @@ fn visibility(
     let mut depth = vec![f32::NEG_INFINITY; width * height];
     // Per vertex: whether a front face uses it, and the steepest such face's depth slope.
     let mut slope = vec![f32::NAN; n];
-    for tri in &mesh.triangles {
+    // Helper geometry is not drawn, so it hides nothing and shows nothing to pick.
+    let drawn = crate::fit::parts::drawn_triangles(mesh);
+    for tri in drawn.as_deref().unwrap_or(&mesh.triangles) {
         let Some(p) = corners(projected, *tri) else {
             continue;
         };
