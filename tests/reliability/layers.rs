@@ -321,7 +321,7 @@ fn no_module_uses_its_own_row_or_a_row_above() {
             continue;
         };
         checked += 1;
-        for used in crate_uses(&code) {
+        for used in crate_uses(code) {
             if used == top {
                 continue;
             }
