@@ -134,13 +134,7 @@ pub fn fit_rig(
     mesh_path: PathBuf,
     overrides: &PartOverrides,
 ) -> Result<Fitted, FitError> {
-    let target = landmarks.positions(mesh)?;
-    check_shape(template.landmarks).map_err(FitError::Template)?;
-    let from =
-        FaceFrame::of(template.landmarks).ok_or(FitError::Template(LandmarkError::Degenerate))?;
-    let to = FaceFrame::of(&target).ok_or(LandmarkError::Degenerate)?;
-    check_handedness(&from, &to, &target)?;
-    let warp = Warp::fit(template.landmarks, &target).ok_or(FitError::Warp)?;
+    let (target, [from, to], warp) = place(template, mesh, landmarks)?;
     let parts = find_parts(mesh, &landmarks.vertices(mesh), &target, overrides);
     if !parts.of_vertex.contains(&Part::Skin) {
         return Err(FitError::NoSkin);
@@ -197,13 +191,11 @@ pub fn fit_rig(
     rig.masks.extend(super::reach::reach_masks(
         &rig, template, mesh, &sources, &warp, &round,
     ));
-    for (name, gain) in gains {
-        rig.masks.push(Mask {
-            muscles: vec![name],
-            gain: gain as f32,
-            weights: Vec::new(),
-        });
-    }
+    rig.masks.extend(gains.into_iter().map(|(name, gain)| Mask {
+        muscles: vec![name],
+        gain: gain as f32,
+        weights: Vec::new(),
+    }));
     // the closing eye rings: shaped from the mesh's own lids where the carried mask does
     // not close them as the template's closes the template's
     let marks = landmarks.vertices(mesh);
@@ -215,6 +207,23 @@ pub fn fit_rig(
         bend: warp.bend(&target),
         sides,
     })
+}
+
+/// The mesh's landmark positions, both faces' frames (template, mesh) and the warp between
+/// them, after checking that the two landmark sets can be matched at all.
+fn place(
+    template: Template<'_>,
+    mesh: &Mesh,
+    landmarks: &Landmarks,
+) -> Result<(Vec<Vec3>, [FaceFrame; 2], Warp), FitError> {
+    let target = landmarks.positions(mesh)?;
+    check_shape(template.landmarks).map_err(FitError::Template)?;
+    let from =
+        FaceFrame::of(template.landmarks).ok_or(FitError::Template(LandmarkError::Degenerate))?;
+    let to = FaceFrame::of(&target).ok_or(LandmarkError::Degenerate)?;
+    check_handedness(&from, &to, &target)?;
+    let warp = Warp::fit(template.landmarks, &target).ok_or(FitError::Warp)?;
+    Ok((target, [from, to], warp))
 }
 
 /// Refuses landmark sets of opposite handedness, naming which one is mirrored (or, for the

@@ -314,20 +314,7 @@ fn fit_chunk(
             }
             let u = n.any_orthonormal_vector();
             let w = n.cross(u);
-            let mut m = [[0.0f64; 5]; 5];
-            let mut rhs = [0.0f64; 5];
-            for &(q, _) in &near[1..] {
-                let d = rest[q].as_dvec3() - p;
-                let (x, y, z) = (d.dot(u), d.dot(w), d.dot(n));
-                let row = [x, y, x * x, x * y, y * y];
-                for i in 0..5 {
-                    for j in 0..5 {
-                        m[i][j] += row[i] * row[j];
-                    }
-                    rhs[i] += row[i] * z;
-                }
-            }
-            let fit = solve(m, rhs).unwrap_or([0.0; 5]);
+            let fit = height_field(rest, &near[1..], p, [u, w, n]);
             Patch {
                 u: u.as_vec3(),
                 v: w.as_vec3(),
@@ -340,6 +327,26 @@ fn fit_chunk(
             }
         })
         .collect()
+}
+
+/// The quadratic height field `z = d x + e y + a x^2 + b x y + c y^2` fitted by least squares
+/// to the patch's points around `p`, in the frame `[u, v, normal]`; all zero if singular.
+fn height_field(rest: &[Vec3], near: &[(usize, f64)], p: DVec3, frame: [DVec3; 3]) -> [f64; 5] {
+    let [u, w, n] = frame;
+    let mut m = [[0.0f64; 5]; 5];
+    let mut rhs = [0.0f64; 5];
+    for &(q, _) in near {
+        let d = rest[q].as_dvec3() - p;
+        let (x, y, z) = (d.dot(u), d.dot(w), d.dot(n));
+        let row = [x, y, x * x, x * y, y * y];
+        for i in 0..5 {
+            for j in 0..5 {
+                m[i][j] += row[i] * row[j];
+            }
+            rhs[i] += row[i] * z;
+        }
+    }
+    solve(m, rhs).unwrap_or([0.0; 5])
 }
 
 /// The normal of the plane fitted to the patch's points (weighted principal axes, the
