@@ -2,61 +2,16 @@
 //! MakeHuman's base mesh, AU43 and AU45 bring the lids together (as `grimace check`
 //! measures them) without turning the lid's rows over.
 
-use crate::common;
-
-use std::path::Path;
-
 use grimace::fit::quality::{Expect, Eyes, Gauge};
-use grimace::fit::{fit_rig, Fitted, PartOverrides, Template};
-use grimace::io::{builtin, landmarks::load_landmarks, obj};
 use grimace::landmarks::Landmarks;
 use grimace::model::{BoundRig, Mesh, SkinRules};
-
-fn fit(mesh: &Mesh, landmarks: &Landmarks) -> Fitted {
-    let face = builtin::default_mesh();
-    let rig = builtin::default_rig();
-    let points = builtin::landmarks("face")
-        .unwrap()
-        .positions(&face)
-        .unwrap();
-    fit_rig(
-        Template {
-            rig: &rig,
-            mesh: &face,
-            landmarks: &points,
-        },
-        mesh,
-        landmarks,
-        "mesh.obj".into(),
-        &PartOverrides::default(),
-    )
-    .unwrap()
-}
-
-fn makehuman() -> Option<(Mesh, Landmarks)> {
-    let shared = common::shared_with(&["meshes/makehuman_base.obj"])?;
-    let mesh = obj::read_obj(&shared.join("meshes/makehuman_base.obj")).unwrap();
-    let landmarks = load_landmarks(Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/fit_data/makehuman_base.landmarks.ron"
-    )))
-    .unwrap();
-    Some((mesh, landmarks))
-}
-
-fn mediapipe() -> Option<(Mesh, Landmarks)> {
-    let shared = common::shared_with(&["meshes/mediapipe_canonical_face.obj"])?;
-    let mesh = obj::read_obj(&shared.join("meshes/mediapipe_canonical_face.obj")).unwrap();
-    let landmarks = Landmarks::mediapipe(&mesh).unwrap();
-    Some((mesh, landmarks))
-}
 
 /// AU43 and AU45 with the skin rules: the lids leave under 10 % of the opening (before the
 /// lids were shaped from the mesh: 13 % on MediaPipe, 11 % on MakeHuman), and at most
 /// `turned` skin triangles turn over (before: 2 and 206) and no edge stretches past
 /// `stretch` (before: 1.59 and 6.05).
 fn assert_lids_close(name: &str, mesh: &Mesh, landmarks: &Landmarks, turned: usize, stretch: f32) {
-    let fitted = fit(mesh, landmarks);
+    let fitted = crate::fit_default(mesh, landmarks);
     let bound = BoundRig::bind_with(&fitted.rig, mesh, SkinRules::DEFAULT).unwrap();
     let gauge = Gauge::new(mesh, &landmarks.vertices(mesh), None).unwrap();
     let expect = Expect {
@@ -84,14 +39,14 @@ fn assert_lids_close(name: &str, mesh: &Mesh, landmarks: &Landmarks, turned: usi
 
 #[test]
 fn mediapipe_lids_close_without_tearing() {
-    if let Some((mesh, landmarks)) = mediapipe() {
+    if let Some((_, mesh, landmarks)) = crate::shared_mediapipe() {
         assert_lids_close("MediaPipe", &mesh, &landmarks, 0, 1.5);
     }
 }
 
 #[test]
 fn makehuman_lids_close_with_fewer_tears() {
-    if let Some((mesh, landmarks)) = makehuman() {
+    if let Some((_, mesh, landmarks)) = crate::shared_makehuman() {
         assert_lids_close("MakeHuman", &mesh, &landmarks, 70, 3.0);
     }
 }
@@ -102,10 +57,10 @@ fn makehuman_lids_close_with_fewer_tears() {
 /// their own place.
 #[test]
 fn makehuman_lashes_move_with_their_lid_edge() {
-    let Some((mesh, landmarks)) = makehuman() else {
+    let Some((_, mesh, landmarks)) = crate::shared_makehuman() else {
         return;
     };
-    let fitted = fit(&mesh, &landmarks);
+    let fitted = crate::fit_default(&mesh, &landmarks);
     let bound = BoundRig::bind_with(&fitted.rig, &mesh, SkinRules::DEFAULT).unwrap();
     let moved = crate::positions_at_au(&bound, "45");
     let d = |v: usize| moved[v] - mesh.positions[v];

@@ -18,9 +18,59 @@ mod rig;
 mod rings;
 mod scheme;
 
+use std::path::{Path, PathBuf};
+
 use glam::Vec3;
-use grimace::io::builtin;
-use grimace::model::BoundRig;
+use grimace::fit::{fit_rig, Fitted, PartOverrides, Template};
+use grimace::io::{builtin, landmarks::load_landmarks, obj};
+use grimace::landmarks::Landmarks;
+use grimace::model::{BoundRig, Mesh};
+
+/// The built-in rig fitted to `mesh` from `landmarks`, as `fit-rig` fits it.
+fn fit_default(mesh: &Mesh, landmarks: &Landmarks) -> Fitted {
+    let face = builtin::default_mesh();
+    let rig = builtin::default_rig();
+    let points = builtin::landmarks("face")
+        .unwrap()
+        .positions(&face)
+        .unwrap();
+    fit_rig(
+        Template {
+            rig: &rig,
+            mesh: &face,
+            landmarks: &points,
+        },
+        mesh,
+        landmarks,
+        "mesh.obj".into(),
+        &PartOverrides::default(),
+    )
+    .unwrap()
+}
+
+/// MakeHuman's base mesh from `../shared` (its path, the mesh, and the landmarks picked on it
+/// in `tests/fit_data`); `None` where the shared data is absent outside CI.
+fn shared_makehuman() -> Option<(PathBuf, Mesh, Landmarks)> {
+    let path =
+        common::shared_with(&["meshes/makehuman_base.obj"])?.join("meshes/makehuman_base.obj");
+    let mesh = obj::read_obj(&path).unwrap();
+    let landmarks = load_landmarks(Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fit_data/makehuman_base.landmarks.ron"
+    )))
+    .unwrap();
+    Some((path, mesh, landmarks))
+}
+
+/// MediaPipe's canonical face from `../shared` (its path, the mesh, its landmarks by
+/// MediaPipe's numbering); `None` where the shared data is absent outside CI.
+fn shared_mediapipe() -> Option<(PathBuf, Mesh, Landmarks)> {
+    let path = common::shared_with(&["meshes/mediapipe_canonical_face.obj"])?
+        .join("meshes/mediapipe_canonical_face.obj");
+    let mesh = obj::read_obj(&path).unwrap();
+    let landmarks = Landmarks::mediapipe(&mesh).unwrap();
+    Some((path, mesh, landmarks))
+}
 
 /// Positions of `bound` at an AU of the built-in table, at full intensity.
 fn positions_at_au(bound: &BoundRig, key: &str) -> Vec<Vec3> {

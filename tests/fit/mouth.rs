@@ -4,39 +4,14 @@
 //! lower teeth drop; a mouth whose lips were cut gets a dark pocket behind them that the jaw
 //! opens.
 
-use crate::common;
-
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use glam::Vec3;
 use grimace::fit::lipcut::{self, LipCut, Lips};
-use grimace::fit::{fit_rig, Fitted, Part, PartOverrides, Template};
-use grimace::io::{builtin, landmarks::load_landmarks, obj};
+use grimace::fit::{Fitted, Part};
+use grimace::io::builtin;
 use grimace::landmarks::{FaceFrame, Landmarks, CANTHAL_MM};
 use grimace::model::{BoundRig, Deformation, Mesh};
-
-/// The default rig fitted to `mesh` from its landmark vertices, as `fit-rig` fits it.
-fn fit(mesh: &Mesh, landmarks: &[u32]) -> Fitted {
-    let face = builtin::default_mesh();
-    let rig = builtin::default_rig();
-    let points = builtin::landmarks("face")
-        .unwrap()
-        .positions(&face)
-        .unwrap();
-    fit_rig(
-        Template {
-            rig: &rig,
-            mesh: &face,
-            landmarks: &points,
-        },
-        mesh,
-        &Landmarks::Vertices(landmarks.to_vec()),
-        "mesh.obj".into(),
-        &PartOverrides::default(),
-    )
-    .unwrap()
-}
 
 /// Millimetres per unit of a mesh whose landmark positions are `points`.
 fn mm_per_unit(points: &[Vec3]) -> f32 {
@@ -93,7 +68,7 @@ fn curled_upper_lip() -> (Mesh, Vec<u32>, Vec<u32>) {
 #[test]
 fn an_upper_lip_curled_below_the_line_stays_with_the_skull() {
     let (face, marks, moved) = curled_upper_lip();
-    let fitted = fit(&face, &marks);
+    let fitted = crate::fit_default(&face, &Landmarks::Vertices(marks.clone()));
     let weights = jaw_weights(&fitted);
     // the middle of the mouth, where the split is whole (it fades out at the corners)
     let half = face.positions[marks[64] as usize].x.abs();
@@ -142,17 +117,11 @@ fn skin_stretch(mesh: &Mesh, parts: &[Part], moved: &[Vec3]) -> f32 {
 /// 35-50 mm (at a 90 mm canthal scale) and the lower teeth drop at least 15 mm at AU26.
 #[test]
 fn makehuman_lips_part_without_tearing_and_its_teeth_drop() {
-    let Some(shared) = common::shared_with(&["meshes/makehuman_base.obj"]) else {
+    let Some((_, mesh, landmarks)) = crate::shared_makehuman() else {
         return;
     };
-    let mesh = obj::read_obj(&shared.join("meshes/makehuman_base.obj")).unwrap();
-    let marks = load_landmarks(Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/fit_data/makehuman_base.landmarks.ron"
-    )))
-    .unwrap()
-    .vertices(&mesh);
-    let fitted = fit(&mesh, &marks);
+    let marks = landmarks.vertices(&mesh);
+    let fitted = crate::fit_default(&mesh, &landmarks);
     let points: Vec<Vec3> = marks.iter().map(|&v| mesh.positions[v as usize]).collect();
     let (mm, frame) = (mm_per_unit(&points), FaceFrame::of(&points).unwrap());
     let bound = Deformation::default().bind(&fitted.rig, &mesh).unwrap();
@@ -209,9 +178,8 @@ fn first_hit(mesh: &Mesh, positions: &[Vec3], origin: Vec3, dir: Vec3) -> Option
 }
 
 fn opened_mediapipe() -> Option<LipCut> {
-    let shared = common::shared_with(&["meshes/mediapipe_canonical_face.obj"])?;
-    let mesh = obj::read_obj(&shared.join("meshes/mediapipe_canonical_face.obj")).unwrap();
-    let marks = Landmarks::mediapipe(&mesh).unwrap().vertices(&mesh);
+    let (_, mesh, landmarks) = crate::shared_mediapipe()?;
+    let marks = landmarks.vertices(&mesh);
     match lipcut::find(&mesh, &marks) {
         Lips::Joined(cut) => Some(cut),
         other => panic!("MediaPipe's lips are joined, found {other:?}"),
@@ -232,7 +200,7 @@ fn cut_lips_open_onto_a_dark_pocket() {
     let members = &mesh.groups[grimace::fit::pocket::GROUP];
     let pocket_vertices: Vec<u32> = (pocket.first..mesh.vertex_count() as u32).collect();
     assert_eq!(members, &pocket_vertices);
-    let mut fitted = fit(mesh, &cut.landmarks);
+    let mut fitted = crate::fit_default(mesh, &Landmarks::Vertices(cut.landmarks.clone()));
     lipcut::weights_by_side(&mut fitted.rig, &cut);
     for &v in members {
         assert_eq!(

@@ -10,29 +10,10 @@ use std::f32::consts::FRAC_PI_2;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
-use grimace::fit::{fit_rig, Fitted, Part, PartOverrides, Template};
-use grimace::io::{builtin, landmarks::load_landmarks, obj};
+use grimace::fit::{Fitted, Part};
+use grimace::io::obj;
 use grimace::landmarks::{FaceFrame, Landmarks};
 use grimace::model::{BoundRig, Mesh};
-
-fn fit(mesh: &Mesh, landmarks: &Landmarks) -> Fitted {
-    let face = builtin::default_mesh();
-    let rig = builtin::default_rig();
-    let marks = builtin::landmarks("face").unwrap();
-    let points = marks.positions(&face).unwrap();
-    fit_rig(
-        Template {
-            rig: &rig,
-            mesh: &face,
-            landmarks: &points,
-        },
-        mesh,
-        landmarks,
-        "mesh.obj".into(),
-        &PartOverrides::default(),
-    )
-    .unwrap()
-}
 
 /// Displacements of every vertex for an AU of the built-in table.
 fn au(bound: &BoundRig, key: &str) -> Vec<Vec3> {
@@ -120,13 +101,10 @@ fn save_and_validate(dir: &Path, mesh_file: &Path, fitted: &Fitted) {
 
 #[test]
 fn mediapipe_canonical_face() {
-    let Some(shared) = common::shared_with(&["meshes/mediapipe_canonical_face.obj"]) else {
+    let Some((path, mesh, landmarks)) = crate::shared_mediapipe() else {
         return;
     };
-    let path = shared.join("meshes/mediapipe_canonical_face.obj");
-    let mesh = obj::read_obj(&path).unwrap();
-    let landmarks = Landmarks::mediapipe(&mesh).unwrap();
-    let fitted = fit(&mesh, &landmarks);
+    let fitted = crate::fit_default(&mesh, &landmarks);
     assert!(fitted.parts.of_vertex.iter().all(|&p| p == Part::Skin));
     check_aus(&mesh, &fitted, &landmarks.vertices(&mesh));
     let dir = tempfile::tempdir().unwrap();
@@ -135,17 +113,10 @@ fn mediapipe_canonical_face() {
 
 #[test]
 fn makehuman_base_mesh() {
-    let Some(shared) = common::shared_with(&["meshes/makehuman_base.obj"]) else {
+    let Some((path, mesh, landmarks)) = crate::shared_makehuman() else {
         return;
     };
-    let path = shared.join("meshes/makehuman_base.obj");
-    let mesh = obj::read_obj(&path).unwrap();
-    let landmarks = load_landmarks(Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/fit_data/makehuman_base.landmarks.ron"
-    )))
-    .unwrap();
-    let fitted = fit(&mesh, &landmarks);
+    let fitted = crate::fit_default(&mesh, &landmarks);
     let parts = &fitted.parts.of_vertex;
     let group = |name: &str| mesh.groups[name].clone();
     let body = group("body");
@@ -250,6 +221,6 @@ fn mediapipe_canonical_face_z_up_and_turned() {
         *p = turn * *p * 10.0 + Vec3::new(30.0, -5.0, 1650.0);
     }
     let landmarks = Landmarks::mediapipe(&mesh).unwrap();
-    let fitted = fit(&mesh, &landmarks);
+    let fitted = crate::fit_default(&mesh, &landmarks);
     check_aus(&mesh, &fitted, &landmarks.vertices(&mesh));
 }

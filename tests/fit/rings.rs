@@ -9,34 +9,12 @@ use std::path::Path;
 
 use glam::Vec3;
 use grimace::fit::regions::{Extent, CONTOURS};
-use grimace::fit::{fit_rig, Fitted, PartOverrides, Template};
 use grimace::io::{builtin, landmarks::load_landmarks, obj};
 use grimace::landmarks::{FaceFrame, Landmarks};
 use grimace::model::{Activations, BoundRig, Mesh, MuscleKind, Rig, Sphincter};
 
 /// Millimetres per outer canthal distance (36 to 45) on an adult face.
 const CANTHAL_MM: f32 = 90.0;
-
-fn fit(mesh: &Mesh, landmarks: &Landmarks) -> Fitted {
-    let face = builtin::default_mesh();
-    let rig = builtin::default_rig();
-    let points = builtin::landmarks("face")
-        .unwrap()
-        .positions(&face)
-        .unwrap();
-    fit_rig(
-        Template {
-            rig: &rig,
-            mesh: &face,
-            landmarks: &points,
-        },
-        mesh,
-        landmarks,
-        "mesh.obj".into(),
-        &PartOverrides::default(),
-    )
-    .unwrap()
-}
 
 fn ring<'a>(rig: &'a Rig, name: &str) -> &'a Sphincter {
     match &rig.muscles[rig.muscle_index(name).unwrap()].kind {
@@ -109,7 +87,7 @@ fn rings_follow_the_lip_contour_on_closed_and_open_mouths() {
     }
     let mut failures = Vec::new();
     for (name, mesh, landmarks) in &heads {
-        let fitted = fit(mesh, landmarks);
+        let fitted = crate::fit_default(mesh, landmarks);
         let points = landmarks.positions(mesh).unwrap();
         let (w, h) = mouth_ratios(&fitted.rig, &points);
         let pucker = pucker_mm(&fitted.rig, mesh, &landmarks.vertices(mesh));
@@ -158,7 +136,7 @@ fn shared_heads() -> Vec<(&'static str, Mesh, Landmarks)> {
 fn fitted_lids_close_without_crossing() {
     let mut failures = Vec::new();
     for (name, mesh, landmarks) in shared_heads() {
-        let rig = fit(&mesh, &landmarks).rig;
+        let rig = crate::fit_default(&mesh, &landmarks).rig;
         let bound = BoundRig::bind(&rig, &mesh).unwrap();
         let act = builtin::default_table()
             .entry_activations(&"45".parse().unwrap(), &rig)
@@ -192,7 +170,7 @@ fn fitted_lids_close_without_crossing() {
 fn fitted_blink_moves_the_lids_and_little_else() {
     let mut failures = Vec::new();
     for (name, mesh, landmarks) in shared_heads() {
-        let rig = fit(&mesh, &landmarks).rig;
+        let rig = crate::fit_default(&mesh, &landmarks).rig;
         let bound = BoundRig::bind(&rig, &mesh).unwrap();
         let act = builtin::default_table()
             .entry_activations(&"45".parse().unwrap(), &rig)
