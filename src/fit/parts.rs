@@ -64,7 +64,8 @@ pub struct PartOverrides {
 
 /// Words in a group name that mark a rigid part; the first list turns with the jaw.
 const JAW_WORDS: [&str; 2] = ["tongue", "lower"];
-const RIGID_WORDS: [&str; 13] = [
+/// Anatomy that never stretches with the skin.
+const ANATOMY_WORDS: [&str; 10] = [
     "eye",
     "iris",
     "pupil",
@@ -74,11 +75,11 @@ const RIGID_WORDS: [&str; 13] = [
     "tooth",
     "gum",
     "tongue",
-    "helper",
-    "joint",
-    "hair",
     "mouth_interior",
 ];
+/// Proxies, markers and hair: kept still, and (`helper`, `joint`) not drawn unless they name
+/// anatomy ([`helper_name`]).
+const PROXY_WORDS: [&str; 3] = ["helper", "joint", "hair"];
 
 /// True when a group's name says it holds eyelashes: they are not rigid but skin, moved by
 /// the lid muscles' fields where they sit at the lid's edge, so they close with their lid
@@ -97,18 +98,15 @@ fn rigid_name(name: &str) -> bool {
     if lower.contains("brow") {
         return false;
     }
-    RIGID_WORDS.iter().any(|w| lower.contains(w))
+    ANATOMY_WORDS
+        .iter()
+        .chain(&PROXY_WORDS)
+        .any(|w| lower.contains(w))
 }
-
-/// Words in a `helper` group's name that mark anatomy (eyes, teeth, gums, tongue, the
-/// mouth's inside): such a helper is drawn ([`helper_name`]).
-const ANATOMY_WORDS: [&str; 10] = [
-    "eye", "iris", "pupil", "cornea", "sclera", "teeth", "tooth", "gum", "tongue", "mouth",
-];
 
 /// True when a group's name says it is helper geometry that is not anatomy: a joint
 /// marker (`joint-jaw`, `joint-l-eye-target`: never anatomy), or a rigid `helper` proxy
-/// that names no eye, tooth, gum, tongue, mouth or lash (`helper-hair`, `helper-skirt`).
+/// that names no anatomy (eye, tooth, gum, tongue, mouth interior) or lash (`helper-hair`, `helper-skirt`).
 /// Modelling tools keep such proxies and markers in the file but never show them; grimace
 /// does not draw them either ([`drawn_triangles`]). A plain `hair` group is the user's hair
 /// and is drawn.
