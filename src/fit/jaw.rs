@@ -113,6 +113,28 @@ pub fn weights(
         }
     };
     let mut all_weights: Vec<f32> = mesh.positions.par_iter().enumerate().map(weight).collect();
+    // carried by nearest point, a fade beyond the template's face is a cliff across the
+    // neck and the mouth's lining (a vertex 5 mm from the template's jaw line against one
+    // 11 mm away); there the weights are found along the mesh instead
+    let skin_index = template_skin(template, &carried);
+    let held: Vec<bool> = mesh
+        .positions
+        .par_iter()
+        .zip(&parts.of_vertex)
+        .map(|(p, part)| {
+            *part == Part::Skin
+                && skin_index
+                    .nearest(*p)
+                    .is_some_and(|(_, d)| f64::from(d) <= near)
+        })
+        .collect();
+    super::jawfade::relax_beyond(
+        mesh,
+        parts,
+        &mut all_weights,
+        &held,
+        super::jawfade::FADE_ALONG * warp.spread,
+    );
     if let Some(lips) = lips {
         let limit = steepest(template.mesh, &dense) / warp.similarity.scale;
         ease_corners(mesh, parts, &mut all_weights, lips, limit);
@@ -123,6 +145,33 @@ pub fn weights(
         .filter(|&(_, w)| w > 0.0)
         .map(|(v, w)| (v as u32, w))
         .collect()
+}
+
+/// The template's skin at its `carried` places, as a nearest-point index: the connected pieces
+/// of the template mesh that hold a landmark (its teeth, gums and tongue, each weighted 0 or 1 as a
+/// whole, say nothing about the skin lining a mouth).
+fn template_skin(template: Template<'_>, carried: &[Vec3]) -> Nearest {
+    let component = super::parts::components(template.mesh);
+    let positions = &template.mesh.positions;
+    let mut skin_pieces: Vec<u32> = template
+        .landmarks
+        .iter()
+        .filter_map(|l| {
+            (0..positions.len())
+                .min_by(|&a, &b| {
+                    positions[a]
+                        .distance_squared(*l)
+                        .total_cmp(&positions[b].distance_squared(*l))
+                })
+                .map(|v| component[v])
+        })
+        .collect();
+    skin_pieces.sort_unstable();
+    skin_pieces.dedup();
+    let ids: Vec<u32> = (0..positions.len() as u32)
+        .filter(|&v| skin_pieces.binary_search(&component[v as usize]).is_ok())
+        .collect();
+    Nearest::new(ids.iter().map(|&v| carried[v as usize]).collect(), ids)
 }
 
 /// How far round each mouth corner the jaw's weights are eased, in outer mouth widths.

@@ -7,7 +7,7 @@
 //! - [`parts`]: which parts of a mesh are skin, still, or turn with the jaw;
 //! - `reach`: fitted rings kept to the part of the face the template's reach;
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
-//! - [`jaw`]: jaw weights for a new mesh;
+//! - [`jaw`]: jaw weights for a new mesh (`jawfade`: beyond the template's face, along the mesh);
 //! - [`lipcut`]: joined lips found and cut open;
 //! - [`lipsides`]: which lip each vertex is on, by connectivity;
 //! - [`pocket`]: the inside of a mouth whose lips were cut;
@@ -19,6 +19,7 @@
 //! Nothing here reads files or knows about terminals.
 
 pub mod jaw;
+mod jawfade;
 mod lids;
 pub mod lipcut;
 pub mod lipsides;
