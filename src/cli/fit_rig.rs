@@ -12,7 +12,9 @@
 //! along the inner lip line unless `--keep-lips` is given: the opened mesh is written beside
 //! the rig as `NAME.opened.obj` (the given mesh is never changed, a dark mouth pocket is
 //! appended behind the lips, [`fit::pocket`]) with its landmarks as
-//! `NAME.opened.landmarks.ron`, and the rig is fitted to it and names it.
+//! `NAME.opened.landmarks.ron`, and the rig is fitted to it and names it. Separate lips whose
+//! insides meet in a mouth bag of skin get the same pocket behind them, written the same way
+//! with nothing cut ([`lipcut::pocket_behind_apart_lips`]).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -72,6 +74,7 @@ pub struct FitRigArgs {
     pub rigid: Vec<String>,
     /// Keep the mesh's own topology where its lips are joined (one surface across the
     /// mouth): no NAME.opened.obj is written, and the mouth opens by stretching that skin.
+    /// Separate lips get no mouth pocket either.
     #[arg(long)]
     pub keep_lips: bool,
 }
@@ -94,7 +97,13 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     }
     inputs.check_output(&args.out)?;
     let lips = lipcut::find(&source, &source_landmarks.vertices(&source));
-    let opened = to_open(args, &inputs, &lips)?;
+    let apart = match lips {
+        Lips::Separate if !args.keep_lips => {
+            lipcut::pocket_behind_apart_lips(&source, &source_landmarks.vertices(&source))
+        }
+        _ => None,
+    };
+    let opened = to_open(args, &inputs, &lips, apart.as_ref())?;
     let (mesh, landmarks) = match opened {
         Some((cut, _)) => (&cut.mesh, Landmarks::Vertices(cut.landmarks.clone())),
         None => (&source, source_landmarks),
@@ -150,27 +159,30 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     text.push_str(&lips_summary(
         args,
         &lips,
-        opened.as_ref().map(|(_, f)| &f.0),
+        opened.as_ref().map(|(cut, f)| (*cut, &f.0)),
     ));
     super::print(&text)
 }
 
-/// The cut to write, with the files it goes to: joined lips unless `--keep-lips`; the files
-/// must not be inputs.
+/// The cut to write, with the files it goes to: joined lips unless `--keep-lips`, else the
+/// pocket behind lips that are `apart` already; the files must not be inputs.
 fn to_open<'a>(
     args: &FitRigArgs,
     inputs: &Inputs,
     lips: &'a Lips,
+    apart: Option<&'a LipCut>,
 ) -> anyhow::Result<Option<(&'a LipCut, (PathBuf, PathBuf))>> {
-    match lips {
-        Lips::Joined(cut) if !args.keep_lips => {
-            let files = opened_files(&args.out);
-            inputs.check_output(&files.0)?;
-            inputs.check_output(&files.1)?;
-            Ok(Some((cut, files)))
-        }
-        _ => Ok(None),
-    }
+    let cut = match lips {
+        Lips::Joined(cut) if !args.keep_lips => cut,
+        _ => match apart {
+            Some(cut) => cut,
+            None => return Ok(None),
+        },
+    };
+    let files = opened_files(&args.out);
+    inputs.check_output(&files.0)?;
+    inputs.check_output(&files.1)?;
+    Ok(Some((cut, files)))
 }
 
 /// Writes the opened mesh and its landmarks; returns the mesh as the rig names it.
@@ -203,10 +215,20 @@ fn opened_files(out: &Path) -> (PathBuf, PathBuf) {
 }
 
 /// What was found at the lips and done about them, for the summary.
-fn lips_summary(args: &FitRigArgs, lips: &Lips, written: Option<&PathBuf>) -> String {
+fn lips_summary(args: &FitRigArgs, lips: &Lips, written: Option<(&LipCut, &PathBuf)>) -> String {
     let mesh = args.mesh.display();
     match (lips, written) {
-        (Lips::Joined(cut), Some(obj_file)) => format!(
+        (Lips::Separate, Some((cut, obj_file))) => format!(
+            "  lips: separate surfaces (joined only inside the mouth): nothing cut; {} is {} \
+             with {}, its landmarks in {}; the rig names it ({} itself is not changed; \
+             --keep-lips writes no pocket)\n",
+            obj_file.display(),
+            mesh,
+            pocket_phrase(cut),
+            beside(obj_file).display(),
+            mesh
+        ),
+        (Lips::Joined(cut), Some((_, obj_file))) => format!(
             "  lips: joined along the inner lip line ({} vertices{}); cut open there: {} is {} \
              with the {} vertices inside the line copied for the lower lip (vertices {} to {}; \
              its `# copy` lines name each original){}, its landmarks in {}; the rig names it. \
@@ -244,15 +266,23 @@ fn lips_summary(args: &FitRigArgs, lips: &Lips, written: Option<&PathBuf>) -> St
 
 fn pocket_words(cut: &LipCut) -> String {
     match &cut.pocket {
+        Some(_) => format!(" and {}", pocket_phrase(cut)),
+        None => String::new(),
+    }
+}
+
+/// The mouth pocket of `cut` in words: its size, vertices and group.
+fn pocket_phrase(cut: &LipCut) -> String {
+    match &cut.pocket {
         Some(p) => format!(
-            " and a mouth pocket of {} triangles behind the lips (vertices {} to {}, group {}: \
-             drawn dark, its lower half turning with the jaw)",
+            "a mouth pocket of {} triangles behind the lips (vertices {} to {}, group {}: drawn \
+             dark, its lower half turning with the jaw)",
             p.triangles,
             p.first + 1,
             cut.mesh.vertex_count(),
             fit::pocket::GROUP
         ),
-        None => String::new(),
+        None => "no mouth pocket".into(),
     }
 }
 
@@ -288,12 +318,20 @@ fn opened_obj(text: &str, cut: &LipCut, source: &Path) -> String {
         .filter(|(_, l)| is_v(l))
         .last()
         .map(|(i, _)| i);
-    let mut out = format!(
-        "# grimace fit-rig: {} with its lips cut open along the inner lip line. Vertices 1-{n} \
-         are its vertices; each copy below (vertex K a copy of vertex V) is the lower lip's side \
-         of the cut.\n",
-        source.display()
-    );
+    let mut out = if cut.copies.is_empty() {
+        format!(
+            "# grimace fit-rig: {} with a mouth pocket behind its lips (apart already). Vertices \
+             1-{n} are its vertices.\n",
+            source.display()
+        )
+    } else {
+        format!(
+            "# grimace fit-rig: {} with its lips cut open along the inner lip line. Vertices 1-{n} \
+             are its vertices; each copy below (vertex K a copy of vertex V) is the lower lip's \
+             side of the cut.\n",
+            source.display()
+        )
+    };
     let (mut defined, mut triangle) = (0usize, 0usize);
     for (number, piece) in text.split_inclusive('\n').enumerate() {
         let line = piece.trim_end_matches(['\n', '\r']);

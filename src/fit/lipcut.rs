@@ -152,6 +152,74 @@ pub fn find(mesh: &Mesh, landmarks: &[u32]) -> Lips {
     Lips::Joined(cut)
 }
 
+/// A mouth pocket for lips that are apart already (`fit-rig` asks for one when [`find`] finds
+/// them [`Lips::Separate`]: joined only deep inside the mouth, as in MakeHuman's base mesh,
+/// whose mouth bag is skin and draws as lit as the cheek). The same
+/// closed `mouth_interior` bag as behind cut lips ([`Pocket`]), its rim behind the upper and
+/// lower inner lip edges (the chains [`find`] looks for), appended to a copy of the mesh: a
+/// [`LipCut`] with no copies, its `line` the upper edge. `None` when the mesh has a
+/// `mouth_interior` of its own, the lips are one row (joined: [`find`] cuts those) or the
+/// edges are not found. The mesh's own teeth and tongue stay where they are, in the bag.
+pub fn pocket_behind_apart_lips(mesh: &Mesh, landmarks: &[u32]) -> Option<LipCut> {
+    if mesh.groups.contains_key(super::pocket::GROUP) {
+        return None;
+    }
+    let mouth = Mouth::of(mesh, landmarks)?;
+    let graph = Graph::new(mesh, &mouth);
+    let upper = graph.line(mesh, &mouth, landmarks, &INNER_UPPER, &mouth.upper)?;
+    let lower = graph.line(mesh, &mouth, landmarks, &INNER_LOWER, &mouth.lower)?;
+    if upper == lower {
+        return None;
+    }
+    let (rim_upper, rim_lower) = paired(mesh, &upper, &lower);
+    let points: Vec<Vec3> = landmarks
+        .iter()
+        .map(|&v| mesh.positions[v as usize])
+        .collect();
+    let mut opened = mesh.clone();
+    let pocket = Pocket::append(&mut opened, &rim_upper, &rim_lower, &points)?;
+    Some(LipCut {
+        mesh: opened,
+        copies: Vec::new(),
+        line: upper,
+        band: 0,
+        landmarks: landmarks.to_vec(),
+        pocket: Some(pocket),
+    })
+}
+
+/// Two chains from one corner to the other, as long as each other: the longer as it is, the
+/// shorter resampled (each column takes the vertex at the nearest share of its length), so
+/// the pocket's columns pair the lips' edges by their place along the mouth.
+fn paired(mesh: &Mesh, a: &[u32], b: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let shares = |chain: &[u32]| -> Vec<f32> {
+        let mut run = vec![0.0f32];
+        for pair in chain.windows(2) {
+            let step = mesh.positions[pair[0] as usize].distance(mesh.positions[pair[1] as usize]);
+            run.push(run.last().copied().unwrap_or(0.0) + step);
+        }
+        let total = run.last().copied().unwrap_or(0.0).max(f32::MIN_POSITIVE);
+        run.iter().map(|r| r / total).collect()
+    };
+    let resample = |long: &[u32], short: &[u32]| -> Vec<u32> {
+        let (along, on) = (shares(long), shares(short));
+        along
+            .iter()
+            .map(|&t| {
+                let k = (0..short.len())
+                    .min_by(|&i, &j| (on[i] - t).abs().total_cmp(&(on[j] - t).abs()))
+                    .unwrap_or(0);
+                short[k]
+            })
+            .collect()
+    };
+    if a.len() >= b.len() {
+        (a.to_vec(), resample(a, b))
+    } else {
+        (resample(b, a), b.to_vec())
+    }
+}
+
 /// Gives the vertices on each side of the cut line the jaw and mask weights of the skin next
 /// to them on their own side, and the mouth pocket the jaw weights of the lips it lies
 /// behind ([`Pocket::jaw_weights`]): fitting splits weights by position at the line halfway between

@@ -7,6 +7,7 @@
 mod common;
 
 mod au;
+mod beyond;
 mod classic;
 mod cli;
 mod lids;

@@ -155,7 +155,7 @@ fn makehuman_lips_part_without_tearing_and_its_teeth_drop() {
 
 /// Where a ray from `origin` along `dir` first meets a triangle of `mesh` at `positions`:
 /// the triangle's number.
-fn first_hit(mesh: &Mesh, positions: &[Vec3], origin: Vec3, dir: Vec3) -> Option<usize> {
+pub(crate) fn first_hit(mesh: &Mesh, positions: &[Vec3], origin: Vec3, dir: Vec3) -> Option<usize> {
     let mut best: Option<(f32, usize)> = None;
     for (t, tri) in mesh.triangles.iter().enumerate() {
         let [a, b, c] = tri.map(|v| positions[v as usize]);
