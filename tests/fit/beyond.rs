@@ -79,9 +79,9 @@ fn fitted_mediapipe_opens_its_jaw_without_tearing() {
 
 /// MakeHuman's lips are apart (separate surfaces whose insides meet in a mouth bag of skin,
 /// drawn as lit as the cheek: the open mouth rendered grey and the face tracker read a
-/// smile). Fitted with a pocket behind the lips, the middle of the mouth at AU26 shows the
-/// pocket or the mesh's own teeth and tongue, not skin; the pocket's lower half drops with the
-/// jaw, and the jaw still opens without tearing.
+/// smile). Fitted with a pocket behind the lips, every view into the mouth at AU26 (a grid
+/// between the lips) shows the pocket or the mesh's own teeth and tongue, not skin; the
+/// pocket's lower half drops with the jaw.
 #[test]
 fn apart_lips_open_onto_a_dark_pocket() {
     let Some((_, mesh, landmarks)) = crate::shared_makehuman() else {
@@ -104,19 +104,32 @@ fn apart_lips_open_onto_a_dark_pocket() {
     let points: Vec<Vec3> = marks.iter().map(|&v| mesh.positions[v as usize]).collect();
     let forward = FaceFrame::of(&points).unwrap().forward.as_vec3();
     let at = |i: usize| moved[marks[i] as usize];
-    let middle = 0.5 * (at(62) + at(66));
-    let eye = middle + forward * points[36].distance(points[45]);
-    let hit =
-        crate::mouth::first_hit(opened, &moved, eye, -forward).expect("the view meets the head");
     let first_pocket_triangle = opened.triangles.len() - pocket.triangles;
-    let skin = opened.triangles[hit]
-        .iter()
-        .all(|&v| fitted.parts.of_vertex[v as usize] == Part::Skin);
-    eprintln!("the open mouth's middle shows triangle {hit} (the pocket from {first_pocket_triangle}; skin: {skin})");
-    assert!(
-        hit >= first_pocket_triangle || !skin,
-        "the middle of the open mouth shows skin (triangle {hit})"
-    );
+    // a grid of views into the open mouth: the middle half of the way between the inner lips'
+    // middles (nearer the lips the view meets their own curled edges), there and a quarter of
+    // the inner corners' distance to each side
+    let across = (at(64) - at(60)) * 0.25;
+    let mut pocket_seen = 0;
+    for k in 2..=5 {
+        let between = at(62).lerp(at(66), k as f32 / 8.0);
+        for side in [-1.0, 0.0, 1.0] {
+            let eye = between + across * side + forward * points[36].distance(points[45]);
+            let hit = crate::mouth::first_hit(opened, &moved, eye, -forward);
+            let Some(hit) = hit else {
+                panic!("view {k}/{side} into the open mouth meets nothing");
+            };
+            let skin = opened.triangles[hit]
+                .iter()
+                .all(|&v| fitted.parts.of_vertex[v as usize] == Part::Skin);
+            assert!(
+                hit >= first_pocket_triangle || !skin,
+                "view {k}/{side} into the open mouth shows skin (triangle {hit})"
+            );
+            pocket_seen += usize::from(hit >= first_pocket_triangle);
+        }
+    }
+    eprintln!("the pocket is seen in {pocket_seen} of 12 views into the open mouth");
+    assert!(pocket_seen > 0, "the pocket is nowhere in sight");
     let lower_drop = (mesh.positions[marks[66] as usize] - at(66)).length();
     let pocket_drop = (pocket.first as usize..opened.vertex_count())
         .map(|v| (moved[v] - opened.positions[v]).length())
