@@ -1,8 +1,9 @@
 //! Jaw weights for a fitted mesh: the template's weights carried over by nearest point, then
 //! split along the inner lip line so that a closed mouth opens.
 //!
-//! Each skin vertex takes the weight of the nearest template vertex after the warp, fading to
-//! 0 where no template vertex is near (a neck or body beyond the template's face). Between
+//! Each skin vertex takes the weight of the nearest template vertex after the warp; where the
+//! template's skin is not near (under the chin, down the neck, a mouth's lining) the weights
+//! are a harmonic map along the mesh from those carried to 0 (`super::jawfade`). Between
 //! the mouth corners, a vertex of the upper lip gets 0 (tapering back to the carried weight
 //! at the corners), and one of the lower lip takes its weight from the template's lower lip
 //! only. Which lip a vertex is on goes by connectivity ([`LipSides`]: the lip it is reached
@@ -20,8 +21,9 @@ use super::warp::Warp;
 use super::Template;
 use crate::model::{Jaw, Mesh};
 
-/// Weights fade out between these distances from the nearest carried template vertex, as
-/// fractions of the landmarks' spread.
+/// Carried weights fade out between these distances from the nearest carried template
+/// vertex, as fractions of the landmarks' spread; skin further than the first from the
+/// template's skin takes its weight along the mesh instead (`super::jawfade`).
 const FADE: (f64, f64) = (0.08, 0.2);
 
 /// The jaw's slide per degree on the fitted mesh: the template's slide carried by the warp's
