@@ -9,6 +9,7 @@ mod common;
 mod au;
 mod classic;
 mod cli;
+mod eyes;
 mod lids;
 mod lipcut;
 mod mouth;
