@@ -133,7 +133,7 @@ pub(super) fn socket_mask(
             (cut > EPSILON).then_some((v as u32, (1.0 - cut) as f32))
         })
         .collect();
-    (!weights.is_empty()).then(|| Mask {
+    (!weights.is_empty()).then_some(Mask {
         muscles: sheets,
         gain: 1.0,
         weights,
