@@ -191,6 +191,10 @@ pub fn fit_rig(
     rig.masks.extend(super::reach::reach_masks(
         &rig, template, mesh, &sources, &warp, &round,
     ));
+    // the brow's sheets stop at the eye sockets a mesh models behind its lids
+    rig.masks.extend(super::brows::socket_mask(
+        &rig, template, mesh, &parts, &target,
+    ));
     rig.masks.extend(gains.into_iter().map(|(name, gain)| Mask {
         muscles: vec![name],
         gain: gain as f32,

@@ -234,9 +234,10 @@ fn fitted_shared_heads_tear_no_more_than_measured() {
         let (poses, flips) = match head.name {
             "MediaPipe canonical face" => (29, 242),
             // With the lids shaped from the mesh (57, 1760 before AU1's medial frontalis
-            // sheet, whose edge turns triangles over on this head at AU1, sadness and at 2.0);
-            // with the jaw's weights found along the mesh beyond the template (60, 1941
-            // before: AU26, AU27 and the jaw at 4 turned the skin under the chin over)
+            // sheet), the brow's sheets kept out of the eye sockets (the sheet lifted the
+            // socket's lining at AU1, sadness and at 2.0) and the jaw's weights found along the
+            // mesh beyond the template (60, 1941 before both: AU26, AU27 and the jaw at 4 turned
+            // the skin under the chin over)
             "MakeHuman base mesh" => (57, 1741),
             other => panic!("no bound for {other}"),
         };

@@ -1,0 +1,141 @@
+//! The brow's sheets stop at the eye socket.
+//!
+//! A sheet muscle (the frontalis, its medial fibres) pulls everything in its zone through
+//! the whole head's depth. On the template the zone ends above the lids, but a head whose
+//! eye sockets are modelled inside (MakeHuman's base mesh: a lining runs from the inner
+//! corner back and up behind the globe, 8-19 mm behind the corner) has that lining under the
+//! fitted sheet, and the lining took the carried mask of the template's skin in front of it:
+//! at AU1 rows of it rose 10 mm beside rows that stayed (26 triangles turned over, an edge
+//! stretched 4.2x). The frontalis inserts into the brow's skin; what lies behind the globe
+//! does not go with it.
+//!
+//! Each eye's socket, from its six lid landmarks: in the face's plane an ellipse about the
+//! landmarks' middle, 1.3 half-widths across and 1.2 up (the lids and the lining behind
+//! them, not the brow nor the temple), fading out to 1.3 times that; in depth, the skin
+//! behind the eye's deeper corner, cut from a tenth of the half-width in front of it fully
+//! by a fifth behind it (the face's forward leans with the head, and a lining starting right
+//! behind the lid's fold must not be spared while the fold is pulled). Sizes go by the eye's
+//! width, so they scale with the face. Each sheet's mask weakens it
+//! there by the cut. Fitting the template to itself cuts nothing (its own fields are the
+//! rig's). Measured against the template's own cut at each vertex's source instead, the
+//! template's upper lid skin (behind its corners too) spared MakeHuman's lid fold while the
+//! lining right behind it was cut: a fold turned over.
+
+use glam::{DVec3, Vec3};
+
+use super::parts::{Part, Parts};
+use super::regions::smoothstep;
+use super::Template;
+use crate::landmarks::FaceFrame;
+use crate::model::{Mask, Mesh, MuscleKind, Rig};
+
+/// Weights this close to 1 are left out of the mask.
+const EPSILON: f64 = 1e-6;
+
+/// The socket's ellipse in the face's plane, in the eye's half-widths: across, up.
+const SOCKET_AXES: (f64, f64) = (1.3, 1.2);
+/// The ellipse's cut fades out between these multiples of its size.
+const SOCKET_FADE: (f64, f64) = (1.0, 1.3);
+/// Behind the eye's deeper corner, the cut grows from nothing to full over these depths, in
+/// the eye's half-widths (negative: in front of it).
+const SOCKET_DEPTH: (f64, f64) = (-0.1, 0.2);
+
+/// One eye's socket, from its lid landmarks.
+struct Socket {
+    centre: DVec3,
+    lateral: DVec3,
+    up: DVec3,
+    forward: DVec3,
+    half_width: f64,
+    /// The deeper corner's place along `forward`, from `centre`.
+    corner_depth: f64,
+}
+
+impl Socket {
+    /// Both eyes' sockets of a face's 68 landmarks; `None` when its frame is degenerate.
+    fn both(points: &[Vec3]) -> Option<[Socket; 2]> {
+        let frame = FaceFrame::of(points)?;
+        let eye = |first: usize, corners: [usize; 2]| {
+            let centre = (first..first + 6)
+                .map(|i| points[i].as_dvec3())
+                .sum::<DVec3>()
+                / 6.0;
+            let [a, b] = corners.map(|i| points[i].as_dvec3());
+            Socket {
+                centre,
+                lateral: frame.lateral,
+                up: frame.up,
+                forward: frame.forward,
+                half_width: 0.5 * a.distance(b),
+                corner_depth: (a - centre)
+                    .dot(frame.forward)
+                    .min((b - centre).dot(frame.forward)),
+            }
+        };
+        let sockets = [eye(36, [36, 39]), eye(42, [42, 45])];
+        sockets
+            .iter()
+            .all(|s| s.half_width > 0.0)
+            .then_some(sockets)
+    }
+
+    /// How much of a sheet's pull the socket takes away at `p`: 1 in the lining behind the
+    /// eye, 0 in front of its corners and outside its ellipse.
+    fn cut(&self, p: DVec3) -> f64 {
+        let d = p - self.centre;
+        let w = self.half_width;
+        let r =
+            (d.dot(self.lateral) / (SOCKET_AXES.0 * w)).hypot(d.dot(self.up) / (SOCKET_AXES.1 * w));
+        let inside = 1.0 - smoothstep(SOCKET_FADE.0, SOCKET_FADE.1, r);
+        let behind = self.corner_depth - d.dot(self.forward);
+        inside * smoothstep(SOCKET_DEPTH.0 * w, SOCKET_DEPTH.1 * w, behind)
+    }
+}
+
+/// The larger cut of both sockets at `p`.
+fn cut(sockets: &[Socket; 2], p: Vec3) -> f64 {
+    let p = p.as_dvec3();
+    sockets[0].cut(p).max(sockets[1].cut(p))
+}
+
+/// One mask for the rig's sheets: each skin vertex weakened by how far it lies in an eye
+/// socket (module docs). `target` are the mesh's landmark positions. `None` when the rig has
+/// no sheet, nothing is cut, or the mesh is the template itself.
+pub(super) fn socket_mask(
+    rig: &Rig,
+    template: Template<'_>,
+    mesh: &Mesh,
+    parts: &Parts,
+    target: &[Vec3],
+) -> Option<Mask> {
+    let sheets: Vec<String> = rig
+        .muscles
+        .iter()
+        .filter(|m| matches!(m.kind, MuscleKind::Sheet(_)))
+        .map(|m| m.name.clone())
+        .collect();
+    if sheets.is_empty() {
+        return None;
+    }
+    // the template fitted to itself: its own fields are the rig's, nothing to cut
+    if mesh.positions == template.mesh.positions && target == template.landmarks {
+        return None;
+    }
+    let sockets = Socket::both(target)?;
+    let weights: Vec<(u32, f32)> = mesh
+        .positions
+        .iter()
+        .zip(&parts.of_vertex)
+        .enumerate()
+        .filter(|(_, (_, part))| **part == Part::Skin)
+        .filter_map(|(v, (p, _))| {
+            let cut = cut(&sockets, *p);
+            (cut > EPSILON).then_some((v as u32, (1.0 - cut) as f32))
+        })
+        .collect();
+    (!weights.is_empty()).then_some(Mask {
+        muscles: sheets,
+        gain: 1.0,
+        weights,
+    })
+}
