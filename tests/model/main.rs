@@ -7,6 +7,7 @@
 mod common;
 
 mod au_shapes;
+mod brow_hair;
 mod classic_face;
 mod convention;
 mod eyeballs;
