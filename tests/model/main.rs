@@ -17,6 +17,7 @@ mod face_rig;
 mod facs_combo;
 mod facs_table;
 mod frames;
+mod full_contraction;
 mod fuzz_regressions;
 mod golden_linear;
 mod io_rig_table;

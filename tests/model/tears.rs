@@ -19,7 +19,7 @@ use grimace::model::{Activations, BoundRig, Mesh, Rig, SkinRules};
 use crate::common;
 
 /// The longest a skin edge may become, relative to its rest length.
-const MAX_STRETCH: f32 = 2.5;
+pub(crate) const MAX_STRETCH: f32 = 2.5;
 
 /// A head with its rig and its skin triangles.
 pub(crate) struct Head {
