@@ -6,7 +6,8 @@
 //! `forehead_centre`, and per side `*_inner_eye_corner`, `*_outer_eye_corner`,
 //! `*_upper_lid_centre`, `*_lower_lid_centre`, `*_mouth_corner`, `*_brow_inner`,
 //! `*_brow_centre`, `*_brow_outer`, `*_cheekbone`, `*_alare`, `*_forehead`. Regions:
-//! `upper_lip`, `lower_lip`, `*_upper_lid`, `*_lower_lid`, `*_brow`. The pieces after the
+//! `upper_lip`, `lower_lip`, `*_upper_lid`, `*_lower_lid`, `*_brow`, `*_brow_hair` (the skin
+//! under the eyebrows, drawn darker). The pieces after the
 //! skin: the eyeballs, `*_eyeball` (all of it), and within it `*_iris` and `*_pupil`; the
 //! mouth's parts ([`super::mouth`]): `upper_teeth`, `upper_gum`, `lower_teeth`, `lower_gum`,
 //! `tongue`, `mouth_interior`. Every other group holds skin vertices only.
@@ -307,6 +308,7 @@ fn region_groups(
     }
     vermilion(positions, found, groups);
     brows(positions, groups);
+    super::brow::hair_groups(positions, groups);
 }
 
 /// Adds the vermilion of each lip (between the mouth line and the vermilion border) to the

@@ -313,9 +313,35 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
             rig.masks.push(mask);
         }
     }
+    for (name, gain) in MUSCLE_RANGES {
+        rig.masks.push(Mask {
+            muscles: vec![format!("L_{name}"), format!("R_{name}")],
+            gain,
+            weights: Vec::new(),
+        });
+    }
     super::groups::hold_still(mesh, &mut rig);
     Ok(rig)
 }
+
+/// The range of the default rig's muscles whose bare field at full contraction (2.0) drives
+/// the skin far past what the tissue over them allows: a gain on the whole field, so 2.0 is
+/// the muscle's largest excursion and the AU table's values are divided by the same gain
+/// (the AUs keep their shapes). Without it, at 2.0: the levator labii superioris lifted the
+/// upper lip 20 mm, into the nose (58 triangles turned, edges stretched 4.9x); the frontalis
+/// sheet's edge turned 21 triangles and stretched 4.9x; the mentalis pushed the lower lip up
+/// over itself (19 turned); the medial frontalis stretched the brow 3.8x, the pars orbitalis
+/// 2.7x and the risorius 2.6x. The gains leave each muscle's 2.0 within what it does
+/// without a tear (no triangle turned, no edge over 2.5x) with a margin: the levator lifts
+/// the upper lip about 8 mm, the most it rises over the teeth.
+const MUSCLE_RANGES: [(&str, f32); 6] = [
+    ("Labii_Nasi", 0.4),
+    ("Frontalis_Sheet", 0.25),
+    ("Frontalis_Medial", 0.5),
+    ("Mentalis", 0.5),
+    ("Orbicularis_Oculi_Orbital", 0.8),
+    ("Risorius", 0.8),
+];
 
 /// Lip muscles of the default rig kept to one lip: `true` for the upper lip, `false` for
 /// the lower lip and chin. Their pull reaches the middle of the lip; the mask keeps it off

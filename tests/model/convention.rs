@@ -205,6 +205,8 @@ fn a_version_1_rig_on_the_built_in_face_is_mirrored_on_load() {
     current
         .masks
         .extend(old.rig.masks.iter().filter(|m| lip(m)).cloned());
+    // and six muscles have since got a range (`face::rigs`, a gain without weights)
+    current.masks.retain(|m| !m.weights.is_empty());
     if let (Some(now), Some(then)) = (&mut current.jaw, &old.rig.jaw) {
         (now.pivot, now.degrees_per_unit, now.slide) =
             (then.pivot, then.degrees_per_unit, then.slide);

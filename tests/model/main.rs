@@ -7,6 +7,7 @@
 mod common;
 
 mod au_shapes;
+mod brow_hair;
 mod classic_face;
 mod convention;
 mod eyeballs;
@@ -16,6 +17,7 @@ mod face_rig;
 mod facs_combo;
 mod facs_table;
 mod frames;
+mod full_contraction;
 mod fuzz_regressions;
 mod golden_linear;
 mod io_rig_table;

@@ -251,12 +251,13 @@ impl Look<'_> {
 }
 
 /// The tone of a vertex group's material by its name: irises are mid grey, pupils and the
-/// inside of the mouth nearly black, the tongue and gums a little darker than skin and
-/// teeth, everything else as lit.
-const TONES: [(&str, f32); 5] = [
+/// inside of the mouth nearly black, brow hair dark, the tongue and gums a little darker
+/// than skin and teeth, everything else as lit.
+const TONES: [(&str, f32); 6] = [
     ("pupil", 0.12),
     ("mouth_interior", 0.06),
     ("iris", 0.45),
+    ("brow_hair", 0.3),
     ("tongue", 0.6),
     ("gum", 0.7),
 ];
@@ -777,6 +778,25 @@ mod simd_matches_portable {
                     prop_assert_eq!(l1[i], l2[i], "dot {}", i);
                 }
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tone_tests {
+    use super::vertex_tones;
+
+    /// The built-in face's eyebrows are drawn dark; the skin around them stays as lit.
+    #[test]
+    fn the_builtin_face_draws_its_brows_dark() {
+        let mesh = crate::io::builtin::default_mesh();
+        let mut tones = Vec::new();
+        vertex_tones(&mesh, &mut tones);
+        for side in ["left", "right"] {
+            let brow = &mesh.groups[&format!("{side}_brow_hair")];
+            assert!(brow.iter().all(|&v| tones[v as usize] < 0.5), "{side} brow");
+            let forehead = mesh.groups[&format!("{side}_forehead")][0];
+            assert_eq!(tones[forehead as usize], 1.0, "{side} forehead");
         }
     }
 }
