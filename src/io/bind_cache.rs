@@ -266,7 +266,7 @@ fn prune(dir: &Path, keep: &Path) {
             ours.then_some((modified, meta.len(), path))
         })
         .collect();
-    files.sort_by(|a, b| b.0.cmp(&a.0));
+    files.sort_by_key(|f| std::cmp::Reverse(f.0));
     let mut total = 0u64;
     for (index, (_, len, path)) in files.into_iter().enumerate() {
         if path == keep {

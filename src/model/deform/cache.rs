@@ -60,7 +60,7 @@ impl BoundRig {
     pub fn cache_parts(&self) -> CacheParts<'_> {
         CacheParts {
             fields: &self.fields,
-            patches: self.patches.iter().map(Patch::to_floats).collect(),
+            patches: self.patches.iter().map(|p| p.to_floats()).collect(),
         }
     }
 

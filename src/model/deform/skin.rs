@@ -709,7 +709,7 @@ pub(super) const PATCH_FLOATS: usize = 15;
 
 impl Patch {
     /// The patch as [`PATCH_FLOATS`] numbers: normal, u, v, then d, e, a, b, c, radius.
-    pub(super) fn to_floats(&self) -> [f32; PATCH_FLOATS] {
+    pub(super) fn to_floats(self) -> [f32; PATCH_FLOATS] {
         let [n, u, v] = [self.normal, self.u, self.v].map(|x| x.to_array());
         let (d, e, a, b, c, r) = (self.d, self.e, self.a, self.b, self.c, self.radius);
         [
