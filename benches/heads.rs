@@ -189,6 +189,7 @@ fn head(k: u32, runs: usize) {
         "  bind (skin): {:.0} ms",
         start.elapsed().as_secs_f64() * 1e3
     );
+    bind_cache(&fitted.rig, &mesh, &bound);
     let framing = Framing::of_rig(&fitted.rig, &mesh);
     let start = Instant::now();
     let lod = Lod::of_rig(&fitted.rig, &mesh, &framing);
@@ -213,6 +214,43 @@ fn head(k: u32, runs: usize) {
     editor_start(&fitted.rig, &mesh);
     editor(fitted.rig, mesh, runs);
     eprintln!("  peak RSS so far: {:.0} MB", peak_rss_mb());
+}
+
+/// The bind cache (`io::bind_cache`) in a temporary folder: a bind that writes it, then
+/// binds read from it (checked equal to the fresh bind), and the file's size.
+fn bind_cache(rig: &grimace::model::Rig, mesh: &Mesh, fresh: &BoundRig) {
+    use grimace::io::bind_cache::BindCache;
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let cache = BindCache::at(dir.path());
+    let start = Instant::now();
+    let cold = cache.bind(Deformation::Skin, rig, mesh).expect("binds");
+    assert!(!cold.from_cache && cold.warnings.is_empty());
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    let path = cache.path(Deformation::Skin, rig, mesh).expect("a cache");
+    let size = std::fs::metadata(&path).map_or(0, |m| m.len());
+    eprintln!(
+        "  bind (skin) and write the bind cache: {ms:.0} ms, file {:.1} MB",
+        size as f64 / (1u64 << 20) as f64
+    );
+    let start = Instant::now();
+    let key = grimace::io::bind_cache::key(Deformation::Skin.skin(), rig, mesh);
+    eprintln!(
+        "  bind cache key (hash of rig, mesh, rules, code): {:.1} ms",
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    std::hint::black_box(key);
+    let warm = cache.bind(Deformation::Skin, rig, mesh).expect("binds");
+    assert!(
+        warm.from_cache && warm.bound == *fresh,
+        "the cached bind is the fresh one"
+    );
+    drop((cold, warm));
+    report(
+        "bind (skin) from the bind cache",
+        time(3, || {
+            drop(cache.bind(Deformation::Skin, rig, mesh).expect("binds"));
+        }),
+    );
 }
 
 /// A writer that only counts bytes, standing in for the terminal.
@@ -519,6 +557,10 @@ fn main() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(30);
+    // The editor's binds go through the user's bind cache: a folder of this run's own, so
+    // the first start is measured cold (bound and written) and the second warm (read).
+    let cache = tempfile::tempdir().expect("temporary folder");
+    std::env::set_var("GRIMACE_CACHE_DIR", cache.path());
     if let Ok(dir) = std::env::var("GRIMACE_HEADS_OUT") {
         for k in splits {
             write_head(k, std::path::Path::new(&dir));

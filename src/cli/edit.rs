@@ -131,6 +131,9 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
     if let Some(notice) = notice {
         app.warn(notice);
     }
+    for warning in app.doc.face.take_bind_warnings() {
+        app.warn(warning);
+    }
     let (mut session, warning) = Session::start(
         args.file.as_deref(),
         recovery::recovery_path(args.file.as_deref()),

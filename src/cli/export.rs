@@ -222,10 +222,15 @@ impl Sources {
 pub const DEFAULT_TABLE: &str = "builtin:default";
 
 /// Binds a loaded rig to its mesh with a deformation, naming the rig file on failure.
+/// A big head's bind comes from the bind cache when it holds it (`io::bind_cache`); the
+/// cache's warnings go to stderr.
 pub fn bind(rig: &LoadedRig, model: Deformation) -> anyhow::Result<BoundRig> {
-    model
-        .bind(&rig.rig, &rig.mesh)
-        .map_err(|e| anyhow!("{}: {e}", rig.path.display()))
+    let done = crate::io::bind_cache::bind(model, &rig.rig, &rig.mesh)
+        .map_err(|e| anyhow!("{}: {e}", rig.path.display()))?;
+    for warning in &done.warnings {
+        eprintln!("warning: {warning}");
+    }
+    Ok(done.bound)
 }
 
 /// The activations a state asks for, checked against the rig's ranges.

@@ -7,6 +7,7 @@
 pub mod acts;
 pub mod arkit;
 pub mod atomic;
+pub mod bind_cache;
 pub mod builtin;
 pub mod error;
 pub mod gltf;

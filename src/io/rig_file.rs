@@ -23,6 +23,7 @@ use super::error::{LoadError, SaveError};
 use super::{atomic, ron_text};
 use crate::model::muscle::mirror_x;
 mod check;
+mod weights;
 
 pub use check::{check_rig, check_rig_mesh, RigIssue, MAX_MUSCLES};
 
@@ -53,7 +54,7 @@ pub fn parse_rig_with(
     // looked for on its own only when the file fails or is of another version, so a newer
     // grimace's file is named as such rather than by what this one cannot parse in it.
     let versions = OLDEST_RIG_VERSION..=RIG_VERSION;
-    let file = match ron_text::parse::<RigFile>(path, text, "a rig") {
+    let file = match parse_file(path, text) {
         Ok(file) if versions.contains(&file.version) => file,
         other => {
             ron_text::check_version_in(path, text, versions, "rig")?;
@@ -69,6 +70,21 @@ pub fn parse_rig_with(
         return Err(locate(path, text, &issue));
     }
     Ok((rig, notice))
+}
+
+/// RON's reading of a rig file; its big weight lists are read by [`weights`], which gives
+/// the same values faster (a fitted big head's rig is megabytes of them).
+fn parse_file(path: &Path, text: &str) -> Result<RigFile, LoadError> {
+    if let Some(lifted) = weights::lift(text) {
+        if let Ok(mut file) = ron_text::parse::<RigFile>(path, &lifted.text, "a rig") {
+            let jaw = file.jaw.iter_mut().map(|j| &mut j.weights);
+            let lists = jaw.chain(file.masks.iter_mut().map(|m| &mut m.weights));
+            if lifted.restore(lists) {
+                return Ok(file);
+            }
+        }
+    }
+    ron_text::parse::<RigFile>(path, text, "a rig")
 }
 
 /// Converts a version 1 rig to the current version and says what was done.

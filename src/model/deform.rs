@@ -21,12 +21,14 @@ use super::mesh::{Mesh, MeshError};
 use super::muscle::MuscleKind;
 use super::rig::{Combine, Rig};
 
+mod cache;
 mod checks;
 mod sample;
 mod skin;
 mod spread;
 
-use checks::{check_budget, check_reach, mask_scales};
+pub use cache::{CacheParts, BIND_CODE, CACHE_PATCH_FLOATS};
+use checks::{bind_jaw, check_budget, check_reach, mask_scales};
 pub use sample::{SampledPose, Sampler};
 pub use skin::SkinRules;
 use skin::{Adjacency, Guard, Patch};
@@ -292,13 +294,31 @@ impl BoundRig {
             })
             .collect();
         let surface = (skin.spread > 0.0).then(|| Arc::new(Surface::of(mesh)));
-        let spread_length = spread::spread_length(rig, skin.spread);
         let fields = match &surface {
-            Some(surface) => spread::spread_all(surface, rig, fields, &scales, spread_length),
+            Some(surface) => {
+                let length = spread::spread_length(rig, skin.spread);
+                spread::spread_all(surface, rig, fields, &scales, length)
+            }
             None => fields,
         };
         check_reach(rig, &rest, &fields)?;
-        let mut bound = BoundRig {
+        let mut bound = BoundRig::unbuilt(rig, rest, fields, jaw, skin, surface);
+        bound.build_rows()?;
+        bound.build_skin(mesh);
+        Ok(bound)
+    }
+
+    /// A bound rig of these fields with its rows and skin rules not built yet (both binds,
+    /// the fresh one and the cached one, start from it).
+    fn unbuilt(
+        rig: &Rig,
+        rest: Vec<Vec3>,
+        fields: Vec<Field>,
+        jaw: Option<BoundJaw>,
+        skin: SkinRules,
+        surface: Option<Arc<Surface>>,
+    ) -> BoundRig {
+        BoundRig {
             rig: rig.clone(),
             rest,
             fields,
@@ -316,16 +336,26 @@ impl BoundRig {
             vertex_jaw: Vec::new(),
             skin_mesh: None,
             surface,
-            spread_length,
-        };
-        bound.build_rows()?;
-        bound.build_skin(mesh);
-        Ok(bound)
+            spread_length: spread::spread_length(rig, skin.spread),
+        }
     }
 
     /// Fits the rest surface around every moved vertex and finds the triangles to check.
     fn build_skin(&mut self, mesh: &Mesh) {
         self.patches.clear();
+        if !self.skin.is_paper() && self.skin.slide > 0.0 {
+            let (lo, hi) = mesh.bounds();
+            let radius = (hi - lo).length() * self.skin.patch;
+            let adjacency = Adjacency::of(mesh);
+            let normals = skin::outward_normals(mesh);
+            self.patches = skin::fit_patches(mesh, &adjacency, &normals, &self.row_vertex, radius);
+        }
+        self.build_guard(mesh);
+    }
+
+    /// Finds the triangles the area bound checks (the part of the skin rules a bind cache
+    /// does not keep: it is quick to find again).
+    fn build_guard(&mut self, mesh: &Mesh) {
         self.guard = Guard::default();
         self.vertex_row.clear();
         self.vertex_jaw.clear();
@@ -336,13 +366,6 @@ impl BoundRig {
             self.skin_mesh = Some(mesh.clone());
         }
         let n = self.rest.len();
-        let (lo, hi) = mesh.bounds();
-        let radius = (hi - lo).length() * self.skin.patch;
-        if self.skin.slide > 0.0 {
-            let adjacency = Adjacency::of(mesh);
-            let normals = skin::outward_normals(mesh);
-            self.patches = skin::fit_patches(mesh, &adjacency, &normals, &self.row_vertex, radius);
-        }
         if self.skin.min_area <= 0.0 {
             return;
         }
@@ -824,64 +847,6 @@ pub fn deform(
 /// The most `(vertex, muscle)` pairs a rig may influence: each costs about 36 bytes bound
 /// (its field entry, its CSR entry and its row), so the limit is about 1.2 GB.
 pub const MAX_INFLUENCES: usize = 1 << 25;
-
-/// Checks the jaw and keeps its vertices of non-zero weight, sorted.
-fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
-    let Some(jaw) = &rig.jaw else {
-        return Ok(None);
-    };
-    if !(jaw.pivot.is_finite() && jaw.pivot.as_dvec3().length() <= MAX_REACH) {
-        return Err(BindError::JawParameter {
-            parameter: "pivot",
-            value: jaw.pivot.to_string(),
-        });
-    }
-    if !jaw.degrees_per_unit.is_finite() {
-        return Err(BindError::JawParameter {
-            parameter: "degrees_per_unit",
-            value: jaw.degrees_per_unit.to_string(),
-        });
-    }
-    let axis = jaw.axis.normalize_or_zero();
-    if axis == Vec3::ZERO {
-        return Err(BindError::JawParameter {
-            parameter: "axis",
-            value: jaw.axis.to_string(),
-        });
-    }
-    let slide_per_unit = jaw.slide * jaw.degrees_per_unit;
-    if !(slide_per_unit.is_finite() && slide_per_unit.as_dvec3().length() <= MAX_REACH) {
-        return Err(BindError::JawParameter {
-            parameter: "slide",
-            value: jaw.slide.to_string(),
-        });
-    }
-    let mut weights = jaw.weights.clone();
-    weights.sort_by_key(|&(v, _)| v);
-    for pair in weights.windows(2) {
-        if pair[0].0 == pair[1].0 {
-            return Err(BindError::JawDuplicateVertex(pair[0].0));
-        }
-    }
-    for &(vertex, weight) in &weights {
-        if vertex as usize >= count {
-            return Err(BindError::JawVertex { vertex, count });
-        }
-        if !(0.0..=1.0).contains(&weight) {
-            return Err(BindError::JawWeight { vertex, weight });
-        }
-    }
-    weights.retain(|&(_, w)| w > 0.0);
-    Ok(Some(BoundJaw {
-        pivot: jaw.pivot,
-        axis,
-        radians_per_unit: (jaw.degrees_per_unit as f64).to_radians(),
-        slide_per_unit,
-        vertices: weights.iter().map(|&(v, _)| v).collect(),
-        weights: weights.iter().map(|&(_, w)| w).collect(),
-        rows: Vec::new(),
-    }))
-}
 
 #[cfg(test)]
 mod tests;

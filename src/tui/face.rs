@@ -55,7 +55,12 @@ pub struct Face {
     /// Millimetres per mesh unit when the mesh's scale is known (the built-in face), found
     /// once: the displacement legend reads it every frame.
     mm_per_unit: Option<f32>,
+    /// The bind cache's warnings not yet shown.
+    bind_warnings: Vec<String>,
 }
+
+/// A bound rig and the bind cache's warnings.
+type Bound = (BoundRig, Vec<String>);
 
 /// The rig bound to the mesh, or being bound.
 #[derive(Debug, Clone)]
@@ -65,7 +70,7 @@ enum Binding {
     /// what the editor shows meanwhile.
     Pending {
         rig: Arc<Rig>,
-        slot: Arc<OnceLock<Result<BoundRig, String>>>,
+        slot: Arc<OnceLock<Result<Bound, String>>>,
     },
 }
 
@@ -94,8 +99,10 @@ impl KeptPose {
 impl Face {
     /// Binds a rig to its mesh. Fails with a message when the rig does not fit the mesh.
     pub fn new(rig: Rig, mesh: Mesh) -> Result<Face, String> {
-        let bound = bind(&rig, &mesh)?;
-        Ok(Face::with(Binding::Bound(Box::new(bound)), mesh))
+        let (bound, warnings) = bind(&rig, &mesh)?;
+        let mut face = Face::with(Binding::Bound(Box::new(bound)), mesh);
+        face.bind_warnings = warnings;
+        Ok(face)
     }
 
     /// Like [`Face::new`], but a big mesh (one with levels of detail) is bound on a thread:
@@ -161,7 +168,14 @@ impl Face {
             generation: 0,
             framing,
             mm_per_unit,
+            bind_warnings: Vec::new(),
         }
+    }
+
+    /// Takes what the bind cache had to say about the last bind (a file it could not use
+    /// or write), for the status line.
+    pub fn take_bind_warnings(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.bind_warnings)
     }
 
     /// Whether the rig is still being bound (the face shows its rest pose meanwhile).
@@ -184,7 +198,10 @@ impl Face {
             .map(|cell| cell.into_inner().expect("the slot is filled"))
             .unwrap_or_else(|shared| shared.get().expect("the slot is filled").clone());
         let bound = match result {
-            Ok(bound) => bound,
+            Ok((bound, warnings)) => {
+                self.bind_warnings.extend(warnings);
+                bound
+            }
             Err(message) => {
                 if let Binding::Pending { slot, .. } = &mut self.binding {
                     *slot = Arc::new(OnceLock::from(Err(message.clone())));
@@ -433,10 +450,11 @@ impl Face {
     }
 }
 
-/// The editor's deformation of `rig` on `mesh`, its error as the editor says it.
-fn bind(rig: &Rig, mesh: &Mesh) -> Result<BoundRig, String> {
-    Deformation::default()
-        .bind(rig, mesh)
+/// The editor's deformation of `rig` on `mesh` (through the bind cache, which a big head
+/// starts from), its error as the editor says it.
+fn bind(rig: &Rig, mesh: &Mesh) -> Result<Bound, String> {
+    crate::io::bind_cache::bind(Deformation::default(), rig, mesh)
+        .map(|done| (done.bound, done.warnings))
         .map_err(|e| format!("the rig does not fit its mesh: {e}"))
 }
 

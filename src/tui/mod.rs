@@ -87,6 +87,9 @@ impl program::Program for Editor {
             Some(result) => result.map_err(anyhow::Error::msg).map(|()| true)?,
             None => false,
         };
+        for warning in self.app.doc.face.take_bind_warnings() {
+            self.app.warn(warning);
+        }
         if self.state.recovery_due.is_none_or(|due| now < due) {
             return Ok(bound);
         }

@@ -124,9 +124,13 @@ pub fn run(
     cells: CellMode,
     frames: Option<usize>,
 ) -> Result<()> {
-    let bound = crate::model::Deformation::default()
-        .bind(rig, &mesh)
+    // Before the terminal is taken: the bind cache's warnings go to stderr.
+    let done = crate::io::bind_cache::bind(crate::model::Deformation::default(), rig, &mesh)
         .context("cannot place the rig on its mesh")?;
+    for warning in &done.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let bound = done.bound;
     let rest = bound.rest().to_vec();
     let face = Face {
         framing: Framing::of_rig(rig, &mesh),

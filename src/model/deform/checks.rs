@@ -6,7 +6,7 @@ use std::collections::BTreeSet;
 
 use glam::Vec3;
 
-use super::{BindError, MAX_INFLUENCES, MAX_REACH};
+use super::{BindError, BoundJaw, MAX_INFLUENCES, MAX_REACH};
 use crate::model::activations::MUSCLE_RANGE;
 use crate::model::field::Field;
 use crate::model::Rig;
@@ -119,4 +119,62 @@ pub(super) fn validate_names(rig: &Rig) -> Result<(), BindError> {
         }
     }
     Ok(())
+}
+
+/// Checks the jaw and keeps its vertices of non-zero weight, sorted.
+pub(super) fn bind_jaw(rig: &Rig, count: usize) -> Result<Option<BoundJaw>, BindError> {
+    let Some(jaw) = &rig.jaw else {
+        return Ok(None);
+    };
+    if !(jaw.pivot.is_finite() && jaw.pivot.as_dvec3().length() <= MAX_REACH) {
+        return Err(BindError::JawParameter {
+            parameter: "pivot",
+            value: jaw.pivot.to_string(),
+        });
+    }
+    if !jaw.degrees_per_unit.is_finite() {
+        return Err(BindError::JawParameter {
+            parameter: "degrees_per_unit",
+            value: jaw.degrees_per_unit.to_string(),
+        });
+    }
+    let axis = jaw.axis.normalize_or_zero();
+    if axis == Vec3::ZERO {
+        return Err(BindError::JawParameter {
+            parameter: "axis",
+            value: jaw.axis.to_string(),
+        });
+    }
+    let slide_per_unit = jaw.slide * jaw.degrees_per_unit;
+    if !(slide_per_unit.is_finite() && slide_per_unit.as_dvec3().length() <= MAX_REACH) {
+        return Err(BindError::JawParameter {
+            parameter: "slide",
+            value: jaw.slide.to_string(),
+        });
+    }
+    let mut weights = jaw.weights.clone();
+    weights.sort_by_key(|&(v, _)| v);
+    for pair in weights.windows(2) {
+        if pair[0].0 == pair[1].0 {
+            return Err(BindError::JawDuplicateVertex(pair[0].0));
+        }
+    }
+    for &(vertex, weight) in &weights {
+        if vertex as usize >= count {
+            return Err(BindError::JawVertex { vertex, count });
+        }
+        if !(0.0..=1.0).contains(&weight) {
+            return Err(BindError::JawWeight { vertex, weight });
+        }
+    }
+    weights.retain(|&(_, w)| w > 0.0);
+    Ok(Some(BoundJaw {
+        pivot: jaw.pivot,
+        axis,
+        radians_per_unit: (jaw.degrees_per_unit as f64).to_radians(),
+        slide_per_unit,
+        vertices: weights.iter().map(|&(v, _)| v).collect(),
+        weights: weights.iter().map(|&(_, w)| w).collect(),
+        rows: Vec::new(),
+    }))
 }

@@ -703,6 +703,36 @@ fn smaller_root(a: f32, b: f32, c: f32) -> f32 {
 
 /// The largest `k` in 0..1 such that the triangle `rest + k (moved - rest)` keeps twice its
 /// area projected on `normal` at `floor` or above (1 when the moved triangle already does).
+/// The numbers of a [`Patch`] in a fixed order, for the bind cache (`deform/cache.rs`),
+/// which keeps fitted patches so that a cached bind need not fit them again.
+pub(super) const PATCH_FLOATS: usize = 15;
+
+impl Patch {
+    /// The patch as [`PATCH_FLOATS`] numbers: normal, u, v, then d, e, a, b, c, radius.
+    pub(super) fn to_floats(self) -> [f32; PATCH_FLOATS] {
+        let [n, u, v] = [self.normal, self.u, self.v].map(|x| x.to_array());
+        let (d, e, a, b, c, r) = (self.d, self.e, self.a, self.b, self.c, self.radius);
+        [
+            n[0], n[1], n[2], u[0], u[1], u[2], v[0], v[1], v[2], d, e, a, b, c, r,
+        ]
+    }
+
+    /// The patch [`Patch::to_floats`] gave.
+    pub(super) fn from_floats(f: [f32; PATCH_FLOATS]) -> Patch {
+        Patch {
+            normal: Vec3::new(f[0], f[1], f[2]),
+            u: Vec3::new(f[3], f[4], f[5]),
+            v: Vec3::new(f[6], f[7], f[8]),
+            d: f[9],
+            e: f[10],
+            a: f[11],
+            b: f[12],
+            c: f[13],
+            radius: f[14],
+        }
+    }
+}
+
 #[cfg(test)]
 fn keep_area(rest: [Vec3; 3], moved: [Vec3; 3], normal: Vec3, floor: f32) -> f32 {
     let (e1, e2) = (rest[1] - rest[0], rest[2] - rest[0]);
