@@ -9,6 +9,7 @@ mod common;
 mod au_shapes;
 mod classic_face;
 mod convention;
+mod corners;
 mod eyeballs;
 mod face_gallery;
 mod face_mesh;

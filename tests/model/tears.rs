@@ -27,7 +27,9 @@ pub(crate) struct Head {
     pub(crate) mesh: Mesh,
     pub(crate) rig: Rig,
     /// Triangles whose three vertices are skin.
-    skin: Vec<[u32; 3]>,
+    pub(crate) skin: Vec<[u32; 3]>,
+    /// The 68 landmarks' vertices.
+    pub(crate) landmarks: Vec<u32>,
 }
 
 /// The worst a pose does to the skin.
@@ -57,6 +59,7 @@ impl Head {
             mesh,
             rig,
             skin,
+            landmarks: landmark_vertices.to_vec(),
         }
     }
 
