@@ -235,10 +235,13 @@ fn the_spread_tears_fitted_shared_heads_less() {
 fn fitted_shared_heads_tear_no_more_than_measured() {
     for head in shared_heads() {
         let (poses, flips) = match head.name {
-            "MediaPipe canonical face" => (29, 242),
+            // (29, 242 before the slide kept out of the skin's folds: docs/model.md, "The
+            // slide at folds")
+            "MediaPipe canonical face" => (22, 92),
             // With the lids shaped from the mesh (57, 1760 before AU1's medial frontalis
-            // sheet, whose edge turns triangles over on this head at AU1, sadness and at 2.0)
-            "MakeHuman base mesh" => (60, 1941),
+            // sheet, whose edge turns triangles over on this head at AU1, sadness and at 2.0;
+            // 60, 1941 before the slide kept out of the skin's folds)
+            "MakeHuman base mesh" => (49, 1108),
             other => panic!("no bound for {other}"),
         };
         let torn = tears(&head, SkinRules::DEFAULT);

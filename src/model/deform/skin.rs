@@ -360,9 +360,13 @@ fn surface_field(rest: &[Vec3], near: &[(usize, f64)], p: DVec3, frame: [DVec3; 
     }
 }
 
+/// The cosine of the steepest the slide lets a surface be against its patch's plane (45
+/// degrees, as [`Patch::slide`] caps the height).
+const STEEPEST: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
 /// How much of the slide a vertex takes: the share of its patch's skin that faces the way
-/// the patch does (the outward normals' components along the patch normal, clamped at 0,
-/// weighted toward the vertex), squared, since both the patch's normal and its height field
+/// the patch does (the outward normals' components along the patch normal over
+/// [`STEEPEST`], clamped to 0..1, weighted toward the vertex), squared, since both the patch's normal and its height field
 /// come from that skin. 1 on an open stretch of face; less where the patch folds into a
 /// slit or round a corner (the lips' inner faces and the mouth corners, where the skin
 /// faces across rather than out): there the patch is no surface the skin slides on, and
@@ -371,7 +375,7 @@ fn grip(normals: &[Vec3], near: &[(usize, f64)], weight: impl Fn(f64) -> f64, n:
     let (mut facing, mut total) = (0.0f64, 0.0f64);
     for &(q, d) in near {
         let k = weight(d);
-        facing += k * normals[q].as_dvec3().dot(n).clamp(0.0, 1.0);
+        facing += k * (normals[q].as_dvec3().dot(n) / STEEPEST).clamp(0.0, 1.0);
         total += k;
     }
     if total > 0.0 {
