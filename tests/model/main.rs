@@ -10,6 +10,7 @@ mod au_shapes;
 mod brow_hair;
 mod classic_face;
 mod convention;
+mod corners;
 mod eyeballs;
 mod face_gallery;
 mod face_mesh;

@@ -124,6 +124,7 @@ pub(super) struct Patch {
     b: f32,
     c: f32,
     radius: f32,
+    grip: f32,
 }
 
 impl Patch {
@@ -145,7 +146,7 @@ impl Patch {
         let h = h.clamp(-r, r);
         let depth = h - sn;
         if depth > 0.0 {
-            s + self.normal * (depth * slide)
+            s + self.normal * (depth * slide * self.grip)
         } else {
             s
         }
@@ -308,13 +309,14 @@ fn fit_chunk(
                 b: 0.0,
                 c: 0.0,
                 radius,
+                grip: grip(normals, &near, weight, n),
             };
             if n == DVec3::ZERO {
                 return flat;
             }
             let u = n.any_orthonormal_vector();
             let w = n.cross(u);
-            let fit = height_field(rest, &near[1..], p, [u, w, n]);
+            let fit = surface_field(rest, &near, p, [u, w, n]);
             Patch {
                 u: u.as_vec3(),
                 v: w.as_vec3(),
@@ -329,24 +331,59 @@ fn fit_chunk(
         .collect()
 }
 
-/// The quadratic height field `z = d x + e y + a x^2 + b x y + c y^2` fitted by least squares
-/// to the patch's points around `p`, in the frame `[u, v, normal]`; all zero if singular.
-fn height_field(rest: &[Vec3], near: &[(usize, f64)], p: DVec3, frame: [DVec3; 3]) -> [f64; 5] {
+/// The quadratic height field `z = d x + e y + a x^2 + b x y + c y^2` of the surface around
+/// `p`, in the frame `[u, v, normal]`: fitted by least squares to the patch's points (the
+/// vertex among them) with a constant term, which is the vertex's own offset from that
+/// surface and is dropped. So the field is the slope and curvature of the surface the vertex
+/// lies on, and a vertex sitting in a fold (a mouth corner, a lip's inner row) keeps its
+/// depth below the surface around it; forced through the vertex, the field was a bowl as
+/// steep as the fold, and the slide lifted such a vertex out of it by most of its travel,
+/// past the rows around it. All zero if singular.
+fn surface_field(rest: &[Vec3], near: &[(usize, f64)], p: DVec3, frame: [DVec3; 3]) -> [f64; 5] {
     let [u, w, n] = frame;
-    let mut m = [[0.0f64; 5]; 5];
-    let mut rhs = [0.0f64; 5];
+    let mut m = [[0.0f64; 6]; 6];
+    let mut rhs = [0.0f64; 6];
     for &(q, _) in near {
         let d = rest[q].as_dvec3() - p;
         let (x, y, z) = (d.dot(u), d.dot(w), d.dot(n));
-        let row = [x, y, x * x, x * y, y * y];
-        for i in 0..5 {
-            for j in 0..5 {
+        let row = [1.0, x, y, x * x, x * y, y * y];
+        for i in 0..6 {
+            for j in 0..6 {
                 m[i][j] += row[i] * row[j];
             }
             rhs[i] += row[i] * z;
         }
     }
-    solve(m, rhs).unwrap_or([0.0; 5])
+    match solve(m, rhs) {
+        Some([_, d, e, a, b, c]) => [d, e, a, b, c],
+        None => [0.0; 5],
+    }
+}
+
+/// The cosine of the steepest the slide lets a surface be against its patch's plane (45
+/// degrees, as [`Patch::slide`] caps the height).
+const STEEPEST: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+/// How much of the slide a vertex takes: the share of its patch's skin that faces the way
+/// the patch does (the outward normals' components along the patch normal over
+/// [`STEEPEST`], clamped to 0..1, weighted toward the vertex), squared, since both the patch's normal and its height field
+/// come from that skin. 1 on an open stretch of face; less where the patch folds into a
+/// slit or round a corner (the lips' inner faces and the mouth corners, where the skin
+/// faces across rather than out): there the patch is no surface the skin slides on, and
+/// neighbouring rows, each lifted onto its own side's surface, crossed each other.
+fn grip(normals: &[Vec3], near: &[(usize, f64)], weight: impl Fn(f64) -> f64, n: DVec3) -> f32 {
+    let (mut facing, mut total) = (0.0f64, 0.0f64);
+    for &(q, d) in near {
+        let k = weight(d);
+        facing += k * (normals[q].as_dvec3().dot(n) / STEEPEST).clamp(0.0, 1.0);
+        total += k;
+    }
+    if total > 0.0 {
+        let share = facing / total;
+        (share * share) as f32
+    } else {
+        1.0
+    }
 }
 
 /// The normal of the plane fitted to the patch's points (weighted principal axes, the
@@ -800,6 +837,7 @@ mod tests {
             d: 0.0,
             e: 0.0,
             radius: 1.0,
+            grip: 1.0,
         };
         let s = patch.slide(Vec3::new(0.5, 0.0, -0.4), 0.75);
         assert!((s - Vec3::new(0.5, 0.0, -0.1)).length() < 1e-6, "{s}");
