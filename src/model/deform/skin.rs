@@ -738,19 +738,17 @@ fn smaller_root(a: f32, b: f32, c: f32) -> f32 {
     }
 }
 
-/// The largest `k` in 0..1 such that the triangle `rest + k (moved - rest)` keeps twice its
-/// area projected on `normal` at `floor` or above (1 when the moved triangle already does).
 /// The numbers of a [`Patch`] in a fixed order, for the bind cache (`deform/cache.rs`),
 /// which keeps fitted patches so that a cached bind need not fit them again.
-pub(super) const PATCH_FLOATS: usize = 15;
+pub(super) const PATCH_FLOATS: usize = 16;
 
 impl Patch {
-    /// The patch as [`PATCH_FLOATS`] numbers: normal, u, v, then d, e, a, b, c, radius.
+    /// The patch as [`PATCH_FLOATS`] numbers: normal, u, v, then d, e, a, b, c, radius, grip.
     pub(super) fn to_floats(self) -> [f32; PATCH_FLOATS] {
         let [n, u, v] = [self.normal, self.u, self.v].map(|x| x.to_array());
         let (d, e, a, b, c, r) = (self.d, self.e, self.a, self.b, self.c, self.radius);
         [
-            n[0], n[1], n[2], u[0], u[1], u[2], v[0], v[1], v[2], d, e, a, b, c, r,
+            n[0], n[1], n[2], u[0], u[1], u[2], v[0], v[1], v[2], d, e, a, b, c, r, self.grip,
         ]
     }
 
@@ -766,11 +764,14 @@ impl Patch {
             b: f[12],
             c: f[13],
             radius: f[14],
+            grip: f[15],
         }
     }
 }
 
 #[cfg(test)]
+/// The largest `k` in 0..1 such that the triangle `rest + k (moved - rest)` keeps twice its
+/// area projected on `normal` at `floor` or above (1 when the moved triangle already does).
 fn keep_area(rest: [Vec3; 3], moved: [Vec3; 3], normal: Vec3, floor: f32) -> f32 {
     let (e1, e2) = (rest[1] - rest[0], rest[2] - rest[0]);
     let shape = TriangleShape {
