@@ -6,10 +6,12 @@ pub mod pty;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// Runs the `grimace` binary with `args` in `dir`, capturing its output.
+/// Runs the `grimace` binary with `args` in `dir`, capturing its output. Its bind cache is
+/// kept in `dir` (`GRIMACE_CACHE_DIR`), so a test never writes to the user's own cache.
 pub fn grimace_in(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_grimace"))
         .args(args)
+        .env("GRIMACE_CACHE_DIR", dir.join(".grimace-cache"))
         .current_dir(dir)
         .output()
         .unwrap()
