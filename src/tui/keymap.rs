@@ -643,29 +643,31 @@ pub enum PlayKey {
     Slower,
 }
 
-/// One key binding of the play viewer.
+/// One key of a viewer whose help is one list (the play viewer, the landmark picker): the
+/// key, what it does, and what the help and the status line say about it.
 #[derive(Debug, Clone, Copy)]
-pub struct PlayBinding {
+pub struct KeyBinding<A> {
     /// The key.
     pub code: KeyCode,
-    /// Modifiers that must be held.
+    /// Modifiers that must be held (Shift is part of upper-case letters).
     pub mods: KeyModifiers,
     /// What it does.
-    pub action: PlayKey,
-    /// Said in `grimace play --help`.
+    pub action: A,
+    /// Said in the help.
     pub description: &'static str,
     /// Said in the status line, for the first key of each action that has one.
     pub hint: Option<&'static str>,
 }
 
-const fn play(
+/// A [`KeyBinding`], for writing key tables.
+pub(crate) const fn key_binding<A>(
     code: KeyCode,
     mods: KeyModifiers,
-    action: PlayKey,
+    action: A,
     description: &'static str,
     hint: Option<&'static str>,
-) -> PlayBinding {
-    PlayBinding {
+) -> KeyBinding<A> {
+    KeyBinding {
         code,
         mods,
         action,
@@ -673,6 +675,36 @@ const fn play(
         hint,
     }
 }
+
+/// The action a table binds to a key press, if any.
+pub(crate) fn find_action<A: Clone>(table: &[KeyBinding<A>], key: KeyEvent) -> Option<A> {
+    let mods = significant(key);
+    table
+        .iter()
+        .find(|b| b.code == key.code && b.mods == mods)
+        .map(|b| b.action.clone())
+}
+
+/// A table's help: keys doing the same thing share a line.
+pub(crate) fn list_help_lines<A>(table: &[KeyBinding<A>]) -> Vec<(String, &'static str)> {
+    let mut lines: Vec<(String, &'static str)> = Vec::new();
+    for b in table {
+        let label = key_label(b.code, b.mods);
+        match lines.iter_mut().find(|(_, d)| *d == b.description) {
+            Some(line) => {
+                line.0.push_str(" / ");
+                line.0.push_str(&label);
+            }
+            None => lines.push((label, b.description)),
+        }
+    }
+    lines
+}
+
+/// One key binding of the play viewer.
+pub type PlayBinding = KeyBinding<PlayKey>;
+
+use key_binding as play;
 
 /// Every key of the play viewer, in help order.
 pub const PLAY_BINDINGS: &[PlayBinding] = &[
@@ -717,27 +749,12 @@ pub const PLAY_BINDINGS: &[PlayBinding] = &[
 
 /// The play viewer's action for a key press, if any.
 pub fn play_dispatch(key: KeyEvent) -> Option<PlayKey> {
-    let mods = significant(key);
-    PLAY_BINDINGS
-        .iter()
-        .find(|b| b.code == key.code && b.mods == mods)
-        .map(|b| b.action)
+    find_action(PLAY_BINDINGS, key)
 }
 
 /// The play viewer's keys for `--help`: keys doing the same thing share a line.
 pub fn play_help_lines() -> Vec<(String, &'static str)> {
-    let mut lines: Vec<(String, &'static str)> = Vec::new();
-    for b in PLAY_BINDINGS {
-        let label = key_label(b.code, b.mods);
-        match lines.iter_mut().find(|(_, d)| *d == b.description) {
-            Some(line) => {
-                line.0.push_str(" / ");
-                line.0.push_str(&label);
-            }
-            None => lines.push((label, b.description)),
-        }
-    }
-    lines
+    list_help_lines(PLAY_BINDINGS)
 }
 
 /// The play viewer's status line hints: `key hint` for the bindings that have one.

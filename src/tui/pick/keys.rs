@@ -4,42 +4,16 @@
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
 use super::state::{Mode, PickAction, COARSE, TILT_DEGREES, TURN_DEGREES, ZOOM_STEP};
-use crate::tui::keymap::{key_label, significant};
+use crate::tui::keymap::{find_action, key_label, list_help_lines, KeyBinding};
 
 /// One key of the picker.
-#[derive(Debug, Clone)]
-pub struct PickBinding {
-    /// The key.
-    pub code: KeyCode,
-    /// Modifiers that must be held (Shift is part of upper-case letters).
-    pub mods: KeyModifiers,
-    /// What it does.
-    pub action: PickAction,
-    /// Said in the help.
-    pub description: &'static str,
-    /// A short hint for the status line.
-    pub hint: Option<&'static str>,
-}
+pub type PickBinding = KeyBinding<PickAction>;
 
 const NONE: KeyModifiers = KeyModifiers::NONE;
 const SHIFT: KeyModifiers = KeyModifiers::SHIFT;
 const CTRL: KeyModifiers = KeyModifiers::CONTROL;
 
-const fn key(
-    code: KeyCode,
-    mods: KeyModifiers,
-    action: PickAction,
-    description: &'static str,
-    hint: Option<&'static str>,
-) -> PickBinding {
-    PickBinding {
-        code,
-        mods,
-        action,
-        description,
-        hint,
-    }
-}
+use crate::tui::keymap::key_binding as key;
 
 const fn ch(c: char) -> KeyCode {
     KeyCode::Char(c)
@@ -203,13 +177,7 @@ pub const MOUSE: &[(&str, &str)] = &[
 /// The action for a key in the picker's mode.
 pub fn dispatch(mode: &Mode, key: KeyEvent) -> Option<PickAction> {
     match mode {
-        Mode::Normal => {
-            let mods = significant(key);
-            bindings()
-                .iter()
-                .find(|b| b.code == key.code && b.mods == mods)
-                .map(|b| b.action.clone())
-        }
+        Mode::Normal => find_action(bindings(), key),
         Mode::Command(_) => {
             let ctrl = key.modifiers.contains(KeyModifiers::CONTROL);
             Some(match key.code {
@@ -234,18 +202,7 @@ pub fn dispatch(mode: &Mode, key: KeyEvent) -> Option<PickAction> {
 
 /// The help's lines: keys doing the same thing share a line.
 pub fn help_lines() -> Vec<(String, &'static str)> {
-    let mut lines: Vec<(String, &'static str)> = Vec::new();
-    for b in bindings() {
-        let label = key_label(b.code, b.mods);
-        match lines.iter_mut().find(|(_, d)| *d == b.description) {
-            Some(line) => {
-                line.0.push_str(" / ");
-                line.0.push_str(&label);
-            }
-            None => lines.push((label, b.description)),
-        }
-    }
-    lines
+    list_help_lines(bindings())
 }
 
 /// The status line's hints (the cursor keys said as one).
