@@ -12,10 +12,11 @@
 //! weight falls evenly from the jaw line down the neck, and a mouth's lining goes over evenly
 //! from its lower lip (the jaw's) to its upper lip (still) round the back of the mouth.
 
-use std::cmp::Ordering;
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use super::parts::{Part, Parts};
+use crate::model::mesh::Distance;
 use crate::model::Mesh;
 
 /// How far along the mesh from the template's skin the jaw's weights die out, as a fraction
@@ -28,7 +29,7 @@ const OMEGA: f64 = 1.8;
 /// Largest change of a weight in a round at which the map counts as found.
 const TOLERANCE: f64 = 1e-6;
 
-/// The skin's edges as neighbour lists with weights `1 / length^2` (skin to skin only).
+/// The skin's edges as neighbour lists with their lengths (skin to skin only).
 fn skin_neighbours(mesh: &Mesh, parts: &Parts) -> Vec<Vec<(usize, f64)>> {
     let mut neighbours = vec![Vec::new(); mesh.vertex_count()];
     for [a, b] in mesh.edges() {
@@ -48,26 +49,13 @@ fn skin_neighbours(mesh: &Mesh, parts: &Parts) -> Vec<Vec<(usize, f64)>> {
 /// Distance along the skin's edges from the nearest `held` vertex (infinite where none is
 /// reached within `limit`).
 fn distance_from(neighbours: &[Vec<(usize, f64)>], held: &[bool], limit: f64) -> Vec<f64> {
-    #[derive(PartialEq)]
-    struct Entry(f64, usize);
-    impl Eq for Entry {}
-    impl PartialOrd for Entry {
-        fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-            Some(self.cmp(other))
-        }
-    }
-    impl Ord for Entry {
-        fn cmp(&self, other: &Self) -> Ordering {
-            other.0.total_cmp(&self.0)
-        }
-    }
     let mut dist = vec![f64::INFINITY; neighbours.len()];
     let mut heap = BinaryHeap::new();
     for (v, _) in held.iter().enumerate().filter(|(_, &h)| h) {
         dist[v] = 0.0;
-        heap.push(Entry(0.0, v));
+        heap.push(Reverse((Distance(0.0), v)));
     }
-    while let Some(Entry(d, v)) = heap.pop() {
+    while let Some(Reverse((Distance(d), v))) = heap.pop() {
         if d > dist[v] {
             continue;
         }
@@ -75,7 +63,7 @@ fn distance_from(neighbours: &[Vec<(usize, f64)>], held: &[bool], limit: f64) ->
             let next = d + len;
             if next < dist[n] && next < limit {
                 dist[n] = next;
-                heap.push(Entry(next, n));
+                heap.push(Reverse((Distance(next), n)));
             }
         }
     }

@@ -25,6 +25,7 @@ use glam::Vec3;
 
 use super::pocket::Pocket;
 use crate::landmarks::{COUNT, INNER_LOWER, INNER_UPPER};
+use crate::model::mesh::Distance;
 use crate::model::{Mesh, Rig};
 
 /// Landmarks on the lower lip: on a cut vertex they move to its copy.
@@ -459,8 +460,8 @@ impl Graph {
     ) -> Option<Vec<u32>> {
         let sigma = GUIDE * mouth.width;
         let mut best: HashMap<u32, (f64, u32)> = HashMap::from([(from, (0.0, from))]);
-        let mut queue = BinaryHeap::from([(Reverse(Cost(0.0)), from)]);
-        while let Some((Reverse(Cost(cost)), v)) = queue.pop() {
+        let mut queue = BinaryHeap::from([(Reverse(Distance(0.0)), from)]);
+        while let Some((Reverse(Distance(cost)), v)) = queue.pop() {
             if v == to {
                 break;
             }
@@ -476,7 +477,7 @@ impl Graph {
                 let next = cost + f64::from(a.distance(b) * (1.0 + d * d));
                 if best.get(&w).is_none_or(|&(c, _)| next < c) {
                     best.insert(w, (next, v));
-                    queue.push((Reverse(Cost(next)), w));
+                    queue.push((Reverse(Distance(next)), w));
                 }
             }
         }
@@ -657,24 +658,6 @@ fn fan_parts(mesh: &Mesh, fan: &[usize], v: u32, walls: [u32; 2]) -> Vec<usize> 
         }
     }
     (0..fan.len()).map(|i| root(&mut part, i)).collect()
-}
-
-/// A path cost ordered for the queue.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Cost(f64);
-
-impl Eq for Cost {}
-
-impl PartialOrd for Cost {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Cost {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
-    }
 }
 
 /// The distance between the middles of the inner lips (landmarks 62 and 66) at `positions`.

@@ -207,3 +207,22 @@ pub fn bounds_of(points: &[Vec3]) -> (Vec3, Vec3) {
         (Vec3::ZERO, Vec3::ZERO)
     }
 }
+
+/// A distance along a mesh, ordered totally, for the queues of walks along its edges
+/// (never NaN there: rest positions are finite).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Distance(pub f64);
+
+impl Eq for Distance {}
+
+impl PartialOrd for Distance {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Distance {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}

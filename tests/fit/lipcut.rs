@@ -10,7 +10,6 @@ use std::path::Path;
 
 use glam::Vec3;
 use grimace::fit::lipcut::{self, LipCut, Lips};
-use grimace::fit::{fit_rig, PartOverrides, Template};
 use grimace::io::{builtin, landmarks::load_landmarks, obj};
 use grimace::landmarks::{Landmarks, CANTHAL_MM};
 use grimace::model::{BoundRig, Deformation, Mesh};
@@ -18,25 +17,8 @@ use grimace::model::{BoundRig, Deformation, Mesh};
 /// The default rig fitted to an opened mesh as `fit-rig` does it, with the skin deformation
 /// bound.
 fn fit_and_bind(cut: &LipCut) -> BoundRig {
-    let (mesh, landmarks) = (&cut.mesh, &cut.landmarks);
-    let face = builtin::default_mesh();
-    let rig = builtin::default_rig();
-    let points = builtin::landmarks("face")
-        .unwrap()
-        .positions(&face)
-        .unwrap();
-    let fitted = fit_rig(
-        Template {
-            rig: &rig,
-            mesh: &face,
-            landmarks: &points,
-        },
-        mesh,
-        &Landmarks::Vertices(landmarks.to_vec()),
-        "mesh.obj".into(),
-        &PartOverrides::default(),
-    )
-    .unwrap();
+    let mesh = &cut.mesh;
+    let fitted = crate::fit_default(mesh, &Landmarks::Vertices(cut.landmarks.to_vec()));
     let mut rig = fitted.rig;
     lipcut::weights_by_side(&mut rig, cut);
     Deformation::default().bind(&rig, mesh).unwrap()

@@ -20,14 +20,14 @@
 //! partial update (`update_muscle`, `update_jaw`) recomputes the same numbers in the same
 //! order as a full deformation and stays bit-identical to it.
 
-use std::cmp::{Ordering, Reverse};
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::NO_ROW;
-use crate::model::mesh::Mesh;
+use crate::model::mesh::{Distance, Mesh};
 
 /// How displaced skin is kept on the face, beyond the paper's equations.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -187,24 +187,6 @@ impl Adjacency {
     }
 }
 
-/// A distance ordered totally (never NaN here: rest positions are finite).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Ordered(pub(super) f64);
-
-impl Eq for Ordered {}
-
-impl PartialOrd for Ordered {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Ordered {
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.0.total_cmp(&other.0)
-    }
-}
-
 /// Most rest vertices a patch fit visits (the nearest ones).
 const PATCH_VERTICES: usize = 128;
 
@@ -273,9 +255,9 @@ fn fit_chunk(
             queue.clear();
             // nearest first (ties by vertex number), so that mirrored vertices of a
             // symmetric mesh gather mirrored patches
-            queue.push(Reverse((Ordered(0.0), v)));
+            queue.push(Reverse((Distance(0.0), v)));
             seen[v] = stamp as u32;
-            while let Some(Reverse((Ordered(d), q))) = queue.pop() {
+            while let Some(Reverse((Distance(d), q))) = queue.pop() {
                 near.push((q, d));
                 if near.len() >= PATCH_VERTICES {
                     break;
@@ -285,7 +267,7 @@ fn fit_chunk(
                     let d = (rest[w].as_dvec3() - p).length();
                     if seen[w] != stamp as u32 && d <= r {
                         seen[w] = stamp as u32;
-                        queue.push(Reverse((Ordered(d), w)));
+                        queue.push(Reverse((Distance(d), w)));
                     }
                 }
             }

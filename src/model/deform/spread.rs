@@ -22,8 +22,8 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::skin::Ordered;
 use crate::model::field::Field;
+use crate::model::mesh::Distance;
 use crate::model::mesh::Mesh;
 use crate::model::muscle::MuscleKind;
 use crate::model::Rig;
@@ -125,11 +125,11 @@ impl Surface {
         let mut queue = std::collections::BinaryHeap::new();
         for &v in &field.vertices {
             distance[v as usize] = 0.0;
-            queue.push(std::cmp::Reverse((Ordered(0.0), v)));
+            queue.push(std::cmp::Reverse((Distance(0.0), v)));
         }
         let mut region = Vec::new();
         let mut done = vec![false; n];
-        while let Some(std::cmp::Reverse((Ordered(d), v))) = queue.pop() {
+        while let Some(std::cmp::Reverse((Distance(d), v))) = queue.pop() {
             let vi = v as usize;
             if done[vi] {
                 continue;
@@ -141,7 +141,7 @@ impl Surface {
                 let next = d + self.length[slot];
                 if next <= reach && next < distance[w] && open(w) {
                     distance[w] = next;
-                    queue.push(std::cmp::Reverse((Ordered(next), w as u32)));
+                    queue.push(std::cmp::Reverse((Distance(next), w as u32)));
                 }
             }
         }
