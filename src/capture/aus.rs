@@ -6,6 +6,10 @@
 //! The comparison is made on what the activations do to the landmarks, not on the
 //! activations themselves: a lip-corner pull the solve found with the zygomatic minor and the
 //! risorius is still the table's AU12 (the zygomatic major) if it moves the landmarks alike.
+//!
+//! Lips Part (AU25) is the exception: FACS scores it by the inner lips' separation, with or
+//! without the jaw, so it is read there ([`LIPS_PART`]) on its entry's own opening. In the
+//! joint fit the jaw's drop, which AU25, AU26 and AU27 all carry, decided it.
 
 use glam::{DVec3, Vec3};
 
@@ -25,6 +29,23 @@ pub struct AuProjection {
     entries: Vec<Vec<DVec3>>,
     weights: Vec<DVec3>,
     gram: Vec<f64>,
+    /// AU25's column and its entry's opening of the inner lips ([`LIPS_PART`]).
+    lips_part: Option<(usize, Vec<DVec3>)>,
+}
+
+/// The FACS number of Lips Part.
+pub const LIPS_PART_AU: u8 = 25;
+
+/// The inner lips' facing pairs (upper, lower) of the 68 landmarks: their separation is
+/// what FACS calls the lips' part, whether the jaw drops with it or not.
+pub const LIPS_PART: [(usize, usize); 3] = [(61, 67), (62, 66), (63, 65)];
+
+/// How far each pair of [`LIPS_PART`] separates under a landmark motion.
+fn lip_separation(motion: &[DVec3]) -> Vec<DVec3> {
+    LIPS_PART
+        .iter()
+        .map(|&(upper, lower)| motion[lower] - motion[upper])
+        .collect()
 }
 
 impl AuProjection {
@@ -54,11 +75,17 @@ impl AuProjection {
                 gram[i * k + j] = weighted_dot(&weights, &entries[i], &entries[j]);
             }
         }
+        let lips_part = kept
+            .iter()
+            .position(|&n| n == LIPS_PART_AU)
+            .map(|k| (k, lip_separation(&entries[k])))
+            .filter(|(_, gap)| gap.iter().map(|d| d.length_squared()).sum::<f64>() > 0.0);
         AuProjection {
             numbers: kept,
             entries,
             weights,
             gram,
+            lips_part,
         }
     }
 
@@ -81,7 +108,15 @@ impl AuProjection {
             .map(|e| weighted_dot(&self.weights, e, motion))
             .collect();
         let k = c.len();
-        let weights = box_least_squares(&self.gram, &c, &vec![0.0; k], &vec![1.0; k]);
+        let mut weights = box_least_squares(&self.gram, &c, &vec![0.0; k], &vec![1.0; k]);
+        // Lips Part is the inner lips' separation: read there, on the entry's own opening,
+        // not from the jaw's drop the table's entries share with AU26 and AU27.
+        if let Some((k, entry)) = &self.lips_part {
+            let seen = lip_separation(motion);
+            let dot =
+                |a: &[DVec3], b: &[DVec3]| a.iter().zip(b).map(|(a, b)| a.dot(*b)).sum::<f64>();
+            weights[*k] = (dot(&seen, entry) / dot(entry, entry)).clamp(0.0, 1.0);
+        }
         weights
             .into_iter()
             .map(|w| w * f64::from(OPENFACE_MAX_INTENSITY))

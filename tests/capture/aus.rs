@@ -1,0 +1,75 @@
+//! AU intensities derived from solved landmark motion (`capture --aus`): each AU read where
+//! FACS scores it.
+
+use glam::{DVec3, Vec3};
+use grimace::capture::{AuProjection, LandmarkModel};
+use grimace::model::{Activations, Deformation};
+
+/// The built-in face, its landmark model and the built-in table's projection.
+fn projection() -> (grimace::model::BoundRig, LandmarkModel) {
+    let mesh = grimace::io::builtin::default_mesh();
+    let rig = grimace::io::builtin::default_rig();
+    let bound = Deformation::default().bind(&rig, &mesh).unwrap();
+    let vertices = grimace::io::builtin::landmarks("default")
+        .unwrap()
+        .vertices(&mesh);
+    let model = LandmarkModel::new(&bound, &vertices);
+    (bound, model)
+}
+
+/// The AU intensity (0-5) `number` for the landmark motion of `muscles` and `jaw`.
+fn au_of(number: u8, muscles: &[(&str, f32)], jaw: f32) -> f64 {
+    let (bound, model) = projection();
+    let table = grimace::io::builtin::default_table();
+    let projection = AuProjection::new(&table, &bound, &model);
+    let rig = bound.rig();
+    let mut act = Activations::zero(rig);
+    for (name, value) in muscles {
+        act.muscles[rig.muscle_index(name).unwrap()] = *value;
+    }
+    act.jaw = jaw;
+    let mut scratch: Vec<Vec3> = Vec::new();
+    let motion: Vec<DVec3> = model.displacement(&bound, &act, &mut scratch);
+    let k = projection
+        .numbers()
+        .iter()
+        .position(|&n| n == number)
+        .unwrap();
+    projection.intensities(&motion)[k]
+}
+
+#[test]
+fn lips_parted_by_the_lower_lip_alone_read_as_lips_part() {
+    // The lower lip's depressors part the lips with the jaw at rest: FACS scores AU25 (with
+    // AU16). The joint fit gave it all to AU16, whose entry is these muscles alone.
+    let depressors = [
+        ("L_Depressor_Labii_Inferioris", 0.8),
+        ("R_Depressor_Labii_Inferioris", 0.8),
+    ];
+    let parted = au_of(25, &depressors, 0.0);
+    assert!(
+        parted > 1.0,
+        "AU25 {parted:.2} for lips parted without the jaw"
+    );
+    assert_eq!(au_of(25, &[], 0.0), 0.0, "rest reads no AU25");
+}
+
+#[test]
+fn lips_part_follows_the_inner_lips_not_the_jaw() {
+    // The same jaw drop, once with the lips left to part and once held together by the lip
+    // sphincter: the lips' part is less when they are held.
+    let open = au_of(25, &[], 0.5);
+    let held = au_of(
+        25,
+        &[
+            ("Orbicularis_Oris", 2.0),
+            ("Orbicularis_Oris_Marginal", 2.0),
+        ],
+        0.5,
+    );
+    assert!(open > 0.5, "AU25 {open:.2} for a jaw drop with lips parted");
+    assert!(
+        held < open - 0.2,
+        "lips held: AU25 {held:.2}, parted: {open:.2}"
+    );
+}
