@@ -68,18 +68,21 @@ impl AuProjection {
                 entries.push(motion);
             }
         }
-        let k = entries.len();
-        let mut gram = vec![0.0; k * k];
-        for i in 0..k {
-            for j in 0..k {
-                gram[i * k + j] = weighted_dot(&weights, &entries[i], &entries[j]);
-            }
-        }
         let lips_part = kept
             .iter()
             .position(|&n| n == LIPS_PART_AU)
             .map(|k| (k, lip_separation(&entries[k])))
             .filter(|(_, gap)| gap.iter().map(|d| d.length_squared()).sum::<f64>() > 0.0);
+        // Lips Part is read on its own; in the joint fit its column is empty (held at 0), so
+        // the jaw's drop goes to the AUs that are the jaw's (AU26, AU27).
+        let joint = |i: usize| lips_part.as_ref().is_none_or(|(k, _)| *k != i);
+        let k = entries.len();
+        let mut gram = vec![0.0; k * k];
+        for i in (0..k).filter(|&i| joint(i)) {
+            for j in (0..k).filter(|&j| joint(j)) {
+                gram[i * k + j] = weighted_dot(&weights, &entries[i], &entries[j]);
+            }
+        }
         AuProjection {
             numbers: kept,
             entries,
@@ -105,7 +108,15 @@ impl AuProjection {
         let c: Vec<f64> = self
             .entries
             .iter()
-            .map(|e| weighted_dot(&self.weights, e, motion))
+            .enumerate()
+            .map(|(i, e)| {
+                let joint = self.gram[i * self.entries.len() + i] > 0.0;
+                if joint {
+                    weighted_dot(&self.weights, e, motion)
+                } else {
+                    0.0
+                }
+            })
             .collect();
         let k = c.len();
         let mut weights = box_least_squares(&self.gram, &c, &vec![0.0; k], &vec![1.0; k]);

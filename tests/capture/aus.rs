@@ -73,3 +73,20 @@ fn lips_part_follows_the_inner_lips_not_the_jaw() {
         "lips held: AU25 {held:.2}, parted: {open:.2}"
     );
 }
+
+#[test]
+fn the_jaw_reads_as_jaw_drop_whatever_the_lower_lip_does() {
+    // The table's own AU25 (lower-lip depressors and a little jaw): its jaw is still a jaw
+    // drop. The joint fit matched the whole entry to AU25 and left AU26 at 0.
+    let depressors = [
+        ("L_Depressor_Labii_Inferioris", 0.6),
+        ("R_Depressor_Labii_Inferioris", 0.6),
+    ];
+    let alone = au_of(26, &[], 0.8);
+    let with_lips = au_of(26, &depressors, 0.8);
+    assert!(alone > 1.0, "AU26 {alone:.2} for a jaw drop");
+    assert!(
+        with_lips > 0.7 * alone,
+        "AU26 {with_lips:.2} with the lower lip down, {alone:.2} without"
+    );
+}
