@@ -151,9 +151,11 @@ fn samples_are_captured_and_measured_against_openface_and_geometry() {
                 show(muscles),
                 show(baseline)
             );
-            // Where the landmarks see the muscles well (brows, lids), on the expressive
-            // sample, the muscles keep up with the geometry.
-            if name == FILES[0] && [1, 2, 4, 45].contains(&au) {
+            // Where the landmarks see the muscles well (brows, lids, the jaw, the inner
+            // lips), on the expressive sample, the muscles keep up with the geometry. AU12
+            // is not held to it: the estimated neutral is this smiling subject's typical
+            // face (docs/capture.md).
+            if name == FILES[0] && [1, 2, 4, 25, 26, 45].contains(&au) {
                 let (m, g) = (muscles.unwrap(), baseline.unwrap());
                 assert!(
                     m >= g - 0.05,
