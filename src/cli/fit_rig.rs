@@ -403,6 +403,17 @@ fn opened_obj(text: &str, cut: &LipCut, source: &Path) -> String {
             source.display()
         )
     };
+    if let Some(eyes) = &cut.eyes {
+        let _ = writeln!(
+            out,
+            "# Its covered eye openings are cut open: vertices {}-{} are the eyes' insides (group \
+             {}), the skin that covered each opening moved onto copies (`# copy K of V`) set back \
+             behind it, then the domes closing them.",
+            eyes.first + 1,
+            cut.mesh.vertex_count(),
+            eyecut::GROUP
+        );
+    }
     let (mut defined, mut triangle) = (0usize, 0usize);
     for (number, piece) in text.split_inclusive('\n').enumerate() {
         let line = piece.trim_end_matches(['\n', '\r']);
