@@ -88,8 +88,8 @@ pub struct EyeCut {
     pub first: u32,
     /// The eyes' own triangles (the domes), the last ones of the mesh.
     pub triangles: usize,
-    /// The original vertex of each band copy, in the order appended from `first` (the dome's
-    /// vertices follow them, eye by eye).
+    /// The original vertex of each band copy, in the order appended from `first` (both
+    /// eyes' copies, then the domes' vertices).
     pub copies: Vec<u32>,
 }
 
@@ -132,11 +132,10 @@ pub fn open(mesh: &mut Mesh, landmarks: &[u32], found: [Lids; 2]) -> Option<EyeC
     let mut domes = Vec::new();
     for lids in &found {
         if let Lids::Covered(cover) = lids {
-            let back = forward
-                * mesh.positions[cover.upper[0] as usize]
-                    .distance(mesh.positions[*cover.upper.last()? as usize]);
-            let rim = set_back(mesh, cover, back * INSET, &mut copies);
-            domes.push((rim, back));
+            let (a, b) = (cover.upper[0], cover.upper[cover.upper.len() - 1]);
+            let width = mesh.positions[a as usize].distance(mesh.positions[b as usize]);
+            let rim = set_back(mesh, cover, forward, width * INSET, &mut copies);
+            domes.push((rim, forward * width));
         }
     }
     for (rim, back) in domes {
@@ -171,7 +170,7 @@ pub fn open_in(
         pocket: None,
         eyes: None,
     });
-    cut.eyes = open(&mut cut.mesh, &cut.landmarks, found);
+    cut.eyes = open(&mut cut.mesh, &cut.landmarks, found).map(Box::new);
     (had_cut || cut.eyes.is_some()).then_some(cut)
 }
 
@@ -331,15 +330,32 @@ fn band(
     Some(band)
 }
 
-/// Moves the band's triangles onto copies of their vertices set back by `back`, appending the
-/// copies (their originals to `copies`); returns the copies along the band's rim in order.
-fn set_back(mesh: &mut Mesh, cover: &Cover, back: Vec3, copies: &mut Vec<u32>) -> Vec<u32> {
+/// Moves the band's triangles onto copies of their vertices set back by `inset` against
+/// `forward`, appending the copies (their originals to `copies`); returns the copies along
+/// the band's rim in order. A band that bulges out of the opening (a scan's cornea fused with
+/// its lids) is first flattened to the margins' front-most depth, so the closing lids pass in
+/// front of all of it.
+fn set_back(
+    mesh: &mut Mesh,
+    cover: &Cover,
+    forward: Vec3,
+    inset: f32,
+    copies: &mut Vec<u32>,
+) -> Vec<u32> {
+    let front = cover
+        .upper
+        .iter()
+        .chain(&cover.lower)
+        .map(|&v| mesh.positions[v as usize].dot(forward))
+        .fold(f32::NEG_INFINITY, f32::max);
     let mut copy_of: BTreeMap<u32, u32> = BTreeMap::new();
     for &t in &cover.band {
         for corner in 0..3 {
             let v = mesh.triangles[t][corner];
             let copy = *copy_of.entry(v).or_insert_with(|| {
-                mesh.positions.push(mesh.positions[v as usize] - back);
+                let p = mesh.positions[v as usize];
+                let bulge = (p.dot(forward) - front).max(0.0);
+                mesh.positions.push(p - forward * (inset + bulge));
                 copies.push(v);
                 mesh.positions.len() as u32 - 1
             });

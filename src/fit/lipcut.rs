@@ -78,7 +78,7 @@ pub struct LipCut {
     pub pocket: Option<Pocket>,
     /// The eyes' insides appended after the pocket, where covered eye openings were cut
     /// ([`super::eyecut`]).
-    pub eyes: Option<EyeCut>,
+    pub eyes: Option<Box<EyeCut>>,
 }
 
 impl LipCut {
