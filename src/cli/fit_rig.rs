@@ -14,7 +14,9 @@
 //! appended behind the lips, [`fit::pocket`]) with its landmarks as
 //! `NAME.opened.landmarks.ron`, and the rig is fitted to it and names it. Separate lips whose
 //! insides meet in a mouth bag of skin get the same pocket behind them, written the same way
-//! with nothing cut ([`lipcut::pocket_behind_apart_lips`]).
+//! with nothing cut ([`lipcut::pocket_behind_apart_lips`]). Eye openings covered by skin
+//! ([`fit::eyecut`]) are cut open into the same file unless `--keep-eyes` is given, with a
+//! dark eye behind each.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -22,6 +24,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context};
 use clap::Args;
 
+use crate::fit::eyecut::{self, Lids};
 use crate::fit::lipcut::{self, LipCut, Lips};
 use crate::fit::{self, Part, PartOverrides, Template};
 use crate::io::inputs::Inputs;
@@ -77,6 +80,10 @@ pub struct FitRigArgs {
     /// Separate lips get no mouth pocket either.
     #[arg(long)]
     pub keep_lips: bool,
+    /// Keep the mesh's own topology where skin covers an eye opening: the lids then close
+    /// by squeezing that skin, and no dark eye is added.
+    #[arg(long)]
+    pub keep_eyes: bool,
 }
 
 /// Runs `grimace fit-rig`.
@@ -96,15 +103,15 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         inputs.add("the template's landmark file", path);
     }
     inputs.check_output(&args.out)?;
-    let lips = lipcut::find(&source, &source_landmarks.vertices(&source));
+    let marks = source_landmarks.vertices(&source);
+    let lips = lipcut::find(&source, &marks);
     let apart = match lips {
-        Lips::Separate if !args.keep_lips => {
-            lipcut::pocket_behind_apart_lips(&source, &source_landmarks.vertices(&source))
-        }
+        Lips::Separate if !args.keep_lips => lipcut::pocket_behind_apart_lips(&source, &marks),
         _ => None,
     };
-    let opened = to_open(args, &inputs, &lips, apart.as_ref())?;
-    let (mesh, landmarks) = match opened {
+    let eyes = eyecut::find(&source, &marks);
+    let opened = to_open(args, &inputs, &lips, apart, (&source, &marks, &eyes))?;
+    let (mesh, landmarks) = match &opened {
         Some((cut, _)) => (&cut.mesh, Landmarks::Vertices(cut.landmarks.clone())),
         None => (&source, source_landmarks),
     };
@@ -130,7 +137,7 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         }
         e => anyhow!(LoadError::new(&landmark_file, e.to_string())),
     })?;
-    if let Some((cut, _)) = opened {
+    if let Some((cut, _)) = &opened {
         lipcut::weights_by_side(&mut fitted.rig, cut);
     }
     warn_order(&landmark_file, &landmarks, mesh);
@@ -156,28 +163,33 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         );
     }
     let mut text = summary(args, mesh, &fitted);
-    text.push_str(&lips_summary(
-        args,
-        &lips,
-        opened.as_ref().map(|(cut, f)| (*cut, &f.0)),
-    ));
+    let written = opened.as_ref().map(|(cut, f)| (cut, &f.0));
+    let lips_cut = written.filter(|(cut, _)| !cut.copies.is_empty() || cut.pocket.is_some());
+    text.push_str(&lips_summary(args, &lips, lips_cut));
+    text.push_str(&eyes_summary(args, &eyes, written));
     super::print(&text)
 }
 
-/// The cut to write, with the files it goes to: joined lips unless `--keep-lips`, else the
-/// pocket behind lips that are `apart` already; the files must not be inputs.
-fn to_open<'a>(
+/// The opened mesh to write, with the files it goes to: joined lips unless `--keep-lips`,
+/// else the pocket behind lips that are `apart` already, and the covered eyes of
+/// `source` unless `--keep-eyes`; the files must not be inputs.
+fn to_open(
     args: &FitRigArgs,
     inputs: &Inputs,
-    lips: &'a Lips,
-    apart: Option<&'a LipCut>,
-) -> anyhow::Result<Option<(&'a LipCut, (PathBuf, PathBuf))>> {
+    lips: &Lips,
+    apart: Option<LipCut>,
+    (source, marks, eyes): (&Mesh, &[u32], &[Lids; 2]),
+) -> anyhow::Result<Option<(LipCut, (PathBuf, PathBuf))>> {
     let cut = match lips {
-        Lips::Joined(cut) if !args.keep_lips => cut,
-        _ => match apart {
-            Some(cut) => cut,
-            None => return Ok(None),
-        },
+        Lips::Joined(cut) if !args.keep_lips => Some(cut.clone()),
+        _ => apart,
+    };
+    let cut = match args.keep_eyes {
+        true => cut,
+        false => eyecut::open_in(cut, source, marks, eyes.clone()),
+    };
+    let Some(cut) = cut else {
+        return Ok(None);
     };
     let files = opened_files(&args.out);
     inputs.check_output(&files.0)?;
@@ -264,6 +276,60 @@ fn lips_summary(args: &FitRigArgs, lips: &Lips, written: Option<(&LipCut, &PathB
     }
 }
 
+/// What was found at the eyes and done about them, for the summary.
+fn eyes_summary(
+    args: &FitRigArgs,
+    found: &[Lids; 2],
+    written: Option<(&LipCut, &PathBuf)>,
+) -> String {
+    let cut = written.and_then(|(cut, file)| cut.eyes.as_ref().map(|e| (cut, e, file)));
+    let covered = found
+        .iter()
+        .filter(|l| matches!(l, Lids::Covered(_)))
+        .count();
+    let each: Vec<String> = ["right", "left"]
+        .iter()
+        .zip(found)
+        .map(|(side, lids)| format!("{side} {}", lids_words(lids)))
+        .collect();
+    let found_words = each.join(", ");
+    match cut {
+        Some((cut, eyes, obj_file)) => format!(
+            "  eyes: {found_words}; cut open: in {} the skin across each covered eye moved onto \
+             {} copies set back behind the opening and closed into a dark eye (vertices {} to {}, \
+             group {}; `# copy` lines name each original). --keep-eyes keeps {}'s own topology \
+             (the lids then close by squeezing that skin)\n",
+            obj_file.display(),
+            eyes.copies.len(),
+            eyes.first + 1,
+            cut.mesh.vertex_count(),
+            eyecut::GROUP,
+            args.mesh.display()
+        ),
+        None if covered > 0 => format!(
+            "  eyes: {found_words}; kept as they are (--keep-eyes): the lids close by squeezing \
+             the skin across the eye; without --keep-eyes it is cut open into NAME.opened.obj\n"
+        ),
+        None => format!("  eyes: {found_words}: nothing cut\n"),
+    }
+}
+
+/// One eye's finding in words.
+fn lids_words(lids: &Lids) -> String {
+    match lids {
+        Lids::Covered(c) => format!(
+            "covered by {} triangles between lid margins of {} and {} vertices",
+            c.band.len(),
+            c.upper.len(),
+            c.lower.len()
+        ),
+        Lids::Open => "open (its lid margins are edges of the mesh)".into(),
+        Lids::Apart => "open (the lids fold inward to an opening)".into(),
+        Lids::OneRow => "shut (both lids share one row of vertices; not cut)".into(),
+        Lids::NotFound => "no lid margins found between its landmarks".into(),
+    }
+}
+
 fn pocket_words(cut: &LipCut) -> String {
     match &cut.pocket {
         Some(_) => format!(" and {}", pocket_phrase(cut)),
@@ -318,7 +384,12 @@ fn opened_obj(text: &str, cut: &LipCut, source: &Path) -> String {
         .filter(|(_, l)| is_v(l))
         .last()
         .map(|(i, _)| i);
-    let mut out = if cut.copies.is_empty() {
+    let mut out = if cut.copies.is_empty() && cut.pocket.is_none() {
+        format!(
+            "# grimace fit-rig: {}. Vertices 1-{n} are its vertices.\n",
+            source.display()
+        )
+    } else if cut.copies.is_empty() {
         format!(
             "# grimace fit-rig: {} with a mouth pocket behind its lips (apart already). Vertices \
              1-{n} are its vertices.\n",
@@ -332,6 +403,17 @@ fn opened_obj(text: &str, cut: &LipCut, source: &Path) -> String {
             source.display()
         )
     };
+    if let Some(eyes) = &cut.eyes {
+        let _ = writeln!(
+            out,
+            "# Its covered eye openings are cut open: vertices {}-{} are the eyes' insides (group \
+             {}), the skin that covered each opening moved onto copies (`# copy K of V`) set back \
+             behind it, then the domes closing them.",
+            eyes.first + 1,
+            cut.mesh.vertex_count(),
+            eyecut::GROUP
+        );
+    }
     let (mut defined, mut triangle) = (0usize, 0usize);
     for (number, piece) in text.split_inclusive('\n').enumerate() {
         let line = piece.trim_end_matches(['\n', '\r']);
@@ -357,6 +439,7 @@ fn opened_obj(text: &str, cut: &LipCut, source: &Path) -> String {
         }
     }
     push_pocket(&mut out, cut);
+    push_eyes(&mut out, cut);
     out
 }
 
@@ -378,7 +461,8 @@ fn push_pocket(out: &mut String, cut: &LipCut) {
     );
     let name = fit::pocket::GROUP;
     let _ = writeln!(out, "o {name}\ng {name}\nusemtl {name}");
-    let triangles = &cut.mesh.triangles[cut.mesh.triangles.len() - pocket.triangles..];
+    let end = cut.mesh.triangles.len() - cut.eyes.as_ref().map_or(0, |e| e.triangles);
+    let triangles = &cut.mesh.triangles[end - pocket.triangles..end];
     for t in triangles {
         let _ = writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
     }
@@ -390,10 +474,45 @@ fn push_copies(out: &mut String, cut: &LipCut, n: usize) {
         let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
         let _ = writeln!(out, "# copy {} of {}", n + k + 1, original + 1);
     }
+    let eyes = cut
+        .eyes
+        .as_ref()
+        .map_or(cut.mesh.vertex_count(), |e| e.first as usize);
     if let Some(pocket) = &cut.pocket {
-        for p in &cut.mesh.positions[pocket.first as usize..] {
+        for p in &cut.mesh.positions[pocket.first as usize..eyes] {
             let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
         }
+    }
+    if let Some(e) = &cut.eyes {
+        for (k, p) in cut.mesh.positions[eyes..].iter().enumerate() {
+            let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
+            if let Some(original) = e.copies.get(k) {
+                let _ = writeln!(out, "# copy {} of {}", eyes + k + 1, original + 1);
+            }
+        }
+    }
+}
+
+/// The eyes' insides: each covered opening's band (its faces where they were, naming the
+/// set-back copies) closed by a dome, whose triangles end the file in their own object,
+/// group and material (`eye_interior`).
+fn push_eyes(out: &mut String, cut: &LipCut) {
+    let Some(eyes) = &cut.eyes else {
+        return;
+    };
+    if !out.ends_with('\n') {
+        out.push('\n');
+    }
+    let _ = writeln!(
+        out,
+        "# the eyes: vertices {} to {}, the covering skin set back and closed into a dark eye",
+        eyes.first + 1,
+        cut.mesh.vertex_count()
+    );
+    let name = eyecut::GROUP;
+    let _ = writeln!(out, "o {name}\ng {name}\nusemtl {name}");
+    for t in &cut.mesh.triangles[cut.mesh.triangles.len() - eyes.triangles..] {
+        let _ = writeln!(out, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
     }
 }
 
@@ -635,6 +754,7 @@ mod tests {
             band: 0,
             landmarks: vec![],
             pocket: None,
+            eyes: None,
         };
         let written = opened_obj(text, &cut, Path::new("q.obj"));
         assert!(

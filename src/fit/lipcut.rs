@@ -23,6 +23,7 @@ use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
 
 use glam::Vec3;
 
+use super::eyecut::EyeCut;
 use super::pocket::Pocket;
 use crate::landmarks::{COUNT, INNER_LOWER, INNER_UPPER};
 use crate::model::mesh::Distance;
@@ -75,14 +76,18 @@ pub struct LipCut {
     /// The mouth pocket appended after the copies (its vertices last, its triangles last):
     /// the inside of the opened mouth ([`Pocket`]).
     pub pocket: Option<Pocket>,
+    /// The eyes' insides appended after the pocket, where covered eye openings were cut
+    /// ([`super::eyecut`]).
+    pub eyes: Option<Box<EyeCut>>,
 }
 
 impl LipCut {
     /// The original vertex count.
     pub fn original_count(&self) -> usize {
-        self.pocket
-            .as_ref()
-            .map_or(self.mesh.vertex_count(), |p| p.first as usize)
+        let appended = self.pocket.as_ref().map(|p| p.first);
+        appended
+            .or(self.eyes.as_ref().map(|e| e.first))
+            .map_or(self.mesh.vertex_count(), |first| first as usize)
             - self.copies.len()
     }
 
@@ -106,11 +111,12 @@ pub fn find(mesh: &Mesh, landmarks: &[u32]) -> Lips {
     let Some(mouth) = Mouth::of(mesh, landmarks) else {
         return Lips::NotFound;
     };
-    let graph = Graph::new(mesh, &mouth);
-    let Some(upper) = graph.line(mesh, &mouth, landmarks, &INNER_UPPER, &mouth.upper) else {
+    let graph = Graph::new(mesh, mouth.centre, REACH * mouth.width);
+    let sigma = GUIDE * mouth.width;
+    let Some(upper) = graph.line(mesh, sigma, landmarks, &INNER_UPPER, &mouth.upper) else {
         return Lips::NotFound;
     };
-    let Some(lower) = graph.line(mesh, &mouth, landmarks, &INNER_LOWER, &mouth.lower) else {
+    let Some(lower) = graph.line(mesh, sigma, landmarks, &INNER_LOWER, &mouth.lower) else {
         return Lips::NotFound;
     };
     let below = graph.below(mesh, &mouth, &upper);
@@ -142,6 +148,7 @@ pub fn find(mesh: &Mesh, landmarks: &[u32]) -> Lips {
         band,
         landmarks,
         pocket: None,
+        eyes: None,
     };
     let points: Vec<Vec3> = cut
         .landmarks
@@ -166,9 +173,10 @@ pub fn pocket_behind_apart_lips(mesh: &Mesh, landmarks: &[u32]) -> Option<LipCut
         return None;
     }
     let mouth = Mouth::of(mesh, landmarks)?;
-    let graph = Graph::new(mesh, &mouth);
-    let upper = graph.line(mesh, &mouth, landmarks, &INNER_UPPER, &mouth.upper)?;
-    let lower = graph.line(mesh, &mouth, landmarks, &INNER_LOWER, &mouth.lower)?;
+    let graph = Graph::new(mesh, mouth.centre, REACH * mouth.width);
+    let sigma = GUIDE * mouth.width;
+    let upper = graph.line(mesh, sigma, landmarks, &INNER_UPPER, &mouth.upper)?;
+    let lower = graph.line(mesh, sigma, landmarks, &INNER_LOWER, &mouth.lower)?;
     if upper == lower {
         return None;
     }
@@ -186,6 +194,7 @@ pub fn pocket_behind_apart_lips(mesh: &Mesh, landmarks: &[u32]) -> Option<LipCut
         band: 0,
         landmarks: landmarks.to_vec(),
         pocket: Some(pocket),
+        eyes: None,
     })
 }
 
@@ -366,7 +375,7 @@ impl Mouth {
 }
 
 /// The distance from `p` to a polyline.
-fn distance_to_polyline(p: Vec3, line: &[Vec3]) -> f32 {
+pub(super) fn distance_to_polyline(p: Vec3, line: &[Vec3]) -> f32 {
     line.windows(2)
         .map(|s| {
             let d = s[1] - s[0];
@@ -380,25 +389,28 @@ fn distance_to_polyline(p: Vec3, line: &[Vec3]) -> f32 {
         .fold(f32::INFINITY, f32::min)
 }
 
-/// The mesh around the mouth: neighbours and the triangles on each edge and vertex.
-struct Graph {
+/// The mesh around an opening (the mouth, an eye): neighbours and the triangles on each edge
+/// and vertex, of the triangles with a corner near it.
+pub(super) struct Graph {
     near: Vec<bool>,
     neighbours: HashMap<u32, Vec<u32>>,
-    edge_triangles: HashMap<[u32; 2], Vec<usize>>,
+    /// The triangles on each edge (its ends in [`key`] order).
+    pub(super) edge_triangles: HashMap<[u32; 2], Vec<usize>>,
     vertex_triangles: HashMap<u32, Vec<usize>>,
 }
 
-fn key(a: u32, b: u32) -> [u32; 2] {
+/// An edge's key: its ends, the smaller first.
+pub(super) fn key(a: u32, b: u32) -> [u32; 2] {
     [a.min(b), a.max(b)]
 }
 
 impl Graph {
-    fn new(mesh: &Mesh, mouth: &Mouth) -> Graph {
-        let reach = REACH * mouth.width;
+    /// The mesh within `reach` of `centre`.
+    pub(super) fn new(mesh: &Mesh, centre: Vec3, reach: f32) -> Graph {
         let near: Vec<bool> = mesh
             .positions
             .iter()
-            .map(|p| p.distance(mouth.centre) <= reach)
+            .map(|p| p.distance(centre) <= reach)
             .collect();
         let mut graph = Graph {
             near,
@@ -426,11 +438,12 @@ impl Graph {
     }
 
     /// The chain of edges through the landmarks `ids` (corner to corner), guided by their
-    /// polyline; `None` when a landmark cannot be reached or the chain crosses itself.
-    fn line(
+    /// polyline (a step `sigma` off it costs twice its length); `None` when a landmark cannot
+    /// be reached or the chain crosses itself.
+    pub(super) fn line(
         &self,
         mesh: &Mesh,
-        mouth: &Mouth,
+        sigma: f32,
         landmarks: &[u32],
         ids: &[usize],
         guide: &[Vec3],
@@ -440,7 +453,7 @@ impl Graph {
             let from = *line.last()?;
             let to = landmarks[i];
             if from != to {
-                let step = self.guided_path(mesh, mouth, from, to, guide)?;
+                let step = self.guided_path(mesh, sigma, from, to, guide)?;
                 line.extend_from_slice(&step[1..]);
             }
         }
@@ -448,17 +461,16 @@ impl Graph {
         (unique.len() == line.len() && line.len() >= 3).then_some(line)
     }
 
-    /// Dijkstra's shortest path from `from` to `to` near the mouth, each edge costing its
-    /// length times `1 + (d / GUIDE width)^2`, `d` its middle's distance from `guide`.
+    /// Dijkstra's shortest path from `from` to `to` near the opening, each edge costing its
+    /// length times `1 + (d / sigma)^2`, `d` its middle's distance from `guide`.
     fn guided_path(
         &self,
         mesh: &Mesh,
-        mouth: &Mouth,
+        sigma: f32,
         from: u32,
         to: u32,
         guide: &[Vec3],
     ) -> Option<Vec<u32>> {
-        let sigma = GUIDE * mouth.width;
         let mut best: HashMap<u32, (f64, u32)> = HashMap::from([(from, (0.0, from))]);
         let mut queue = BinaryHeap::from([(Reverse(Distance(0.0)), from)]);
         while let Some((Reverse(Distance(cost)), v)) = queue.pop() {

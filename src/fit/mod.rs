@@ -10,6 +10,7 @@
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh (`jawfade`: beyond the template's face, along the mesh);
 //! - [`lipcut`]: joined lips found and cut open;
+//! - [`eyecut`]: eye openings covered by skin found and cut open, with a dark eye behind;
 //! - [`lipsides`]: which lip each vertex is on, by connectivity;
 //! - [`pocket`]: the inside of a mouth whose lips were cut;
 //! - [`transport`]: the whole fit ([`fit_rig`]);
@@ -20,6 +21,7 @@
 //! Nothing here reads files or knows about terminals.
 
 mod brows;
+pub mod eyecut;
 pub mod jaw;
 mod jawfade;
 mod lids;

@@ -10,6 +10,7 @@ mod au;
 mod beyond;
 mod classic;
 mod cli;
+mod eyecut;
 mod eyes;
 mod lids;
 mod lipcut;

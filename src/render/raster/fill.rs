@@ -251,11 +251,12 @@ impl Look<'_> {
 }
 
 /// The tone of a vertex group's material by its name: irises are mid grey, pupils and the
-/// inside of the mouth nearly black, brow hair dark, the tongue and gums a little darker
+/// inside of the mouth and of a cut-open eye nearly black, brow hair dark, the tongue and gums a little darker
 /// than skin and teeth, everything else as lit.
-const TONES: [(&str, f32); 6] = [
+const TONES: [(&str, f32); 7] = [
     ("pupil", 0.12),
     ("mouth_interior", 0.06),
+    ("eye_interior", 0.08),
     ("iris", 0.45),
     ("brow_hair", 0.3),
     ("tongue", 0.6),
