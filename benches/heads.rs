@@ -207,6 +207,10 @@ fn head(k: u32, runs: usize) {
     let act = builtin::default_table()
         .expression_activations("happiness", &fitted.rig)
         .expect("happiness");
+    if let Ok(what) = std::env::var("GRIMACE_HEADS_PROFILE") {
+        profile(&what, &mesh, &bound, &framing, &lod, &act, runs);
+        return;
+    }
     if std::env::var_os("GRIMACE_HEADS_EDITOR_ONLY").is_none() {
         frames(&mesh, &bound, &framing, &lod, &act, runs);
     }
@@ -439,6 +443,60 @@ fn first_screen(app: &mut grimace::tui::app::App) -> f64 {
     let mut cache = Default::default();
     grimace::tui::draw(&mut term, app, &mut cache).expect("draws");
     start.elapsed().as_secs_f64() * 1e3
+}
+
+/// One measurement alone, for `perf record` (`GRIMACE_HEADS_PROFILE=deform`, `lines` or
+/// `shaded`: the whole mesh's deformation, or the drawn level's frame), `runs` times.
+fn profile(
+    what: &str,
+    mesh: &Mesh,
+    bound: &BoundRig,
+    framing: &Framing,
+    lod: &Lod,
+    act: &Activations,
+    runs: usize,
+) {
+    let mut camera = Camera::three_quarter();
+    camera.basis = framing.basis;
+    let mode = CellMode::Braille;
+    let mut canvas = mode.canvas(COLS, ROWS);
+    let mut full = Vec::new();
+    bound.deform(act, &mut full).expect("deforms");
+    if what == "deform" {
+        report(
+            &format!("deform the whole {}-vertex mesh", mesh.vertex_count()),
+            time(runs, || bound.deform(act, &mut full).expect("deforms")),
+        );
+        return;
+    }
+    let style = if what == "shaded" {
+        Style::Shaded
+    } else {
+        Style::Lines
+    };
+    let level = lod.choose(&camera, canvas.width(), canvas.height(), canvas.dot_aspect);
+    let (drawn, positions) = match level {
+        Some(level) => {
+            let mut positions = Vec::new();
+            level.gather(&full, &mut positions);
+            (&level.mesh, positions)
+        }
+        None => (mesh, full.clone()),
+    };
+    let mut renderer = Renderer::new(drawn);
+    let mut grid = CellGrid::default();
+    report(
+        &format!(
+            "frame {COLS}x{ROWS} {style}, {} vertices",
+            drawn.vertex_count()
+        ),
+        time(runs, || {
+            let mut scene = Scene::new(drawn, &positions).with_rest(&drawn.positions);
+            scene.focus = level.map(|l| &l.frame[..]);
+            renderer.render(&scene, &camera, style, &mut canvas);
+            grid.fill(&canvas, mode, ColorMode::TrueColor);
+        }),
+    );
 }
 
 /// Deform and draw at 200x60, full mesh against the level of detail.

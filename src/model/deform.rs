@@ -26,6 +26,7 @@ mod checks;
 mod sample;
 mod skin;
 mod spread;
+mod whole;
 
 pub use cache::{CacheParts, BIND_CODE, CACHE_PATCH_FLOATS};
 use checks::{bind_jaw, check_budget, check_reach, mask_scales};
@@ -245,8 +246,9 @@ pub struct BoundRig {
     vertex_row: Vec<u32>,
     /// Per vertex: its jaw weight (empty without a guard).
     vertex_jaw: Vec<f32>,
-    /// The mesh, kept when the skin rules are on so a rebind can fit them again.
-    skin_mesh: Option<Mesh>,
+    /// The mesh, kept when the skin rules are on so a rebind can fit them again (shared
+    /// with the caller's after [`BoundRig::share_mesh`]).
+    skin_mesh: Option<Arc<Mesh>>,
     /// The rest surface's operators, kept when the fields are spread (a rebind spreads the
     /// changed fields again).
     surface: Option<Arc<Surface>>,
@@ -363,7 +365,7 @@ impl BoundRig {
             return;
         }
         if self.skin_mesh.is_none() {
-            self.skin_mesh = Some(mesh.clone());
+            self.skin_mesh = Some(Arc::new(mesh.clone()));
         }
         let n = self.rest.len();
         if self.skin.min_area <= 0.0 {
@@ -413,9 +415,22 @@ impl BoundRig {
 
     /// Fits the skin rules again after the fields or the jaw changed (a rebind).
     fn rebuild_skin(&mut self) {
-        if let Some(mesh) = self.skin_mesh.take() {
+        if let Some(mesh) = self.skin_mesh.clone() {
             self.build_skin(&mesh);
-            self.skin_mesh = Some(mesh);
+        }
+    }
+
+    /// Keeps `mesh` instead of this rig's own copy of the mesh it was bound to, when they
+    /// are the same mesh (else nothing changes): a big mesh is then held once, by the
+    /// caller and the bound rig together. Whether it is shared now.
+    pub fn share_mesh(&mut self, mesh: &Arc<Mesh>) -> bool {
+        match &self.skin_mesh {
+            Some(kept) if Arc::ptr_eq(kept, mesh) => true,
+            Some(kept) if **kept == **mesh => {
+                self.skin_mesh = Some(Arc::clone(mesh));
+                true
+            }
+            _ => false,
         }
     }
 
@@ -536,45 +551,13 @@ impl BoundRig {
             out.clear();
             out.resize(n, Vec3::ZERO);
         }
-        let average = self.rig.combine == Combine::Average;
-        if n >= PARALLEL_MIN_VERTICES {
-            // Large meshes: independent vertex ranges on the rayon pool. Each vertex's
-            // arithmetic is the same as on one thread, so the result is identical.
-            out.par_chunks_mut(PARALLEL_CHUNK)
-                .enumerate()
-                .for_each(|(i, chunk)| {
-                    self.fill_range(i * PARALLEL_CHUNK, chunk, &act.muscles, average)
-                });
-        } else {
-            self.fill_range(0, out, &act.muscles, average);
-        }
-        if let (Some(jaw), Some(turn)) = (&self.jaw, self.jaw_turn(act.jaw)) {
-            for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
-                let p = &mut out[v as usize];
-                *p = turn.apply(*p, w);
-            }
-        }
+        // Only the active muscles' fields are read, the jaw turned in the same pass.
+        let turn = self.jaw.as_ref().and(self.jaw_turn(act.jaw));
+        self.deform_whole(&act.muscles, turn, out);
         if !self.guard.is_empty() {
-            self.bound_areas(out);
+            self.bound_areas(&act.muscles, turn.is_some(), out);
         }
         Ok(())
-    }
-
-    /// The area bound over a whole deformation: every guarded vertex's scale from the
-    /// positions before the bound, then the scaled displacements.
-    fn bound_areas(&self, out: &mut [Vec3]) {
-        SCRATCH.with_borrow_mut(|(_, scales)| {
-            let triangles = self.guard.triangles.len();
-            if scales.len() < triangles {
-                scales.resize(triangles, 1.0);
-            }
-            self.guard.triangle_scales(None, &self.rest, out, scales);
-            for (g, &v) in self.guard.vertices.iter().enumerate() {
-                let v = v as usize;
-                let scale = self.guard.vertex_scale(g, scales);
-                out[v] = self.scaled(v, out[v], scale);
-            }
-        });
     }
 
     /// The vertex `v` at `p` before the area bound, its displacement scaled by `scale`
@@ -652,27 +635,6 @@ impl BoundRig {
                 out[v] = self.scaled(v, before[v], scale);
             }
         });
-    }
-
-    /// Writes the post-muscle positions of the vertices `start..start + out.len()` into `out`:
-    /// runs of uninfluenced vertices are copied from rest, each influenced vertex is written
-    /// once.
-    fn fill_range(&self, start: usize, out: &mut [Vec3], muscles: &[f32], average: bool) {
-        let end = start + out.len();
-        let first = self.row_vertex.partition_point(|&v| (v as usize) < start);
-        let last = self.row_vertex.partition_point(|&v| (v as usize) < end);
-        let mut next = start;
-        for (row, &v) in self.row_vertex[first..last].iter().enumerate() {
-            let (row, v) = (first + row, v as usize);
-            out[next - start..v - start].copy_from_slice(&self.rest[next..v]);
-            out[v - start] = if average {
-                self.row_position::<true>(row, v, muscles)
-            } else {
-                self.row_position::<false>(row, v, muscles)
-            };
-            next = v + 1;
-        }
-        out[next - start..].copy_from_slice(&self.rest[next..end]);
     }
 
     /// Recomputes, from rest, exactly the vertices in the field of `muscle`, jaw included.
@@ -788,17 +750,38 @@ impl BoundRig {
             }
             sum
         };
-        let sum = if let Some(patch) = self.patches.get(row) {
+        let (first, second) = if self.patches.get(row).is_some() {
             // the sliding muscles' displacement slides, the sphincters' is added after
             let split = self.row_split[row] as usize;
-            let (mut slides, mut rest) = (add(start..split), add(split..end));
+            (add(start..split), add(split..end))
+        } else {
+            (add(start..end), Vec3::ZERO)
+        };
+        self.finish_row::<AVERAGE>(row, v, first, second, active)
+    }
+
+    /// The position of the vertex `v` of CSR row `row` from its sums of activation-weighted
+    /// displacements: `first` (the sliding muscles', or all of them when the row has no
+    /// patch) and `second` (the sphincters'), `active` the muscles that moved it. The one
+    /// finishing arithmetic of [`BoundRig::row_position`] and the whole deformation.
+    #[inline(always)]
+    fn finish_row<const AVERAGE: bool>(
+        &self,
+        row: usize,
+        v: usize,
+        first: Vec3,
+        second: Vec3,
+        active: u32,
+    ) -> Vec3 {
+        let sum = if let Some(patch) = self.patches.get(row) {
+            let (mut slides, mut rest) = (first, second);
             if AVERAGE && active > 1 {
                 slides /= active as f32;
                 rest /= active as f32;
             }
             patch.slide(slides, self.skin.slide) + rest
         } else {
-            let mut sum = add(start..end);
+            let mut sum = first;
             if AVERAGE && active > 1 {
                 sum /= active as f32;
             }

@@ -100,7 +100,8 @@ impl Face {
     /// Binds a rig to its mesh. Fails with a message when the rig does not fit the mesh.
     pub fn new(rig: Rig, mesh: Mesh) -> Result<Face, String> {
         let (bound, warnings) = bind(&rig, &mesh)?;
-        let mut face = Face::with(Binding::Bound(Box::new(bound)), mesh);
+        let mut face = Face::with(Binding::Bound(Box::new(bound)), mesh, None);
+        face.share_mesh();
         face.bind_warnings = warnings;
         Ok(face)
     }
@@ -114,23 +115,30 @@ impl Face {
         }
         let rig = Arc::new(rig);
         let slot = Arc::new(OnceLock::new());
+        // The levels of detail are made once the bind is done: the two working sets, each
+        // tens of megabytes on a big mesh, are never held at once (peak memory).
+        let (bound, after_bind) = std::sync::mpsc::channel::<()>();
         let face = Face::with(
             Binding::Pending {
                 rig: Arc::clone(&rig),
                 slot: Arc::clone(&slot),
             },
             mesh,
+            Some(after_bind),
         );
         let mesh = Arc::clone(&face.mesh);
         std::thread::spawn(move || {
             // Only this thread fills the slot.
             let _ = slot.set(bind(&rig, &mesh));
+            drop(slot);
+            let _ = bound.send(());
         });
         Ok(face)
     }
 
-    /// The face around a binding: its framing, and its levels of detail started on a thread.
-    fn with(binding: Binding, mesh: Mesh) -> Face {
+    /// The face around a binding: its framing, and its levels of detail started on a thread
+    /// (once `after` hears from the bind, when there is one).
+    fn with(binding: Binding, mesh: Mesh, after: Option<std::sync::mpsc::Receiver<()>>) -> Face {
         let rig = match &binding {
             Binding::Bound(bound) => bound.rig(),
             Binding::Pending { rig, .. } => rig,
@@ -149,6 +157,11 @@ impl Face {
             let frame = framing.focus.clone();
             let (cell, mesh) = (Arc::clone(&lod), Arc::clone(&mesh));
             std::thread::spawn(move || {
+                // A bind that ends in any way (even by a panic: the sender is dropped)
+                // lets the levels start.
+                if let Some(after) = after {
+                    let _ = after.recv();
+                }
                 let frame = frame.as_deref().unwrap_or(&mesh.positions);
                 cell.set(Lod::build(&mesh, &parts, frame))
             });
@@ -169,6 +182,13 @@ impl Face {
             framing,
             mm_per_unit,
             bind_warnings: Vec::new(),
+        }
+    }
+
+    /// Lets the bound rig keep the face's mesh rather than a copy of its own.
+    fn share_mesh(&mut self) {
+        if let Binding::Bound(bound) = &mut self.binding {
+            bound.share_mesh(&self.mesh);
         }
     }
 
@@ -210,6 +230,7 @@ impl Face {
             }
         };
         self.binding = Binding::Bound(Box::new(bound));
+        self.share_mesh();
         self.samplers = OnceCell::new();
         self.kept = RefCell::default();
         self.positions = OnceCell::new();

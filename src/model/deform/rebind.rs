@@ -333,4 +333,37 @@ mod tests {
         ));
         assert!(got == before);
     }
+
+    #[test]
+    fn a_rig_keeps_the_shared_mesh_and_rebinds_from_it() {
+        use std::sync::Arc;
+        let (rig, mesh) = default_face();
+        let skin = crate::model::SkinRules::DEFAULT;
+        let mut got = BoundRig::bind_with(&rig, &mesh, skin).expect("binds");
+        let mut other = mesh.clone();
+        other.positions[0].x += 0.01;
+        assert!(
+            !got.share_mesh(&Arc::new(other)),
+            "another mesh is not kept"
+        );
+        let shared = Arc::new(mesh.clone());
+        assert!(got.share_mesh(&shared));
+        let kept = |b: &BoundRig| {
+            b.skin_mesh
+                .as_ref()
+                .is_some_and(|m| Arc::ptr_eq(m, &shared))
+        };
+        assert!(kept(&got), "the rig holds the caller's mesh, not a copy");
+        let kind = moved(&rig.muscles[0].kind, Vec3::new(0.004, -0.003, 0.001));
+        let mut changed = rig.clone();
+        changed.muscles[0].kind = kind.clone();
+        let want = BoundRig::bind_with(&changed, &mesh, skin).expect("binds");
+        got.rebind_muscle(0, kind).expect("rebinds");
+        assert!(got == want, "a rebind from the shared mesh is a fresh bind");
+        assert!(kept(&got), "and keeps sharing it");
+        // the paper's model keeps no mesh
+        assert!(!BoundRig::bind(&rig, &mesh)
+            .expect("binds")
+            .share_mesh(&shared));
+    }
 }
