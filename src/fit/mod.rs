@@ -5,6 +5,7 @@
 //! - [`warp`]: the similarity and thin-plate spline from one face to another;
 //! - [`propose`]: landmarks proposed from some of them (a warp, a mirror plane);
 //! - `brows`: the brow's sheets kept out of the eye sockets;
+//! - [`brow_hair`]: eyebrows marked from the landmarks on heads without their own;
 //! - [`parts`]: which parts of a mesh are skin, still, or turn with the jaw;
 //! - `reach`: fitted rings kept to the part of the face the template's reach;
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
@@ -20,6 +21,7 @@
 //!
 //! Nothing here reads files or knows about terminals.
 
+pub mod brow_hair;
 mod brows;
 pub mod eyecut;
 pub mod jaw;

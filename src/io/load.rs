@@ -154,11 +154,14 @@ pub fn load_rig_with(
         (parsed, read.map(|thread| thread.join()))
     });
     let (mut rig, notice) = parsed?;
-    let (mesh, mesh_path) = match (mesh_override, read) {
+    let (mut mesh, mesh_path) = match (mesh_override, read) {
         (Some(file), Some(Ok(read))) => (read?, Some(file.to_path_buf())),
         (_, Some(Err(panic))) => std::panic::resume_unwind(panic),
         _ => load_named_mesh(&rig, &text, path, builtin)?,
     };
+    if let Some(file) = &mesh_path {
+        mark_brow_hair(&mut mesh, file);
+    }
     if let (None, MeshRef::Builtin(name)) = (mesh_override, mesh_ref(path, &rig.mesh)) {
         builtin::hold_eyes_still(&name, &mesh, &mut rig);
     }
@@ -172,6 +175,22 @@ pub fn load_rig_with(
         mesh_path,
         notice,
     })
+}
+
+/// Eyebrows for a head that has none, from the landmarks beside its mesh
+/// ([`crate::fit::brow_hair`]): without landmarks (or with landmarks that cannot be read) the
+/// mesh stays as it is, its brows simply not drawn.
+fn mark_brow_hair(mesh: &mut Mesh, mesh_file: &Path) {
+    let path = super::landmarks::beside(mesh_file);
+    if !path.is_file() {
+        return;
+    }
+    let points = super::landmarks::load_landmarks(&path)
+        .ok()
+        .and_then(|l| l.positions(mesh).ok());
+    if let Some(points) = points {
+        crate::fit::brow_hair::mark(mesh, &points);
+    }
 }
 
 fn load_named_mesh(
