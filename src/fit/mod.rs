@@ -22,6 +22,7 @@
 mod brows;
 pub mod jaw;
 mod jawfade;
+mod lidedge;
 mod lids;
 pub mod lipcut;
 pub mod lipsides;
