@@ -37,6 +37,9 @@ use crate::model::{Convergence, Mask, Mesh, MuscleKind, Rig, Sphincter};
 /// How far short of where the lids meet each margin stops at 2.0, as a share of its travel.
 pub const STOP_SHORT: f64 = 0.015;
 
+/// How much further short the lids stop at the corners, as a share of their travel there.
+const CORNER_SLACK: f64 = 0.3;
+
 /// The activation a profile is made for (the default table's AU43/45 use 2.0).
 const FULL: f64 = 2.0;
 
@@ -124,6 +127,8 @@ struct Profile {
     /// The opening in the middle column: skin more than 0.4 of it behind its margin's
     /// depth (the socket's lining behind the globe) fades out by 0.9 of it.
     opening: f64,
+    /// The opening between the free edges in the middle column.
+    seen: f64,
     /// The height of the upper lid's skin's end (the brow) above the axis.
     reach: f64,
 }
@@ -141,6 +146,7 @@ impl Profile {
         (opening > 0.0 && seen > 0.0).then(|| Profile {
             share: (-el.y / seen).clamp(0.0, 1.0),
             opening,
+            seen,
             upper,
             lower,
             upper_edge,
@@ -160,7 +166,12 @@ impl Profile {
         };
         let eu = self.upper_edge.at(p.x).unwrap_or(up);
         let el = self.lower_edge.at(p.x).unwrap_or(low);
-        let keep = 1.0 - STOP_SHORT;
+        // toward the corners, where the opening narrows to a fold of the canthus whose rows
+        // lie closer together than the lids travel, the lids stop further short (up to
+        // [`CORNER_SLACK`] of the way at the corner): collapsing those rows fully turned
+        // them over; the opening in the middle columns still closes to [`STOP_SHORT`]
+        let narrow = 1.0 - super::regions::smoothstep(0.0, 0.5, (eu.y - el.y) / self.seen);
+        let keep = (1.0 - STOP_SHORT) * (1.0 - CORNER_SLACK * narrow);
         let meet = el.y + self.share * (eu.y - el.y);
         // the ring pulls toward its axis: neither lid crosses it
         let upper_travel = keep * (eu.y - meet.max(0.0)).max(0.0);

@@ -11,6 +11,7 @@ mod beyond;
 mod classic;
 mod cli;
 mod eyes;
+mod lidfold;
 mod lids;
 mod lipcut;
 mod mouth;
