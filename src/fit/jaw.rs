@@ -205,12 +205,6 @@ fn steepest(mesh: &Mesh, weights: &[f32]) -> f64 {
 /// round, until no edge there is steeper: the jump across the corner then grows from the
 /// corner as on the template. A fit to the template itself has no steeper edge and changes
 /// nothing; the open slit has no edges across it, so the lips stay split.
-///
-/// The lower lip's weights are eased up, never down: the corner follows the lower lip's arc
-/// as the jaw opens. Eased both ways, the lower lip beside a fine corner (MakeHuman's) took
-/// the upper lip's small weights (0.38 where the template has 0.55, half a lip's height
-/// below the corner): it lagged behind the lip it belongs to, the open mouth's lower edge
-/// rose steeply into the corners, and a face tracker read the open mouth as a smile.
 fn ease_corners(
     mesh: &Mesh,
     parts: &Parts,
@@ -239,18 +233,6 @@ fn ease_corners(
             )
         })
         .filter(|&(_, _, len)| len > 0.0)
-        .collect();
-    // the lower lip's carried weights are floors
-    let floor: Vec<f32> = w
-        .iter()
-        .enumerate()
-        .map(|(v, &x)| {
-            if lips.side(v) == Some(Side::Lower) {
-                x
-            } else {
-                0.0
-            }
-        })
         .collect();
     let mut neighbours: std::collections::HashMap<usize, Vec<(usize, f64)>> = Default::default();
     for &(a, b, len) in &edges {
@@ -284,7 +266,7 @@ fn ease_corners(
                 (s + k * f64::from(w[n]), t + k)
             });
             if total > 0.0 {
-                w[v] = ((sum / total) as f32).max(floor[v]);
+                w[v] = (sum / total) as f32;
             }
         }
     }
