@@ -28,6 +28,7 @@
 
 use glam::{DMat3, DVec3, Vec3};
 
+use super::lidedge::EyeMarks;
 use super::parts::{Part, Parts};
 use super::warp::Warp;
 use super::Template;
@@ -35,6 +36,9 @@ use crate::model::{Convergence, Mask, Mesh, MuscleKind, Rig, Sphincter};
 
 /// How far short of where the lids meet each margin stops at 2.0, as a share of its travel.
 pub const STOP_SHORT: f64 = 0.015;
+
+/// How much further short the lids stop at the corners, as a share of their travel there.
+const CORNER_SLACK: f64 = 0.3;
 
 /// The activation a profile is made for (the default table's AU43/45 use 2.0).
 const FULL: f64 = 2.0;
@@ -104,48 +108,49 @@ impl Margin {
 
     /// The margin's point in the column at `x`; `None` beyond the corners.
     fn at(&self, x: f64) -> Option<DVec3> {
-        self.0
-            .windows(2)
-            .find(|w| w[0].x <= x && x <= w[1].x)
-            .map(|w| w[0].lerp(w[1], (x - w[0].x) / (w[1].x - w[0].x).max(f64::EPSILON)))
-    }
-
-    /// The distance from `p` to the margin's polyline.
-    fn distance(&self, p: DVec3) -> f64 {
-        self.0
-            .windows(2)
-            .map(|w| {
-                let d = w[1] - w[0];
-                let s = ((p - w[0]).dot(d) / d.length_squared().max(f64::EPSILON)).clamp(0.0, 1.0);
-                p.distance(w[0] + s * d)
-            })
-            .fold(f64::INFINITY, f64::min)
+        super::lidedge::polyline_at(&self.0, x)
     }
 }
 
 /// How far each point of a closing eye travels at 2.0 toward the ring's axis (`y = 0`).
 struct Profile {
+    /// The lid landmarks' polylines: the top and bottom of the bands that move as one.
     upper: Margin,
     lower: Margin,
+    /// The lids' free edges as seen from the front (`super::lidedge`), or the landmarks'
+    /// polylines where none were found: where the lids meet.
+    upper_edge: Margin,
+    lower_edge: Margin,
     /// Where the lids meet, as a share of the opening above the lower margin: the axis's
     /// place in the middle column, so the line where they meet runs into both corners.
     share: f64,
     /// The opening in the middle column: skin more than 0.4 of it behind its margin's
     /// depth (the socket's lining behind the globe) fades out by 0.9 of it.
     opening: f64,
+    /// The opening between the free edges in the middle column.
+    seen: f64,
     /// The height of the upper lid's skin's end (the brow) above the axis.
     reach: f64,
 }
 
 impl Profile {
-    fn new(upper: Margin, lower: Margin, reach: f64) -> Option<Profile> {
+    fn new(
+        (upper, lower): (Margin, Margin),
+        (upper_edge, lower_edge): (Margin, Margin),
+        reach: f64,
+    ) -> Option<Profile> {
         let (up, low) = (upper.at(0.0)?, lower.at(0.0)?);
+        let (eu, el) = (upper_edge.at(0.0)?, lower_edge.at(0.0)?);
         let opening = up.y - low.y;
-        (opening > 0.0).then(|| Profile {
-            share: (-low.y / opening).clamp(0.0, 1.0),
+        let seen = eu.y - el.y;
+        (opening > 0.0 && seen > 0.0).then(|| Profile {
+            share: (-el.y / seen).clamp(0.0, 1.0),
             opening,
+            seen,
             upper,
             lower,
+            upper_edge,
+            lower_edge,
             reach,
         })
     }
@@ -159,39 +164,50 @@ impl Profile {
         let (Some(up), Some(low)) = (self.upper.at(p.x), self.lower.at(p.x)) else {
             return 0.0;
         };
-        let keep = 1.0 - STOP_SHORT;
-        let meet = low.y + self.share * (up.y - low.y);
+        let eu = self.upper_edge.at(p.x).unwrap_or(up);
+        let el = self.lower_edge.at(p.x).unwrap_or(low);
+        // toward the corners, where the opening narrows to a fold of the canthus whose rows
+        // lie closer together than the lids travel, the lids stop further short (up to
+        // [`CORNER_SLACK`] of the way at the corner): collapsing those rows fully turned
+        // them over; the opening in the middle columns still closes to [`STOP_SHORT`]
+        let narrow = 1.0 - super::regions::smoothstep(0.0, 0.5, (eu.y - el.y) / self.seen);
+        let keep = (1.0 - STOP_SHORT) * (1.0 - CORNER_SLACK * narrow);
+        let meet = el.y + self.share * (eu.y - el.y);
         // the ring pulls toward its axis: neither lid crosses it
-        let upper_travel = keep * (up.y - meet.max(0.0)).max(0.0);
-        let lower_travel = keep * (meet.min(0.0) - low.y).max(0.0);
-        let ramp = |travel: f64, from_margin: f64, to_rim: f64| {
-            if to_rim <= 0.0 || from_margin >= to_rim {
+        let upper_travel = keep * (eu.y - meet.max(0.0)).max(0.0);
+        let lower_travel = keep * (meet.min(0.0) - el.y).max(0.0);
+        // each lid from its free edge to its landmarks (its front, edge and back where the
+        // landmarks sit on the lid's back) moves as one band; beyond, the skin follows less
+        let (top, bottom) = (up.y.max(eu.y), low.y.min(el.y));
+        let ramp = |travel: f64, from_band: f64, to_rim: f64| {
+            if from_band <= 0.0 {
+                travel
+            } else if to_rim <= 0.0 || from_band >= to_rim {
                 0.0
             } else {
-                travel * (1.0 - from_margin / to_rim)
+                travel * (1.0 - from_band / to_rim)
             }
         };
-        let (depth, travel) = if p.y >= up.y {
-            (up.z, ramp(upper_travel, p.y - up.y, self.reach - up.y))
-        } else if p.y <= low.y {
-            (low.z, ramp(lower_travel, low.y - p.y, low.y + self.reach))
+        // depths are taken from the deeper of the landmark and the edge's front
+        let (up_z, low_z) = (up.z.min(eu.z), low.z.min(el.z));
+        let (depth, travel) = if p.y >= eu.y {
+            (up_z, ramp(upper_travel, p.y - top, self.reach - top))
+        } else if p.y <= el.y {
+            (low_z, ramp(lower_travel, bottom - p.y, bottom + self.reach))
         } else {
-            // inside the opening: a lid's inner fold goes with its margin, so its rows keep
-            // their shape (a ring pulls from the rest place: a row may pass the axis), blended
-            // between the lids by which margin is nearer; the ring cannot pull a point across
-            // the axis from the other side, so the travel fades out toward the axis
-            let (to_upper, to_lower) = (self.upper.distance(p), self.lower.distance(p));
-            let s = super::regions::smoothstep(
-                0.3,
-                0.7,
-                to_lower / (to_upper + to_lower).max(f64::EPSILON),
-            );
+            // inside the opening: a lid's inner fold goes with its edge, blended between the
+            // lids by the point's height between the edges in its column, whatever its depth
+            // (the fold's rows at one height move as one band); linear in height, so the
+            // rows close up without passing each other (the opening closes to 1.5% of its
+            // height, the rows' order kept). The ring cannot pull a point across the axis
+            // from the other side, so the travel fades out toward the axis
+            let s = ((p.y - el.y) / (eu.y - el.y).max(f64::EPSILON)).clamp(0.0, 1.0);
             let travel = if p.y > 0.0 {
                 s * upper_travel * self.off_axis(p.y)
             } else {
                 (1.0 - s) * lower_travel * self.off_axis(-p.y)
             };
-            (s * up.z + (1.0 - s) * low.z, travel)
+            (s * up_z + (1.0 - s) * low_z, travel)
         };
         // the socket's lining far behind the margin stays (the globe lies between)
         let behind = (depth - p.z) / self.opening;
@@ -430,11 +446,24 @@ fn lid_mask(
     let frame = RingFrame::of(s);
     let local = |i: usize| frame.local(target[i]);
     let brow = eye.brow.iter().map(|&i| local(i).y).sum::<f64>() / eye.brow.len() as f64;
-    let profile = Profile::new(
-        Margin::new(eye.upper.iter().map(|&i| local(i)).collect()),
-        Margin::new(eye.lower.iter().map(|&i| local(i)).collect()),
-        brow.min(f64::from(s.semi_minor)),
-    )?;
+    let margins = || {
+        (
+            Margin::new(eye.upper.iter().map(|&i| local(i)).collect()),
+            Margin::new(eye.lower.iter().map(|&i| local(i)).collect()),
+        )
+    };
+    let marks_of = EyeMarks {
+        upper: eye.upper,
+        lower: eye.lower,
+    };
+    let edges = match super::lidedge::lid_edges(mesh, parts, marks, &marks_of) {
+        Some(e) => {
+            let to_local = |ps: &[Vec3]| Margin::new(ps.iter().map(|&p| frame.local(p)).collect());
+            (to_local(&e.upper), to_local(&e.lower))
+        }
+        None => margins(),
+    };
+    let profile = Profile::new(margins(), edges, brow.min(f64::from(s.semi_minor)))?;
     let wanted = wanted_travel(s, &frame, &profile, mesh, parts, marks);
     // the share of the ring's own pull each point needs
     let need = |(p, want): (DVec3, f64)| {

@@ -26,6 +26,7 @@ mod brows;
 pub mod eyecut;
 pub mod jaw;
 mod jawfade;
+mod lidedge;
 mod lids;
 pub mod lipcut;
 pub mod lipsides;

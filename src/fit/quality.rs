@@ -12,14 +12,19 @@
 //!   landmarks (37/41, 38/40 on the subject's right eye, 43/47, 44/46 on the left), across
 //!   the eye (the part of their separation off the line through the eye's corners, so lids
 //!   that meet with their landmarks a little apart along the lid count as closed), as a
-//!   fraction of the rest opening; the largest pair counts.
+//!   fraction of the rest opening; the largest pair counts. Where the lids' free edges seen
+//!   from the front lie away from those landmarks (landmarks on the lid's back,
+//!   `super::lidedge`), the gap is what still shows between the lids in the landmarks'
+//!   columns instead: the share of the rest opening between the free edges where, looking
+//!   along the face, the eyeball (or a hole) is seen rather than skin.
 //! - **Jaw drop** (AU26 and AU27): how far the chin (landmark 8) and the lower lip
 //!   (landmark 57) travel down the face, the smaller of the two.
 //! - **Most moved**: the vertex that travelled furthest, and the face region nearest it.
 
 use glam::Vec3;
 
-use super::parts::components;
+use super::lidedge::{Sight, EYE_MARKS};
+use super::parts::{components, find_parts, PartOverrides};
 use crate::landmarks::{mm_per_unit as estimate_mm_per_unit, CANTHAL_MM};
 use crate::model::Mesh;
 
@@ -161,6 +166,8 @@ pub struct Gauge {
     skin_edges: Vec<[u32; 2]>,
     rest_normals: Vec<Vec3>,
     landmarks: Vec<u32>,
+    /// Per eye, its visible opening where the landmarks are not on the lids' free edges.
+    sights: [Option<Sight>; 2],
     mm_per_unit: f32,
     /// The face's down direction (from the nose bridge toward the chin), unit.
     down: Vec3,
@@ -224,12 +231,15 @@ impl Gauge {
             .filter(|e| skin_piece[component[e[0] as usize] as usize])
             .collect();
         let rest_normals = skin_triangles.iter().map(|t| normal(&rest, t)).collect();
+        let parts = find_parts(mesh, landmarks, &landmark_points, &PartOverrides::default());
+        let sights = EYE_MARKS.map(|eye| Sight::new(mesh, &parts, landmarks, &eye));
         Ok(Gauge {
             rest,
             skin_triangles,
             skin_edges,
             rest_normals,
             landmarks: landmarks.to_vec(),
+            sights,
             mm_per_unit,
             down,
         })
@@ -291,6 +301,10 @@ impl Gauge {
             let (inner, outer) = EYE_CORNERS[eye];
             // Across the eye: the separation off the corners' line, in each pose's own
             // corners (the eye may move as a whole).
+            if let Some(sight) = &self.sights[eye] {
+                worst = worst.max(sight.left_open(positions) as f32);
+                continue;
+            }
             let across = |p: &[Vec3], upper: usize, lower: usize| {
                 let along = (self.landmark(p, outer) - self.landmark(p, inner)).normalize_or_zero();
                 let d = self.landmark(p, upper) - self.landmark(p, lower);

@@ -38,7 +38,15 @@ pub struct Opening {
     reach_down: f64,
     /// How far behind the line (into the head) the zone reaches.
     depth: f64,
+    /// Across the line the two sides blend over this far each way (0: a step).
+    soft: f64,
 }
+
+/// An eye's two sides blend across its line over this share of its half-width each way. A
+/// lid's rows at the canthus (MakeHuman's fold, rows 0.6 mm apart) lie on both sides of the
+/// line: with a step, a lower lid muscle (AU7) moved one row 1.1 mm and left the next,
+/// turning the rows between over.
+const EYE_LINE_BLEND: f64 = 0.15;
 
 impl Opening {
     /// The mouth and both eyes of a landmark set; empty when the set has no frame.
@@ -63,14 +71,16 @@ impl Opening {
                 points,
                 (&RIGHT_EYE_UPPER, &RIGHT_EYE_LOWER),
                 (0.5 * eye_height, 0.5 * eye_height),
-            ),
+            )
+            .softened(EYE_LINE_BLEND),
             Opening::new(
                 "left eye",
                 frame,
                 points,
                 (&LEFT_EYE_UPPER, &LEFT_EYE_LOWER),
                 (0.5 * eye_height, 0.5 * eye_height),
-            ),
+            )
+            .softened(EYE_LINE_BLEND),
         ]
     }
 
@@ -105,7 +115,14 @@ impl Opening {
             reach_up,
             reach_down,
             depth: 2.0 * half_width,
+            soft: 0.0,
         }
+    }
+
+    /// The opening with its sides blended across its line over `share` of its half-width.
+    fn softened(mut self, share: f64) -> Opening {
+        self.soft = share * self.half_width;
+        self
     }
 
     /// The line's height (frame `up`) at `across`, held level beyond the corners.
@@ -143,15 +160,19 @@ impl Opening {
             return 0.0;
         }
         let dy = local.y - self.line_height(local.x);
-        let inside = match side {
-            Side::Upper => dy > 0.0 && dy < self.reach_up,
-            Side::Lower => dy <= 0.0 && -dy < self.reach_down,
-        };
-        if inside {
-            self.across_weight(local.x)
+        let above = if self.soft > 0.0 {
+            smoothstep(-self.soft, self.soft, dy)
+        } else if dy > 0.0 {
+            1.0
         } else {
             0.0
-        }
+        };
+        let share = match side {
+            Side::Upper if dy < self.reach_up => above,
+            Side::Lower if -dy < self.reach_down => 1.0 - above,
+            _ => 0.0,
+        };
+        share * self.across_weight(local.x)
     }
 
     /// The side of the opening a muscle acting at `p` works on: `None` when it acts at the

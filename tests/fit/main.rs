@@ -12,6 +12,7 @@ mod classic;
 mod cli;
 mod eyecut;
 mod eyes;
+mod lidfold;
 mod lids;
 mod lipcut;
 mod mouth;
