@@ -268,6 +268,8 @@ pub struct Sight {
     /// Per landmark column: its place across the eye and the rest edges' heights (lower,
     /// upper).
     columns: Vec<(f64, f64, f64)>,
+    /// The free edges found.
+    edges: LidEdges,
 }
 
 impl Sight {
@@ -296,7 +298,13 @@ impl Sight {
             view,
             triangles: seen_triangles(mesh, parts, marks),
             columns,
+            edges,
         })
+    }
+
+    /// The free edges found (away from the landmarks, or there would be no sight).
+    pub fn edges(&self) -> &LidEdges {
+        &self.edges
     }
 
     /// The largest share of a landmark column's rest opening (between the rest edges) that

@@ -456,10 +456,16 @@ fn lid_mask(
         upper: eye.upper,
         lower: eye.lower,
     };
-    let edges = match super::lidedge::lid_edges(mesh, parts, marks, &marks_of) {
-        Some(e) => {
+    // the free edges lead only where they lie away from the landmarks (landmarks on the
+    // lid's back); where the landmarks are the edges (a covered eye cut along them) the
+    // landmarks' own polylines are the surer line: the sampled edges step between rows
+    let edges = match super::lidedge::Sight::new(mesh, parts, marks, &marks_of) {
+        Some(sight) => {
             let to_local = |ps: &[Vec3]| Margin::new(ps.iter().map(|&p| frame.local(p)).collect());
-            (to_local(&e.upper), to_local(&e.lower))
+            (
+                to_local(&sight.edges().upper),
+                to_local(&sight.edges().lower),
+            )
         }
         None => margins(),
     };
