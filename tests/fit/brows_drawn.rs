@@ -1,0 +1,61 @@
+//! Fitted heads without brow groups get their brows from the landmarks beside their mesh when
+//! the rig is loaded, so the editor, `render` and `export` draw the same brows.
+
+use crate::common;
+
+use grimace::io::load::load_rig;
+
+/// A fitted MediaPipe mask (no brow groups of its own) loads with a brow over each eye:
+/// mirrored, above the lids' landmarks, off the midline.
+#[test]
+fn a_fitted_head_loads_with_brows_from_its_landmarks() {
+    let Some((path, _, _)) = crate::shared_mediapipe() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "fit-rig",
+        path.to_str().unwrap(),
+        "--landmarks",
+        "mediapipe",
+        "--out",
+        "mp.rig.ron",
+    ];
+    let out = common::grimace_in(dir.path(), &args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let loaded = load_rig(&dir.path().join("mp.rig.ron")).unwrap();
+    let mesh = &loaded.mesh;
+    let marks = grimace::io::landmarks::load_landmarks(&grimace::io::landmarks::beside(
+        loaded.mesh_path.as_ref().unwrap(),
+    ))
+    .unwrap()
+    .positions(mesh)
+    .unwrap();
+    let frame = grimace::landmarks::FaceFrame::of(&marks).unwrap();
+    let height = |p: glam::Vec3| p.as_dvec3().dot(frame.up);
+    let eye_top = [37, 38, 43, 44]
+        .iter()
+        .map(|&i| height(marks[i]))
+        .fold(f64::MIN, f64::max);
+    let mut sizes = Vec::new();
+    for side in ["left", "right"] {
+        let brow = mesh
+            .groups
+            .get(&format!("{side}_brow_hair"))
+            .unwrap_or_else(|| panic!("no {side} brow"));
+        assert!(!brow.is_empty());
+        for &v in brow {
+            let p = mesh.positions[v as usize];
+            assert!(height(p) > eye_top, "{side} brow below the upper lid");
+        }
+        sizes.push(brow.len());
+    }
+    assert!(
+        sizes[0].abs_diff(sizes[1]) * 5 <= sizes[0].max(sizes[1]),
+        "{sizes:?}"
+    );
+}
