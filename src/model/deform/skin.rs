@@ -207,10 +207,16 @@ pub(super) fn outward_normals(mesh: &Mesh) -> Vec<Vec3> {
     normals
 }
 
-/// Fits the rest surface around each vertex of `vertices` (a patch of `radius`): the
-/// normal is the mean of the outward normals in the patch (weighted toward the vertex), so
-/// neighbouring vertices agree on it; the height along it is fitted as
-/// `d x + e y + a x^2 + b x y + c y^2` through the vertex.
+/// Fits the rest surface around each vertex of `vertices` (a patch of `radius`). Two
+/// passes: the first finds each vertex's plane normal (the weighted principal axes of its
+/// patch's points); the second takes as the patch's normal the weighted mean of the first
+/// pass's normals over the patch (the moved vertices in it), and fits the height field
+/// `d x + e y + a x^2 + b x y + c y^2` and the grip in that frame. Each vertex's own plane
+/// turns quickly where the skin folds (a mouth corner, where the upper lip, the lower lip
+/// and the cheek meet): lifted each along its own plane's normal, neighbouring vertices
+/// there moved apart in different directions and small triangles turned over at every
+/// smile on the fitted heads. Averaged over the patch (a surface distance, not a number of
+/// edges), neighbours' normals agree as their patches do, and the lifts with them.
 pub(super) fn fit_patches(
     mesh: &Mesh,
     adjacency: &Adjacency,
@@ -221,9 +227,45 @@ pub(super) fn fit_patches(
     // Each vertex's patch depends on the rest mesh only, so chunks of vertices are fitted
     // on the rayon pool, each with its own search state: the same bits as one pass.
     let chunk = vertices.len().div_ceil(PATCH_CHUNKS).max(PATCH_CHUNK_MIN);
+    let search = Search {
+        mesh,
+        adjacency,
+        normals,
+        radius,
+    };
+    let planes: Vec<DVec3> = vertices
+        .par_chunks(chunk)
+        .flat_map_iter(|part| {
+            search
+                .chunk(part, |near, weight, outward| {
+                    plane_normal(&mesh.positions, near, weight, outward)
+                })
+                .into_iter()
+                .map(|(_, g)| g.normal)
+        })
+        .collect();
+    let mut row = vec![u32::MAX; mesh.positions.len()];
+    for (i, &v) in vertices.iter().enumerate() {
+        row[v as usize] = i as u32;
+    }
     vertices
         .par_chunks(chunk)
-        .flat_map_iter(|part| fit_chunk(mesh, adjacency, normals, part, radius))
+        .flat_map_iter(|part| {
+            let fitted = search.chunk(part, |near, weight, outward| {
+                let mean = near
+                    .iter()
+                    .filter(|&&(q, _)| row[q] != u32::MAX)
+                    .map(|&(q, d)| planes[row[q] as usize] * weight(d))
+                    .sum::<DVec3>()
+                    .normalize_or_zero();
+                if mean == DVec3::ZERO {
+                    outward
+                } else {
+                    mean
+                }
+            });
+            fitted.into_iter().map(|(v, g)| search.patch(v, g))
+        })
         .collect()
 }
 
@@ -232,85 +274,123 @@ pub(super) fn fit_patches(
 const PATCH_CHUNK_MIN: usize = 2048;
 const PATCH_CHUNKS: usize = 64;
 
-/// [`fit_patches`] for one chunk of vertices, in order.
-fn fit_chunk(
-    mesh: &Mesh,
-    adjacency: &Adjacency,
-    normals: &[Vec3],
-    vertices: &[u32],
+/// What one patch search reads.
+struct Search<'a> {
+    mesh: &'a Mesh,
+    adjacency: &'a Adjacency,
+    normals: &'a [Vec3],
     radius: f32,
-) -> Vec<Patch> {
-    let rest = &mesh.positions;
-    let mut seen = vec![u32::MAX; rest.len()];
-    let mut queue = BinaryHeap::new();
-    let mut near: Vec<(usize, f64)> = Vec::new();
-    let r = radius as f64;
-    vertices
-        .iter()
-        .enumerate()
-        .map(|(stamp, &v)| {
-            let v = v as usize;
-            let p = rest[v].as_dvec3();
-            near.clear();
-            queue.clear();
-            // nearest first (ties by vertex number), so that mirrored vertices of a
-            // symmetric mesh gather mirrored patches
-            queue.push(Reverse((Distance(0.0), v)));
-            seen[v] = stamp as u32;
-            while let Some(Reverse((Distance(d), q))) = queue.pop() {
-                near.push((q, d));
-                if near.len() >= PATCH_VERTICES {
-                    break;
-                }
-                for &w in adjacency.of_vertex(q) {
-                    let w = w as usize;
-                    let d = (rest[w].as_dvec3() - p).length();
-                    if seen[w] != stamp as u32 && d <= r {
-                        seen[w] = stamp as u32;
-                        queue.push(Reverse((Distance(d), w)));
+}
+
+/// One vertex's gathered patch: its points (vertex, distance), the fitted extent, and the
+/// normal the caller chose for it.
+struct Gathered {
+    near: Vec<(usize, f64)>,
+    reach: f64,
+    normal: DVec3,
+}
+
+impl Search<'_> {
+    /// Gathers the patch of each vertex of `vertices` in order and gives each the normal
+    /// `choose(points, weight, outward)` picks.
+    fn chunk(
+        &self,
+        vertices: &[u32],
+        choose: impl Fn(&[(usize, f64)], &dyn Fn(f64) -> f64, DVec3) -> DVec3,
+    ) -> Vec<(usize, Gathered)> {
+        let rest = &self.mesh.positions;
+        let mut seen = vec![u32::MAX; rest.len()];
+        let mut queue = BinaryHeap::new();
+        let r = self.radius as f64;
+        vertices
+            .iter()
+            .enumerate()
+            .map(|(stamp, &v)| {
+                let v = v as usize;
+                let p = rest[v].as_dvec3();
+                let mut near: Vec<(usize, f64)> = Vec::new();
+                queue.clear();
+                // nearest first (ties by vertex number), so that mirrored vertices of a
+                // symmetric mesh gather mirrored patches
+                queue.push(Reverse((Distance(0.0), v)));
+                seen[v] = stamp as u32;
+                while let Some(Reverse((Distance(d), q))) = queue.pop() {
+                    near.push((q, d));
+                    if near.len() >= PATCH_VERTICES {
+                        break;
+                    }
+                    for &w in self.adjacency.of_vertex(q) {
+                        let w = w as usize;
+                        let d = (rest[w].as_dvec3() - p).length();
+                        if seen[w] != stamp as u32 && d <= r {
+                            seen[w] = stamp as u32;
+                            queue.push(Reverse((Distance(d), w)));
+                        }
                     }
                 }
-            }
-            // the fitted extent: the patch radius, or less where the nearest vertices end
-            let reach = near.last().map_or(0.0, |&(_, d)| d).min(r).max(r * 0.25);
-            let radius = reach as f32;
-            let weight = |d: f64| (1.0 - d / (reach * 1.01)).max(0.0);
-            let outward = near
-                .iter()
-                .map(|&(q, d)| normals[q].as_dvec3() * weight(d))
-                .sum::<DVec3>()
-                .normalize_or_zero();
-            let n = plane_normal(rest, &near, weight, outward);
-            let flat = Patch {
-                normal: n.as_vec3(),
-                u: Vec3::ZERO,
-                v: Vec3::ZERO,
-                d: 0.0,
-                e: 0.0,
-                a: 0.0,
-                b: 0.0,
-                c: 0.0,
-                radius,
-                grip: grip(normals, &near, weight, n),
-            };
-            if n == DVec3::ZERO {
-                return flat;
-            }
-            let u = n.any_orthonormal_vector();
-            let w = n.cross(u);
-            let fit = surface_field(rest, &near, p, [u, w, n]);
-            Patch {
-                u: u.as_vec3(),
-                v: w.as_vec3(),
-                d: fit[0] as f32,
-                e: fit[1] as f32,
-                a: fit[2] as f32,
-                b: fit[3] as f32,
-                c: fit[4] as f32,
-                ..flat
-            }
-        })
-        .collect()
+                // the fitted extent: the patch radius, or less where the nearest vertices end
+                let reach = near.last().map_or(0.0, |&(_, d)| d).min(r).max(r * 0.25);
+                let weight = |d: f64| (1.0 - d / (reach * 1.01)).max(0.0);
+                let outward = near
+                    .iter()
+                    .map(|&(q, d)| self.normals[q].as_dvec3() * weight(d))
+                    .sum::<DVec3>()
+                    .normalize_or_zero();
+                let normal = choose(&near, &weight, outward);
+                (
+                    v,
+                    Gathered {
+                        near,
+                        reach,
+                        normal,
+                    },
+                )
+            })
+            .collect()
+    }
+
+    /// The patch of vertex `v` from its gathered points, in the frame of their normal.
+    fn patch(&self, v: usize, gathered: Gathered) -> Patch {
+        let Gathered {
+            near,
+            reach,
+            normal: n,
+        } = gathered;
+        let weight = |d: f64| (1.0 - d / (reach * 1.01)).max(0.0);
+        let flat = Patch {
+            normal: n.as_vec3(),
+            u: Vec3::ZERO,
+            v: Vec3::ZERO,
+            d: 0.0,
+            e: 0.0,
+            a: 0.0,
+            b: 0.0,
+            c: 0.0,
+            radius: reach as f32,
+            grip: grip(self.normals, &near, weight, n),
+        };
+        if n == DVec3::ZERO {
+            return flat;
+        }
+        let u = n.any_orthonormal_vector();
+        let w = n.cross(u);
+        let fit = surface_field(
+            &self.mesh.positions,
+            &near,
+            self.mesh.positions[v].as_dvec3(),
+            [u, w, n],
+        );
+        Patch {
+            u: u.as_vec3(),
+            v: w.as_vec3(),
+            d: fit[0] as f32,
+            e: fit[1] as f32,
+            a: fit[2] as f32,
+            b: fit[3] as f32,
+            c: fit[4] as f32,
+            ..flat
+        }
+    }
 }
 
 /// The quadratic height field `z = d x + e y + a x^2 + b x y + c y^2` of the surface around
