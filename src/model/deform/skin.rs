@@ -211,12 +211,11 @@ pub(super) fn outward_normals(mesh: &Mesh) -> Vec<Vec3> {
 /// passes: the first finds each vertex's plane normal (the weighted principal axes of its
 /// patch's points); the second takes as the patch's normal the weighted mean of the first
 /// pass's normals over the patch (the moved vertices in it), and fits the height field
-/// `d x + e y + a x^2 + b x y + c y^2` and the grip in that frame. Each vertex's own plane
-/// turns quickly where the skin folds (a mouth corner, where the upper lip, the lower lip
-/// and the cheek meet): lifted each along its own plane's normal, neighbouring vertices
-/// there moved apart in different directions and small triangles turned over at every
-/// smile on the fitted heads. Averaged over the patch (a surface distance, not a number of
-/// edges), neighbours' normals agree as their patches do, and the lifts with them.
+/// `d x + e y + a x^2 + b x y + c y^2` and the grip in that frame. A vertex's own plane
+/// turns quickly where the skin folds (a mouth corner): lifted each along its own plane's
+/// normal, neighbours there moved apart and small triangles turned over at every smile on
+/// the fitted heads. Averaged over the patch (a surface distance, not a count of edges),
+/// neighbours' normals agree as their patches do, and so do their lifts.
 pub(super) fn fit_patches(
     mesh: &Mesh,
     adjacency: &Adjacency,
@@ -252,17 +251,12 @@ pub(super) fn fit_patches(
         .par_chunks(chunk)
         .flat_map_iter(|part| {
             let fitted = search.chunk(part, |near, weight, outward| {
-                let mean = near
-                    .iter()
+                near.iter()
                     .filter(|&&(q, _)| row[q] != u32::MAX)
                     .map(|&(q, d)| planes[row[q] as usize] * weight(d))
                     .sum::<DVec3>()
-                    .normalize_or_zero();
-                if mean == DVec3::ZERO {
-                    outward
-                } else {
-                    mean
-                }
+                    .try_normalize()
+                    .unwrap_or(outward)
             });
             fitted.into_iter().map(|(v, g)| search.patch(v, g))
         })
@@ -350,37 +344,15 @@ impl Search<'_> {
     }
 
     /// The patch of vertex `v` from its gathered points, in the frame of their normal.
-    fn patch(&self, v: usize, gathered: Gathered) -> Patch {
-        let Gathered {
-            near,
-            reach,
-            normal: n,
-        } = gathered;
-        let weight = |d: f64| (1.0 - d / (reach * 1.01)).max(0.0);
-        let flat = Patch {
-            normal: n.as_vec3(),
-            u: Vec3::ZERO,
-            v: Vec3::ZERO,
-            d: 0.0,
-            e: 0.0,
-            a: 0.0,
-            b: 0.0,
-            c: 0.0,
-            radius: reach as f32,
-            grip: grip(self.normals, &near, weight, n),
-        };
-        if n == DVec3::ZERO {
-            return flat;
-        }
-        let u = n.any_orthonormal_vector();
-        let w = n.cross(u);
-        let fit = surface_field(
-            &self.mesh.positions,
-            &near,
-            self.mesh.positions[v].as_dvec3(),
-            [u, w, n],
-        );
+    fn patch(&self, v: usize, g: Gathered) -> Patch {
+        let weight = |d: f64| (1.0 - d / (g.reach * 1.01)).max(0.0);
+        let n = g.normal;
+        // a zero normal (no points around) leaves the patch flat
+        let u = n.any_orthonormal_vector() * n.length();
+        let (w, p) = (n.cross(u), self.mesh.positions[v].as_dvec3());
+        let fit = surface_field(&self.mesh.positions, &g.near, p, [u, w, n]);
         Patch {
+            normal: n.as_vec3(),
             u: u.as_vec3(),
             v: w.as_vec3(),
             d: fit[0] as f32,
@@ -388,7 +360,8 @@ impl Search<'_> {
             a: fit[2] as f32,
             b: fit[3] as f32,
             c: fit[4] as f32,
-            ..flat
+            radius: g.reach as f32,
+            grip: grip(self.normals, &g.near, weight, n),
         }
     }
 }
