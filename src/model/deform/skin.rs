@@ -210,11 +210,12 @@ pub(super) fn outward_normals(mesh: &Mesh) -> Vec<Vec3> {
 /// Fits the rest surface around each vertex of `vertices` (a patch of `radius`). Two
 /// passes: the first finds each vertex's plane normal (the weighted principal axes of its
 /// patch's points); the second takes as the patch's normal the weighted mean of the first
-/// pass's normals over the patch (the moved vertices in it), and fits the height field
+/// pass's normals over the patch (the moved vertices in it), as far as the skin folds there
+/// (1 - the grip of the vertex's own plane), and fits the height field
 /// `d x + e y + a x^2 + b x y + c y^2` and the grip in that frame. A vertex's own plane
 /// turns quickly where the skin folds (a mouth corner): lifted each along its own plane's
 /// normal, neighbours there moved apart and small triangles turned over at every smile on
-/// the fitted heads. Averaged over the patch (a surface distance, not a count of edges),
+/// the fitted heads; on open skin the plane is kept. Averaged over the patch (a surface distance, not a count of edges),
 /// neighbours' normals agree as their patches do, and so do their lifts.
 pub(super) fn fit_patches(
     mesh: &Mesh,
@@ -251,10 +252,17 @@ pub(super) fn fit_patches(
         .par_chunks(chunk)
         .flat_map_iter(|part| {
             let fitted = search.chunk(part, |near, weight, outward| {
-                near.iter()
+                // the patch's own vertex comes first; on open skin (grip 1) its plane stays
+                let own = planes[row[near[0].0] as usize];
+                let fold = 1.0 - f64::from(grip(normals, near, weight, own));
+                let mean = near
+                    .iter()
                     .filter(|&&(q, _)| row[q] != u32::MAX)
                     .map(|&(q, d)| planes[row[q] as usize] * weight(d))
                     .sum::<DVec3>()
+                    .try_normalize()
+                    .unwrap_or(outward);
+                (own * (1.0 - fold) + mean * fold)
                     .try_normalize()
                     .unwrap_or(outward)
             });
@@ -347,8 +355,7 @@ impl Search<'_> {
     fn patch(&self, v: usize, g: Gathered) -> Patch {
         let weight = |d: f64| (1.0 - d / (g.reach * 1.01)).max(0.0);
         let n = g.normal;
-        // a zero normal (no points around) leaves the patch flat
-        let u = n.any_orthonormal_vector() * n.length();
+        let u = n.any_orthonormal_vector() * n.length(); // zero normal: a flat patch
         let (w, p) = (n.cross(u), self.mesh.positions[v].as_dvec3());
         let fit = surface_field(&self.mesh.positions, &g.near, p, [u, w, n]);
         Patch {
