@@ -12,13 +12,16 @@ use grimace::model::{BoundRig, SkinRules};
 use crate::tears::{poses, shared_heads, MAX_STRETCH};
 
 /// The largest edge stretch each head may show at the levator's entries, with the default
-/// deformation: within [`MAX_STRETCH`] at AU9 and disgust on both heads. AU10 on MakeHuman is
+/// deformation: within [`MAX_STRETCH`] at AU9 and disgust on both heads and MediaPipe's
+/// L10 and R10. AU10 on MakeHuman is
 /// bounded by what is left of it (the levator's fade at the midline and across the inside of
 /// each mouth corner, 3.45x under `grimace check`; 6.42x before the linings read their own
 /// lip).
 fn most_stretch(head: &str, entry: &str) -> f32 {
     match (head, entry) {
         ("MakeHuman base mesh", "AU10" | "AUL10" | "AUR10") => 3.6,
+        // the levator beside MediaPipe's nose wings, as before (2.60x under `grimace check`)
+        ("MediaPipe canonical face", "AU10") => 2.6,
         _ => MAX_STRETCH,
     }
 }
