@@ -1,9 +1,13 @@
 //! Where each skin vertex of a fitted mesh comes from on the template, which the carried
 //! masks, the depth and side masks and the rings' reach all read.
 
+use glam::Vec3;
 use rayon::prelude::*;
 
+use super::lipsides::LipSides;
+use super::nearest::Nearest;
 use super::parts::{Part, Parts};
+use super::regions::{Opening, Side};
 use super::warp::Warp;
 use super::Template;
 use crate::model::{Mask, Mesh, Rig};
@@ -21,6 +25,33 @@ pub(super) struct Sources {
     /// Per mesh vertex: `(template vertex, share)`, `None` for parts that are not skin and
     /// skin far from the template.
     pub(super) of_vertex: Vec<Option<(u32, f64)>>,
+    /// Per mesh vertex in the mouth's zone whose nearest source is on the template's other
+    /// lip, its source on its own lip ([`LipSource`]); empty when either face's lips were
+    /// not found.
+    pub(super) on_lips: Vec<Option<LipSource>>,
+}
+
+/// Where a mesh vertex by the mouth comes from on its own lip of the template. The nearest
+/// template vertex of all may lie on the other lip: a closed mouth's upper lip curls down
+/// inside it (MakeHuman's base mesh), and the last millimetres of its lining lie nearer the
+/// template's lower lip; a lip mask carried from there stepped from full pull to none
+/// across the one edge between two rows of the same lip (the levator labii's, 6.6 times
+/// its rest length at AU10). Such a vertex reads its carried weights on its own lip.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct LipSource {
+    /// The nearest template vertex on the vertex's own lip.
+    pub(super) own: u32,
+    /// The mouth's zone weight at the vertex (0 away from the lips, up to 1 between the
+    /// corners): how much the own lip's source replaces the nearest one.
+    pub(super) zone: f64,
+}
+
+impl LipSource {
+    /// A template weight (per template vertex) read at this vertex: the nearest source's,
+    /// blended by the zone toward the own lip's.
+    pub(super) fn blend(&self, nearest: f64, weight: impl Fn(u32) -> f64) -> f64 {
+        (1.0 - self.zone) * nearest + self.zone * weight(self.own)
+    }
 }
 
 impl Sources {
@@ -44,7 +75,7 @@ impl Sources {
             .iter()
             .map(|&v| warp.apply_f32(template.mesh.positions[v as usize]))
             .collect();
-        let index = super::nearest::Nearest::new(points, ids);
+        let index = Nearest::new(points, ids);
         let (near, far) = (MASK_FADE.0 * warp.spread, MASK_FADE.1 * warp.spread);
         // one nearest search per vertex, independent: on the rayon pool, in vertex order
         let of_vertex = mesh
@@ -60,7 +91,59 @@ impl Sources {
                 (share > 0.0).then_some((id, share))
             })
             .collect();
-        Sources { of_vertex }
+        Sources {
+            of_vertex,
+            on_lips: Vec::new(),
+        }
+    }
+
+    /// Finds the mouth vertices whose nearest source lies on the template's other lip, and
+    /// their source on their own lip ([`LipSource`]), given the mouth and the lips of the
+    /// template (first) and of the mesh (second).
+    pub(super) fn with_lips(
+        mut self,
+        template: Template<'_>,
+        warp: &Warp,
+        mesh: &Mesh,
+        mouths: [&Opening; 2],
+        lips: [&LipSides; 2],
+    ) -> Sources {
+        let zone = |mouth: &Opening, p: Vec3| {
+            mouth.side_weight(p, Side::Upper) + mouth.side_weight(p, Side::Lower)
+        };
+        let lip_index = |side: Side| {
+            let ids: Vec<u32> = (0..template.mesh.vertex_count() as u32)
+                .filter(|&v| {
+                    lips[0].side(v as usize) == Some(side)
+                        && zone(mouths[0], template.mesh.positions[v as usize]) > 0.0
+                })
+                .collect();
+            let points = ids
+                .iter()
+                .map(|&v| warp.apply_f32(template.mesh.positions[v as usize]))
+                .collect();
+            Nearest::new(points, ids)
+        };
+        let (upper, lower) = (lip_index(Side::Upper), lip_index(Side::Lower));
+        self.on_lips = mesh
+            .positions
+            .par_iter()
+            .enumerate()
+            .map(|(v, p)| {
+                let (id, _) = self.of_vertex[v]?;
+                let own = lips[1].side(v)?;
+                if lips[0].side(id as usize) == Some(own) {
+                    return None;
+                }
+                let zone = zone(mouths[1], *p).min(1.0);
+                let index = if own == Side::Upper { &upper } else { &lower };
+                (zone > 0.0).then_some(LipSource {
+                    own: index.nearest(*p)?.0,
+                    zone,
+                })
+            })
+            .collect();
+        self
     }
 }
 

@@ -169,7 +169,11 @@ pub fn fit_rig(
         jaw,
         masks: Vec::new(),
     };
-    let sources = Sources::find(template, &warp, mesh, &parts);
+    let mut sources = Sources::find(template, &warp, mesh, &parts);
+    let mouths = [&openings_from, &openings_to].map(|o| o.iter().find(|o| o.name == "mouth"));
+    if let ([Some(a), Some(b)], [Some(c), Some(d)]) = (mouths, &lips) {
+        sources = sources.with_lips(template, &warp, mesh, [a, b], [c, d]);
+    }
     let sides = side_masks(
         &mut rig,
         template,
@@ -702,7 +706,12 @@ fn carry_masks(template: Template<'_>, sources: &Sources) -> Vec<Mask> {
                 .enumerate()
                 .filter_map(|(v, source)| {
                     let (id, share) = (*source)?;
-                    let w = 1.0 - share * (1.0 - f64::from(dense[id as usize]));
+                    let at = |u: u32| f64::from(dense[u as usize]);
+                    let carried = match sources.on_lips.get(v).copied().flatten() {
+                        Some(lip) => lip.blend(at(id), at),
+                        None => at(id),
+                    };
+                    let w = 1.0 - share * (1.0 - carried);
                     (w < 1.0 - GAIN_EPSILON).then_some((v as u32, w as f32))
                 })
                 .collect();

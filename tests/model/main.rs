@@ -25,6 +25,7 @@ mod io_rig_table;
 mod io_waters;
 mod jaw_mouth;
 mod lids;
+mod lip_linings;
 mod openface_proptest;
 mod presets_builtin;
 mod presets_table;

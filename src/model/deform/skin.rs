@@ -2,19 +2,16 @@
 //! paper; `docs/model.md` describes them).
 //!
 //! - **Slide.** Waters' linear muscle pulls a vertex straight toward a bone attachment deep
-//!   inside the head, so skin that travels far (a mouth corner at AU12, AU14, AU20) also
-//!   sinks behind the rest surface. Each moved vertex gets, at bind time, the shape of the
-//!   rest surface around it: its outward normal and a quadratic height field fitted to the
-//!   rest vertices within a patch radius. After the muscles, the part of the displacement
-//!   that ends below that surface (measured where the vertex has travelled to along the
-//!   surface) is mostly removed, so the skin slides along the face instead of into it.
-//!   Displacement out of the surface (a pout, a bulge) is kept.
+//!   inside the head, so skin that travels far (a mouth corner at AU12) also sinks behind
+//!   the rest surface. Each moved vertex gets, at bind time, the rest surface around it (a
+//!   normal and a quadratic height field over a patch); after the muscles, the part of the
+//!   displacement that ends below it is mostly removed, so the skin slides along the face
+//!   instead of into it. Displacement out of the surface (a pout, a bulge) is kept.
 //! - **Area bound.** After the jaw, each triangle whose area projected on its rest normal
 //!   falls below a fraction of its rest area gets the scale of its displacements that would
 //!   keep that fraction, and each vertex's displacement is scaled by the mean of its
-//!   triangles' scales. One pass: it lifts the floor and removes many flips of extreme
-//!   poses, without promising the fraction. Only triangles that could shrink that far at
-//!   some activation in range are checked (found at bind time).
+//!   triangles' scales (one pass, no promise). Only triangles that could shrink that far
+//!   are checked (found at bind time).
 //!
 //! Both rules are per-vertex or per-triangle functions of the positions before them, so a
 //! partial update (`update_muscle`, `update_jaw`) recomputes the same numbers in the same
@@ -207,10 +204,12 @@ pub(super) fn outward_normals(mesh: &Mesh) -> Vec<Vec3> {
     normals
 }
 
-/// Fits the rest surface around each vertex of `vertices` (a patch of `radius`): the
-/// normal is the mean of the outward normals in the patch (weighted toward the vertex), so
-/// neighbouring vertices agree on it; the height along it is fitted as
-/// `d x + e y + a x^2 + b x y + c y^2` through the vertex.
+/// Fits the rest surface around each vertex of `vertices` (a patch of `radius`) in two
+/// passes: each vertex's plane normal (weighted principal axes of its patch's points), then
+/// the patch's normal, which is that plane's blended toward the mean of the first pass's
+/// normals over the patch as far as the skin folds (1 - the plane's grip), and the height
+/// field and grip in that frame. In a fold (a mouth corner) a vertex's own plane turns
+/// quickly; lifted along it, neighbours moved apart and small triangles turned over.
 pub(super) fn fit_patches(
     mesh: &Mesh,
     adjacency: &Adjacency,
@@ -221,106 +220,164 @@ pub(super) fn fit_patches(
     // Each vertex's patch depends on the rest mesh only, so chunks of vertices are fitted
     // on the rayon pool, each with its own search state: the same bits as one pass.
     let chunk = vertices.len().div_ceil(PATCH_CHUNKS).max(PATCH_CHUNK_MIN);
-    vertices
-        .par_chunks(chunk)
-        .flat_map_iter(|part| fit_chunk(mesh, adjacency, normals, part, radius))
-        .collect()
+    let search = Search {
+        mesh,
+        adjacency,
+        normals,
+        radius,
+    };
+    search.fit_in_chunks(vertices, chunk)
 }
 
-/// Vertices per parallel chunk of [`fit_patches`] at least (each chunk clears a mark per
-/// mesh vertex), and the number of chunks it aims at (a few per core, for balance).
+impl Search<'_> {
+    /// [`fit_patches`] with `vertices` split in chunks of `chunk`.
+    fn fit_in_chunks(&self, vertices: &[u32], chunk: usize) -> Vec<Patch> {
+        let (search, mesh, normals) = (self, self.mesh, self.normals);
+        let planes: Vec<DVec3> = vertices
+            .par_chunks(chunk)
+            .flat_map_iter(|part| {
+                search
+                    .chunk(part, |near, weight, outward| {
+                        plane_normal(&mesh.positions, near, weight, outward)
+                    })
+                    .into_iter()
+                    .map(|(_, g)| g.normal)
+            })
+            .collect();
+        let mut row = vec![u32::MAX; mesh.positions.len()];
+        for (i, &v) in vertices.iter().enumerate() {
+            row[v as usize] = i as u32;
+        }
+        vertices
+            .par_chunks(chunk)
+            .flat_map_iter(|part| {
+                let fitted = search.chunk(part, |near, weight, outward| {
+                    // the patch's own vertex comes first; on open skin (grip 1) its plane stays
+                    let own = planes[row[near[0].0] as usize];
+                    let fold = 1.0 - f64::from(grip(normals, near, weight, own));
+                    let mean = near
+                        .iter()
+                        .filter(|&&(q, _)| row[q] != u32::MAX)
+                        .map(|&(q, d)| planes[row[q] as usize] * weight(d))
+                        .sum::<DVec3>()
+                        .try_normalize()
+                        .unwrap_or(outward);
+                    (own * (1.0 - fold) + mean * fold)
+                        .try_normalize()
+                        .unwrap_or(outward)
+                });
+                fitted.into_iter().map(|(v, g)| search.patch(v, g))
+            })
+            .collect()
+    }
+}
+
+/// Vertices per parallel chunk of [`fit_patches`] at least (each clears a mark per mesh
+/// vertex), and the number of chunks it aims at (a few per core, for balance).
 const PATCH_CHUNK_MIN: usize = 2048;
 const PATCH_CHUNKS: usize = 64;
 
-/// [`fit_patches`] for one chunk of vertices, in order.
-fn fit_chunk(
-    mesh: &Mesh,
-    adjacency: &Adjacency,
-    normals: &[Vec3],
-    vertices: &[u32],
+/// What one patch search reads.
+struct Search<'a> {
+    mesh: &'a Mesh,
+    adjacency: &'a Adjacency,
+    normals: &'a [Vec3],
     radius: f32,
-) -> Vec<Patch> {
-    let rest = &mesh.positions;
-    let mut seen = vec![u32::MAX; rest.len()];
-    let mut queue = BinaryHeap::new();
-    let mut near: Vec<(usize, f64)> = Vec::new();
-    let r = radius as f64;
-    vertices
-        .iter()
-        .enumerate()
-        .map(|(stamp, &v)| {
-            let v = v as usize;
-            let p = rest[v].as_dvec3();
-            near.clear();
-            queue.clear();
-            // nearest first (ties by vertex number), so that mirrored vertices of a
-            // symmetric mesh gather mirrored patches
-            queue.push(Reverse((Distance(0.0), v)));
-            seen[v] = stamp as u32;
-            while let Some(Reverse((Distance(d), q))) = queue.pop() {
-                near.push((q, d));
-                if near.len() >= PATCH_VERTICES {
-                    break;
-                }
-                for &w in adjacency.of_vertex(q) {
-                    let w = w as usize;
-                    let d = (rest[w].as_dvec3() - p).length();
-                    if seen[w] != stamp as u32 && d <= r {
-                        seen[w] = stamp as u32;
-                        queue.push(Reverse((Distance(d), w)));
+}
+
+/// One vertex's patch: its points (vertex, distance), fitted extent and chosen normal.
+struct Gathered {
+    near: Vec<(usize, f64)>,
+    reach: f64,
+    normal: DVec3,
+}
+
+impl Search<'_> {
+    /// Gathers the patch of each vertex of `vertices` in order and gives each the normal
+    /// `choose(points, weight, outward)` picks.
+    fn chunk(
+        &self,
+        vertices: &[u32],
+        choose: impl Fn(&[(usize, f64)], &dyn Fn(f64) -> f64, DVec3) -> DVec3,
+    ) -> Vec<(usize, Gathered)> {
+        let rest = &self.mesh.positions;
+        let mut seen = vec![u32::MAX; rest.len()];
+        let mut queue = BinaryHeap::new();
+        let r = self.radius as f64;
+        vertices
+            .iter()
+            .enumerate()
+            .map(|(stamp, &v)| {
+                let v = v as usize;
+                let p = rest[v].as_dvec3();
+                let mut near: Vec<(usize, f64)> = Vec::new();
+                queue.clear();
+                // nearest first (ties by vertex number), so that mirrored vertices of a
+                // symmetric mesh gather mirrored patches
+                queue.push(Reverse((Distance(0.0), v)));
+                seen[v] = stamp as u32;
+                while let Some(Reverse((Distance(d), q))) = queue.pop() {
+                    near.push((q, d));
+                    if near.len() >= PATCH_VERTICES {
+                        break;
+                    }
+                    for &w in self.adjacency.of_vertex(q) {
+                        let w = w as usize;
+                        let d = (rest[w].as_dvec3() - p).length();
+                        if seen[w] != stamp as u32 && d <= r {
+                            seen[w] = stamp as u32;
+                            queue.push(Reverse((Distance(d), w)));
+                        }
                     }
                 }
-            }
-            // the fitted extent: the patch radius, or less where the nearest vertices end
-            let reach = near.last().map_or(0.0, |&(_, d)| d).min(r).max(r * 0.25);
-            let radius = reach as f32;
-            let weight = |d: f64| (1.0 - d / (reach * 1.01)).max(0.0);
-            let outward = near
-                .iter()
-                .map(|&(q, d)| normals[q].as_dvec3() * weight(d))
-                .sum::<DVec3>()
-                .normalize_or_zero();
-            let n = plane_normal(rest, &near, weight, outward);
-            let flat = Patch {
-                normal: n.as_vec3(),
-                u: Vec3::ZERO,
-                v: Vec3::ZERO,
-                d: 0.0,
-                e: 0.0,
-                a: 0.0,
-                b: 0.0,
-                c: 0.0,
-                radius,
-                grip: grip(normals, &near, weight, n),
-            };
-            if n == DVec3::ZERO {
-                return flat;
-            }
-            let u = n.any_orthonormal_vector();
-            let w = n.cross(u);
-            let fit = surface_field(rest, &near, p, [u, w, n]);
-            Patch {
-                u: u.as_vec3(),
-                v: w.as_vec3(),
-                d: fit[0] as f32,
-                e: fit[1] as f32,
-                a: fit[2] as f32,
-                b: fit[3] as f32,
-                c: fit[4] as f32,
-                ..flat
-            }
-        })
-        .collect()
+                // the fitted extent: the patch radius, or less where the nearest vertices end
+                let reach = near.last().map_or(0.0, |&(_, d)| d).min(r).max(r * 0.25);
+                let weight = |d: f64| (1.0 - d / (reach * 1.01)).max(0.0);
+                let outward = near
+                    .iter()
+                    .map(|&(q, d)| self.normals[q].as_dvec3() * weight(d))
+                    .sum::<DVec3>()
+                    .normalize_or_zero();
+                let normal = choose(&near, &weight, outward);
+                (
+                    v,
+                    Gathered {
+                        near,
+                        reach,
+                        normal,
+                    },
+                )
+            })
+            .collect()
+    }
+
+    /// The patch of vertex `v` from its gathered points, in the frame of their normal.
+    fn patch(&self, v: usize, g: Gathered) -> Patch {
+        let weight = |d: f64| (1.0 - d / (g.reach * 1.01)).max(0.0);
+        let n = g.normal;
+        let u = n.any_orthonormal_vector() * n.length(); // zero normal: a flat patch
+        let (w, p) = (n.cross(u), self.mesh.positions[v].as_dvec3());
+        let fit = surface_field(&self.mesh.positions, &g.near, p, [u, w, n]);
+        Patch {
+            normal: n.as_vec3(),
+            u: u.as_vec3(),
+            v: w.as_vec3(),
+            d: fit[0] as f32,
+            e: fit[1] as f32,
+            a: fit[2] as f32,
+            b: fit[3] as f32,
+            c: fit[4] as f32,
+            radius: g.reach as f32,
+            grip: grip(self.normals, &g.near, weight, n),
+        }
+    }
 }
 
 /// The quadratic height field `z = d x + e y + a x^2 + b x y + c y^2` of the surface around
-/// `p`, in the frame `[u, v, normal]`: fitted by least squares to the patch's points (the
-/// vertex among them) with a constant term, which is the vertex's own offset from that
-/// surface and is dropped. So the field is the slope and curvature of the surface the vertex
-/// lies on, and a vertex sitting in a fold (a mouth corner, a lip's inner row) keeps its
-/// depth below the surface around it; forced through the vertex, the field was a bowl as
-/// steep as the fold, and the slide lifted such a vertex out of it by most of its travel,
-/// past the rows around it. All zero if singular.
+/// `p` in the frame `[u, v, normal]`, fitted by least squares to the patch's points with a
+/// constant term (the vertex's own offset, dropped): so a vertex in a fold keeps its depth
+/// below the surface around it instead of being lifted out past the rows around it (forced
+/// through the vertex, the field was a bowl as steep as the fold). All zero if singular.
 fn surface_field(rest: &[Vec3], near: &[(usize, f64)], p: DVec3, frame: [DVec3; 3]) -> [f64; 5] {
     let [u, w, n] = frame;
     let mut m = [[0.0f64; 6]; 6];
@@ -346,13 +403,10 @@ fn surface_field(rest: &[Vec3], near: &[(usize, f64)], p: DVec3, frame: [DVec3; 
 /// degrees, as [`Patch::slide`] caps the height).
 const STEEPEST: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
-/// How much of the slide a vertex takes: the share of its patch's skin that faces the way
-/// the patch does (the outward normals' components along the patch normal over
-/// [`STEEPEST`], clamped to 0..1, weighted toward the vertex), squared, since both the patch's normal and its height field
-/// come from that skin. 1 on an open stretch of face; less where the patch folds into a
-/// slit or round a corner (the lips' inner faces and the mouth corners, where the skin
-/// faces across rather than out): there the patch is no surface the skin slides on, and
-/// neighbouring rows, each lifted onto its own side's surface, crossed each other.
+/// How much of the slide a vertex takes: the share of its patch's skin facing the way the
+/// patch does (outward normals' components along it over [`STEEPEST`], clamped to 0..1,
+/// weighted toward the vertex), squared. 1 on open face; less in a slit or round a corner,
+/// where the skin faces across and neighbouring rows, each lifted onto its own side, crossed.
 fn grip(normals: &[Vec3], near: &[(usize, f64)], weight: impl Fn(f64) -> f64, n: DVec3) -> f32 {
     let (mut facing, mut total) = (0.0f64, 0.0f64);
     for &(q, d) in near {
@@ -786,7 +840,13 @@ mod tests {
         let (lo, hi) = mesh.bounds();
         let radius = (hi - lo).length() * 0.05;
         let parallel = fit_patches(&mesh, &adjacency, &normals, &vertices, radius);
-        let one_pass = fit_chunk(&mesh, &adjacency, &normals, &vertices, radius);
+        let search = Search {
+            mesh: &mesh,
+            adjacency: &adjacency,
+            normals: &normals,
+            radius,
+        };
+        let one_pass = search.fit_in_chunks(&vertices, vertices.len());
         assert_eq!(parallel, one_pass);
     }
 
