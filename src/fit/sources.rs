@@ -1,7 +1,7 @@
 //! Where each skin vertex of a fitted mesh comes from on the template, which the carried
 //! masks, the depth and side masks and the rings' reach all read.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::lipsides::LipSides;
@@ -10,6 +10,7 @@ use super::parts::{Part, Parts};
 use super::regions::{Opening, Side};
 use super::warp::Warp;
 use super::Template;
+use crate::landmarks::FaceFrame;
 use crate::model::{Mask, Mesh, Rig};
 
 /// Carried per-vertex mask weights fade back to 1 (no mask) between these distances from the
@@ -29,6 +30,43 @@ pub(super) struct Sources {
     /// lip, its source on its own lip ([`LipSource`]); empty when either face's lips were
     /// not found.
     pub(super) on_lips: Vec<Option<LipSource>>,
+    /// Per mesh vertex by the face's midline, how much of its carried weights it reads at
+    /// its sources' mirror images ([`Midline`]); empty when not found.
+    pub(super) midline: Vec<Option<Mirrored>>,
+    /// Per template vertex, the template skin vertex nearest its mirror image across the
+    /// template's midline; empty when [`Sources::with_midline`] was not run.
+    pub(super) mirror_of: Vec<u32>,
+}
+
+/// Skin this close to the face's midline (as fractions of the landmarks' spread) may read its
+/// carried weights from both sides of the template, fading to its own source alone by the
+/// second distance.
+const MIDLINE_BAND: (f64, f64) = (0.02, 0.05);
+
+/// How a mesh vertex by the midline reads a template weight. Its nearest template vertex
+/// lies on one side or the other, whichever happens to be nearer: a vertex exactly on a
+/// symmetric mesh's midline took a one-sided muscle's carried mask from one side of the
+/// template, its mirror muscle's from the same side, so the rig was not symmetric (the
+/// levator labii's mask gave 0.83 against 0.17 across the midline of fitted MakeHuman,
+/// stretching an edge 3.4 times at AU10). Such a vertex blends its source's weight with the
+/// weight at the source's mirror image on the template, by how much nearer the midline it
+/// lies than its source: half and half on the midline, its own source alone where it lies
+/// as far out as its source (a fit to the template itself blends nothing).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Mirrored {
+    /// The share read from the mirror images (0 to 1).
+    pub(super) share: f64,
+}
+
+impl Mirrored {
+    /// A template weight read at a vertex: `read` of its sources (`false`) blended with
+    /// `read` of their mirror images (`true`).
+    pub(super) fn blend(this: Option<&Mirrored>, read: impl Fn(bool) -> f64) -> f64 {
+        match this {
+            Some(m) if m.share > 0.0 => (1.0 - m.share) * read(false) + m.share * read(true),
+            _ => read(false),
+        }
+    }
 }
 
 /// Where a mesh vertex by the mouth comes from on its own lip of the template. The nearest
@@ -56,21 +94,7 @@ impl LipSource {
 
 impl Sources {
     pub(super) fn find(template: Template<'_>, warp: &Warp, mesh: &Mesh, parts: &Parts) -> Sources {
-        let count = template.mesh.vertex_count();
-        let mut skin = vec![true; count];
-        for mask in template
-            .rig
-            .masks
-            .iter()
-            .filter(|m| is_still(template.rig, m))
-        {
-            for &(v, _) in &mask.weights {
-                if let Some(s) = skin.get_mut(v as usize) {
-                    *s = false;
-                }
-            }
-        }
-        let ids: Vec<u32> = (0..count as u32).filter(|&v| skin[v as usize]).collect();
+        let ids = template_skin(template);
         let points = ids
             .iter()
             .map(|&v| warp.apply_f32(template.mesh.positions[v as usize]))
@@ -94,7 +118,56 @@ impl Sources {
         Sources {
             of_vertex,
             on_lips: Vec::new(),
+            midline: Vec::new(),
+            mirror_of: Vec::new(),
         }
+    }
+
+    /// Finds the mesh vertices by the face's midline that read their carried weights from
+    /// both sides of the template ([`Mirrored`]), given the faces' frames and landmarks
+    /// (template first, then the mesh).
+    pub(super) fn with_midline(
+        mut self,
+        template: Template<'_>,
+        warp: &Warp,
+        mesh: &Mesh,
+        frames: [&FaceFrame; 2],
+        landmarks: [&[Vec3]; 2],
+    ) -> Sources {
+        let ids = template_skin(template);
+        let at = |v: u32| template.mesh.positions[v as usize];
+        let index = Nearest::new(ids.iter().map(|&v| at(v)).collect(), ids.clone());
+        let from = midline(frames[0], landmarks[0]);
+        let lateral = frames[0].lateral.as_vec3();
+        self.mirror_of = (0..template.mesh.vertex_count() as u32)
+            .into_par_iter()
+            .map(|v| {
+                let image = at(v) - 2.0 * from(at(v)) as f32 * lateral;
+                index.nearest(image).map_or(v, |(id, _)| id)
+            })
+            .collect();
+        let to = midline(frames[1], landmarks[1]);
+        let (near, far) = (MIDLINE_BAND.0 * warp.spread, MIDLINE_BAND.1 * warp.spread);
+        self.midline = mesh
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(v, p)| {
+                let (id, _) = self.of_vertex[v]?;
+                let (here, there) = (to(*p), to(warp.apply_f32(at(id))));
+                let window = 1.0 - super::regions::smoothstep(near, far, here.abs());
+                // where the vertex lies as far out as its source, on its side, it reads
+                // the source alone; on the midline half and half; beyond it, the image
+                let ratio = if there.abs() > 1e-9 * warp.spread {
+                    here / there
+                } else {
+                    1.0
+                };
+                let share = window * (0.5 * (1.0 - ratio)).clamp(0.0, 1.0);
+                (share > 0.0).then_some(Mirrored { share })
+            })
+            .collect();
+        self
     }
 
     /// Finds the mouth vertices whose nearest source lies on the template's other lip, and
@@ -145,6 +218,34 @@ impl Sources {
             .collect();
         self
     }
+}
+
+/// The template's skin vertices: all but those its still mask holds.
+fn template_skin(template: Template<'_>) -> Vec<u32> {
+    let count = template.mesh.vertex_count();
+    let mut skin = vec![true; count];
+    for mask in template
+        .rig
+        .masks
+        .iter()
+        .filter(|m| is_still(template.rig, m))
+    {
+        for &(v, _) in &mask.weights {
+            if let Some(s) = skin.get_mut(v as usize) {
+                *s = false;
+            }
+        }
+    }
+    (0..count as u32).filter(|&v| skin[v as usize]).collect()
+}
+
+/// A face's midline plane: through the mean of its 68 landmarks (a symmetric layout), across
+/// its lateral axis. Returns the signed distance of a point from it.
+fn midline(frame: &FaceFrame, landmarks: &[Vec3]) -> impl Fn(Vec3) -> f64 {
+    let n = landmarks.len().max(1) as f64;
+    let centre = landmarks.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / n;
+    let lateral = frame.lateral;
+    move |p: Vec3| (p.as_dvec3() - centre).dot(lateral)
 }
 
 /// A mask holding a rig's still parts: weight 0 everywhere it lists, for every muscle.

@@ -15,7 +15,7 @@ use thiserror::Error;
 
 use super::parts::{find_parts, Part, PartOverrides, Parts};
 use super::regions::{Extent, Opening, Side, CONTOURS};
-use super::sources::{is_still, Sources};
+use super::sources::{is_still, Mirrored, Sources};
 use super::warp::{Similarity, Warp};
 use super::Template;
 use crate::landmarks::{check_shape, order_problems, FaceFrame, LandmarkError, Landmarks};
@@ -174,6 +174,13 @@ pub fn fit_rig(
     if let ([Some(a), Some(b)], [Some(c), Some(d)]) = (mouths, &lips) {
         sources = sources.with_lips(template, &warp, mesh, [a, b], [c, d]);
     }
+    let sources = sources.with_midline(
+        template,
+        &warp,
+        mesh,
+        [&from, &to],
+        [template.landmarks, &target],
+    );
     let sides = side_masks(
         &mut rig,
         template,
@@ -706,11 +713,21 @@ fn carry_masks(template: Template<'_>, sources: &Sources) -> Vec<Mask> {
                 .enumerate()
                 .filter_map(|(v, source)| {
                     let (id, share) = (*source)?;
-                    let at = |u: u32| f64::from(dense[u as usize]);
-                    let carried = match sources.on_lips.get(v).copied().flatten() {
-                        Some(lip) => lip.blend(at(id), at),
-                        None => at(id),
-                    };
+                    let carried =
+                        Mirrored::blend(sources.midline.get(v).and_then(|m| m.as_ref()), |image| {
+                            // read at the sources, or at their mirror images
+                            let at = |u: u32| match image {
+                                true => {
+                                    let image = sources.mirror_of.get(u as usize).copied();
+                                    f64::from(dense[image.unwrap_or(u) as usize])
+                                }
+                                false => f64::from(dense[u as usize]),
+                            };
+                            match sources.on_lips.get(v).copied().flatten() {
+                                Some(lip) => lip.blend(at(id), at),
+                                None => at(id),
+                            }
+                        });
                     let w = 1.0 - share * (1.0 - carried);
                     (w < 1.0 - GAIN_EPSILON).then_some((v as u32, w as f32))
                 })
