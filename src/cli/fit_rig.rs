@@ -186,7 +186,7 @@ fn to_open(
     };
     let cut = match args.keep_eyes {
         true => cut,
-        false => eyecut::open_in(cut, source, marks, eyes.clone()),
+        false => lipcut::open_eyes(cut, source, marks, eyes.clone()),
     };
     let Some(cut) = cut else {
         return Ok(None);

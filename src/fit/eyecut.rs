@@ -25,7 +25,7 @@ use std::f32::consts::FRAC_PI_2;
 
 use glam::Vec3;
 
-use super::lipcut::{distance_to_polyline, key, Graph, LipCut};
+use super::seam::{distance_to_polyline, key, Graph};
 use crate::landmarks::{
     FaceFrame, COUNT, LEFT_EYE_LOWER, LEFT_EYE_UPPER, RIGHT_EYE_LOWER, RIGHT_EYE_UPPER,
 };
@@ -149,29 +149,6 @@ pub fn open(mesh: &mut Mesh, landmarks: &[u32], found: [Lids; 2]) -> Option<EyeC
         triangles: mesh.triangles.len() - before,
         copies,
     })
-}
-
-/// The opened mesh with the covered eyes of `found` cut open ([`open`]): `cut` (the lips cut
-/// or a mouth pocket added, [`super::lipcut`]) or else `source` as it is, whose 68 landmark
-/// vertices are `landmarks`. `None` when neither the lips nor the eyes were opened.
-pub fn open_in(
-    cut: Option<LipCut>,
-    source: &Mesh,
-    landmarks: &[u32],
-    found: [Lids; 2],
-) -> Option<LipCut> {
-    let had_cut = cut.is_some();
-    let mut cut = cut.unwrap_or_else(|| LipCut {
-        mesh: source.clone(),
-        copies: Vec::new(),
-        line: Vec::new(),
-        band: 0,
-        landmarks: landmarks.to_vec(),
-        pocket: None,
-        eyes: None,
-    });
-    cut.eyes = open(&mut cut.mesh, &cut.landmarks, found).map(Box::new);
-    (had_cut || cut.eyes.is_some()).then_some(cut)
 }
 
 /// One eye: its margins, then the band between them.

@@ -18,15 +18,14 @@
 //! The cut keeps every original vertex at its number; the copies are appended in the order of
 //! the line, and [`LipCut::copies`] says which vertex each copies. Nothing here reads files.
 
-use std::cmp::Reverse;
-use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::Vec3;
 
-use super::eyecut::EyeCut;
+use super::eyecut::{EyeCut, Lids};
 use super::pocket::Pocket;
+use super::seam::{distance_to_polyline, key, Graph};
 use crate::landmarks::{COUNT, INNER_LOWER, INNER_UPPER};
-use crate::model::mesh::Distance;
 use crate::model::{Mesh, Rig};
 
 /// Landmarks on the lower lip: on a cut vertex they move to its copy.
@@ -374,135 +373,7 @@ impl Mouth {
     }
 }
 
-/// The distance from `p` to a polyline.
-pub(super) fn distance_to_polyline(p: Vec3, line: &[Vec3]) -> f32 {
-    line.windows(2)
-        .map(|s| {
-            let d = s[1] - s[0];
-            let t = if d.length_squared() > 0.0 {
-                ((p - s[0]).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            p.distance(s[0] + d * t)
-        })
-        .fold(f32::INFINITY, f32::min)
-}
-
-/// The mesh around an opening (the mouth, an eye): neighbours and the triangles on each edge
-/// and vertex, of the triangles with a corner near it.
-pub(super) struct Graph {
-    near: Vec<bool>,
-    neighbours: HashMap<u32, Vec<u32>>,
-    /// The triangles on each edge (its ends in [`key`] order).
-    pub(super) edge_triangles: HashMap<[u32; 2], Vec<usize>>,
-    vertex_triangles: HashMap<u32, Vec<usize>>,
-}
-
-/// An edge's key: its ends, the smaller first.
-pub(super) fn key(a: u32, b: u32) -> [u32; 2] {
-    [a.min(b), a.max(b)]
-}
-
 impl Graph {
-    /// The mesh within `reach` of `centre`.
-    pub(super) fn new(mesh: &Mesh, centre: Vec3, reach: f32) -> Graph {
-        let near: Vec<bool> = mesh
-            .positions
-            .iter()
-            .map(|p| p.distance(centre) <= reach)
-            .collect();
-        let mut graph = Graph {
-            near,
-            neighbours: HashMap::new(),
-            edge_triangles: HashMap::new(),
-            vertex_triangles: HashMap::new(),
-        };
-        for (t, tri) in mesh.triangles.iter().enumerate() {
-            if !tri.iter().any(|&v| graph.near[v as usize]) {
-                continue;
-            }
-            for k in 0..3 {
-                let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                graph.edge_triangles.entry(key(a, b)).or_default().push(t);
-                graph.vertex_triangles.entry(a).or_default().push(t);
-                for (x, y) in [(a, b), (b, a)] {
-                    let list = graph.neighbours.entry(x).or_default();
-                    if !list.contains(&y) {
-                        list.push(y);
-                    }
-                }
-            }
-        }
-        graph
-    }
-
-    /// The chain of edges through the landmarks `ids` (corner to corner), guided by their
-    /// polyline (a step `sigma` off it costs twice its length); `None` when a landmark cannot
-    /// be reached or the chain crosses itself.
-    pub(super) fn line(
-        &self,
-        mesh: &Mesh,
-        sigma: f32,
-        landmarks: &[u32],
-        ids: &[usize],
-        guide: &[Vec3],
-    ) -> Option<Vec<u32>> {
-        let mut line = vec![landmarks[ids[0]]];
-        for &i in &ids[1..] {
-            let from = *line.last()?;
-            let to = landmarks[i];
-            if from != to {
-                let step = self.guided_path(mesh, sigma, from, to, guide)?;
-                line.extend_from_slice(&step[1..]);
-            }
-        }
-        let unique: HashSet<u32> = line.iter().copied().collect();
-        (unique.len() == line.len() && line.len() >= 3).then_some(line)
-    }
-
-    /// Dijkstra's shortest path from `from` to `to` near the opening, each edge costing its
-    /// length times `1 + (d / sigma)^2`, `d` its middle's distance from `guide`.
-    fn guided_path(
-        &self,
-        mesh: &Mesh,
-        sigma: f32,
-        from: u32,
-        to: u32,
-        guide: &[Vec3],
-    ) -> Option<Vec<u32>> {
-        let mut best: HashMap<u32, (f64, u32)> = HashMap::from([(from, (0.0, from))]);
-        let mut queue = BinaryHeap::from([(Reverse(Distance(0.0)), from)]);
-        while let Some((Reverse(Distance(cost)), v)) = queue.pop() {
-            if v == to {
-                break;
-            }
-            if best.get(&v).is_some_and(|&(c, _)| c < cost) {
-                continue;
-            }
-            for &w in self.neighbours.get(&v).map_or(&[][..], Vec::as_slice) {
-                if !self.near[w as usize] {
-                    continue;
-                }
-                let (a, b) = (mesh.positions[v as usize], mesh.positions[w as usize]);
-                let d = distance_to_polyline(0.5 * (a + b), guide) / sigma;
-                let next = cost + f64::from(a.distance(b) * (1.0 + d * d));
-                if best.get(&w).is_none_or(|&(c, _)| next < c) {
-                    best.insert(w, (next, v));
-                    queue.push((Reverse(Distance(next)), w));
-                }
-            }
-        }
-        let mut path = vec![to];
-        let mut v = to;
-        while v != from {
-            v = best.get(&v)?.1;
-            path.push(v);
-        }
-        path.reverse();
-        Some(path)
-    }
-
     /// The triangles just below the line: on each edge of the line with two triangles, the
     /// one whose third corner lies further toward the lower lip (nearer the lower outer lip
     /// line and further from the upper one). The lips' own curl makes "down the face" an
@@ -670,6 +541,29 @@ fn fan_parts(mesh: &Mesh, fan: &[usize], v: u32, walls: [u32; 2]) -> Vec<usize> 
         }
     }
     (0..fan.len()).map(|i| root(&mut part, i)).collect()
+}
+
+/// The opened mesh with the covered eyes of `found` cut open ([`super::eyecut::open`]): `cut` (the lips cut
+/// or a mouth pocket added, [`find`]) or else `source` as it is, whose 68 landmark
+/// vertices are `landmarks`. `None` when neither the lips nor the eyes were opened.
+pub fn open_eyes(
+    cut: Option<LipCut>,
+    source: &Mesh,
+    landmarks: &[u32],
+    found: [Lids; 2],
+) -> Option<LipCut> {
+    let had_cut = cut.is_some();
+    let mut cut = cut.unwrap_or_else(|| LipCut {
+        mesh: source.clone(),
+        copies: Vec::new(),
+        line: Vec::new(),
+        band: 0,
+        landmarks: landmarks.to_vec(),
+        pocket: None,
+        eyes: None,
+    });
+    cut.eyes = super::eyecut::open(&mut cut.mesh, &cut.landmarks, found).map(Box::new);
+    (had_cut || cut.eyes.is_some()).then_some(cut)
 }
 
 /// The distance between the middles of the inner lips (landmarks 62 and 66) at `positions`.

@@ -62,7 +62,7 @@ impl LipSides {
             .rig
             .masks
             .iter()
-            .filter(|m| super::sources::is_still(template.rig, m))
+            .filter(|m| super::parts::is_still(template.rig, m))
             .flat_map(|m| m.weights.iter().map(|&(v, _)| v))
             .collect();
         let landmarks: Vec<u32> = template

@@ -38,6 +38,7 @@ pub mod propose;
 pub mod quality;
 mod reach;
 pub mod regions;
+mod seam;
 pub mod solve;
 mod sources;
 pub mod transport;

@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 
 use crate::landmarks::{FaceFrame, CHIN, INNER_LOWER, INNER_UPPER, MOUTH_CORNERS};
-use crate::model::Mesh;
+use crate::model::{Mask, Mesh, Rig};
 
 /// What a vertex is for fitting.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -500,6 +500,15 @@ impl MouthTest {
             && local.z > 0.0
             && local.z < 3.0 * self.half_width
     }
+}
+
+/// A mask holding a rig's still parts: weight 0 everywhere it lists, for every muscle.
+pub(super) fn is_still(rig: &Rig, mask: &Mask) -> bool {
+    mask.weights.iter().all(|&(_, w)| w == 0.0)
+        && rig
+            .muscles
+            .iter()
+            .all(|muscle| mask.muscles.contains(&muscle.name))
 }
 
 #[cfg(test)]

@@ -11,7 +11,7 @@ use super::regions::{Opening, Side};
 use super::warp::Warp;
 use super::Template;
 use crate::landmarks::FaceFrame;
-use crate::model::{Mask, Mesh, Rig};
+use crate::model::Mesh;
 
 /// Carried per-vertex mask weights fade back to 1 (no mask) between these distances from the
 /// nearest carried template vertex, as fractions of the landmarks' spread: a neck or body
@@ -228,7 +228,7 @@ fn template_skin(template: Template<'_>) -> Vec<u32> {
         .rig
         .masks
         .iter()
-        .filter(|m| is_still(template.rig, m))
+        .filter(|m| super::parts::is_still(template.rig, m))
     {
         for &(v, _) in &mask.weights {
             if let Some(s) = skin.get_mut(v as usize) {
@@ -246,13 +246,4 @@ fn midline(frame: &FaceFrame, landmarks: &[Vec3]) -> impl Fn(Vec3) -> f64 {
     let centre = landmarks.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / n;
     let lateral = frame.lateral;
     move |p: Vec3| (p.as_dvec3() - centre).dot(lateral)
-}
-
-/// A mask holding a rig's still parts: weight 0 everywhere it lists, for every muscle.
-pub(super) fn is_still(rig: &Rig, mask: &Mask) -> bool {
-    mask.weights.iter().all(|&(_, w)| w == 0.0)
-        && rig
-            .muscles
-            .iter()
-            .all(|muscle| mask.muscles.contains(&muscle.name))
 }

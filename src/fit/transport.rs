@@ -13,9 +13,10 @@ use std::path::PathBuf;
 use glam::{DMat3, DVec3, Vec3};
 use thiserror::Error;
 
+use super::parts::is_still;
 use super::parts::{find_parts, Part, PartOverrides, Parts};
 use super::regions::{Extent, Opening, Side, CONTOURS};
-use super::sources::{is_still, Mirrored, Sources};
+use super::sources::{Mirrored, Sources};
 use super::warp::{Similarity, Warp};
 use super::Template;
 use crate::landmarks::{check_shape, order_problems, FaceFrame, LandmarkError, Landmarks};

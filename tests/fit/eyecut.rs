@@ -33,7 +33,7 @@ fn opened(mesh: &Mesh, marks: &[u32]) -> LipCut {
         lipcut::Lips::Joined(cut) => Some(cut),
         _ => None,
     };
-    eyecut::open_in(lips, mesh, marks, eyecut::find(mesh, marks)).expect("something was opened")
+    lipcut::open_eyes(lips, mesh, marks, eyecut::find(mesh, marks)).expect("something was opened")
 }
 
 /// The default rig fitted to an opened mesh as `fit-rig` fits it, bound with the skin rules.
