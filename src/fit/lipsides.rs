@@ -23,6 +23,7 @@ use super::parts::{Part, Parts};
 use super::regions::{Opening, Side};
 use super::Template;
 use crate::landmarks::{nearest_vertex, COUNT};
+use crate::model::mesh::Distance;
 use crate::model::Mesh;
 
 /// The upper lip's landmarks that seed the walk: the outer upper lip between the corners and
@@ -172,24 +173,6 @@ pub fn side_weight(
     }
 }
 
-/// A distance ordered for the queue.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Distance(f32);
-
-impl Eq for Distance {}
-
-impl PartialOrd for Distance {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Distance {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
-    }
-}
-
 /// Dijkstra's walk from both seed sets at once: each vertex takes the side whose seeds are
 /// nearer along the edges (ties to the upper lip, which stays still).
 fn nearer_seed(neighbours: &[Vec<(u32, f32)>], upper: &[u32], lower: &[u32]) -> Vec<Option<Side>> {
@@ -204,6 +187,8 @@ fn nearer_seed(neighbours: &[Vec<(u32, f32)>], upper: &[u32], lower: &[u32]) -> 
         }
     }
     while let Some(Reverse((Distance(d), rank, v))) = queue.pop() {
+        // the queue holds the f32 sums exactly, widened
+        let d = d as f32;
         let side = if rank == 0 { Side::Upper } else { Side::Lower };
         if best[v as usize].is_some_and(|(b, s)| b < d || (b == d && s != side)) {
             continue;
@@ -212,7 +197,7 @@ fn nearer_seed(neighbours: &[Vec<(u32, f32)>], upper: &[u32], lower: &[u32]) -> 
             let next = d + len;
             if best[w as usize].is_none_or(|(b, _)| next < b) {
                 best[w as usize] = Some((next, side));
-                queue.push(Reverse((Distance(next), rank, w)));
+                queue.push(Reverse((Distance(f64::from(next)), rank, w)));
             }
         }
     }
