@@ -7,12 +7,15 @@
 //! - [`rig_model`]: the rig's landmark Jacobian on the deformation it is bound with;
 //! - [`solver`]: bounded least squares per frame ([`crate::fit::lsq`]) with temporal and
 //!   sparsity terms, refined on the deformation itself;
+//! - [`neutral`]: the neutral the muscles define: the face from which every frame is
+//!   reached with the least muscle work;
 //! - [`aus`]: AU intensities from the activations, through an AU table;
 //! - [`synthetic`]: recordings made by the rig itself (tests, benches, self-checks).
 //!
 //! `docs/capture.md` describes the method and its limits. Nothing here reads files.
 
 pub mod aus;
+pub mod neutral;
 pub mod pose;
 pub mod rig_model;
 pub mod solver;
@@ -107,6 +110,39 @@ impl<'a> Session<'a> {
     /// Solves one frame's landmarks; `None` when they are not a usable face (then the next
     /// frame starts afresh, not near this one).
     pub fn frame(&mut self, landmarks: &[Vec3]) -> Option<Captured> {
+        let (_, solution, explained) = self.solve(landmarks)?;
+        Some(Captured {
+            activations: solution.activations,
+            explained,
+            motion: solution.predicted,
+        })
+    }
+
+    /// One frame's signed muscle work from this session's neutral ([`FrameSolver::signed`]:
+    /// the sum of the signed activations, the jaw's counted at half, its range being twice a
+    /// muscle's) and its pose-removed landmarks; `None` for a frame that is not a usable
+    /// face. Below 0, the frame works less than the neutral does.
+    pub fn signed_work(&mut self, landmarks: &[Vec3]) -> Option<(f64, Vec<DVec3>)> {
+        if crate::landmarks::check_shape(landmarks).is_err() {
+            return None;
+        }
+        let aligned = pose::align(landmarks, &self.neutral)?;
+        let motion = self.to_rig.motion(&aligned.points, &self.neutral);
+        let signed = self.solver.signed(&motion);
+        let muscles = signed.len().min(self.solver.muscle_count());
+        let work =
+            signed[..muscles].iter().sum::<f64>() + signed[muscles..].iter().sum::<f64>() * 0.5;
+        Some((work, aligned.points))
+    }
+
+    /// The subject's neutral landmarks (tracker units).
+    pub fn neutral(&self) -> &[DVec3] {
+        &self.neutral
+    }
+
+    /// Aligns and solves one frame: its pose-removed landmarks, the solution and the
+    /// explained fraction (`None` below the noise floor).
+    fn solve(&mut self, landmarks: &[Vec3]) -> Option<(pose::Aligned, Solution, Option<f64>)> {
         let usable = crate::landmarks::check_shape(landmarks).is_ok();
         let Some(aligned) = usable
             .then(|| pose::align(landmarks, &self.neutral))
@@ -122,11 +158,7 @@ impl<'a> Session<'a> {
         let rms = (solution.motion / weight).sqrt();
         let floor = NOISE_FACTOR * aligned.noise * self.to_rig.scale;
         let explained = (rms > floor).then(|| solution.explained());
-        Some(Captured {
-            activations: solution.activations,
-            explained,
-            motion: solution.predicted,
-        })
+        Some((aligned, solution, explained))
     }
 
     /// Forgets the previous frame: the next is solved without the temporal term.

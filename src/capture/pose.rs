@@ -93,6 +93,16 @@ pub enum NeutralSource {
         /// Usable frames in the recording.
         of: usize,
     },
+    /// The median of the frames that work least, by the muscles' reading
+    /// ([`super::neutral::least_work`]).
+    LeastWork {
+        /// Frames the median was taken over.
+        used: usize,
+        /// Usable frames in the recording.
+        of: usize,
+        /// Passes of reading the frames' work and taking the new neutral.
+        passes: usize,
+    },
     /// The first usable frame of a live stream.
     FirstFrame(u64),
 }
@@ -104,6 +114,10 @@ impl std::fmt::Display for NeutralSource {
             NeutralSource::Estimated { used, of } => write!(
                 f,
                 "estimated: the per-landmark median of the {used} frames of {of} that move least from the recording's median face"
+            ),
+            NeutralSource::LeastWork { used, of, passes } => write!(
+                f,
+                "estimated by the muscles: the per-landmark median of the {used} frames of {of} that work least from it (signed muscle work; {passes} passes from the median of the calm frames)"
             ),
             NeutralSource::FirstFrame(n) => write!(f, "the first tracked frame ({n}) of the stream"),
         }
@@ -155,7 +169,7 @@ pub fn estimate_neutral(frames: &[&[Vec3]]) -> Option<(Vec<DVec3>, NeutralSource
 }
 
 /// The per-coordinate median of several shapes of equal length.
-fn median_shape(shapes: &[&[DVec3]]) -> Vec<DVec3> {
+pub(crate) fn median_shape(shapes: &[&[DVec3]]) -> Vec<DVec3> {
     let n = shapes.first().map_or(0, |s| s.len());
     let mut values = Vec::with_capacity(shapes.len());
     (0..n)

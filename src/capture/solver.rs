@@ -77,6 +77,8 @@ pub struct FrameSolver<'a> {
     temporal: f64,
     previous: Option<Vec<f64>>,
     scratch: Vec<Vec3>,
+    /// `(J^T W J + temporal I)^-1` at rest (row-major): [`FrameSolver::signed`]'s solve.
+    signed_inverse: Vec<f64>,
 }
 
 impl<'a> FrameSolver<'a> {
@@ -103,6 +105,8 @@ impl<'a> FrameSolver<'a> {
         // One price per unit of activation for every variable, set from the mean muscle:
         // a muscle that moves the landmarks little is not a cheaper way to explain them.
         let sparsity = vec![2.0 * regularisation.sparsity * mean; lo.len()];
+        let temporal = regularisation.temporal * mean;
+        let signed_inverse = signed_inverse(model, &weights, &muscle_gram, temporal);
         FrameSolver {
             bound,
             model,
@@ -111,15 +115,21 @@ impl<'a> FrameSolver<'a> {
             lo,
             hi,
             sparsity,
-            temporal: regularisation.temporal * mean,
+            temporal,
             previous: None,
             scratch: Vec::new(),
+            signed_inverse,
         }
     }
 
     /// Forgets the previous frame (after a gap in the recording).
     pub fn reset(&mut self) {
         self.previous = None;
+    }
+
+    /// Number of muscles (the jaw, when there is one, is the variable after them).
+    pub fn muscle_count(&self) -> usize {
+        self.model.muscle_count()
     }
 
     /// The landmark weights per axis of the rig (see [`landmark_weight`]).
@@ -196,6 +206,31 @@ impl<'a> FrameSolver<'a> {
         cost
     }
 
+    /// Signed activations for a motion measured from a neutral that may itself carry
+    /// muscle work: the linear least-squares answer on the Jacobian at rest (the jaw's slope
+    /// at rest), every variable free to go below 0 as far as above it (below 0, a muscle
+    /// works less than in the neutral), held near 0 by the temporal term's weight as a ridge
+    /// rather than by the sparsity term (an L1 price would favour going below 0). The bounds
+    /// are applied after the solve, not in it: this reads how far a frame is from the
+    /// neutral in muscle units, it does not explain the frame.
+    pub fn signed(&self, motion: &[DVec3]) -> Vec<f64> {
+        let n = self.model.variable_count();
+        let jaw = self.model.has_jaw().then(|| self.model.jaw_slope(0.0));
+        let c: Vec<f64> = (0..n)
+            .map(|i| match (i < self.model.muscle_count(), &jaw) {
+                (true, _) => weighted_dot(&self.weights, self.model.column(i), motion),
+                (false, Some(jaw)) => weighted_dot(&self.weights, jaw, motion),
+                (false, None) => 0.0,
+            })
+            .collect();
+        (0..n)
+            .map(|i| {
+                let x: f64 = (0..n).map(|j| self.signed_inverse[i * n + j] * c[j]).sum();
+                x.clamp(-self.hi[i], self.hi[i])
+            })
+            .collect()
+    }
+
     /// The bounded linearised step from `x`: the minimiser of the linear model there.
     fn step(&self, x: &[f64], motion: &[DVec3], predicted: &[DVec3]) -> Vec<f64> {
         let m = self.model.muscle_count();
@@ -233,6 +268,35 @@ impl<'a> FrameSolver<'a> {
         }
         .apply(&mut gram, &mut c);
         box_least_squares(&gram, &c, &self.lo, &self.hi)
+    }
+}
+
+/// `(J^T W J + ridge I)^-1` (row-major) over every variable, the jaw's column its slope at
+/// rest; the identity scaled by `1 / ridge` if it cannot be inverted (no ridge, no motion).
+fn signed_inverse(
+    model: &LandmarkModel,
+    weights: &[DVec3],
+    muscle_gram: &[f64],
+    ridge: f64,
+) -> Vec<f64> {
+    let m = model.muscle_count();
+    let n = model.variable_count();
+    let jaw = model.jaw_slope(0.0);
+    let column = |i: usize| if i < m { model.column(i) } else { &jaw };
+    let gram = nalgebra::DMatrix::from_fn(n, n, |i, j| {
+        let g = if i < m && j < m {
+            muscle_gram[i * m + j]
+        } else {
+            weighted_dot(weights, column(i), column(j))
+        };
+        g + if i == j { ridge } else { 0.0 }
+    });
+    match gram.cholesky() {
+        Some(c) => c.inverse().transpose().iter().copied().collect(),
+        None => nalgebra::DMatrix::from_diagonal_element(n, n, 1.0 / ridge.max(1e-300))
+            .iter()
+            .copied()
+            .collect(),
     }
 }
 

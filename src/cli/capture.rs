@@ -244,15 +244,29 @@ fn file_session<'a>(
         }
         None => {
             let frames: Vec<&[Vec3]> = rows.iter().map(|r| r.landmarks.as_slice()).collect();
-            let (neutral, source) = crate::capture::pose::estimate_neutral(&frames)
+            let (neutral, _) = crate::capture::pose::estimate_neutral(&frames)
                 .ok_or(crate::capture::CaptureError::NoUsableFrames)
                 .map_err(at)?;
+            let regularisation = Regularisation::default();
+            let (neutral, found) = crate::capture::neutral::least_work(
+                &prepared.bound,
+                &prepared.model,
+                &frames,
+                neutral,
+                regularisation,
+            )
+            .map_err(at)?;
+            let source = NeutralSource::LeastWork {
+                used: found.used,
+                of: found.of,
+                passes: found.passes,
+            };
             Session::new(
                 &prepared.bound,
                 &prepared.model,
                 neutral,
                 source,
-                Regularisation::default(),
+                regularisation,
             )
             .map_err(at)?
         }

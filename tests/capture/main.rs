@@ -5,5 +5,6 @@
 mod common;
 
 mod aus;
+mod neutral;
 mod samples;
 mod synthetic;

@@ -12,12 +12,12 @@ use grimace::model::{Activations, BoundRig, Deformation};
 
 use crate::common;
 
-struct Face {
-    bound: BoundRig,
-    vertices: Vec<u32>,
+pub(crate) struct Face {
+    pub(crate) bound: BoundRig,
+    pub(crate) vertices: Vec<u32>,
 }
 
-fn face() -> Face {
+pub(crate) fn face() -> Face {
     let mesh = grimace::io::builtin::default_mesh();
     let rig = grimace::io::builtin::default_rig();
     let bound = Deformation::default().bind(&rig, &mesh).unwrap();
@@ -27,7 +27,7 @@ fn face() -> Face {
     Face { bound, vertices }
 }
 
-fn act(face: &Face, muscles: &[(&str, f32)], jaw: f32) -> Activations {
+pub(crate) fn act(face: &Face, muscles: &[(&str, f32)], jaw: f32) -> Activations {
     let rig = face.bound.rig();
     let mut a = Activations::zero(rig);
     for (name, value) in muscles {
@@ -38,7 +38,7 @@ fn act(face: &Face, muscles: &[(&str, f32)], jaw: f32) -> Activations {
 }
 
 /// The tracked rows of a CSV, read as capture reads them.
-fn read(text: &str) -> Vec<Vec<Vec3>> {
+pub(crate) fn read(text: &str) -> Vec<Vec<Vec3>> {
     let mut reader = OpenFaceReader::with_landmarks(text.as_bytes(), Path::new("s.csv")).unwrap();
     let mut rows = Vec::new();
     while let Some(outcome) = reader.next_row().unwrap() {
