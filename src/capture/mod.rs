@@ -118,21 +118,16 @@ impl<'a> Session<'a> {
         })
     }
 
-    /// One frame's signed muscle work from this session's neutral ([`FrameSolver::signed`]:
-    /// the sum of the signed activations, the jaw's counted at half, its range being twice a
-    /// muscle's) and its pose-removed landmarks; `None` for a frame that is not a usable
-    /// face. Below 0, the frame works less than the neutral does.
-    pub fn signed_work(&mut self, landmarks: &[Vec3]) -> Option<(f64, Vec<DVec3>)> {
+    /// One frame's signed muscle reading from this session's neutral
+    /// ([`FrameSolver::signed`]: below 0, a muscle works less than in the neutral) and its
+    /// pose-removed landmarks; `None` for a frame that is not a usable face.
+    pub fn signed(&mut self, landmarks: &[Vec3]) -> Option<(Vec<f64>, Vec<DVec3>)> {
         if crate::landmarks::check_shape(landmarks).is_err() {
             return None;
         }
         let aligned = pose::align(landmarks, &self.neutral)?;
         let motion = self.to_rig.motion(&aligned.points, &self.neutral);
-        let signed = self.solver.signed(&motion);
-        let muscles = signed.len().min(self.solver.muscle_count());
-        let work =
-            signed[..muscles].iter().sum::<f64>() + signed[muscles..].iter().sum::<f64>() * 0.5;
-        Some((work, aligned.points))
+        Some((self.solver.signed(&motion), aligned.points))
     }
 
     /// The subject's neutral landmarks (tracker units).

@@ -10,12 +10,15 @@
 //! Measured from a neutral that carries work, the frames that work less than it read below
 //! 0 in that work's muscles. So each frame's muscles are read signed
 //! ([`super::FrameSolver::signed`]: linear least squares on the rig's landmark Jacobian at
-//! rest, every variable free to go below 0), and the frame's signed work is their sum. The
-//! new neutral is the per-landmark median of the quarter of frames ([`FRACTION`]) that work
-//! least; from it the frames are read again, until the same frames work least (at most
-//! [`PASSES`] passes). The neutral is then the face of the recording's least-working frames
-//! (robustly: a median of a quarter, not the one lowest frame, which noise decides), from
-//! which the others are reached by muscles pulling, not by muscles pulling less.
+//! rest, every variable free to go below 0). Each muscle's least state is a low quantile of
+//! its readings over the recording ([`LEAST_QUANTILE`]), and a frame's work is the sum of
+//! how far each muscle works above its least (a muscle below it pays for no other's work: a
+//! narrow mouth does not make an open jaw calm). The new neutral is the per-landmark median
+//! of the quarter of frames ([`FRACTION`]) that work least; from it the frames are read
+//! again, until the same frames work least (at most [`PASSES`] passes). The neutral is then
+//! the face of the recording's least-working frames (a median of a quarter, not the one
+//! lowest frame, which noise decides), from which the others are reached by muscles
+//! pulling, not by muscles pulling less.
 //!
 //! Not kept (docs/capture.md): alternating the frames' non-negative activations with the
 //! neutral moved by their mean residual. A frame that works less than the neutral is mostly
@@ -47,6 +50,10 @@ pub struct LeastWork {
 
 /// The neutral of `frames` from which they are reached with the least muscle work, starting
 /// from `start` (the calm-frame median); frames that are not a usable face are left out.
+/// Also tried and not kept: moving the neutral by every muscle's least state at once (the
+/// face at which each muscle rests as far as the recording shows, through the Jacobian);
+/// the least states of muscles the landmarks barely tell apart are read independently and
+/// do not settle (on a real recording they swing between -1.3 and the -2 bound).
 pub fn least_work(
     bound: &BoundRig,
     model: &LandmarkModel,
@@ -64,29 +71,68 @@ pub fn least_work(
     for pass in 1..=PASSES {
         let source = NeutralSource::FirstFrame(0);
         let mut session = Session::new(bound, model, neutral.clone(), source, regularisation)?;
-        let mut work: Vec<(f64, usize, Vec<DVec3>)> = frames
+        let read: Vec<(usize, Vec<f64>, Vec<DVec3>)> = frames
             .iter()
             .enumerate()
-            .filter_map(|(k, f)| session.signed_work(f).map(|(w, p)| (w, k, p)))
+            .filter_map(|(k, f)| session.signed(f).map(|(a, p)| (k, a, p)))
             .collect();
-        if work.is_empty() {
+        if read.is_empty() {
             return Err(CaptureError::NoUsableFrames);
         }
+        let least = least_states(&read);
+        let mut work: Vec<(f64, usize)> = read
+            .iter()
+            .enumerate()
+            .map(|(r, (_, a, _))| (work_above(a, &least, model.muscle_count()), r))
+            .collect();
         work.sort_by(|a, b| a.0.total_cmp(&b.0));
         let used = ((work.len() as f64 * FRACTION).ceil() as usize).clamp(1, work.len());
-        let mut least: Vec<usize> = work[..used].iter().map(|w| w.1).collect();
-        least.sort_unstable();
+        let mut chosen: Vec<usize> = work[..used].iter().map(|w| read[w.1].0).collect();
+        chosen.sort_unstable();
         found = LeastWork {
             used,
-            of: work.len(),
+            of: read.len(),
             passes: pass,
         };
-        if least == before {
+        if chosen == before {
             break;
         }
-        let shapes: Vec<&[DVec3]> = work[..used].iter().map(|w| w.2.as_slice()).collect();
+        let shapes: Vec<&[DVec3]> = work[..used]
+            .iter()
+            .map(|w| read[w.1].2.as_slice())
+            .collect();
         neutral = super::pose::median_shape(&shapes);
-        before = least;
+        before = chosen;
     }
     Ok((neutral, found))
+}
+
+/// The quantile of each variable's signed reading over the frames taken as its least state:
+/// low, but not the lowest frame, which noise decides.
+pub const LEAST_QUANTILE: f64 = 0.05;
+
+/// Each variable's least state over the frames read: its [`LEAST_QUANTILE`].
+fn least_states(read: &[(usize, Vec<f64>, Vec<DVec3>)]) -> Vec<f64> {
+    let n = read.first().map_or(0, |r| r.1.len());
+    let at = ((read.len() as f64 * LEAST_QUANTILE) as usize).min(read.len().saturating_sub(1));
+    (0..n)
+        .map(|i| {
+            let mut values: Vec<f64> = read.iter().map(|r| r.1[i]).collect();
+            values.sort_by(f64::total_cmp);
+            values[at]
+        })
+        .collect()
+}
+
+/// A frame's muscle work above every variable's least state: what the muscles do from a
+/// face where each rests as far as the recording shows it can. Only work above counts: a
+/// muscle below its least does not pay for another's work (a narrow mouth does not make an
+/// open jaw calm); the jaw counts at half, its range being twice a muscle's.
+fn work_above(signed: &[f64], least: &[f64], muscles: usize) -> f64 {
+    signed
+        .iter()
+        .zip(least)
+        .enumerate()
+        .map(|(i, (a, l))| (a - l).max(0.0) * if i < muscles { 1.0 } else { 0.5 })
+        .sum()
 }

@@ -127,11 +127,6 @@ impl<'a> FrameSolver<'a> {
         self.previous = None;
     }
 
-    /// Number of muscles (the jaw, when there is one, is the variable after them).
-    pub fn muscle_count(&self) -> usize {
-        self.model.muscle_count()
-    }
-
     /// The landmark weights per axis of the rig (see [`landmark_weight`]).
     pub fn weights(&self) -> &[DVec3] {
         &self.weights
