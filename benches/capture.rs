@@ -1,7 +1,8 @@
 //! `grimace capture` on a 700-frame recording made by the rig itself (a smile, a brow raise
 //! and the jaw coming and going while the head turns), end to end (the process, start-up
-//! included: what the 300 frames a second is about) and per frame (the library's
-//! solve alone).
+//! included: what the 300 frames a second is about), per frame (the library's solve
+//! alone) and the start-up's parts (the landmark model, the calm-frame median, the
+//! least-work neutral).
 //!
 //! Run: `cargo bench --bench capture`. Prints the end-to-end median and frames per second.
 
@@ -84,12 +85,32 @@ fn capture(c: &mut Criterion) {
     let rows: Vec<Vec<Vec3>> = frames.into_iter().flatten().collect();
     let model = LandmarkModel::new(&bound, &vertices);
     let refs: Vec<&[Vec3]> = rows.iter().map(Vec::as_slice).collect();
-    let (neutral, _) = pose::estimate_neutral(&refs).expect("a neutral");
+    let (median, _) = pose::estimate_neutral(&refs).expect("a neutral");
+    let regularisation = Regularisation::default();
+    let (neutral, _) = grimace::capture::neutral::least_work(
+        &bound,
+        &model,
+        &refs,
+        median.clone(),
+        regularisation,
+    )
+    .expect("the least-work neutral");
     c.bench_function("capture: landmark model (start-up)", |b| {
         b.iter(|| LandmarkModel::new(black_box(&bound), &vertices))
     });
     c.bench_function("capture: estimate the neutral (700 frames)", |b| {
         b.iter(|| pose::estimate_neutral(black_box(&refs)))
+    });
+    c.bench_function("capture: the least-work neutral (700 frames)", |b| {
+        b.iter(|| {
+            grimace::capture::neutral::least_work(
+                &bound,
+                &model,
+                black_box(&refs),
+                median.clone(),
+                regularisation,
+            )
+        })
     });
     let mut session = Session::new(
         &bound,
