@@ -51,11 +51,16 @@ pub(crate) fn read(text: &str) -> Vec<Vec<Vec3>> {
     rows
 }
 
-/// Solves every frame with an estimated neutral.
+/// Solves every frame with an estimated neutral, as `capture` estimates it (the calm-frame
+/// median, then the least-work neutral).
 fn solve(face: &Face, rows: &[Vec<Vec3>]) -> Vec<Option<grimace::capture::Captured>> {
     let model = LandmarkModel::new(&face.bound, &face.vertices);
     let frames: Vec<&[Vec3]> = rows.iter().map(Vec::as_slice).collect();
-    let (neutral, _) = pose::estimate_neutral(&frames).unwrap();
+    let (median, _) = pose::estimate_neutral(&frames).unwrap();
+    let regularisation = Regularisation::default();
+    let (neutral, _) =
+        grimace::capture::neutral::least_work(&face.bound, &model, &frames, median, regularisation)
+            .unwrap();
     let mut session = Session::new(
         &face.bound,
         &model,
