@@ -64,9 +64,10 @@ pub(super) fn near_corner(lips: &LipSides, p: Vec3) -> bool {
     lips.corner_distance(p) <= CORNER_REACH * lips.width()
 }
 
-/// Eases `w` on the skin of `mesh` `within` a region: wherever an edge is steeper than `limit` (per mesh unit, each change weighted
-/// by `strength` as in [`steepest`]), its ends and their neighbours take the mean of their
-/// neighbours (weighted by `1 / length^2`), round after round, until no edge there is.
+/// Eases `w` on the skin of `mesh` `within` a region: wherever an edge is steeper than
+/// `limit` (per mesh unit, each change weighted by `strength` as in [`steepest`]), its ends
+/// and their neighbours take the mean of their neighbours (weighted by `1 / length^2`),
+/// round after round, until no edge there is.
 pub(super) fn ease(
     mesh: &Mesh,
     parts: &Parts,
@@ -127,13 +128,19 @@ pub(super) fn ease(
         if free.is_empty() {
             break;
         }
-        for v in free {
-            let (sum, total) = neighbours[&v].iter().fold((0.0, 0.0), |(s, t), &(n, k)| {
-                (s + k * f64::from(w[n]), t + k)
-            });
-            if total > 0.0 {
-                w[v] = (sum / total) as f32;
-            }
+        // all from the last round's weights (not in vertex order): a mirror-symmetric mesh
+        // eases a muscle's mask and its mirror's into mirror images
+        let next: Vec<(usize, f32)> = free
+            .into_iter()
+            .filter_map(|v| {
+                let (sum, total) = neighbours[&v].iter().fold((0.0, 0.0), |(s, t), &(n, k)| {
+                    (s + k * f64::from(w[n]), t + k)
+                });
+                (total > 0.0).then_some((v, (sum / total) as f32))
+            })
+            .collect();
+        for (v, x) in next {
+            w[v] = x;
         }
     }
 }
