@@ -138,8 +138,17 @@ pub fn weights(
         super::jawfade::FADE_ALONG * warp.spread,
     );
     if let Some(lips) = lips {
-        let limit = steepest(template.mesh, &dense) / warp.similarity.scale;
-        ease_corners(mesh, parts, &mut all_weights, lips, limit);
+        // how fast the template's own corners let the weight change, anywhere on it
+        let one = |_: usize| 1.0;
+        let limit = super::ease::steepest(template.mesh, &dense, &one, &|_, _| true)
+            / warp.similarity.scale;
+        super::ease::ease(
+            mesh,
+            parts,
+            &mut all_weights,
+            &|p| super::ease::near_corner(lips, p),
+            (limit, &one),
+        );
     }
     all_weights
         .into_iter()
@@ -174,100 +183,4 @@ fn template_skin(template: Template<'_>, carried: &[Vec3]) -> Nearest {
         .filter(|&v| skin_pieces.binary_search(&component[v as usize]).is_ok())
         .collect();
     Nearest::new(ids.iter().map(|&v| carried[v as usize]).collect(), ids)
-}
-
-/// How far round each mouth corner the jaw's weights are eased, in outer mouth widths.
-const CORNER_REACH: f32 = 0.25;
-/// Relaxation rounds at most.
-const EASE_ROUNDS: usize = 400;
-
-/// The steepest change of the template's jaw weights along any of its edges, per unit
-/// length: how fast the template's own corners let the weight change.
-fn steepest(mesh: &Mesh, weights: &[f32]) -> f64 {
-    mesh.edges()
-        .into_iter()
-        .filter_map(|[a, b]| {
-            let len = f64::from(mesh.positions[a as usize].distance(mesh.positions[b as usize]));
-            let jump = f64::from(weights[a as usize] - weights[b as usize]).abs();
-            (len > 0.0).then_some(jump / len)
-        })
-        .fold(0.0, f64::max)
-}
-
-/// Eases the jaw weights round the mouth corners, where the skin joins the lips and the
-/// weight changes from the upper lip's (still) to the lower lip's (the jaw's). Carried by
-/// nearest point from a template whose slit runs further into the corner, or split by lip
-/// onto a mesh whose lips join a little sooner, two vertices a fraction of a millimetre apart
-/// can take weights a third apart (MakeHuman's corners: 0.19 and 0.46 across a 0.6 mm edge,
-/// a 7x stretch at AU26). Within [`CORNER_REACH`] of a corner, wherever an edge's weights
-/// change faster than anywhere on the template (`limit`, per mesh unit), its ends and their
-/// neighbours take the mean of their neighbours (weighted by `1 / length^2`), round after
-/// round, until no edge there is steeper: the jump across the corner then grows from the
-/// corner as on the template. A fit to the template itself has no steeper edge and changes
-/// nothing; the open slit has no edges across it, so the lips stay split.
-fn ease_corners(
-    mesh: &Mesh,
-    parts: &Parts,
-    w: &mut [f32],
-    lips: &super::lipsides::LipSides,
-    limit: f64,
-) {
-    let reach = CORNER_REACH * lips.width();
-    let near: Vec<bool> = mesh
-        .positions
-        .iter()
-        .zip(&parts.of_vertex)
-        .map(|(p, part)| *part == Part::Skin && lips.corner_distance(*p) <= reach)
-        .collect();
-    let edges: Vec<(usize, usize, f64)> = mesh
-        .edges()
-        .into_iter()
-        .map(|[a, b]| (a as usize, b as usize))
-        .filter(|&(a, b)| near[a] || near[b])
-        .filter(|&(a, b)| parts.of_vertex[a] == Part::Skin && parts.of_vertex[b] == Part::Skin)
-        .map(|(a, b)| {
-            (
-                a,
-                b,
-                f64::from(mesh.positions[a].distance(mesh.positions[b])),
-            )
-        })
-        .filter(|&(_, _, len)| len > 0.0)
-        .collect();
-    let mut neighbours: std::collections::HashMap<usize, Vec<(usize, f64)>> = Default::default();
-    for &(a, b, len) in &edges {
-        neighbours
-            .entry(a)
-            .or_default()
-            .push((b, 1.0 / (len * len)));
-        neighbours
-            .entry(b)
-            .or_default()
-            .push((a, 1.0 / (len * len)));
-    }
-    for _ in 0..EASE_ROUNDS {
-        let mut free: Vec<usize> = Vec::new();
-        for &(a, b, len) in &edges {
-            if f64::from(w[a] - w[b]).abs() > limit * len * (1.0 + 1e-3) {
-                for v in [a, b] {
-                    free.push(v);
-                    free.extend(neighbours[&v].iter().map(|&(n, _)| n));
-                }
-            }
-        }
-        free.retain(|&v| near[v]);
-        free.sort_unstable();
-        free.dedup();
-        if free.is_empty() {
-            break;
-        }
-        for v in free {
-            let (sum, total) = neighbours[&v].iter().fold((0.0, 0.0), |(s, t), &(n, k)| {
-                (s + k * f64::from(w[n]), t + k)
-            });
-            if total > 0.0 {
-                w[v] = (sum / total) as f32;
-            }
-        }
-    }
 }

@@ -10,6 +10,7 @@
 //! - `reach`: fitted rings kept to the part of the face the template's reach;
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh (`jawfade`: beyond the template's face, along the mesh);
+//! - `ease`: weights eased where they change faster than on the template (the jaw's round the mouth corners, the lip muscles' masks);
 //! - [`lipcut`]: joined lips found and cut open;
 //! - [`eyecut`]: eye openings covered by skin found and cut open, with a dark eye behind;
 //! - [`lipsides`]: which lip each vertex is on, by connectivity;
@@ -23,6 +24,7 @@
 
 pub mod brow_hair;
 mod brows;
+mod ease;
 pub mod eyecut;
 pub mod jaw;
 mod jawfade;

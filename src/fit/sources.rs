@@ -222,8 +222,15 @@ impl Sources {
 
 /// The template's skin vertices: all but those its still mask holds.
 fn template_skin(template: Template<'_>) -> Vec<u32> {
-    let count = template.mesh.vertex_count();
-    let mut skin = vec![true; count];
+    let skin = template_skin_flags(template);
+    (0..skin.len() as u32)
+        .filter(|&v| skin[v as usize])
+        .collect()
+}
+
+/// Per template vertex, whether it is skin: not held by the template's still mask.
+pub(super) fn template_skin_flags(template: Template<'_>) -> Vec<bool> {
+    let mut skin = vec![true; template.mesh.vertex_count()];
     for mask in template
         .rig
         .masks
@@ -236,7 +243,7 @@ fn template_skin(template: Template<'_>) -> Vec<u32> {
             }
         }
     }
-    (0..count as u32).filter(|&v| skin[v as usize]).collect()
+    skin
 }
 
 /// A face's midline plane: through the mean of its 68 landmarks (a symmetric layout), across

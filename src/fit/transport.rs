@@ -193,7 +193,21 @@ pub fn fit_rig(
             [lips[0].as_ref(), lips[1].as_ref()],
         ),
     );
-    rig.masks.extend(carry_masks(template, &sources));
+    let mut carried = carry_masks(template, &sources);
+    // the lips' muscles' masks no steeper than on the template (a finer mesh read a coarse
+    // template's corners and midline in steps)
+    let lip_muscles: Vec<String> = sides
+        .iter()
+        .filter(|(opening, _, _)| opening == "mouth")
+        .flat_map(|(_, upper, lower)| upper.iter().chain(lower).cloned())
+        .collect();
+    let faces = super::ease::Faces {
+        template,
+        mesh: (mesh, &parts, &rig.muscles),
+        gains: &gains,
+    };
+    super::ease::ease_masks(&faces, &lip_muscles, &mut carried);
+    rig.masks.extend(carried.into_iter().map(|(_, mask)| mask));
     rig.masks.extend(still_mask(&rig, &parts));
     rig.masks
         .extend(depth_masks(&rig, template, mesh, &sources, [&from, &to]));
@@ -693,8 +707,8 @@ fn depth_masks(
 /// its source ([`Sources`]), blended back to 1 by the source's share. A mask holding the
 /// template's still parts is not carried: the mesh's own parts make its still mask. The
 /// masks' gains are folded into each muscle's gain by [`fit_rig`], so a carried mask has
-/// gain 1.
-fn carry_masks(template: Template<'_>, sources: &Sources) -> Vec<Mask> {
+/// gain 1. Each comes with the template's mask it was carried from.
+fn carry_masks<'a>(template: Template<'a>, sources: &Sources) -> Vec<(&'a Mask, Mask)> {
     let count = template.mesh.vertex_count();
     template
         .rig
@@ -733,10 +747,13 @@ fn carry_masks(template: Template<'_>, sources: &Sources) -> Vec<Mask> {
                     (w < 1.0 - GAIN_EPSILON).then_some((v as u32, w as f32))
                 })
                 .collect();
-            (!weights.is_empty()).then(|| Mask {
-                muscles: mask.muscles.clone(),
-                gain: 1.0,
-                weights,
+            (!weights.is_empty()).then(|| {
+                let carried = Mask {
+                    muscles: mask.muscles.clone(),
+                    gain: 1.0,
+                    weights,
+                };
+                (mask, carried)
             })
         })
         .collect()

@@ -16,6 +16,7 @@ mod eyes;
 mod lidfold;
 mod lids;
 mod lipcut;
+mod lipmasks;
 mod mouth;
 mod parts;
 mod real;

@@ -198,14 +198,16 @@ fn tears(head: &Head, skin: SkinRules) -> Vec<(String, Damage)> {
     torn
 }
 
-/// The spread tears fewer poses, and turns fewer triangles over, than the muscles' own
-/// fields with the same slide and area bound.
+/// The spread tears fewer poses, and turns no more triangles over, than the muscles' own
+/// fields with the same slide and area bound. (Fewer, before the lips' muscles' masks were
+/// eased on fitted heads, `fit::ease`: the flips without the spread on MediaPipe fell to
+/// those with it, 44 each.)
 fn assert_the_spread_tears_less(head: &Head) {
     let before = tears(head, SkinRules::DEFAULT);
     let after = tears(head, SkinRules::TISSUE);
     let flips = |t: &[(String, Damage)]| t.iter().map(|(_, d)| d.flips).sum::<usize>();
     assert!(
-        after.len() < before.len() && flips(&after) < flips(&before),
+        after.len() < before.len() && flips(&after) <= flips(&before),
         "{}: {} poses tear with the spread ({} flips), {} without ({} flips)",
         head.name,
         after.len(),
@@ -255,8 +257,9 @@ fn fitted_shared_heads_tear_no_more_than_measured() {
             // chin over), the default rig's muscle ranges and the slide kept out of the skin's
             // folds (60, 1941 before these four); the lids closing at their free edges
             // (`fit::lidedge`), the slide's normal taking its patch's mean in folds and the
-            // lips' linings reading their carried masks from their own lip (35, 468 before)
-            "MakeHuman base mesh" => (29, 129),
+            // lips' linings reading their carried masks from their own lip (35, 468 before);
+            // the lips' muscles' masks eased (`fit::ease`; 29, 129 before)
+            "MakeHuman base mesh" => (24, 129),
             other => panic!("no bound for {other}"),
         };
         let torn = tears(&head, SkinRules::DEFAULT);

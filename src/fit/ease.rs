@@ -1,0 +1,242 @@
+//! Per-vertex weights eased where a fitted mesh's weights change faster between neighbours
+//! than the template's do: the jaw's round the mouth corners, the lip muscles' masks over
+//! the whole face.
+//!
+//! Weights are carried from the template by nearest point, so a mesh finer than the template
+//! sees each template vertex's weight over a patch and a step where the nearest vertex
+//! changes; and where the mesh's lips join sooner than the template's (MakeHuman's meet in
+//! front of the corner landmarks), a vertex of one lip lies nearest the template's other lip.
+//! Two vertices a millimetre apart then took weights of template vertices several
+//! millimetres apart, or of the two lips: MakeHuman's corners took jaw weights 0.19 and 0.46
+//! across a 0.6 mm edge (7x at AU26), and the levator labii's mask 1.0 and 0.44 across a
+//! 1.2 mm edge just inside each corner (3.5x at AU10). Wherever an edge changes faster than
+//! the template lets it change, its ends and their neighbours take the mean of their
+//! neighbours' weights, round after round, until no edge is steeper. The template fitted to
+//! itself has no steeper edge and keeps its weights; an open slit has no edges across it,
+//! so the lips stay apart.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use super::lipsides::LipSides;
+use super::parts::{Part, Parts};
+use super::Template;
+use crate::model::{Field, Mask, Mesh, Muscle};
+
+/// How far round each mouth corner the jaw's weights are eased, in outer mouth widths.
+const CORNER_REACH: f32 = 0.25;
+/// Relaxation rounds at most.
+const EASE_ROUNDS: usize = 400;
+/// A mask whose change strains the template's skin less than this anywhere (its change
+/// per unit length times its muscles' pull, a fraction of the edge's length) changes only
+/// where its muscles do not pull: the template says nothing of how fast it may change under
+/// their pull, and it is left as carried (the mentalis's: 0.0006 on the built-in face).
+const MIN_STRAIN: f64 = 0.01;
+
+/// How steep a weight may change along an edge: its change times the edge's `strength` (the
+/// largest of its ends'), per unit length.
+fn slope(w: [f32; 2], strength: [f64; 2], len: f64) -> f64 {
+    f64::from(w[0] - w[1]).abs() * strength[0].max(strength[1]) / len
+}
+
+/// The steepest change of `weights` along the edges of `mesh` that `counts` (given both
+/// ends) keeps, per unit length, each change weighted by the edge's `strength`.
+pub(super) fn steepest(
+    mesh: &Mesh,
+    weights: &[f32],
+    strength: &dyn Fn(usize) -> f64,
+    counts: &dyn Fn(usize, usize) -> bool,
+) -> f64 {
+    mesh.edges()
+        .into_iter()
+        .map(|[a, b]| (a as usize, b as usize))
+        .filter(|&(a, b)| counts(a, b))
+        .filter_map(|(a, b)| {
+            let len = f64::from(mesh.positions[a].distance(mesh.positions[b]));
+            (len > 0.0).then(|| slope([weights[a], weights[b]], [strength(a), strength(b)], len))
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Whether vertex `p` lies within [`CORNER_REACH`] of a mouth corner of `lips`.
+pub(super) fn near_corner(lips: &LipSides, p: Vec3) -> bool {
+    lips.corner_distance(p) <= CORNER_REACH * lips.width()
+}
+
+/// Eases `w` on the skin of `mesh` `within` a region: wherever an edge is steeper than
+/// `limit` (per mesh unit, each change weighted by `strength` as in [`steepest`]), its ends
+/// and their neighbours take the mean of their neighbours (weighted by `1 / length^2`),
+/// round after round, until no edge there is.
+pub(super) fn ease(
+    mesh: &Mesh,
+    parts: &Parts,
+    w: &mut [f32],
+    within: &dyn Fn(Vec3) -> bool,
+    (limit, strength): (f64, &dyn Fn(usize) -> f64),
+) {
+    let near: Vec<bool> = mesh
+        .positions
+        .iter()
+        .zip(&parts.of_vertex)
+        .map(|(p, part)| *part == Part::Skin && within(*p))
+        .collect();
+    let edges: Vec<(usize, usize, f64)> = mesh
+        .edges()
+        .into_iter()
+        .map(|[a, b]| (a as usize, b as usize))
+        .filter(|&(a, b)| near[a] || near[b])
+        .filter(|&(a, b)| parts.of_vertex[a] == Part::Skin && parts.of_vertex[b] == Part::Skin)
+        .map(|(a, b)| {
+            (
+                a,
+                b,
+                f64::from(mesh.positions[a].distance(mesh.positions[b])),
+            )
+        })
+        .filter(|&(_, _, len)| len > 0.0)
+        .collect();
+    let strength: HashMap<usize, f64> = edges
+        .iter()
+        .flat_map(|&(a, b, _)| [a, b])
+        .map(|v| (v, strength(v)))
+        .collect();
+    let mut neighbours: HashMap<usize, Vec<(usize, f64)>> = HashMap::new();
+    for &(a, b, len) in &edges {
+        neighbours
+            .entry(a)
+            .or_default()
+            .push((b, 1.0 / (len * len)));
+        neighbours
+            .entry(b)
+            .or_default()
+            .push((a, 1.0 / (len * len)));
+    }
+    for _ in 0..EASE_ROUNDS {
+        let mut free: Vec<usize> = Vec::new();
+        for &(a, b, len) in &edges {
+            if slope([w[a], w[b]], [strength[&a], strength[&b]], len) > limit * (1.0 + 1e-3) {
+                for v in [a, b] {
+                    free.push(v);
+                    free.extend(neighbours[&v].iter().map(|&(n, _)| n));
+                }
+            }
+        }
+        free.retain(|&v| near[v]);
+        free.sort_unstable();
+        free.dedup();
+        if free.is_empty() {
+            break;
+        }
+        // all from the last round's weights (not in vertex order): a mirror-symmetric mesh
+        // eases a muscle's mask and its mirror's into mirror images
+        let next: Vec<(usize, f32)> = free
+            .into_iter()
+            .filter_map(|v| {
+                let (sum, total) = neighbours[&v].iter().fold((0.0, 0.0), |(s, t), &(n, k)| {
+                    (s + k * f64::from(w[n]), t + k)
+                });
+                (total > 0.0).then_some((v, (sum / total) as f32))
+            })
+            .collect();
+        for (v, x) in next {
+            w[v] = x;
+        }
+    }
+}
+
+/// The template and the mesh with its parts and fitted muscles.
+pub(super) struct Faces<'a> {
+    /// The template.
+    pub(super) template: Template<'a>,
+    /// The mesh, its parts and its fitted muscles.
+    pub(super) mesh: (&'a Mesh, &'a Parts, &'a [Muscle]),
+    /// Each fitted muscle's gain where it is not 1 (the template's masks' gains are carried
+    /// into it).
+    pub(super) gains: &'a [(String, f64)],
+}
+
+/// Eases the carried per-vertex masks of the lips' muscles (`carried`, each with the
+/// template's mask it was read from: `(template mask, carried mask)`; masks naming any other
+/// muscle are left alone). A mask's change matters as far as its muscles pull there, so each
+/// edge's change is weighted by the largest pull of the mask's muscles at its ends (the bare
+/// field at activation 1, times the muscle's gain), and the limit is the steepest such
+/// change along the template's skin edges.
+pub(super) fn ease_masks(faces: &Faces<'_>, lip_muscles: &[String], carried: &mut [(&Mask, Mask)]) {
+    let template = faces.template;
+    let (mesh, parts, muscles) = faces.mesh;
+    let skin_template = super::sources::template_skin_flags(template);
+    let count = template.mesh.vertex_count();
+    for (from, to) in carried
+        .iter_mut()
+        .filter(|(from, _)| from.muscles.iter().all(|m| lip_muscles.contains(m)))
+    {
+        let template_pull = pull(
+            &template.rig.muscles,
+            &from.muscles,
+            &template.mesh.positions,
+            &|name| {
+                template
+                    .rig
+                    .masks
+                    .iter()
+                    .filter(|m| m.muscles.iter().any(|n| n == name))
+                    .map(|m| f64::from(m.gain))
+                    .product()
+            },
+        );
+        let mut dense = vec![1.0f32; count];
+        for &(v, w) in &from.weights {
+            if let Some(slot) = dense.get_mut(v as usize) {
+                *slot = w;
+            }
+        }
+        let at_template = |v: usize| template_pull.get(v).copied().unwrap_or(0.0);
+        let skin = |a: usize, b: usize| skin_template[a] && skin_template[b];
+        let limit = steepest(template.mesh, &dense, &at_template, &skin);
+        if limit < MIN_STRAIN {
+            continue;
+        }
+        let mesh_pull = pull(muscles, &from.muscles, &mesh.positions, &|name| {
+            faces
+                .gains
+                .iter()
+                .find(|(n, _)| n == name)
+                .map_or(1.0, |&(_, g)| g)
+        });
+        let mut w = vec![1.0f32; mesh.vertex_count()];
+        for &(v, x) in &to.weights {
+            w[v as usize] = x;
+        }
+        let at_mesh = |v: usize| mesh_pull.get(v).copied().unwrap_or(0.0);
+        ease(mesh, parts, &mut w, &|_| true, (limit, &at_mesh));
+        to.weights = w
+            .iter()
+            .enumerate()
+            .filter(|&(_, &x)| x < 1.0 - 1e-6)
+            .map(|(v, &x)| (v as u32, x))
+            .collect();
+    }
+}
+
+/// Per vertex of `positions`, the largest pull of the named `muscles` of `all` at activation 1
+/// (the bare field's length times the muscle's `gain`).
+fn pull(
+    all: &[Muscle],
+    muscles: &[String],
+    positions: &[Vec3],
+    gain: &dyn Fn(&str) -> f64,
+) -> Vec<f64> {
+    let mut out = vec![0.0f64; positions.len()];
+    for m in all.iter().filter(|m| muscles.contains(&m.name)) {
+        let field = Field::of(&m.kind, positions);
+        let g = gain(&m.name).abs();
+        for (&v, d) in field.vertices.iter().zip(&field.displacements) {
+            let p = f64::from(d.length()) * g;
+            if p > out[v as usize] {
+                out[v as usize] = p;
+            }
+        }
+    }
+    out
+}
