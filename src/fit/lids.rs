@@ -29,6 +29,7 @@
 use glam::{DMat3, DVec3, Vec3};
 
 use super::lidedge::EyeMarks;
+use super::lowerlid::{lower_lid_mask, replace_carried, EyeVertices};
 use super::parts::{Part, Parts};
 use super::warp::Warp;
 use super::Template;
@@ -283,6 +284,19 @@ fn sphincter<'a>(rig: &'a Rig, name: &str) -> Option<&'a Sphincter> {
     }
 }
 
+/// Whether ring `name` acts on the lower lid alone: its weight at each upper lid landmark is
+/// under a tenth of its least weight at the lower lid's, which is above 0.
+fn is_lower_ring(rig: &Rig, name: &str, eye: &EyeVertices) -> bool {
+    let at = |vs: &[u32]| {
+        vs.iter()
+            .map(|&v| weight(rig, name, v))
+            .collect::<Vec<f64>>()
+    };
+    let lower = at(&eye.lower).into_iter().fold(f64::INFINITY, f64::min);
+    let upper = at(&eye.upper).into_iter().fold(0.0, f64::max);
+    lower > 0.0 && upper < 0.1 * lower
+}
+
 /// The eye a ring centred at `c` closes: the eye whose lid landmarks' middle is within the
 /// eye's half-width of it.
 fn eye_of(landmarks: &[Vec3], c: Vec3) -> Option<&'static EyeLandmarks> {
@@ -309,6 +323,7 @@ pub(super) fn shape_lids(
     marks: &[u32],
 ) -> Reshaped {
     let mut reshaped = Vec::new();
+    let mut lower = Vec::new();
     let names: Vec<String> = rig.muscles.iter().map(|m| m.name.clone()).collect();
     for name in names {
         let Some(s) = sphincter(rig, &name).cloned() else {
@@ -323,12 +338,23 @@ pub(super) fn shape_lids(
         let Some(upper) = upper_closure(rig, &name, mesh, target, eye) else {
             continue;
         };
-        // a ring that does not bring the upper lid down (the lower lid's own ring) is not
-        // the closing ring
-        if upper < 0.25 {
+        if is_template_here(&s, template, warp, mesh, parts) {
             continue;
         }
-        if is_template_here(&s, template, warp, mesh, parts) {
+        // a ring that does not bring the upper lid down is not the closing ring; one that
+        // acts on the lower lid alone is the lower lid's own (AU7), faded along the skin
+        if upper < 0.25 {
+            let at = |ids: &[usize]| [marks[ids[0]], marks[ids[1]]];
+            let vertices = EyeVertices {
+                corners: at(&[eye.upper[0], eye.upper[3]]),
+                upper: at(&eye.upper[1..3]),
+                lower: at(&eye.lower[1..3]),
+            };
+            if is_lower_ring(rig, &name, &vertices) {
+                if let Some(mask) = lower_lid_mask(&name, &s, mesh, parts, vertices) {
+                    lower.push((name, mask));
+                }
+            }
             continue;
         }
         // the ring closes along the lids' own slope, so the upper margin comes down onto the
@@ -347,6 +373,9 @@ pub(super) fn shape_lids(
             reshaped.push(name);
         }
     }
+    let (names, masks): (Vec<String>, Vec<Mask>) = lower.into_iter().unzip();
+    replace_carried(rig, parts, &names, masks);
+    reshaped.extend(names);
     reshaped
 }
 

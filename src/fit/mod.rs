@@ -30,6 +30,7 @@ mod lidedge;
 mod lids;
 pub mod lipcut;
 pub mod lipsides;
+mod lowerlid;
 pub mod lsq;
 pub mod nearest;
 pub mod parts;
