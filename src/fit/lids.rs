@@ -38,6 +38,13 @@ use crate::model::{Convergence, Mask, Mesh, MuscleKind, Rig, Sphincter};
 /// How far short of where the lids meet each margin stops at 2.0, as a share of its travel.
 pub const STOP_SHORT: f64 = 0.015;
 
+/// A lid's triangle keeps at least this share of its normal (along the rest normal) at 2.0
+/// ([`keep_triangles_facing`]).
+const KEEP_NORMAL: f64 = 0.2;
+
+/// Rounds of [`keep_triangles_facing`] at most.
+const MAX_ROUNDS: usize = 100;
+
 /// How much further short the lids stop at the corners, as a share of their travel there.
 const CORNER_SLACK: f64 = 0.3;
 
@@ -439,19 +446,24 @@ fn wanted_travel(
         })
         .collect();
     let on_face = |v: usize| face.contains(&piece[v]);
-    let lid: Vec<(Vec3, f64)> = inside
+    let mut travel: Vec<Option<f64>> = inside
         .iter()
         .enumerate()
-        .filter(|&(v, q)| q.is_some() && on_face(v))
-        .filter_map(|(v, q)| Some((mesh.positions[v], profile.travel((*q)?))))
+        .map(|(v, q)| on_face(v).then(|| q.map(|q| profile.travel(q))).flatten())
+        .collect();
+    keep_triangles_facing(mesh, &inside, &mut travel);
+    let lid: Vec<(Vec3, f64)> = travel
+        .iter()
+        .enumerate()
+        .filter_map(|(v, t)| Some((mesh.positions[v], (*t)?)))
         .collect();
     inside
         .iter()
         .enumerate()
         .map(|(v, q)| {
             let q = (*q)?;
-            if on_face(v) {
-                return Some((q, profile.travel(q)));
+            if let Some(t) = travel[v] {
+                return Some((q, t));
             }
             let p = mesh.positions[v];
             let nearest = lid
@@ -460,6 +472,62 @@ fn wanted_travel(
             Some((q, nearest.1))
         })
         .collect()
+}
+
+/// Lowers the travel toward the axis (`travel`, for the points `inside` at their place in
+/// the ring's frame) where a triangle of the face would turn over: a canthus's fold
+/// (MakeHuman's rows 0.8 mm apart, one travelling 1.2 mm further than the row below it)
+/// turned over under the profile's own travel. The ring moves each point across the axis's
+/// line (frame `y`), so a triangle's normal moves linearly with how much of its points'
+/// differences in travel it takes: each triangle on one side of the axis that would keep
+/// less than [`KEEP_NORMAL`] of its normal takes only the share that keeps it, over its
+/// least travel (the rows then close up without passing), until no triangle needs it. Only
+/// travels are lowered, and only in triangles that would turn: the lids' middle keeps its
+/// profile.
+fn keep_triangles_facing(mesh: &Mesh, inside: &[Option<DVec3>], travel: &mut [Option<f64>]) {
+    let triangles: Vec<[usize; 3]> = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|v| v as usize))
+        .filter(|t| t.iter().all(|&v| travel[v].is_some()))
+        .collect();
+    for _ in 0..MAX_ROUNDS {
+        let mut changed = false;
+        for t in &triangles {
+            let (Some(q), Some(d)) = (
+                t.iter().map(|&v| inside[v]).collect::<Option<Vec<DVec3>>>(),
+                t.iter().map(|&v| travel[v]).collect::<Option<Vec<f64>>>(),
+            ) else {
+                continue;
+            };
+            // one side of the axis: every point moves the same way along y
+            let side = q[0].y.signum();
+            if q.iter().any(|p| p.y.signum() != side || p.y == 0.0) {
+                continue;
+            }
+            let least = d.iter().copied().fold(f64::INFINITY, f64::min);
+            let excess: Vec<f64> = d.iter().map(|x| x - least).collect();
+            let (u, w) = (q[1] - q[0], q[2] - q[0]);
+            let n = u.cross(w);
+            // the normal with a share `l` of the excess: n - l k (the y-moves are linear)
+            let (a, b) = (
+                -side * (excess[1] - excess[0]),
+                -side * (excess[2] - excess[0]),
+            );
+            let k = -n.dot(b * u.cross(DVec3::Y) + a * DVec3::Y.cross(w));
+            let room = (1.0 - KEEP_NORMAL) * n.length_squared();
+            if k > room {
+                let share = room / k;
+                for (&v, e) in t.iter().zip(&excess) {
+                    travel[v] = Some(least + share * e);
+                }
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
 }
 
 /// The mask that makes ring `s` close the eye's lids on `mesh` as the profile asks.
