@@ -20,6 +20,11 @@
 //!   inner fold, rows folding back into the socket) moves with the margin nearer to it, so
 //!   the rows of a lid's edge move together and do not turn over. Nothing beyond the corners
 //!   moves.
+//! - Where that travel would turn a triangle over (the close rows of a canthus's fold), the
+//!   triangle's corners close up over their least travel only as far as keeps a fifth of
+//!   its normal ([`keep_triangles_facing`]).
+//! - The lower lid's own ring (AU7) is not a closing ring; its carried mask is replaced by
+//!   one faded along the skin to the canthi (`super::lowerlid`).
 //! - The ring's gain is the smallest that lets its own pull (`2 g f t` at 2.0) reach that
 //!   travel at every lid landmark; each vertex's weight is the share of that pull it needs.
 //!
@@ -425,7 +430,9 @@ fn release(rig: &mut Rig, name: &str) {
 /// Per vertex, for the skin inside ring `s`: its place in the ring's frame and how far the
 /// ring should move it at 2.0 (the profile's travel). Skin on a piece of its own, holding no
 /// landmark (lashes, whether their group says so or not), takes the travel of the nearest
-/// skin vertex of the face's pieces inside the ring: the lid edge it grows from.
+/// skin vertex of the face's pieces inside the ring: the lid edge it grows from. Travel
+/// that would turn a triangle over is lowered ([`keep_triangles_facing`]), the face's before
+/// the lashes take theirs.
 fn wanted_travel(
     s: &Sphincter,
     frame: &RingFrame,
@@ -457,25 +464,27 @@ fn wanted_travel(
         .enumerate()
         .filter_map(|(v, t)| Some((mesh.positions[v], (*t)?)))
         .collect();
+    for (v, q) in inside.iter().enumerate() {
+        if q.is_none() || travel[v].is_some() {
+            continue;
+        }
+        let p = mesh.positions[v];
+        travel[v] = lid
+            .iter()
+            .min_by(|a, b| a.0.distance_squared(p).total_cmp(&b.0.distance_squared(p)))
+            .map(|nearest| nearest.1);
+    }
+    // the lashes' own triangles, from lid vertices a little apart, keep facing too
+    keep_triangles_facing(mesh, &inside, &mut travel);
     inside
         .iter()
-        .enumerate()
-        .map(|(v, q)| {
-            let q = (*q)?;
-            if let Some(t) = travel[v] {
-                return Some((q, t));
-            }
-            let p = mesh.positions[v];
-            let nearest = lid
-                .iter()
-                .min_by(|a, b| a.0.distance_squared(p).total_cmp(&b.0.distance_squared(p)))?;
-            Some((q, nearest.1))
-        })
+        .zip(&travel)
+        .map(|(q, t)| Some(((*q)?, (*t)?)))
         .collect()
 }
 
 /// Lowers the travel toward the axis (`travel`, for the points `inside` at their place in
-/// the ring's frame) where a triangle of the face would turn over: a canthus's fold
+/// the ring's frame) where a triangle would turn over: a canthus's fold
 /// (MakeHuman's rows 0.8 mm apart, one travelling 1.2 mm further than the row below it)
 /// turned over under the profile's own travel. The ring moves each point across the axis's
 /// line (frame `y`), so a triangle's normal moves linearly with how much of its points'

@@ -17,8 +17,8 @@
 //!   (round a corner, or across the skin of a covered eye). The side is
 //!   `smoothstep(0, 1, 0.5 + (d_up - d_low) / g)`: 1 on the lower lid and the cheek below,
 //!   0 on the upper lid and above, a half at the canthi, and since both distances change by
-//!   no more than the length walked, it changes by at most `2 / g` per unit of skin (about
-//!   a fifteenth per millimetre on an adult eye) however close the mesh's rows lie.
+//!   no more than the length walked, it changes by at most `3 / g` per unit of skin however
+//!   close the mesh's rows lie.
 //! - **Corners**: times `smoothstep(0, CORNER_FADE * w, d_corner)`, `d_corner` the distance
 //!   to the nearer canthus landmark and `w` the eye's width: the pull fades to nothing at
 //!   the palpebral ligaments.
