@@ -611,3 +611,46 @@ fn lid_mask(
         weights,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two rows of a fold 0.8 apart above the axis, the upper one travelling 1.2 further
+    /// than the lower: the triangle between them would turn over. It keeps facing, the lower
+    /// row keeps its travel, and a triangle that would not turn (one travel) is untouched.
+    #[test]
+    fn a_fold_row_that_would_pass_the_row_below_stops_short() {
+        let positions = vec![
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.8, 0.0),
+            Vec3::new(5.0, 1.0, 0.0),
+            Vec3::new(6.0, 1.0, 0.0),
+            Vec3::new(5.0, 1.8, 0.0),
+        ];
+        let mesh = Mesh::new(positions, vec![[0, 1, 2], [3, 4, 5]]).unwrap();
+        let inside: Vec<Option<DVec3>> =
+            mesh.positions.iter().map(|p| Some(p.as_dvec3())).collect();
+        let mut travel = vec![
+            Some(1.7),
+            Some(1.7),
+            Some(2.9),
+            Some(2.0),
+            Some(2.0),
+            Some(2.0),
+        ];
+        keep_triangles_facing(&mesh, &inside, &mut travel);
+        let t: Vec<f64> = travel.iter().map(|t| t.unwrap()).collect();
+        assert_eq!(&t[..2], &[1.7, 1.7]);
+        assert!(t[2] < 2.9 && t[2] > 1.7, "{}", t[2]);
+        assert_eq!(&t[3..], &[2.0, 2.0, 2.0]);
+        // the upper row still lies above the lower one after the move: a fifth of the normal
+        let moved = |v: usize| mesh.positions[v].y as f64 - t[v];
+        assert!(
+            (moved(2) - moved(0) - 0.2 * 0.8).abs() < 1e-6,
+            "{}",
+            moved(2) - moved(0)
+        );
+    }
+}

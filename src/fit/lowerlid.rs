@@ -119,7 +119,7 @@ fn weights(
 ) -> Option<Vec<Option<f64>>> {
     let at = |v: u32| mesh.positions[v as usize];
     let width = f64::from(at(eye.corners[0]).distance(at(eye.corners[1])));
-    if !(width > 0.0) {
+    if width.is_nan() || width <= 0.0 {
         return None;
     }
     let graph = SkinGraph::new(mesh, parts);
@@ -205,4 +205,130 @@ pub(super) fn replace_carried(rig: &mut Rig, parts: &Parts, names: &[String], ma
     }
     rig.masks.retain(|m| !m.muscles.is_empty());
     rig.masks.extend(masks);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Convergence, Frame};
+
+    /// A flat 41 x 41 sheet, 0.5 apart, with an eye's slit: the triangles between the rows
+    /// `y = 0` and `y = 0.5` cut out for `|x| < 6`. The corners `(-6, 0)`, `(6, 0)`; the lid
+    /// landmarks `(-2, 0.5)`, `(2, 0.5)` above and `(-2, 0)`, `(2, 0)` below.
+    fn slit() -> (Mesh, EyeVertices) {
+        let n = 41u32;
+        let at = |x: f32, y: f32| ((y + 10.0) * 2.0) as u32 * n + ((x + 10.0) * 2.0) as u32;
+        let mut positions = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                positions.push(Vec3::new(
+                    -10.0 + 0.5 * i as f32,
+                    -10.0 + 0.5 * j as f32,
+                    0.0,
+                ));
+            }
+        }
+        let mut triangles = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let (x, y) = (-10.0 + 0.5 * i as f32, -10.0 + 0.5 * j as f32);
+                if y == 0.0 && x > -6.0 && x < 6.0 - 0.25 {
+                    continue;
+                }
+                let v = j * n + i;
+                triangles.push([v, v + 1, v + n]);
+                triangles.push([v + 1, v + n + 1, v + n]);
+            }
+        }
+        let eye = EyeVertices {
+            corners: [at(-6.0, 0.0), at(6.0, 0.0)],
+            upper: [at(-2.0, 0.5), at(2.0, 0.5)],
+            lower: [at(-2.0, 0.0), at(2.0, 0.0)],
+        };
+        (Mesh::new(positions, triangles).unwrap(), eye)
+    }
+
+    fn ring() -> Sphincter {
+        Sphincter {
+            centre: Vec3::new(0.0, 0.25, 0.0),
+            semi_major: 9.5,
+            semi_minor: 9.5,
+            convergence: Convergence::MajorAxis,
+            bulge: 0.0,
+            frame: Frame {
+                x: Vec3::X,
+                y: Vec3::Y,
+            },
+        }
+    }
+
+    /// The lower lid takes the whole weight, the upper lid and the corners none, and across
+    /// the skin round the corners the weight changes by no more than its bound (`3 / g` for
+    /// the side, `1.5 / (0.3 w)` for the corners' fade per unit), where a step (the carried
+    /// mask's) changes by 2 per unit between rows 0.5 apart.
+    #[test]
+    fn the_weight_is_whole_on_the_lower_lid_and_continuous_round_the_corners() {
+        let (mesh, eye) = slit();
+        let parts = Parts {
+            of_vertex: vec![Part::Skin; mesh.vertex_count()],
+            choices: Vec::new(),
+        };
+        let w = weights(&ring(), &mesh, &parts, eye).unwrap();
+        let at = |v: u32| w[v as usize].unwrap();
+        for v in eye.lower {
+            assert!((at(v) - 1.0).abs() < 1e-9, "lower lid {}", at(v));
+        }
+        for v in eye.upper.into_iter().chain(eye.corners) {
+            assert!(at(v) < 1e-9, "upper lid or corner {}", at(v));
+        }
+        // the lids' landmarks are 9 apart round a corner; the eye is 12 wide
+        let bound = 3.0 / 9.0 + 1.5 / (CORNER_FADE * 12.0);
+        for [a, b] in mesh.edges() {
+            let (Some(x), Some(y)) = (w[a as usize], w[b as usize]) else {
+                continue;
+            };
+            let length = f64::from(mesh.positions[a as usize].distance(mesh.positions[b as usize]));
+            assert!(
+                (x - y).abs() <= bound * length + 1e-9,
+                "{x} at {a}, {y} at {b}, {length} apart"
+            );
+        }
+    }
+
+    /// The carried masks the ring shares (a side step weighing skin) are left for it, its own
+    /// masks and the still parts' zeros stay, and its new mask is added.
+    #[test]
+    fn only_the_shared_carried_mask_is_replaced() {
+        let parts = Parts {
+            of_vertex: vec![Part::Skin, Part::Still],
+            choices: Vec::new(),
+        };
+        let mask = |muscles: &[&str], weights: Vec<(u32, f32)>| Mask {
+            muscles: muscles.iter().map(|m| m.to_string()).collect(),
+            gain: 1.0,
+            weights,
+        };
+        let mut rig = Rig {
+            masks: vec![
+                mask(&["L", "R"], vec![(0, 0.0)]),
+                mask(&["L", "R", "X"], vec![(1, 0.0)]),
+                mask(&["L"], vec![(0, 0.5)]),
+            ],
+            version: crate::model::RIG_VERSION,
+            mesh: "mesh.obj".into(),
+            combine: Default::default(),
+            muscles: Vec::new(),
+            jaw: None,
+        };
+        let names = ["L".to_string(), "R".to_string()];
+        replace_carried(
+            &mut rig,
+            &parts,
+            &names,
+            vec![mask(&["L"], vec![(0, 0.25)])],
+        );
+        let named: Vec<Vec<String>> = rig.masks.iter().map(|m| m.muscles.clone()).collect();
+        assert_eq!(named, [vec!["L", "R", "X"], vec!["L"], vec!["L"]]);
+        assert_eq!(rig.masks[2].weights, [(0, 0.25)]);
+    }
 }
