@@ -20,6 +20,11 @@
 //!   inner fold, rows folding back into the socket) moves with the margin nearer to it, so
 //!   the rows of a lid's edge move together and do not turn over. Nothing beyond the corners
 //!   moves.
+//! - Where that travel would turn a triangle over (the close rows of a canthus's fold), the
+//!   triangle's corners close up over their least travel only as far as keeps a fifth of
+//!   its normal ([`keep_triangles_facing`]).
+//! - The lower lid's own ring (AU7) is not a closing ring; its carried mask is replaced by
+//!   one faded along the skin to the canthi (`super::lowerlid`).
 //! - The ring's gain is the smallest that lets its own pull (`2 g f t` at 2.0) reach that
 //!   travel at every lid landmark; each vertex's weight is the share of that pull it needs.
 //!
@@ -29,6 +34,7 @@
 use glam::{DMat3, DVec3, Vec3};
 
 use super::lidedge::EyeMarks;
+use super::lowerlid::{lower_lid_mask, replace_carried, EyeVertices};
 use super::parts::{Part, Parts};
 use super::warp::Warp;
 use super::Template;
@@ -36,6 +42,13 @@ use crate::model::{Convergence, Mask, Mesh, MuscleKind, Rig, Sphincter};
 
 /// How far short of where the lids meet each margin stops at 2.0, as a share of its travel.
 pub const STOP_SHORT: f64 = 0.015;
+
+/// A lid's triangle keeps at least this share of its normal (along the rest normal) at 2.0
+/// ([`keep_triangles_facing`]).
+const KEEP_NORMAL: f64 = 0.2;
+
+/// Rounds of [`keep_triangles_facing`] at most.
+const MAX_ROUNDS: usize = 100;
 
 /// How much further short the lids stop at the corners, as a share of their travel there.
 const CORNER_SLACK: f64 = 0.3;
@@ -283,6 +296,19 @@ fn sphincter<'a>(rig: &'a Rig, name: &str) -> Option<&'a Sphincter> {
     }
 }
 
+/// Whether ring `name` acts on the lower lid alone: its weight at each upper lid landmark is
+/// under a tenth of its least weight at the lower lid's, which is above 0.
+fn is_lower_ring(rig: &Rig, name: &str, eye: &EyeVertices) -> bool {
+    let at = |vs: &[u32]| {
+        vs.iter()
+            .map(|&v| weight(rig, name, v))
+            .collect::<Vec<f64>>()
+    };
+    let lower = at(&eye.lower).into_iter().fold(f64::INFINITY, f64::min);
+    let upper = at(&eye.upper).into_iter().fold(0.0, f64::max);
+    lower > 0.0 && upper < 0.1 * lower
+}
+
 /// The eye a ring centred at `c` closes: the eye whose lid landmarks' middle is within the
 /// eye's half-width of it.
 fn eye_of(landmarks: &[Vec3], c: Vec3) -> Option<&'static EyeLandmarks> {
@@ -309,6 +335,7 @@ pub(super) fn shape_lids(
     marks: &[u32],
 ) -> Reshaped {
     let mut reshaped = Vec::new();
+    let mut lower = Vec::new();
     let names: Vec<String> = rig.muscles.iter().map(|m| m.name.clone()).collect();
     for name in names {
         let Some(s) = sphincter(rig, &name).cloned() else {
@@ -323,12 +350,23 @@ pub(super) fn shape_lids(
         let Some(upper) = upper_closure(rig, &name, mesh, target, eye) else {
             continue;
         };
-        // a ring that does not bring the upper lid down (the lower lid's own ring) is not
-        // the closing ring
-        if upper < 0.25 {
+        if is_template_here(&s, template, warp, mesh, parts) {
             continue;
         }
-        if is_template_here(&s, template, warp, mesh, parts) {
+        // a ring that does not bring the upper lid down is not the closing ring; one that
+        // acts on the lower lid alone is the lower lid's own (AU7), faded along the skin
+        if upper < 0.25 {
+            let at = |ids: &[usize]| [marks[ids[0]], marks[ids[1]]];
+            let vertices = EyeVertices {
+                corners: at(&[eye.upper[0], eye.upper[3]]),
+                upper: at(&eye.upper[1..3]),
+                lower: at(&eye.lower[1..3]),
+            };
+            if is_lower_ring(rig, &name, &vertices) {
+                if let Some(mask) = lower_lid_mask(&name, &s, mesh, parts, vertices) {
+                    lower.push((name, mask));
+                }
+            }
             continue;
         }
         // the ring closes along the lids' own slope, so the upper margin comes down onto the
@@ -347,6 +385,9 @@ pub(super) fn shape_lids(
             reshaped.push(name);
         }
     }
+    let (names, masks): (Vec<String>, Vec<Mask>) = lower.into_iter().unzip();
+    replace_carried(rig, parts, &names, masks);
+    reshaped.extend(names);
     reshaped
 }
 
@@ -389,7 +430,9 @@ fn release(rig: &mut Rig, name: &str) {
 /// Per vertex, for the skin inside ring `s`: its place in the ring's frame and how far the
 /// ring should move it at 2.0 (the profile's travel). Skin on a piece of its own, holding no
 /// landmark (lashes, whether their group says so or not), takes the travel of the nearest
-/// skin vertex of the face's pieces inside the ring: the lid edge it grows from.
+/// skin vertex of the face's pieces inside the ring: the lid edge it grows from. Travel
+/// that would turn a triangle over is lowered ([`keep_triangles_facing`]), the face's before
+/// the lashes take theirs.
 fn wanted_travel(
     s: &Sphincter,
     frame: &RingFrame,
@@ -410,27 +453,90 @@ fn wanted_travel(
         })
         .collect();
     let on_face = |v: usize| face.contains(&piece[v]);
-    let lid: Vec<(Vec3, f64)> = inside
+    let mut travel: Vec<Option<f64>> = inside
         .iter()
         .enumerate()
-        .filter(|&(v, q)| q.is_some() && on_face(v))
-        .filter_map(|(v, q)| Some((mesh.positions[v], profile.travel((*q)?))))
+        .map(|(v, q)| on_face(v).then(|| q.map(|q| profile.travel(q))).flatten())
         .collect();
+    keep_triangles_facing(mesh, &inside, &mut travel);
+    let lid: Vec<(Vec3, f64)> = travel
+        .iter()
+        .enumerate()
+        .filter_map(|(v, t)| Some((mesh.positions[v], (*t)?)))
+        .collect();
+    for (v, q) in inside.iter().enumerate() {
+        if q.is_none() || travel[v].is_some() {
+            continue;
+        }
+        let p = mesh.positions[v];
+        travel[v] = lid
+            .iter()
+            .min_by(|a, b| a.0.distance_squared(p).total_cmp(&b.0.distance_squared(p)))
+            .map(|nearest| nearest.1);
+    }
+    // the lashes' own triangles, from lid vertices a little apart, keep facing too
+    keep_triangles_facing(mesh, &inside, &mut travel);
     inside
         .iter()
-        .enumerate()
-        .map(|(v, q)| {
-            let q = (*q)?;
-            if on_face(v) {
-                return Some((q, profile.travel(q)));
-            }
-            let p = mesh.positions[v];
-            let nearest = lid
-                .iter()
-                .min_by(|a, b| a.0.distance_squared(p).total_cmp(&b.0.distance_squared(p)))?;
-            Some((q, nearest.1))
-        })
+        .zip(&travel)
+        .map(|(q, t)| Some(((*q)?, (*t)?)))
         .collect()
+}
+
+/// Lowers the travel toward the axis (`travel`, for the points `inside` at their place in
+/// the ring's frame) where a triangle would turn over: a canthus's fold
+/// (MakeHuman's rows 0.8 mm apart, one travelling 1.2 mm further than the row below it)
+/// turned over under the profile's own travel. The ring moves each point across the axis's
+/// line (frame `y`), so a triangle's normal moves linearly with how much of its points'
+/// differences in travel it takes: each triangle on one side of the axis that would keep
+/// less than [`KEEP_NORMAL`] of its normal takes only the share that keeps it, over its
+/// least travel (the rows then close up without passing), until no triangle needs it. Only
+/// travels are lowered, and only in triangles that would turn: the lids' middle keeps its
+/// profile.
+fn keep_triangles_facing(mesh: &Mesh, inside: &[Option<DVec3>], travel: &mut [Option<f64>]) {
+    let triangles: Vec<[usize; 3]> = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|v| v as usize))
+        .filter(|t| t.iter().all(|&v| travel[v].is_some()))
+        .collect();
+    for _ in 0..MAX_ROUNDS {
+        let mut changed = false;
+        for t in &triangles {
+            let (Some(q), Some(d)) = (
+                t.iter().map(|&v| inside[v]).collect::<Option<Vec<DVec3>>>(),
+                t.iter().map(|&v| travel[v]).collect::<Option<Vec<f64>>>(),
+            ) else {
+                continue;
+            };
+            // one side of the axis: every point moves the same way along y
+            let side = q[0].y.signum();
+            if q.iter().any(|p| p.y.signum() != side || p.y == 0.0) {
+                continue;
+            }
+            let least = d.iter().copied().fold(f64::INFINITY, f64::min);
+            let excess: Vec<f64> = d.iter().map(|x| x - least).collect();
+            let (u, w) = (q[1] - q[0], q[2] - q[0]);
+            let n = u.cross(w);
+            // the normal with a share `l` of the excess: n - l k (the y-moves are linear)
+            let (a, b) = (
+                -side * (excess[1] - excess[0]),
+                -side * (excess[2] - excess[0]),
+            );
+            let k = -n.dot(b * u.cross(DVec3::Y) + a * DVec3::Y.cross(w));
+            let room = (1.0 - KEEP_NORMAL) * n.length_squared();
+            if k > room {
+                let share = room / k;
+                for (&v, e) in t.iter().zip(&excess) {
+                    travel[v] = Some(least + share * e);
+                }
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
 }
 
 /// The mask that makes ring `s` close the eye's lids on `mesh` as the profile asks.
@@ -504,4 +610,47 @@ fn lid_mask(
         gain: gain as f32,
         weights,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two rows of a fold 0.8 apart above the axis, the upper one travelling 1.2 further
+    /// than the lower: the triangle between them would turn over. It keeps facing, the lower
+    /// row keeps its travel, and a triangle that would not turn (one travel) is untouched.
+    #[test]
+    fn a_fold_row_that_would_pass_the_row_below_stops_short() {
+        let positions = vec![
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.8, 0.0),
+            Vec3::new(5.0, 1.0, 0.0),
+            Vec3::new(6.0, 1.0, 0.0),
+            Vec3::new(5.0, 1.8, 0.0),
+        ];
+        let mesh = Mesh::new(positions, vec![[0, 1, 2], [3, 4, 5]]).unwrap();
+        let inside: Vec<Option<DVec3>> =
+            mesh.positions.iter().map(|p| Some(p.as_dvec3())).collect();
+        let mut travel = vec![
+            Some(1.7),
+            Some(1.7),
+            Some(2.9),
+            Some(2.0),
+            Some(2.0),
+            Some(2.0),
+        ];
+        keep_triangles_facing(&mesh, &inside, &mut travel);
+        let t: Vec<f64> = travel.iter().map(|t| t.unwrap()).collect();
+        assert_eq!(&t[..2], &[1.7, 1.7]);
+        assert!(t[2] < 2.9 && t[2] > 1.7, "{}", t[2]);
+        assert_eq!(&t[3..], &[2.0, 2.0, 2.0]);
+        // the upper row still lies above the lower one after the move: a fifth of the normal
+        let moved = |v: usize| mesh.positions[v].y as f64 - t[v];
+        assert!(
+            (moved(2) - moved(0) - 0.2 * 0.8).abs() < 1e-6,
+            "{}",
+            moved(2) - moved(0)
+        );
+    }
 }

@@ -8,6 +8,8 @@
 //! - [`brow_hair`]: eyebrows marked from the landmarks on heads without their own;
 //! - [`parts`]: which parts of a mesh are skin, still, or turn with the jaw;
 //! - `reach`: fitted rings kept to the part of the face the template's reach;
+//! - `lids`, `lidedge`, `lowerlid`: the closing lids and the lower lid's ring shaped from the
+//!   mesh's own lids;
 //! - [`regions`]: the mouth and eye lines and which side of them things lie on;
 //! - [`jaw`]: jaw weights for a new mesh (`jawfade`: beyond the template's face, along the mesh);
 //! - `ease`: weights eased where they change faster than on the template (the jaw's round the mouth corners, the lip muscles' masks);
@@ -32,6 +34,7 @@ mod lidedge;
 mod lids;
 pub mod lipcut;
 pub mod lipsides;
+mod lowerlid;
 pub mod lsq;
 pub mod nearest;
 pub mod parts;

@@ -13,6 +13,7 @@ mod classic;
 mod cli;
 mod eyecut;
 mod eyes;
+mod lidcorners;
 mod lidfold;
 mod lids;
 mod lipcut;
