@@ -35,21 +35,9 @@ fn pool() -> Option<&'static rayon::ThreadPool> {
 }
 
 /// Whether a frame of `triangles` triangles runs on two threads: big enough (at least
-/// `min`), and not already on a rayon thread other than the renderer's pool's.
+/// `min`), and not already on a rayon thread.
 pub(super) fn parallel(triangles: usize, min: usize) -> bool {
-    let Some(pool) = pool().filter(|_| triangles >= min) else {
-        return false;
-    };
-    pool.current_thread_index().is_some() || rayon::current_thread_index().is_none()
-}
-
-/// Runs `f` (a whole frame) on the renderer's pool when `parallel`, else here: the frame's
-/// joins are then handed between the pool's two threads, not from outside it each time.
-pub(super) fn install<R: Send>(parallel: bool, f: impl FnOnce() -> R + Send) -> R {
-    match pool().filter(|_| parallel) {
-        Some(pool) => pool.install(f),
-        None => f(),
-    }
+    triangles >= min && rayon::current_thread_index().is_none() && pool().is_some()
 }
 
 /// Runs `a` and `b` side by side on the renderer's pool when `parallel`, else one after

@@ -336,12 +336,6 @@ impl Renderer {
     }
 
     fn draw(&mut self, scene: &Scene, camera: &Camera, style: Style, canvas: &mut DotCanvas) {
-        let parallel = self.parallel();
-        bands::install(parallel, || self.draw_here(scene, camera, style, canvas));
-    }
-
-    /// [`Renderer::draw`] on this thread (its passes may still hand work to the pool).
-    fn draw_here(&mut self, scene: &Scene, camera: &Camera, style: Style, canvas: &mut DotCanvas) {
         canvas.clear();
         let (w, h, aspect) = (canvas.width(), canvas.height(), canvas.dot_aspect);
         let Some(proj) = self.prepare(scene, camera, w, h, aspect) else {
