@@ -53,18 +53,6 @@ pub(super) fn join<RA: Send, RB: Send>(
     }
 }
 
-/// Fills `out` (already sized) by `f(start, part)` over its two halves side by side when
-/// `parallel`, else over all of it at once: `f` computes each item from its index alone,
-/// so both ways give the same items.
-pub(super) fn halves<T: Send>(parallel: bool, out: &mut [T], f: impl Fn(usize, &mut [T]) + Sync) {
-    if !parallel {
-        return f(0, out);
-    }
-    let mid = out.len() / 2;
-    let (a, b) = out.split_at_mut(mid);
-    join(true, || f(0, a), || f(mid, b));
-}
-
 /// The row where the second band starts on a canvas of `height` rows: the middle when the
 /// frame runs in two bands, else `height` (one band of every row).
 pub(super) fn split_row(height: usize, parallel: bool) -> usize {

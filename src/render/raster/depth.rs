@@ -2,7 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::bands::{halves, join, split_row, Band};
+use super::bands::{join, split_row, Band};
 use super::grid::{ceil_nonneg, floor_end};
 use super::lines::{walk_line, LineDot};
 use super::Renderer;
@@ -64,10 +64,10 @@ impl Renderer {
         // With feature lines most triangles are rejected, so the test must be cheaper than
         // the float box: each vertex's part of the box once, then integer min/max per
         // triangle.
-        let parallel = self.parallel();
         self.dot_spans.clear();
-        self.dot_spans.resize(self.projected.len(), [0; 4]);
-        dot_spans(&self.projected, (w, h), &mut self.dot_spans, parallel);
+        self.dot_spans
+            .extend(self.projected.iter().map(move |&p| dot_span(p, w, h)));
+        let parallel = self.parallel();
         let [top, bottom] = Band::pair(w, h, split_row(h, parallel));
         let (depth, depth2) = depth.split_at_mut(top.cut());
         let this = &*self;
@@ -223,21 +223,6 @@ pub(super) fn span(v: f32, limit: usize) -> (u32, u32) {
     let start = (t + (back < c) as i32).max(0);
     let end = (t - (back > c) as i32 + 1).clamp(0, limit);
     (start as u32, end as u32)
-}
-
-/// Every projected vertex's [`dot_span`] on a `w` x `h` canvas into `out` (sized), in two
-/// halves side by side when `parallel`.
-pub(super) fn dot_spans(
-    projected: &[Vec3],
-    (w, h): (usize, usize),
-    out: &mut [[u32; 4]],
-    parallel: bool,
-) {
-    halves(parallel, out, |start, part| {
-        for (span, &p) in part.iter_mut().zip(&projected[start..]) {
-            *span = dot_span(p, w, h);
-        }
-    });
 }
 
 /// A triangle's box of dot centres `[x0, x1, y0, y1]` (exclusive ends) from its corners'

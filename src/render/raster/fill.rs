@@ -2,8 +2,8 @@
 
 use glam::Vec3;
 
-use super::bands::{halves, join, split_row, Band};
-use super::depth::{corner_weights, dot_spans, triangle_box};
+use super::bands::{join, split_row, Band};
+use super::depth::{corner_weights, dot_span, triangle_box};
 use super::features::HEAT_FLOOR;
 use super::grid::{ceil_nonneg, floor_end};
 use super::Renderer;
@@ -42,12 +42,12 @@ impl Renderer {
             self.dot_heat.resize(n, 0.0);
         }
         let small = w.max(h) < 1 << 24;
-        let parallel = self.parallel();
         self.dot_spans.clear();
         if small {
-            self.dot_spans.resize(self.projected.len(), [0; 4]);
-            dot_spans(&self.projected, (w, h), &mut self.dot_spans, parallel);
+            self.dot_spans
+                .extend(self.projected.iter().map(move |&p| dot_span(p, w, h)));
         }
+        let parallel = self.parallel();
         let faces = Faces {
             triangles: &self.triangles,
             facing: &self.facing,
@@ -86,17 +86,15 @@ impl Renderer {
         // `prepare`, instead of turning every normal into view space.
         self.vertex_shade.clear();
         self.vertex_shade.resize(n, 0.0);
-        let (normals, tones, light) = (&self.normals, &self.vertex_tone, self.light_mesh);
-        halves(self.parallel(), &mut self.vertex_shade, |start, part| {
-            for (k, shade) in part.iter_mut().enumerate() {
-                let lambert = normals.get(start + k).map_or(0.0, |n| n.dot(light));
-                *shade = AMBIENT + (1.0 - AMBIENT) * lambert.max(0.0);
-                // No tones: every material as lit.
-                if let Some(tone) = tones.get(start + k) {
-                    *shade *= tone;
-                }
-            }
-        });
+        for (shade, normal) in self.vertex_shade.iter_mut().zip(&self.normals) {
+            *shade = normal.dot(self.light_mesh);
+        }
+        for shade in &mut self.vertex_shade {
+            *shade = AMBIENT + (1.0 - AMBIENT) * shade.max(0.0);
+        }
+        for (shade, tone) in self.vertex_shade.iter_mut().zip(&self.vertex_tone) {
+            *shade *= tone;
+        }
     }
 
     /// Right-hand face normals, length twice the area, of the front-facing triangles (zero
@@ -107,17 +105,19 @@ impl Renderer {
             return;
         }
         self.face_normals.clear();
-        self.face_normals.resize(self.triangles.len(), Vec3::ZERO);
-        let (triangles, facing) = (&self.triangles, &self.facing);
-        halves(self.parallel(), &mut self.face_normals, |start, part| {
-            let faces = triangles[start..].iter().zip(&facing[start..]);
-            for (normal, (tri, &facing)) in part.iter_mut().zip(faces) {
-                if facing {
-                    let [a, b, c] = tri.map(|i| scene.positions[i as usize]);
-                    *normal = (b - a).cross(c - a);
-                }
-            }
-        });
+        self.face_normals.extend(
+            self.triangles
+                .iter()
+                .zip(&self.facing)
+                .map(|(tri, &facing)| {
+                    if facing {
+                        let [a, b, c] = tri.map(|i| scene.positions[i as usize]);
+                        (b - a).cross(c - a)
+                    } else {
+                        Vec3::ZERO
+                    }
+                }),
+        );
         self.face_normals_ready = true;
     }
 

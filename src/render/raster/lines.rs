@@ -36,16 +36,13 @@ impl Renderer {
     #[inline(never)]
     pub(super) fn draw_ghost(&mut self, scene: &Scene, proj: &Projection, canvas: &mut DotCanvas) {
         let n = scene.mesh.positions.len();
-        let parallel = self.parallel();
-        let rest = scene.rest_positions();
-        project_all(proj, rest, n, &mut self.rest_projected, parallel);
+        project_all(proj, scene.rest_positions(), n, &mut self.rest_projected);
         let sign = self.sign(scene.orientation);
         classify(
             &self.triangles,
             &self.rest_projected,
             sign,
             &mut self.rest_facing,
-            parallel,
         );
         let pen = Pen::faint(scene.palette.ghost, Layer::Ghost);
         let mut runs = self.runs.take();

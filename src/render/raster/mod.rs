@@ -264,16 +264,13 @@ impl Renderer {
         let sign = self.sign(scene.orientation);
         self.light_mesh = proj.view.transpose() * LIGHT.normalize();
         self.viewer_mesh = proj.view.transpose() * Vec3::Z;
-        let parallel = self.parallel();
-        let count = scene.mesh.positions.len();
-        project_all(&proj, scene.positions, count, &mut self.projected, parallel);
-        classify(
-            &self.triangles,
-            &self.projected,
-            sign,
-            &mut self.facing,
-            parallel,
+        project_all(
+            &proj,
+            scene.positions,
+            scene.mesh.positions.len(),
+            &mut self.projected,
         );
+        classify(&self.triangles, &self.projected, sign, &mut self.facing);
         // Face normals follow the pose and the facing of this frame.
         self.face_normals_ready = false;
         Some(proj)

@@ -3,7 +3,6 @@
 
 use glam::Vec3;
 
-use super::bands::halves;
 use crate::model::Mesh;
 use crate::render::camera::Projection;
 
@@ -53,62 +52,40 @@ pub(super) fn tri_positions(positions: &[Vec3], tri: [u32; 3]) -> Option<[Vec3; 
     Some([a, b, c])
 }
 
-/// Projects `count` vertices (missing ones become NaN, so they are skipped), in two halves
-/// side by side when `parallel`.
+/// Projects `count` vertices (missing ones become NaN, so they are skipped).
 #[inline(never)]
 pub(super) fn project_all(
     proj: &Projection,
     positions: &[Vec3],
     count: usize,
     out: &mut Vec<Vec3>,
-    parallel: bool,
 ) {
     out.clear();
-    out.resize(count, Vec3::NAN);
-    halves(parallel, out, |start, part| {
-        match positions.get(start..start + part.len()) {
-            Some(all) => part
-                .iter_mut()
-                .zip(all)
-                .for_each(|(q, &p)| *q = proj.project(p)),
-            None => part.iter_mut().enumerate().for_each(|(k, q)| {
-                *q = positions
-                    .get(start + k)
-                    .map_or(Vec3::NAN, |&p| proj.project(p))
-            }),
-        }
-    });
+    if let Some(all) = positions.get(..count) {
+        out.extend(all.iter().map(|&p| proj.project(p)));
+        return;
+    }
+    out.extend((0..count).map(|i| positions.get(i).map_or(Vec3::NAN, |&p| proj.project(p))));
 }
 
 /// Decides which triangles face the viewer: signed screen area times the winding sign
-/// (triangles with a missing or non-finite corner face nowhere), in two halves side by
-/// side when `parallel`.
+/// (triangles with a missing or non-finite corner face nowhere).
 #[inline(never)]
 pub(super) fn classify(
     triangles: &[[u32; 3]],
     projected: &[Vec3],
     sign: f32,
     facing: &mut Vec<bool>,
-    parallel: bool,
 ) {
     facing.clear();
-    facing.resize(triangles.len(), false);
-    halves(parallel, facing, |start, part| {
-        for (f, tri) in part.iter_mut().zip(&triangles[start..]) {
-            *f = faces_viewer(projected, *tri, sign);
-        }
-    });
-}
-
-/// Whether a triangle faces the viewer (see [`classify`]).
-#[inline]
-fn faces_viewer(projected: &[Vec3], tri: [u32; 3], sign: f32) -> bool {
-    let Some([a, b, c]) = tri_positions(projected, tri) else {
-        return false;
-    };
-    let (ab, ac) = (b - a, c - a);
-    let area = ab.x * ac.y - ab.y * ac.x;
-    // Screen y runs down, so a triangle counter-clockwise as the viewer sees it has a
-    // negative area here. NaN anywhere makes the comparison false.
-    sign * area < 0.0 && (a.z + b.z + c.z).is_finite()
+    facing.extend(triangles.iter().map(|tri| {
+        let Some([a, b, c]) = tri_positions(projected, *tri) else {
+            return false;
+        };
+        let (ab, ac) = (b - a, c - a);
+        let area = ab.x * ac.y - ab.y * ac.x;
+        // Screen y runs down, so a triangle counter-clockwise as the viewer sees it has a
+        // negative area here. NaN anywhere makes the comparison false.
+        sign * area < 0.0 && (a.z + b.z + c.z).is_finite()
+    }));
 }
