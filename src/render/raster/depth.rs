@@ -2,7 +2,6 @@
 
 use glam::{Vec2, Vec3};
 
-use super::bands::{join, split_row, Band};
 use super::grid::{ceil_nonneg, floor_end};
 use super::lines::{walk_line, LineDot};
 use super::Renderer;
@@ -67,30 +66,14 @@ impl Renderer {
         self.dot_spans.clear();
         self.dot_spans
             .extend(self.projected.iter().map(move |&p| dot_span(p, w, h)));
-        let parallel = self.parallel();
-        let [top, bottom] = Band::pair(w, h, split_row(h, parallel));
-        let (depth, depth2) = depth.split_at_mut(top.cut());
-        let this = &*self;
-        join(
-            parallel,
-            || this.depth_band(top, depth),
-            || this.depth_band(bottom, depth2),
-        );
-    }
-
-    /// The depth pass's triangles in the rows of `band`: every front face whose box there
-    /// holds a dot some line will be drawn on, rasterized under those dots.
-    fn depth_band(&self, band: Band, depth: &mut [f32]) {
-        let at = (band.width, band.origin());
         for (t, tri) in self.triangles.iter().enumerate() {
             if !self.facing[t] {
                 continue;
             }
-            let dots = band.clip(triangle_box(tri.map(|i| self.dot_spans[i as usize])));
-            let [x0, x1, y0, y1] = dots;
+            let [x0, x1, y0, y1] = triangle_box(tri.map(|i| self.dot_spans[i as usize]));
             if x0 < x1 && y0 < y1 && self.line_dots.any(x0, x1, y0, y1) {
                 let p = tri.map(|i| self.projected[i as usize]);
-                depth_triangle_in(p, dots, at, Some(&self.line_dots), depth);
+                depth_triangle_in(p, [x0, x1, y0, y1], w, Some(&self.line_dots), depth);
             }
         }
     }
@@ -254,7 +237,7 @@ pub fn depth_triangle(p: [Vec3; 3], w: usize, h: usize, depth: &mut [f32]) {
     let x1 = floor_end(a.x.max(b.x).max(c.x) - 0.5, w);
     let y0 = ceil_nonneg(a.y.min(b.y).min(c.y) - 0.5);
     let y1 = floor_end(a.y.max(b.y).max(c.y) - 0.5, h);
-    depth_triangle_in(p, [x0, x1, y0, y1], (w, 0), None, depth);
+    depth_triangle_in(p, [x0, x1, y0, y1], w, None, depth);
 }
 
 /// [`depth_triangle`] with the triangle's box of dot centres `[x0, x1, y0, y1]` already
@@ -265,7 +248,7 @@ pub fn depth_triangle(p: [Vec3; 3], w: usize, h: usize, depth: &mut [f32]) {
 pub(super) fn depth_triangle_in(
     p: [Vec3; 3],
     dots: [usize; 4],
-    (w, origin): (usize, usize),
+    w: usize,
     wanted: Option<&DotMask>,
     depth: &mut [f32],
 ) {
@@ -294,7 +277,7 @@ pub(super) fn depth_triangle_in(
         let mut la = ax * px + ay * py + a0;
         let mut lb = bx * px + by * py + b0;
         let mut z = zx * px + zy * py + z0;
-        let Some(row) = depth.get_mut(y * w + x0 - origin..y * w + end - origin) else {
+        let Some(row) = depth.get_mut(y * w + x0..y * w + end) else {
             return;
         };
         for d in row {

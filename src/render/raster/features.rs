@@ -2,7 +2,6 @@
 
 use glam::Vec3;
 
-use super::bands::join;
 use super::depth::depth_slope;
 use super::{Edge, Renderer, Segment, NONE};
 use crate::model::mesh::bounds_of as finite_bounds;
@@ -49,22 +48,28 @@ impl Renderer {
         }
     }
 
-    /// The depth bias for a line lying on the given triangles (the steeper, the larger),
-    /// with `slope(t)` the depth slope of front-facing triangle `t`.
-    fn bias(&self, tris: [u32; 2], mut slope: impl FnMut(usize) -> f32) -> f32 {
-        let mut steepest = 0.0f32;
+    /// The depth bias for a line lying on the given triangles (the steeper, the larger).
+    fn bias(&mut self, tris: [u32; 2]) -> f32 {
+        let mut slope = 0.0f32;
         for t in tris {
             if t != NONE && self.facing.get(t as usize) == Some(&true) {
-                steepest = steepest.max(slope(t as usize));
+                slope = slope.max(self.slope(t as usize));
             }
         }
-        BASE_BIAS + (SLOPE_BIAS * steepest).min(MAX_SLOPE_BIAS)
+        BASE_BIAS + (SLOPE_BIAS * slope).min(MAX_SLOPE_BIAS)
     }
 
-    /// The depth slope of triangle `t` in this frame.
+    /// The depth slope of front-facing triangle `t`, computed once per frame.
     #[inline]
-    fn slope_of(&self, t: usize) -> f32 {
-        depth_slope(self.triangles[t].map(|i| self.vert(i)))
+    fn slope(&mut self, t: usize) -> f32 {
+        let cached = self.slopes[t];
+        // A slope is never NaN (`depth_slope` turns NaN into f32::MAX): NaN means not yet.
+        if !cached.is_nan() {
+            return cached;
+        }
+        let slope = depth_slope(self.triangles[t].map(|i| self.vert(i)));
+        self.slopes[t] = slope;
+        slope
     }
 
     /// Whether an edge belongs to the style's line set.
@@ -90,84 +95,36 @@ impl Renderer {
         }
     }
 
-    /// Gathers the style's lines into `segments`, in drawing order: the edges, then (the
-    /// `lines` style) the iso-depth contours and the facing contours. On a big mesh the
-    /// edges are gathered beside the contours, each into its own list, joined in that
-    /// order (the same lines as one after the other).
+    /// Gathers the style's edges.
     #[inline(never)]
-    pub(super) fn collect_lines(&mut self, scene: &Scene, style: Style) {
+    pub(super) fn collect_edges(&mut self, scene: &Scene, style: Style) {
         if style == Style::Lines {
             self.compute_face_normals(scene);
         }
-        let contours = style == Style::Lines && scene.contours > 0;
-        let facing = style == Style::Lines && !scene.facing_contours.is_empty();
-        let mut edges = std::mem::take(&mut self.segments);
-        let mut slopes = std::mem::take(&mut self.slopes);
-        let mut late = std::mem::take(&mut self.late_segments);
-        let mut normals = std::mem::take(&mut self.normals);
-        let mut toward = std::mem::take(&mut self.vertex_facing);
-        late.clear();
-        let this = &*self;
-        join(
-            self.parallel(),
-            || this.collect_edges(scene, style, &mut slopes, &mut edges),
-            || {
-                if contours {
-                    this.collect_contours(scene, &mut late);
-                }
-                if facing {
-                    this.vertex_normals(scene, &mut normals);
-                    this.collect_facing_contours(scene, (&normals, &mut toward), &mut late);
-                }
-            },
-        );
-        edges.append(&mut late);
-        (self.segments, self.slopes, self.late_segments) = (edges, slopes, late);
-        (self.normals, self.vertex_facing) = (normals, toward);
-    }
-
-    /// Gathers the style's edges into `out`, with `slopes` the per-triangle depth slopes of
-    /// this frame computed once (NaN until needed).
-    fn collect_edges(
-        &self,
-        scene: &Scene,
-        style: Style,
-        slopes: &mut [f32],
-        out: &mut Vec<Segment>,
-    ) {
         let cos_crease = scene.crease_degrees.to_radians().cos();
-        let mut slope = |t: usize| {
-            // A slope is never NaN (`depth_slope` turns NaN into f32::MAX): NaN means not yet.
-            if slopes[t].is_nan() {
-                slopes[t] = self.slope_of(t);
-            }
-            slopes[t]
-        };
-        for e in &self.edges {
-            if !self.wanted(style, e, cos_crease) {
+        for k in 0..self.edges.len() {
+            let e = self.edges[k];
+            if !self.wanted(style, &e, cos_crease) {
                 continue;
             }
             let (a, b) = (self.vert(e.a), self.vert(e.b));
-            let bias = self.bias([e.t0, e.t1], &mut slope);
-            let color = self.edge_color(scene, e);
-            out.push(Segment { a, b, bias, color });
+            let bias = self.bias([e.t0, e.t1]);
+            let color = self.edge_color(scene, &e);
+            self.segments.push(Segment { a, b, bias, color });
         }
     }
 
     /// Gathers lines where the surface turns away from the viewer by a given amount: iso-lines of
     /// (vertex normal . direction to the viewer), drawn across front-facing triangles. They
     /// outline the sides of the nose, the eye sockets and the lips, which are smooth (no
-    /// crease) and not on the silhouette. `normals` are this frame's vertex normals;
-    /// `toward` receives how much each faces the viewer.
-    fn collect_facing_contours(
-        &self,
-        scene: &Scene,
-        (normals, toward): (&[Vec3], &mut Vec<f32>),
-        out: &mut Vec<Segment>,
-    ) {
-        toward.clear();
+    /// crease) and not on the silhouette.
+    #[inline(never)]
+    pub(super) fn collect_facing_contours(&mut self, scene: &Scene) {
+        self.compute_normals(scene);
+        self.vertex_facing.clear();
         let viewer = self.viewer_mesh;
-        toward.extend(normals.iter().map(|n| n.dot(viewer)));
+        self.vertex_facing
+            .extend(self.normals.iter().map(|n| n.dot(viewer)));
         let sign = self.sign(scene.orientation);
         let cos_crease = scene.crease_degrees.to_radians().cos();
         let color = scene.palette.contour;
@@ -176,7 +133,7 @@ impl Renderer {
                 continue;
             }
             let tri = self.triangles[t];
-            let f = tri.map(|i| toward[i as usize]);
+            let f = tri.map(|i| self.vertex_facing[i as usize]);
             // Most faces cross no level: test that first, smoothness only when one does.
             let mut smooth = None;
             for &level in scene.facing_contours {
@@ -191,18 +148,19 @@ impl Renderer {
                 if !*smooth.get_or_insert_with(|| {
                     let face = self.face_normals[t].normalize_or_zero() * sign;
                     tri.iter()
-                        .all(|&i| normals[i as usize].dot(face) >= cos_crease)
+                        .all(|&i| self.normals[i as usize].dot(face) >= cos_crease)
                 }) {
                     break;
                 }
-                let bias = self.bias([t as u32, NONE], |t| self.slope_of(t));
-                out.push(Segment { a, b, bias, color });
+                let bias = self.bias([t as u32, NONE]);
+                self.segments.push(Segment { a, b, bias, color });
             }
         }
     }
 
-    /// Gathers iso-depth contours across the front-facing triangles into `out`.
-    fn collect_contours(&self, scene: &Scene, out: &mut Vec<Segment>) {
+    /// Gathers iso-depth contours across the front-facing triangles.
+    #[inline(never)]
+    pub(super) fn collect_contours(&mut self, scene: &Scene) {
         let (zmin, zmax) = self
             .projected
             .iter()
@@ -227,8 +185,8 @@ impl Renderer {
             for k in first..=last {
                 let level = zmin + step * k as f32;
                 if let Some((a, b)) = level_crossing(p, level) {
-                    let bias = self.bias([t as u32, NONE], |t| self.slope_of(t));
-                    out.push(Segment { a, b, bias, color });
+                    let bias = self.bias([t as u32, NONE]);
+                    self.segments.push(Segment { a, b, bias, color });
                 }
             }
         }

@@ -2,7 +2,6 @@
 
 use glam::Vec3;
 
-use super::bands::{join, split_row, Band};
 use super::depth::{corner_weights, dot_span, triangle_box};
 use super::features::HEAT_FLOOR;
 use super::grid::{ceil_nonneg, floor_end};
@@ -47,34 +46,33 @@ impl Renderer {
             self.dot_spans
                 .extend(self.projected.iter().map(move |&p| dot_span(p, w, h)));
         }
-        let parallel = self.parallel();
-        let faces = Faces {
-            triangles: &self.triangles,
-            facing: &self.facing,
-            projected: &self.projected,
-            spans: small.then_some(&self.dot_spans[..]),
-            shade: &self.vertex_shade,
-            heat: heat.then_some(&self.vertex_heat[..]),
-        };
-        let base = scene.palette.mesh;
         let (depth, on, color, layer) = canvas.buffers_mut();
-        let [top, bottom] = Band::pair(w, h, split_row(h, parallel));
-        let cut = top.cut();
-        let (depth, depth2) = depth.split_at_mut(cut);
-        let (on, on2) = on.split_at_mut(cut);
-        let (color, color2) = color.split_at_mut(cut);
-        let (layer, layer2) = layer.split_at_mut(cut);
-        let (shade, shade2) = self.dot_shade[..n].split_at_mut(cut);
-        let (dot_heat, dot_heat2) = match heat {
-            true => self.dot_heat[..n].split_at_mut(cut),
-            false => (&mut [][..], &mut [][..]),
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if !self.facing[t] {
+                continue;
+            }
+            let p = tri.map(|i| self.projected[i as usize]);
+            let dots = if small {
+                triangle_box(tri.map(|i| self.dot_spans[i as usize]))
+            } else {
+                float_box(p, w, h)
+            };
+            let s = tri.map(|i| self.vertex_shade[i as usize]);
+            if heat {
+                let k = tri.map(|i| self.vertex_heat[i as usize]);
+                let out = [&mut self.dot_shade[..], &mut self.dot_heat[..]];
+                shade_triangle_in::<2>(p, [s, k], dots, w, depth, out);
+            } else {
+                let out = [&mut self.dot_shade[..]];
+                shade_triangle_in::<1>(p, [s], dots, w, depth, out);
+            }
+        }
+        let look = Look {
+            base: scene.palette.mesh,
+            dither,
+            heat: heat.then_some(&self.dot_heat[..]),
         };
-        let lit = |band: Band, bufs: BandBuffers| faces.fill_band(band, dirty, base, dither, bufs);
-        join(
-            parallel,
-            || lit(top, (depth, on, color, layer, shade, dot_heat)),
-            || lit(bottom, (depth2, on2, color2, layer2, shade2, dot_heat2)),
-        );
+        look.light_dots(dirty, w, depth, &self.dot_shade, (on, color, layer));
     }
 
     /// Per-vertex Lambert intensity from oriented, area-weighted vertex normals.
@@ -126,18 +124,9 @@ impl Renderer {
     #[inline(never)]
     pub(super) fn compute_normals(&mut self, scene: &Scene) {
         self.compute_face_normals(scene);
-        let mut normals = std::mem::take(&mut self.normals);
-        self.vertex_normals(scene, &mut normals);
-        self.normals = normals;
-    }
-
-    /// [`Renderer::compute_normals`] into `normals`, once this frame's face normals are
-    /// computed.
-    #[inline(never)]
-    pub(super) fn vertex_normals(&self, scene: &Scene, normals: &mut Vec<Vec3>) {
         let n = self.projected.len();
-        normals.clear();
-        normals.resize(n, Vec3::ZERO);
+        self.normals.clear();
+        self.normals.resize(n, Vec3::ZERO);
         let sign = self.sign(scene.orientation);
         for ((tri, normal), &facing) in self
             .triangles
@@ -149,79 +138,11 @@ impl Renderer {
             if facing {
                 let normal = *normal * sign;
                 for &i in tri {
-                    normals[i as usize] += normal;
+                    self.normals[i as usize] += normal;
                 }
             }
         }
-        normalize_or_zero_all(normals);
-    }
-}
-
-/// One band's buffers of the shaded fill: depth, on, colour and layer (the canvas's),
-/// then the per-dot shade and heat (the heat empty without displacement colours).
-type BandBuffers<'b> = (
-    &'b mut [f32],
-    &'b mut [bool],
-    &'b mut [Rgb],
-    &'b mut [Layer],
-    &'b mut [f32],
-    &'b mut [f32],
-);
-
-/// What the shaded fill reads of a frame: the front faces, their corners' dot boxes (on
-/// canvases below 2^24 dots a side) and the vertices' shade (and heat).
-struct Faces<'a> {
-    triangles: &'a [[u32; 3]],
-    facing: &'a [bool],
-    projected: &'a [Vec3],
-    spans: Option<&'a [[u32; 4]]>,
-    shade: &'a [f32],
-    heat: Option<&'a [f32]>,
-}
-
-impl Faces<'_> {
-    /// The shaded fill of the rows of `band`: every front face's dots there, then the dots
-    /// of the dirty rectangle `dirty` there lit.
-    fn fill_band(
-        &self,
-        band: Band,
-        dirty: (usize, usize, usize, usize),
-        base: Rgb,
-        dither: bool,
-        (depth, on, color, layer, dot_shade, dot_heat): BandBuffers,
-    ) {
-        let (w, h) = (band.width, band.rows.1);
-        let at = (w, band.origin());
-        for (t, tri) in self.triangles.iter().enumerate() {
-            if !self.facing[t] {
-                continue;
-            }
-            let p = tri.map(|i| self.projected[i as usize]);
-            let dots = match self.spans {
-                Some(spans) => triangle_box(tri.map(|i| spans[i as usize])),
-                None => float_box(p, w, h),
-            };
-            let dots = band.clip(dots);
-            if dots[2] >= dots[3] {
-                continue;
-            }
-            let s = tri.map(|i| self.shade[i as usize]);
-            if let Some(heat) = self.heat {
-                let k = tri.map(|i| heat[i as usize]);
-                let out = [&mut dot_shade[..], &mut dot_heat[..]];
-                shade_triangle_in::<2>(p, [s, k], dots, at, depth, out);
-            } else {
-                shade_triangle_in::<1>(p, [s], dots, at, depth, [&mut dot_shade[..]]);
-            }
-        }
-        let look = Look {
-            base,
-            dither,
-            heat: self.heat.is_some().then_some(&dot_heat[..]),
-        };
-        let (x0, y0, x1, y1) = dirty;
-        let rows = (x0, y0.max(band.rows.0), x1, y1.min(band.rows.1));
-        look.light_dots(rows, at, depth, dot_shade, (on, color, layer));
+        normalize_or_zero_all(&mut self.normals);
     }
 }
 
@@ -265,14 +186,14 @@ impl Look<'_> {
     fn light_dots(
         &self,
         (x0, y0, x1, y1): (usize, usize, usize, usize),
-        (w, origin): (usize, usize),
+        w: usize,
         depth: &[f32],
         shade: &[f32],
         (on, color, layer): (&mut [bool], &mut [Rgb], &mut [Layer]),
     ) {
         #[cfg(target_arch = "x86_64")]
         if SIMD && self.heat.is_none() {
-            let end = (y1.saturating_sub(1) * w + x1).saturating_sub(origin);
+            let end = y1.saturating_sub(1) * w + x1;
             if y0 < y1
                 && x0 < x1
                 && [depth.len(), shade.len(), on.len()]
@@ -283,7 +204,7 @@ impl Look<'_> {
             {
                 sse::light_rows(
                     (x0, y0, x1, y1),
-                    (w, origin),
+                    w,
                     self.base,
                     self.dither,
                     depth,
@@ -293,8 +214,7 @@ impl Look<'_> {
             }
             return;
         }
-        let rect = (x0, y0, x1, y1);
-        self.light_rows(rect, (w, origin), depth, shade, (on, color, layer));
+        self.light_rows((x0, y0, x1, y1), w, depth, shade, (on, color, layer));
     }
 
     /// The portable [`Look::light_dots`]: the same dots and colours as the SSE2 steps
@@ -302,14 +222,14 @@ impl Look<'_> {
     fn light_rows(
         &self,
         (x0, y0, x1, y1): (usize, usize, usize, usize),
-        (w, origin): (usize, usize),
+        w: usize,
         depth: &[f32],
         shade: &[f32],
         (on, color, layer): (&mut [bool], &mut [Rgb], &mut [Layer]),
     ) {
         for y in y0..y1 {
             let thresholds = BAYER[y & 3].map(|b| b as f32 + 0.5);
-            let (from, to) = (y * w + x0 - origin, y * w + x1 - origin);
+            let (from, to) = (y * w + x0, y * w + x1);
             // Without branches on the dither, which is a coin toss per dot: the colour is
             // computed for every covered dot (only read where the dot is on).
             for (x, i) in (x0..x1).zip(from..to) {
@@ -487,7 +407,7 @@ pub(super) fn shade_triangle_in<const N: usize>(
     p: [Vec3; 3],
     attr: [[f32; 3]; N],
     dots: [usize; 4],
-    (w, origin): (usize, usize),
+    w: usize,
     depth: &mut [f32],
     out: [&mut [f32]; N],
 ) {
@@ -505,28 +425,14 @@ pub(super) fn shade_triangle_in<const N: usize>(
     let planes = attr.map(|v| plane(wa, wb, v));
     let padded = (x1 - x0).next_multiple_of(4);
     // Every row's steps fit in the buffers when the last row's do.
-    let last_end = (y1 - 1) * w + x0 + padded - origin;
+    let last_end = (y1 - 1) * w + x0 + padded;
     #[cfg(target_arch = "x86_64")]
     if SIMD && last_end <= depth.len() && out.iter().all(|o| o.len() >= last_end) {
-        sse::shade_rows(
-            [x0, x1, y0, y1],
-            (w, origin),
-            [wa, wb, z],
-            planes,
-            depth,
-            out,
-        );
+        sse::shade_rows([x0, x1, y0, y1], w, [wa, wb, z], planes, depth, out);
         return;
     }
     let _ = last_end;
-    shade_rows(
-        [x0, x1, y0, y1],
-        (w, origin),
-        [wa, wb, z],
-        planes,
-        depth,
-        out,
-    );
+    shade_rows([x0, x1, y0, y1], w, [wa, wb, z], planes, depth, out);
 }
 
 /// The portable [`shade_triangle_in`] over the rows of its box: the same dots and bits as
@@ -534,7 +440,7 @@ pub(super) fn shade_triangle_in<const N: usize>(
 /// at a time at the canvas's end.
 fn shade_rows<const N: usize>(
     [x0, x1, y0, y1]: [usize; 4],
-    (w, origin): (usize, usize),
+    w: usize,
     [wa, wb, z]: [(f32, f32, f32); 3],
     planes: [(f32, f32, f32); N],
     depth: &mut [f32],
@@ -547,7 +453,7 @@ fn shade_rows<const N: usize>(
     let padded = width.next_multiple_of(LANES);
     for y in y0..y1 {
         let py = y as f32 + 0.5;
-        let from = y * w + x0 - origin;
+        let from = y * w + x0;
         // The steps may run past the row's end, into dots they leave as they are (each
         // lane past the end is masked off), but not past the buffers' end.
         let end = from + padded;
@@ -649,14 +555,14 @@ mod sse {
     /// The caller checks that the rectangle lies inside every buffer.
     pub(super) fn light_rows(
         (x0, y0, x1, y1): (usize, usize, usize, usize),
-        (w, origin): (usize, usize),
+        w: usize,
         base: Rgb,
         dither: bool,
         depth: &[f32],
         shade: &[f32],
         (on, color, layer): (&mut [bool], &mut [Rgb], &mut [Layer]),
     ) {
-        let end = (y1 - 1) * w + x1 - origin;
+        let end = (y1 - 1) * w + x1;
         assert!(depth.len() >= end && shade.len() >= end && on.len() >= end);
         assert!(color.len() >= end && layer.len() >= end);
         // SAFETY: SSE and SSE2 are part of x86-64; the loads read `depth` and `shade` at
@@ -672,8 +578,8 @@ mod sse {
                 let row = BAYER[y & 3].map(|b| b as f32 + 0.5);
                 let t = |l: usize| row[(x0 + l) & 3];
                 let thresholds = _mm_setr_ps(t(0), t(1), t(2), t(3));
-                let from = y * w + x0 - origin;
-                let to = y * w + x1 - origin;
+                let from = y * w + x0;
+                let to = y * w + x1;
                 let mut i = from;
                 while i + 4 <= to {
                     let s = _mm_loadu_ps(shade.as_ptr().add(i));
@@ -703,7 +609,7 @@ mod sse {
                     i += 4;
                 }
                 for x in (i - from + x0)..x1 {
-                    let i = y * w + x - origin;
+                    let i = y * w + x;
                     let s = shade[i];
                     let lit = depth[i] != f32::NEG_INFINITY && (!dither || s * 16.0 > row[x & 3]);
                     on[i] = lit;
@@ -722,17 +628,16 @@ mod sse {
     #[inline(always)]
     pub(super) fn shade_rows<const N: usize>(
         [x0, x1, y0, y1]: [usize; 4],
-        (w, origin): (usize, usize),
+        w: usize,
         [wa, wb, z]: [Plane; 3],
         planes: [Plane; N],
         depth: &mut [f32],
         out: [&mut [f32]; N],
     ) {
         let padded = (x1 - x0).next_multiple_of(4);
-        let last_end = (y1 - 1) * w + x0 + padded - origin;
-        assert!(last_end <= depth.len());
+        assert!((y1 - 1) * w + x0 + padded <= depth.len());
         for o in &out {
-            assert!(last_end <= o.len());
+            assert!((y1 - 1) * w + x0 + padded <= o.len());
         }
         // SAFETY: SSE and SSE2 are part of x86-64; every load and store stays inside the
         // buffers (the asserts above).
@@ -756,7 +661,7 @@ mod sse {
                 let at = |(kx, k0): (__m128, __m128), ky: __m128, xs: __m128| {
                     _mm_add_ps(_mm_add_ps(_mm_mul_ps(kx, xs), ky), k0)
                 };
-                let from = y * w + x0 - origin;
+                let from = y * w + x0;
                 let mut x = x0;
                 let mut i = from;
                 while i < from + padded {
@@ -769,7 +674,7 @@ mod sse {
                         _mm_and_ps(_mm_cmpge_ps(la, eps), _mm_cmpge_ps(lb, eps)),
                         _mm_and_ps(_mm_cmpge_ps(lc, eps), _mm_cmplt_ps(xs, x_end)),
                     );
-                    // `i + 4 <= from + padded <= last_end`, which the
+                    // `i + 4 <= from + padded <= (y1 - 1) * w + x0 + padded`, which the
                     // asserts above keep inside `depth` and every `out` buffer.
                     let d = _mm_loadu_ps(depth_ptr.add(i));
                     let nearer = _mm_and_ps(inside, _mm_cmpgt_ps(lz, d));
@@ -831,8 +736,8 @@ mod simd_matches_portable {
             let (mut d1, mut d2) = (start.clone(), start.clone());
             let (mut s1, mut s2, mut k1, mut k2) =
                 (vec![0.25; len], vec![0.25; len], vec![0.5; len], vec![0.5; len]);
-            sse::shade_rows(dots, (w, 0), [wa, wb, z], planes, &mut d1, [&mut s1, &mut k1]);
-            shade_rows(dots, (w, 0), [wa, wb, z], planes, &mut d2, [&mut s2, &mut k2]);
+            sse::shade_rows(dots, w, [wa, wb, z], planes, &mut d1, [&mut s1, &mut k1]);
+            shade_rows(dots, w, [wa, wb, z], planes, &mut d2, [&mut s2, &mut k2]);
             prop_assert_eq!(bits(&d1), bits(&d2));
             prop_assert_eq!(bits(&s1), bits(&s2));
             prop_assert_eq!(bits(&k1), bits(&k2));
@@ -864,8 +769,8 @@ mod simd_matches_portable {
             let look = Look { base: Rgb(base.0, base.1, base.2), dither, heat: None };
             let (mut on1, mut c1, mut l1) = (vec![false; len], vec![Rgb(0, 0, 0); len], vec![Layer::Empty; len]);
             let (mut on2, mut c2, mut l2) = (on1.clone(), c1.clone(), l1.clone());
-            sse::light_rows((x0, y0, x1, y1), (w, 0), look.base, dither, &depth, &shade, (&mut on1, &mut c1, &mut l1));
-            look.light_rows((x0, y0, x1, y1), (w, 0), &depth, &shade, (&mut on2, &mut c2, &mut l2));
+            sse::light_rows((x0, y0, x1, y1), w, look.base, dither, &depth, &shade, (&mut on1, &mut c1, &mut l1));
+            look.light_rows((x0, y0, x1, y1), w, &depth, &shade, (&mut on2, &mut c2, &mut l2));
             // Colour and layer are read only where a dot is on, as the kernels say.
             for i in 0..len {
                 prop_assert_eq!(on1[i], on2[i], "dot {}", i);

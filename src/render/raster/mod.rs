@@ -16,7 +16,6 @@
 //! Each pass runs once per frame and is kept out of line (`#[inline(never)]`) so that a
 //! profile shows where the frame's time goes.
 
-mod bands;
 mod depth;
 mod features;
 mod fill;
@@ -121,8 +120,6 @@ pub struct Renderer {
     /// This frame's depth-tested lines, in drawing order, kept until the depth buffer holds
     /// every surface they pass over.
     segments: Vec<Segment>,
-    /// The contours of this frame, gathered beside the edges, then appended to `segments`.
-    late_segments: Vec<Segment>,
     /// Depth slope per triangle for this frame, NaN until first needed.
     slopes: Vec<f32>,
     /// The dots some depth-tested line of this frame will be drawn on.
@@ -141,9 +138,6 @@ pub struct Renderer {
     /// the projection it gave; and the rest pose it fitted (copied).
     fit: Option<(FitKey, Projection)>,
     fit_rest: Vec<Vec3>,
-    /// Triangles from which a frame runs on two threads (`None`:
-    /// [`bands::PARALLEL_TRIANGLES`]; tests set it to draw small meshes both ways).
-    parallel_from: Option<usize>,
 }
 
 impl Renderer {
@@ -351,7 +345,13 @@ impl Renderer {
             self.slopes.clear();
             self.slopes.resize(self.triangles.len(), f32::NAN);
             self.compute_heat(scene);
-            self.collect_lines(scene, style);
+            self.collect_edges(scene, style);
+            if style == Style::Lines && scene.contours > 0 {
+                self.collect_contours(scene);
+            }
+            if style == Style::Lines && !scene.facing_contours.is_empty() {
+                self.collect_facing_contours(scene);
+            }
             self.fill_depth(canvas);
             self.draw_segments(canvas);
         }
@@ -359,12 +359,6 @@ impl Renderer {
             self.draw_ghost(scene, &proj, canvas);
         }
         self.draw_overlays(scene.overlays, &proj, canvas);
-    }
-
-    /// Whether this frame's big passes run on two threads (`bands`).
-    fn parallel(&self) -> bool {
-        let from = self.parallel_from.unwrap_or(bands::PARALLEL_TRIANGLES);
-        bands::parallel(self.triangles.len(), from)
     }
 
     /// The projected position of vertex `i`, NaN when missing.

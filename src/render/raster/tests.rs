@@ -121,7 +121,7 @@ proptest! {
         let mut expected = vec![f32::NEG_INFINITY; W * H];
         depth_triangle([a, b, c], W, H, &mut expected);
         let mut via_spans = vec![f32::NEG_INFINITY; W * H];
-        depth_triangle_in([a, b, c], got, (W, 0), None, &mut via_spans);
+        depth_triangle_in([a, b, c], got, W, None, &mut via_spans);
         prop_assert_eq!(bits(&via_spans), bits(&expected));
     }
 
@@ -143,7 +143,7 @@ proptest! {
             depth_triangle([a, b, c], W, H, &mut full);
             let [x0, x1, y0, y1] = triangle_box([a, b, c].map(|p| dot_span(p, W, H)));
             if x0 < x1 && y0 < y1 && mask.any(x0, x1, y0, y1) {
-                depth_triangle_in([a, b, c], [x0, x1, y0, y1], (W, 0), Some(&mask), &mut culled);
+                depth_triangle_in([a, b, c], [x0, x1, y0, y1], W, Some(&mask), &mut culled);
             }
         }
         for &(a, b) in &lines {
@@ -376,68 +376,6 @@ fn the_shaded_fill_matches_drawing_dot_by_dot() {
         }
     }
     assert!(compared > 100_000, "{compared} lit dots compared");
-}
-
-/// A frame drawn on two threads (the canvas in two bands of rows, the edges gathered beside
-/// the contours) is the frame drawn on one, dot for dot and line for line: every style,
-/// at rest and smiling, with and without displacement colours and contours, from several
-/// cameras, on canvases of even and odd heights.
-#[test]
-fn frames_on_two_threads_are_frames_on_one() {
-    use crate::io::builtin;
-    use crate::model::BoundRig;
-    use crate::render::{Camera, CellMode, Scene, Style};
-    let mesh = builtin::default_mesh();
-    let rig = builtin::default_rig();
-    let bound = BoundRig::bind(&rig, &mesh).unwrap();
-    let act = builtin::default_table()
-        .expression_activations("happiness", &rig)
-        .unwrap();
-    let mut smile = Vec::new();
-    bound.deform(&act, &mut smile).unwrap();
-    let zoomed = Camera {
-        zoom: 3.0,
-        pan: glam::Vec2::new(2.0, -1.0),
-        ..Camera::three_quarter()
-    };
-    let mut one = super::Renderer::new(&mesh);
-    one.parallel_from = Some(usize::MAX);
-    let mut two = super::Renderer::new(&mesh);
-    two.parallel_from = Some(0);
-    assert!(
-        two.parallel() && !one.parallel(),
-        "the two ways are both drawn"
-    );
-    let mut lit = 0;
-    for (positions, displacement, contours) in [
-        (&mesh.positions, false, 0),
-        (&smile, true, 0),
-        (&smile, false, 5),
-    ] {
-        for camera in [Camera::front(), Camera::three_quarter(), zoomed] {
-            for (mode, cols, rows) in [(CellMode::Braille, 80, 24), (CellMode::HalfBlock, 57, 31)] {
-                for style in [Style::Lines, Style::Shaded, Style::Wireframe] {
-                    let mut scene = Scene::new(&mesh, positions).with_rest(&mesh.positions);
-                    (scene.displacement, scene.contours) = (displacement, contours);
-                    let (mut a, mut b) = (mode.canvas(cols, rows), mode.canvas(cols, rows));
-                    let runs_a = one.render_runs(&scene, &camera, style, &mut a);
-                    let runs_b = two.render_runs(&scene, &camera, style, &mut b);
-                    assert_eq!(runs_a, runs_b, "{style} lines");
-                    for y in 0..a.height() {
-                        for x in 0..a.width() {
-                            let at = format!("{style}, dot {x},{y}");
-                            assert_eq!(a.is_on(x, y), b.is_on(x, y), "{at}");
-                            assert_eq!(a.depth(x, y).to_bits(), b.depth(x, y).to_bits(), "{at}");
-                            assert_eq!(a.color(x, y), b.color(x, y), "{at}");
-                            assert_eq!(a.layer(x, y), b.layer(x, y), "{at}");
-                        }
-                    }
-                    lit += a.count_on();
-                }
-            }
-        }
-    }
-    assert!(lit > 100_000, "{lit} lit dots compared");
 }
 
 /// A renderer kept between frames (its camera fit reused while the camera, canvas and rest
