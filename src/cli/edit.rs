@@ -74,6 +74,8 @@ pub(crate) fn parse_colors(text: &str) -> Result<ColorsChoice, String> {
 
 /// Runs the editor.
 pub fn run(args: &EditArgs) -> anyhow::Result<()> {
+    // A big head's bind frees blocks the levels of detail would otherwise pile on top of.
+    tui::memory::give_back_big_blocks();
     let (app, session) = prepare(args).map_err(anyhow::Error::msg)?;
     tui::run(app, session)
 }

@@ -402,6 +402,8 @@ fn state_activations(args: &RenderArgs, sources: &Sources) -> anyhow::Result<Act
 
 /// Runs `grimace render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    // A big head's bind frees blocks the levels of detail would otherwise pile on top of.
+    crate::tui::memory::give_back_big_blocks();
     let (sources, bound) = load(args)?;
     let look = Look::new(args, &sources)?;
     if args.all {

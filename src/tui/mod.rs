@@ -9,6 +9,7 @@ pub mod face;
 #[cfg(test)]
 mod fixture;
 pub mod keymap;
+pub mod memory;
 pub mod pick;
 pub(crate) mod play;
 pub(crate) mod program;

@@ -14,11 +14,16 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{BoundRig, JawTurn, PARALLEL_CHUNK, PARALLEL_MIN_VERTICES};
+use super::{BoundRig, JawTurn, PARALLEL_MIN_VERTICES};
 use crate::model::muscle::MuscleKind;
 
 /// Checked triangles per parallel task of the area bound.
-const TRIANGLE_CHUNK: usize = 16_384;
+const TRIANGLE_CHUNK: usize = 8_192;
+
+/// Vertices per parallel task of the whole deformation: the work gathers where the active
+/// muscles are (the mouth, the brows), so ranges this small (13 on a 108k head) keep both
+/// cores busy to the end.
+const VERTEX_CHUNK: usize = 8_192;
 
 /// One range's running sums: per row, the sliding muscles' sum (or the only sum when
 /// nothing slides), the sphincters' sum, and the count of active muscles.
@@ -33,24 +38,18 @@ thread_local! {
     /// Per thread: the sums of the range it works on, kept so a deformation allocates
     /// nothing once they are sized.
     static SUMS: std::cell::RefCell<Sums> = std::cell::RefCell::default();
-    /// What this deformation's active muscles may move under the area bound.
-    static MOVED: std::cell::RefCell<Moved> = std::cell::RefCell::default();
-}
-
-/// Per checked triangle, whether an active muscle (or the jaw) may have moved it; per
-/// guarded vertex, whether its scale may differ from 1 (`Guard::rescale` and
-/// `Guard::settle` of the active muscles).
-#[derive(Default)]
-struct Moved {
-    triangles: Vec<bool>,
-    vertices: Vec<bool>,
+    /// Per thread: which items of the range it works on an active muscle (or the jaw) may
+    /// have moved under the area bound.
+    static MARKS: std::cell::RefCell<Vec<bool>> = std::cell::RefCell::default();
+    /// The muscles (then the jaw, numbered after them) active in this deformation.
+    static ACTIVE: std::cell::RefCell<Vec<usize>> = std::cell::RefCell::default();
 }
 
 impl BoundRig {
     /// Every vertex of the mesh deformed by `muscles` (validated activations) and the jaw
     /// turn, before the area bound, into `out` (the mesh's size).
     pub(super) fn deform_whole(&self, muscles: &[f32], turn: Option<JawTurn>, out: &mut [Vec3]) {
-        let chunk = (out.len() >= PARALLEL_MIN_VERTICES).then_some(PARALLEL_CHUNK);
+        let chunk = (out.len() >= PARALLEL_MIN_VERTICES).then_some(VERTEX_CHUNK);
         self.deform_ranges(muscles, turn, out, chunk);
     }
 
@@ -159,44 +158,42 @@ impl BoundRig {
     /// vertices at rest, bit for bit, and so the scale 1 exactly.
     pub(super) fn bound_areas(&self, muscles: &[f32], turned: bool, out: &mut [Vec3]) {
         let big = out.len() >= PARALLEL_MIN_VERTICES;
-        let chunks = big.then_some((TRIANGLE_CHUNK, PARALLEL_CHUNK));
-        MOVED.with_borrow_mut(|moved| {
-            let Moved {
-                triangles,
-                vertices,
-            } = moved;
-            triangles.clear();
-            triangles.resize(self.guard.triangles.len(), false);
-            vertices.clear();
-            vertices.resize(self.guard.vertices.len(), false);
-            let jaw = self.fields.len();
-            for (k, list) in self.guard.rescale.iter().enumerate() {
-                let active = if k == jaw { turned } else { muscles[k] != 0.0 };
-                if active {
-                    list.iter().for_each(|&t| triangles[t as usize] = true);
-                    for &v in &self.guard.settle[k] {
-                        vertices[self.guard.index_of(v as usize) as usize] = true;
-                    }
+        let chunks = big.then_some((TRIANGLE_CHUNK, VERTEX_CHUNK));
+        let jaw = self.fields.len();
+        ACTIVE.with_borrow_mut(|active| {
+            active.clear();
+            active.extend((0..self.guard.rescale.len()).filter(|&k| {
+                if k == jaw {
+                    turned
+                } else {
+                    muscles[k] != 0.0
                 }
-            }
-            self.bound_ranges(out, moved, chunks);
+            }));
+            self.bound_ranges(out, active, chunks);
         });
     }
 
     /// [`BoundRig::bound_areas`] in parallel ranges of `(triangles, vertices)` (one range
-    /// each when `None`), computing the scales of the triangles `moved` marks and settling
-    /// the guarded vertices it marks: every range gives the same bits.
-    fn bound_ranges(&self, out: &mut [Vec3], moved: &Moved, chunks: Option<(usize, usize)>) {
+    /// each when `None`), computing the scales of the triangles the `active` muscles (and
+    /// jaw) rescale and settling the guarded vertices they settle: every range gives the
+    /// same bits. Each range marks its own items from the sorted lists, so nothing runs
+    /// on one thread over the whole mesh.
+    fn bound_ranges(&self, out: &mut [Vec3], active: &[usize], chunks: Option<(usize, usize)>) {
         super::SCRATCH.with_borrow_mut(|(_, scales)| {
-            scales.clear();
+            // Sized once; each range sets its own scales (1 where nothing moved).
             scales.resize(self.guard.triangles.len(), 1.0);
             let at: &[Vec3] = out;
             in_ranges(scales, chunks.map(|c| c.0), |start, range| {
-                for (k, s) in range.iter_mut().enumerate() {
-                    if moved.triangles[start + k] {
-                        *s = self.triangle_scale_at(start + k, at);
+                range.fill(1.0);
+                MARKS.with_borrow_mut(|marks| {
+                    let lists = active.iter().map(|&k| &self.guard.rescale[k][..]);
+                    mark_range(marks, start, range.len(), lists, |t| t as usize - start);
+                    for (k, s) in range.iter_mut().enumerate() {
+                        if marks[k] {
+                            *s = self.triangle_scale_at(start + k, at);
+                        }
                     }
-                }
+                });
             });
             let scales: &[f32] = scales;
             in_ranges(out, chunks.map(|c| c.1), |start, range| {
@@ -204,15 +201,22 @@ impl BoundRig {
                 let end = start + range.len();
                 let from = vertices.partition_point(|&v| (v as usize) < start);
                 let to = vertices.partition_point(|&v| (v as usize) < end);
-                for (g, &v) in vertices[from..to].iter().enumerate() {
-                    // The others' triangles all have the scale 1: so has their mean.
-                    if !moved.vertices[from + g] {
-                        continue;
+                MARKS.with_borrow_mut(|marks| {
+                    // The settle lists hold mesh vertices, sorted: those in this range are
+                    // the guarded vertices `from..to`.
+                    let lists = active.iter().map(|&k| &self.guard.settle[k][..]);
+                    let guarded = |v: u32| self.guard.index_of(v as usize) as usize - from;
+                    mark_range(marks, start, range.len(), lists, guarded);
+                    for (g, &v) in vertices[from..to].iter().enumerate() {
+                        // The others' triangles all have the scale 1: so has their mean.
+                        if !marks[g] {
+                            continue;
+                        }
+                        let v = v as usize;
+                        let scale = self.guard.vertex_scale(from + g, scales);
+                        range[v - start] = self.scaled(v, range[v - start], scale);
                     }
-                    let v = v as usize;
-                    let scale = self.guard.vertex_scale(from + g, scales);
-                    range[v - start] = self.scaled(v, range[v - start], scale);
-                }
+                });
             });
         });
     }
@@ -238,6 +242,26 @@ fn in_ranges<T: Send>(out: &mut [T], chunk: Option<usize>, f: impl Fn(usize, &mu
             .enumerate()
             .for_each(|(i, range)| f(i * chunk.max(1), range)),
         None => f(0, out),
+    }
+}
+
+/// Clears `marks` to `len` items and sets, for every sorted list, the slot `slot(item)`
+/// of each of its items in `start..start + len` (the lists' items in that range map to
+/// slots below `len`).
+fn mark_range<'a>(
+    marks: &mut Vec<bool>,
+    start: usize,
+    len: usize,
+    lists: impl Iterator<Item = &'a [u32]>,
+    slot: impl Fn(u32) -> usize,
+) {
+    marks.clear();
+    marks.resize(len, false);
+    let end = start + len;
+    for list in lists {
+        let from = list.partition_point(|&i| (i as usize) < start);
+        let to = list.partition_point(|&i| (i as usize) < end);
+        list[from..to].iter().for_each(|&i| marks[slot(i)] = true);
     }
 }
 
@@ -270,11 +294,8 @@ mod tests {
                 let mut out = vec![Vec3::ZERO; mesh.positions.len()];
                 bound.deform_ranges(&act.muscles, turn, &mut out, Some(chunk));
                 if !bound.guard.is_empty() {
-                    // every checked triangle computed, as if every muscle were active
-                    let every = super::Moved {
-                        triangles: vec![true; bound.guard.triangles.len()],
-                        vertices: vec![true; bound.guard.vertices.len()],
-                    };
+                    // what every muscle and the jaw may move computed, as if all were active
+                    let every: Vec<usize> = (0..bound.guard.rescale.len()).collect();
                     bound.bound_ranges(&mut out, &every, Some((chunk, chunk + 3)));
                 }
                 assert_eq!(bits(&out), bits(&whole), "{deformation}, ranges of {chunk}");
