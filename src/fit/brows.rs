@@ -158,7 +158,7 @@ pub(super) fn socket_mask(
     };
     let ramps = super::brow_ramp::ramp_masks(rig, mesh, parts, &kept, &eyes);
     let mut masks: Vec<Mask> = (!weights.is_empty())
-        .then(|| Mask {
+        .then_some(Mask {
             muscles: sheets,
             gain: 1.0,
             weights,
