@@ -23,9 +23,8 @@ use glam::Vec3;
 
 use super::anthropometry::{units, y_units, MM_PER_UNIT, Y_ORIGIN_MM};
 use super::brow::{hair_band, HAIR_HEAD_X, HAIR_TAIL_X, MIDLINE_FADE_MM};
-use super::rigs::{frontalis_pair, skin_under, PlacementError};
 use super::{round3, rounded, surface};
-use crate::model::{Mask, Mesh, Muscle, Rig, Sheet};
+use crate::model::{Mask, Mesh, Sheet};
 
 /// The muscle pair's base name.
 pub(super) const NAME: &str = "Orbicularis_Oculi_Superior";
@@ -45,41 +44,22 @@ const LINES_X: (f64, f64) = (6.0, 54.0);
 /// halves it there) to beyond the temple, so its own side taper falls outside the brow.
 const WIDTH_MM: f64 = 110.0;
 /// Where the sheet's depth is taken (mm): the skin over the brow's middle, 3 mm under it.
-const DEPTH_AT: (f64, f64, f64) = (30.0, 11.0, 3.0);
+pub(super) const DEPTH_AT: (f64, f64, f64) = (30.0, 11.0, 3.0);
 /// Beyond the brow's tail the lowering fades out over this distance (mm), into the temple.
 const TAIL_FADE_MM: f64 = 15.0;
 
-/// Adds the sheet pair and their masks to `rig`.
-pub(super) fn add(mesh: &Mesh, rig: &mut Rig) -> Result<(), PlacementError> {
-    let pair = sheets(mesh)?;
-    for (muscle, side) in pair.iter().zip([1.0, -1.0]) {
-        rig.masks.push(mask(mesh, &muscle.name, side)?);
-    }
-    rig.muscles.extend(pair);
-    Ok(())
-}
-
-/// The sheet pair, the subject's left first: attachment and insertion lines across the face
-/// at one depth, so the pull lies in the face's plane.
-fn sheets(mesh: &Mesh) -> Result<[Muscle; 2], PlacementError> {
-    let (x, y, depth) = DEPTH_AT;
-    let skin = skin_under(mesh, units(x) as f32, y_units(y) as f32).ok_or_else(|| {
-        PlacementError::NoSkin {
-            muscle: NAME.to_string(),
-            x,
-            y,
-        }
-    })?;
-    let z = skin.z - units(depth) as f32;
+/// The left sheet, its four corners at depth `z` (mesh units: the skin under [`DEPTH_AT`],
+/// that far under it): attachment and insertion lines across the face at one depth, so the
+/// pull lies in the face's plane (`face::rigs` places it and mirrors it).
+pub(super) fn sheet(z: f32) -> Sheet {
     let at = |x: f64, y: f64| rounded(Vec3::new(units(x) as f32, y_units(y) as f32, z));
     let axis = units(INSERTION_Y - ATTACHMENT_Y) as f32;
-    let sheet = Sheet {
+    Sheet {
         attachment: [at(LINES_X.0, ATTACHMENT_Y), at(LINES_X.1, ATTACHMENT_Y)],
         insertion: [at(LINES_X.0, INSERTION_Y), at(LINES_X.1, INSERTION_Y)],
         length: round3(axis + units(FOREHEAD_FADE_MM) as f32),
         width: round3(units(WIDTH_MM) as f32),
-    };
-    Ok(frontalis_pair(NAME, sheet))
+    }
 }
 
 /// The upper lid margin's height (mm above the nasion) across the eye, from the left eye's
@@ -88,15 +68,11 @@ fn sheets(mesh: &Mesh) -> Result<[Muscle; 2], PlacementError> {
 struct LidLine(Vec<(f64, f64)>);
 
 impl LidLine {
-    fn of(mesh: &Mesh) -> Result<LidLine, PlacementError> {
-        let missing = |name: &str| PlacementError::MissingLandmark(name.to_string());
-        let margin = mesh
-            .groups
-            .get("left_upper_lid")
-            .ok_or(missing("left_upper_lid"))?;
+    fn of(mesh: &Mesh) -> Option<LidLine> {
+        let margin = mesh.groups.get("left_upper_lid")?;
         let corner = |name: &str| match mesh.groups.get(name).map(Vec::as_slice) {
-            Some([v]) => Ok(*v),
-            _ => Err(missing(name)),
+            Some([v]) => Some(*v),
+            _ => None,
         };
         let corners = [
             corner("left_inner_eye_corner")?,
@@ -109,7 +85,7 @@ impl LidLine {
             .collect();
         points.sort_by(|a, b| a.0.total_cmp(&b.0));
         points.dedup_by(|a, b| a.0 == b.0);
-        Ok(LidLine(points))
+        Some(LidLine(points))
     }
 
     fn height(&self, x: f64) -> f64 {
@@ -155,8 +131,9 @@ fn lowering_share(lid: &LidLine, x: f64, y: f64) -> f64 {
 }
 
 /// The mask shaping muscle `name` (on the side whose x has sign `own_side`): every vertex
-/// within the sheet's reach whose share is under 1.
-fn mask(mesh: &Mesh, name: &str, own_side: f32) -> Result<Mask, PlacementError> {
+/// within the sheet's reach whose share is under 1. `None` without the left eye's upper lid
+/// margin and corners.
+pub(super) fn mask(mesh: &Mesh, name: &str, own_side: f32) -> Option<Mask> {
     let lid = LidLine::of(mesh)?;
     let reach = ATTACHMENT_Y..=INSERTION_Y + FOREHEAD_FADE_MM;
     let weights = mesh
@@ -172,7 +149,7 @@ fn mask(mesh: &Mesh, name: &str, own_side: f32) -> Result<Mask, PlacementError> 
             (w < 1.0).then_some((i as u32, w))
         })
         .collect();
-    Ok(Mask {
+    Some(Mask {
         muscles: vec![name.to_string()],
         gain: 1.0,
         weights,

@@ -14,7 +14,7 @@ use super::anthropometry::*;
 pub use super::jaw_skin::{jaw_weights, JAW_CORNER_WEIGHT};
 use super::jaw_skin::{relax_jaw_weights, MouthSlit, JAW_CORNER_REACH_MM};
 use super::lids::{closing_gain, LidProfile, Margin};
-use super::surface;
+use super::{brow_lowering, surface};
 use super::{round3, rounded};
 use crate::model::{
     Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
@@ -289,7 +289,16 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
             .push(super::brow::medial_mask(mesh, &muscle.name, side, lowest));
     }
     rig.muscles.extend(medial);
-    super::brow_lowering::add(mesh, &mut rig)?;
+    // the orbital orbicularis's upper fibres lowering the whole brow (AU4)
+    let (x, y, depth) = brow_lowering::DEPTH_AT;
+    let z = place.skin(brow_lowering::NAME, x, y)?.z - units(depth) as f32;
+    let lowering = frontalis_pair(brow_lowering::NAME, brow_lowering::sheet(z));
+    for (muscle, side) in lowering.iter().zip([1.0, -1.0]) {
+        let mask = brow_lowering::mask(mesh, &muscle.name, side);
+        rig.masks
+            .push(mask.ok_or_else(|| PlacementError::MissingLandmark("left_upper_lid".into()))?);
+    }
+    rig.muscles.extend(lowering);
     let [left, right] = place.linear_pair(&LABII_NASI)?;
     for muscle in &mut rig.muscles {
         if muscle.name == left.name {
@@ -343,7 +352,7 @@ const MUSCLE_RANGES: [(&str, f32); 7] = [
     ("Mentalis", 0.5),
     ("Orbicularis_Oculi_Orbital", 0.8),
     ("Risorius", 0.8),
-    (super::brow_lowering::NAME, 0.4),
+    (brow_lowering::NAME, 0.4),
 ];
 
 /// Lip muscles of the default rig kept to one lip: `true` for the upper lip, `false` for
