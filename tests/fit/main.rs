@@ -8,7 +8,6 @@ mod common;
 
 mod au;
 mod beyond;
-mod brow_lowering;
 mod brows_drawn;
 mod classic;
 mod cli;
