@@ -249,21 +249,6 @@ fn nearest_vertex(mesh: &Mesh, p: Vec3) -> usize {
         .map_or(0, |(i, _)| i)
 }
 
-/// A muscle's weight at vertex `v`: the product of its masks' gains and weights.
-fn weight(rig: &Rig, name: &str, v: u32) -> f64 {
-    rig.masks
-        .iter()
-        .filter(|m| m.muscles.iter().any(|n| n == name))
-        .map(|m| {
-            let w = m
-                .weights
-                .binary_search_by_key(&v, |&(i, _)| i)
-                .map_or(1.0, |k| m.weights[k].1);
-            f64::from(m.gain) * f64::from(w)
-        })
-        .product()
-}
-
 /// The share of an eye's opening (summed over its facing lid landmarks) by which the ring
 /// `name` of `rig` brings the upper lid down at 2.0.
 fn upper_closure(
@@ -279,7 +264,7 @@ fn upper_closure(
         let p = landmarks[i];
         let v = nearest_vertex(mesh, p);
         let d = crate::model::field::sphincter_displacement(s, mesh.positions[v], FULL as f32);
-        weight(rig, name, v as u32) * d.as_dvec3().dot(up)
+        rig.mask_weight(name, v as u32) * d.as_dvec3().dot(up)
     };
     let (mut open, mut upper) = (0.0, 0.0);
     for (u, l) in pairs(eye) {
@@ -301,7 +286,7 @@ fn sphincter<'a>(rig: &'a Rig, name: &str) -> Option<&'a Sphincter> {
 fn is_lower_ring(rig: &Rig, name: &str, eye: &EyeVertices) -> bool {
     let at = |vs: &[u32]| {
         vs.iter()
-            .map(|&v| weight(rig, name, v))
+            .map(|&v| rig.mask_weight(name, v))
             .collect::<Vec<f64>>()
     };
     let lower = at(&eye.lower).into_iter().fold(f64::INFINITY, f64::min);

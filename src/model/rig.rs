@@ -63,6 +63,24 @@ pub struct Mask {
 }
 
 impl Rig {
+    /// The factor the rig's masks put on muscle `name`'s pull at vertex `v`: the product of
+    /// every mask naming it, each its gain times the vertex's weight (1 where the mask does
+    /// not list the vertex). Computed in f64 so long products of gains stay exact enough to
+    /// compare.
+    pub fn mask_weight(&self, name: &str, v: u32) -> f64 {
+        self.masks
+            .iter()
+            .filter(|m| m.muscles.iter().any(|n| n == name))
+            .map(|m| {
+                let w = m
+                    .weights
+                    .binary_search_by_key(&v, |&(i, _)| i)
+                    .map_or(1.0, |k| m.weights[k].1);
+                f64::from(m.gain) * f64::from(w)
+            })
+            .product()
+    }
+
     /// The index of the muscle with this name.
     pub fn muscle_index(&self, name: &str) -> Option<usize> {
         self.muscles.iter().position(|m| m.name == name)

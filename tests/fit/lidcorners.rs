@@ -3,22 +3,7 @@
 //! `src/fit/lids.rs`) are checked in `lidfold.rs`.
 
 use grimace::fit::quality::{Expect, Gauge};
-use grimace::model::{BoundRig, MuscleKind, Rig, SkinRules};
-
-/// A muscle's weight at vertex `v`: the product of its masks' gains and weights.
-fn weight(rig: &Rig, name: &str, v: u32) -> f32 {
-    rig.masks
-        .iter()
-        .filter(|m| m.muscles.iter().any(|n| n == name))
-        .map(|m| {
-            let w = m
-                .weights
-                .binary_search_by_key(&v, |&(i, _)| i)
-                .map_or(1.0, |k| m.weights[k].1);
-            m.gain * w
-        })
-        .product()
-}
+use grimace::model::{BoundRig, MuscleKind, SkinRules};
 
 /// AU7 and its one-sided forms on the fitted MakeHuman head. The lower lid ring's carried
 /// mask stepped from 0 to 1 between two rows of a canthus's fold 0.6 mm apart: 12 triangles
@@ -65,7 +50,7 @@ fn makehuman_lower_lid_weight_is_continuous_at_the_canthi() {
         let MuscleKind::Sphincter(ring) = &muscle.kind else {
             panic!("{name} is not a ring");
         };
-        let w = |v: u32| weight(&fitted.rig, name, v);
+        let w = |v: u32| fitted.rig.mask_weight(name, v) as f32;
         let near = |v: u32| mesh.positions[v as usize].distance(ring.centre) < ring.semi_major;
         let at_lid = lower
             .map(|i| w(marks[i]))
