@@ -39,18 +39,7 @@ fn jaw_failures(name: &str, mesh: &Mesh, landmarks: &Landmarks) -> Vec<String> {
         jaw_opens: true,
         ..Expect::default()
     };
-    let mut failures = Vec::new();
-    for au in ["26", "27"] {
-        let quality = gauge.measure(&crate::positions_at_au(&bound, au), expect);
-        eprintln!("{name} AU{au}: {quality:?}");
-        failures.extend(
-            quality
-                .failures()
-                .into_iter()
-                .map(|f| format!("{name} AU{au}: {f}")),
-        );
-    }
-    failures
+    crate::au_failures(name, &bound, &gauge, &["26", "27"], expect)
 }
 
 /// MakeHuman's chin ends in a floor of skin running back to the neck, and its mouth has a

@@ -18,18 +18,13 @@ fn lip_raiser_failures(name: &str, mesh: &Mesh, landmarks: &Landmarks) -> Vec<St
     let bound = Deformation::default()
         .bind(&fitted.rig, mesh)
         .expect("binds");
-    let mut failures = Vec::new();
-    for au in ["10", "L10", "R10", "9"] {
-        let quality = gauge.measure(&crate::positions_at_au(&bound, au), Expect::default());
-        eprintln!("{name} AU{au}: {quality:?}");
-        failures.extend(
-            quality
-                .failures()
-                .into_iter()
-                .map(|f| format!("{name} AU{au}: {f}")),
-        );
-    }
-    failures
+    crate::au_failures(
+        name,
+        &bound,
+        &gauge,
+        &["10", "L10", "R10", "9"],
+        Expect::default(),
+    )
 }
 
 /// MakeHuman's upper lip rises at AU10 without a tear at its corners or its midline (2.10x

@@ -28,6 +28,7 @@ mod scheme;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
+use grimace::fit::quality::{Expect, Gauge};
 use grimace::fit::{fit_rig, Fitted, PartOverrides, Template};
 use grimace::io::{builtin, landmarks::load_landmarks, obj};
 use grimace::landmarks::Landmarks;
@@ -77,6 +78,29 @@ fn shared_mediapipe() -> Option<(PathBuf, Mesh, Landmarks)> {
     let mesh = obj::read_obj(&path).unwrap();
     let landmarks = Landmarks::mediapipe(&mesh).unwrap();
     Some((path, mesh, landmarks))
+}
+
+/// `check`'s failures (each named by head and AU) of `bound` at the built-in table's `aus`
+/// at full intensity, measured by `gauge` against `expect`.
+fn au_failures(
+    name: &str,
+    bound: &BoundRig,
+    gauge: &Gauge,
+    aus: &[&str],
+    expect: Expect,
+) -> Vec<String> {
+    let mut failures = Vec::new();
+    for au in aus {
+        let quality = gauge.measure(&positions_at_au(bound, au), expect);
+        eprintln!("{name} AU{au}: {quality:?}");
+        failures.extend(
+            quality
+                .failures()
+                .into_iter()
+                .map(|f| format!("{name} AU{au}: {f}")),
+        );
+    }
+    failures
 }
 
 /// Positions of `bound` at an AU of the built-in table, at full intensity.
