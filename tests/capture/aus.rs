@@ -3,18 +3,13 @@
 
 use glam::{DVec3, Vec3};
 use grimace::capture::{AuProjection, LandmarkModel};
-use grimace::model::{Activations, Deformation};
+use grimace::model::Activations;
 
 /// The built-in face, its landmark model and the built-in table's projection.
 fn projection() -> (grimace::model::BoundRig, LandmarkModel) {
-    let mesh = grimace::io::builtin::default_mesh();
-    let rig = grimace::io::builtin::default_rig();
-    let bound = Deformation::default().bind(&rig, &mesh).unwrap();
-    let vertices = grimace::io::builtin::landmarks("default")
-        .unwrap()
-        .vertices(&mesh);
-    let model = LandmarkModel::new(&bound, &vertices);
-    (bound, model)
+    let face = crate::synthetic::face();
+    let model = LandmarkModel::new(&face.bound, &face.vertices);
+    (face.bound, model)
 }
 
 /// The AU intensity (0-5) `number` for the landmark motion of `muscles` and `jaw`.

@@ -91,13 +91,7 @@ fn a_recording_that_smiles_throughout_is_solved_from_the_rest_face() {
     // And the smile's activations are solved back from it.
     let source = NeutralSource::FirstFrame(1);
     let mut session = Session::new(&face.bound, &model, found, source, regularisation).unwrap();
-    let names: Vec<&str> = face
-        .bound
-        .rig()
-        .muscles
-        .iter()
-        .map(|m| m.name.as_str())
-        .collect();
+    let names = face.names();
     for (k, ((want, what), row)) in poses.iter().zip(&rows).enumerate() {
         let got = session.frame(row).expect("every synthetic frame is usable");
         // The temporal term lags a step change by design: a pose is checked once held.

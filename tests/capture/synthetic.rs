@@ -17,6 +17,18 @@ pub(crate) struct Face {
     pub(crate) vertices: Vec<u32>,
 }
 
+impl Face {
+    /// The rig's muscle names, in the rig's order (the solver's columns).
+    pub(crate) fn names(&self) -> Vec<&str> {
+        self.bound
+            .rig()
+            .muscles
+            .iter()
+            .map(|m| m.name.as_str())
+            .collect()
+    }
+}
+
 pub(crate) fn face() -> Face {
     let mesh = grimace::io::builtin::default_mesh();
     let rig = grimace::io::builtin::default_rig();
@@ -114,13 +126,7 @@ fn known_activations_are_solved_back_through_pose_and_noise() {
     let acts: Vec<Option<Activations>> = poses.iter().map(|(a, _)| Some(a.clone())).collect();
     let frames = synthetic::landmarks(&face.bound, &face.vertices, &acts, Motion::default());
     let solved = solve(&face, &read(&synthetic::csv(&frames)));
-    let names: Vec<&str> = face
-        .bound
-        .rig()
-        .muscles
-        .iter()
-        .map(|m| m.name.as_str())
-        .collect();
+    let names = face.names();
     let confusion = confusion(&face);
     for (k, ((want, what), got)) in poses.iter().zip(&solved).enumerate() {
         let got = got.as_ref().expect("every synthetic frame is usable");
