@@ -124,6 +124,21 @@ fn report(
     }
 }
 
+/// The masks of muscle `name` that list vertex `v`: each as its muscle count and weight.
+fn masks_at(bound: &BoundRig, name: &String, v: u32) -> String {
+    let masks: Vec<String> = bound
+        .rig()
+        .masks
+        .iter()
+        .filter(|k| k.muscles.contains(name))
+        .filter_map(|k| {
+            let i = k.weights.binary_search_by_key(&v, |&(u, _)| u).ok()?;
+            Some(format!("#{} {:.2}", k.muscles.len(), k.weights[i].1))
+        })
+        .collect();
+    masks.join(" ")
+}
+
 /// One vertex: position, nearest landmark, group, travel, and the muscles pulling it.
 fn vertex(bound: &BoundRig, mesh: &Mesh, marks: &[u32], act: &Activations, out: &[Vec3], v: u32) {
     let p = mesh.positions[v as usize];
@@ -150,36 +165,15 @@ fn vertex(bound: &BoundRig, mesh: &Mesh, marks: &[u32], act: &Activations, out: 
         }
         let name = &bound.rig().muscles[m].name;
         if field.vertices.binary_search(&v).is_err() && name.contains(MUSCLE.as_str()) {
-            let masks: Vec<String> = bound
-                .rig()
-                .masks
-                .iter()
-                .filter(|k| k.muscles.contains(name))
-                .filter_map(|k| {
-                    let i = k.weights.binary_search_by_key(&v, |&(u, _)| u).ok()?;
-                    Some(format!("#{} {:.2}", k.muscles.len(), k.weights[i].1))
-                })
-                .collect();
-            pulls.push(format!("{name} none, masks [{}]", masks.join(" ")));
+            pulls.push(format!("{name} none, masks [{}]", masks_at(bound, name, v)));
         }
         if let Ok(i) = field.vertices.binary_search(&v) {
             let d = field.displacements[i] * a;
             raw += d;
-            let name = &bound.rig().muscles[m].name;
-            let masks: Vec<String> = bound
-                .rig()
-                .masks
-                .iter()
-                .filter(|k| k.muscles.contains(name))
-                .filter_map(|k| {
-                    let i = k.weights.binary_search_by_key(&v, |&(u, _)| u).ok()?;
-                    Some(format!("#{} {:.2}", k.muscles.len(), k.weights[i].1))
-                })
-                .collect();
             pulls.push(format!(
                 "{name} {:.3} masks [{}]",
                 d.length(),
-                masks.join(" ")
+                masks_at(bound, name, v)
             ));
         }
     }
