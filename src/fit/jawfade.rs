@@ -12,11 +12,7 @@
 //! weight falls evenly from the jaw line down the neck, and a mouth's lining goes over evenly
 //! from its lower lip (the jaw's) to its upper lip (still) round the back of the mouth.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
-use super::parts::{Part, Parts};
-use crate::model::mesh::Distance;
+use super::parts::{Part, Parts, SkinGraph};
 use crate::model::Mesh;
 
 /// How far along the mesh from the template's skin the jaw's weights die out, as a fraction
@@ -29,54 +25,17 @@ const OMEGA: f64 = 1.8;
 /// Largest change of a weight in a round at which the map counts as found.
 const TOLERANCE: f64 = 1e-6;
 
-/// The skin's edges as neighbour lists with their lengths (skin to skin only).
-fn skin_neighbours(mesh: &Mesh, parts: &Parts) -> Vec<Vec<(usize, f64)>> {
-    let mut neighbours = vec![Vec::new(); mesh.vertex_count()];
-    for [a, b] in mesh.edges() {
-        let (a, b) = (a as usize, b as usize);
-        if parts.of_vertex[a] != Part::Skin || parts.of_vertex[b] != Part::Skin {
-            continue;
-        }
-        let len = f64::from(mesh.positions[a].distance(mesh.positions[b]));
-        if len > 0.0 {
-            neighbours[a].push((b, len));
-            neighbours[b].push((a, len));
-        }
-    }
-    neighbours
-}
-
-/// Distance along the skin's edges from the nearest `held` vertex (infinite where none is
-/// reached within `limit`).
-fn distance_from(neighbours: &[Vec<(usize, f64)>], held: &[bool], limit: f64) -> Vec<f64> {
-    let mut dist = vec![f64::INFINITY; neighbours.len()];
-    let mut heap = BinaryHeap::new();
-    for (v, _) in held.iter().enumerate().filter(|(_, &h)| h) {
-        dist[v] = 0.0;
-        heap.push(Reverse((Distance(0.0), v)));
-    }
-    while let Some(Reverse((Distance(d), v))) = heap.pop() {
-        if d > dist[v] {
-            continue;
-        }
-        for &(n, len) in &neighbours[v] {
-            let next = d + len;
-            if next < dist[n] && next < limit {
-                dist[n] = next;
-                heap.push(Reverse((Distance(next), n)));
-            }
-        }
-    }
-    dist
-}
-
 /// Replaces the jaw weights `w` of skin vertices that are not `held` by the harmonic map
 /// described in the module: held weights kept, 0 at `length` (mesh units) along the skin
 /// from every held vertex and beyond. A fit whose every skin vertex is held (the template
 /// fitted to itself) changes nothing.
 pub fn relax_beyond(mesh: &Mesh, parts: &Parts, w: &mut [f32], held: &[bool], length: f64) {
-    let neighbours = skin_neighbours(mesh, parts);
-    let dist = distance_from(&neighbours, held, length);
+    let graph = SkinGraph::new(mesh, parts);
+    let seeds: Vec<u32> = (0..held.len() as u32)
+        .filter(|&v| held[v as usize])
+        .collect();
+    let dist = graph.distances(&seeds, length);
+    let neighbours = &graph.next;
     let mut free: Vec<usize> = (0..w.len())
         .filter(|&v| parts.of_vertex[v] == Part::Skin && !held[v])
         .collect();
@@ -94,7 +53,7 @@ pub fn relax_beyond(mesh: &Mesh, parts: &Parts, w: &mut [f32], held: &[bool], le
         for &v in &free {
             let (sum, total) = neighbours[v].iter().fold((0.0, 0.0), |(s, t), &(n, len)| {
                 let k = 1.0 / (len * len);
-                (s + k * x[n], t + k)
+                (s + k * x[n as usize], t + k)
             });
             let mean = sum / total;
             let next = (x[v] + OMEGA * (mean - x[v])).clamp(0.0, 1.0);

@@ -29,14 +29,10 @@
 //! are left for it. Where the mesh is the template's own (the template fitted to itself) the
 //! caller keeps the carried mask.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use glam::{DMat3, Vec3};
 
-use super::parts::{Part, Parts};
+use super::parts::{Part, Parts, SkinGraph};
 use super::regions::smoothstep;
-use crate::model::mesh::Distance;
 use crate::model::{Mask, Mesh, Rig, Sphincter};
 
 /// The pull fades out toward each canthus over this share of the eye's width (about 9 mm
@@ -56,50 +52,6 @@ pub(super) struct EyeVertices {
     pub upper: [u32; 2],
     /// The lower lid's landmarks between the corners.
     pub lower: [u32; 2],
-}
-
-/// The skin's edges from each vertex, with their lengths.
-struct SkinGraph {
-    next: Vec<Vec<(u32, f64)>>,
-}
-
-impl SkinGraph {
-    fn new(mesh: &Mesh, parts: &Parts) -> SkinGraph {
-        let skin = |v: u32| parts.of_vertex[v as usize] == Part::Skin;
-        let mut next = vec![Vec::new(); mesh.vertex_count()];
-        for [a, b] in mesh.edges() {
-            if skin(a) && skin(b) {
-                let d = f64::from(mesh.positions[a as usize].distance(mesh.positions[b as usize]));
-                next[a as usize].push((b, d));
-                next[b as usize].push((a, d));
-            }
-        }
-        SkinGraph { next }
-    }
-
-    /// The distance along the skin from the nearest of `seeds` to every vertex, walked no
-    /// further than `limit` (infinite beyond, and off the seeds' pieces).
-    fn distances(&self, seeds: &[u32], limit: f64) -> Vec<f64> {
-        let mut d = vec![f64::INFINITY; self.next.len()];
-        let mut queue = BinaryHeap::new();
-        for &s in seeds {
-            d[s as usize] = 0.0;
-            queue.push((Reverse(Distance(0.0)), s));
-        }
-        while let Some((Reverse(Distance(here)), v)) = queue.pop() {
-            if here > d[v as usize] {
-                continue;
-            }
-            for &(u, length) in &self.next[v as usize] {
-                let there = here + length;
-                if there < d[u as usize] && there <= limit {
-                    d[u as usize] = there;
-                    queue.push((Reverse(Distance(there)), u));
-                }
-            }
-        }
-        d
-    }
 }
 
 /// The ellipse factor of ring `s` at `p` (1 at the centre, 0 on the rim, negative outside).

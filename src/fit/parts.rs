@@ -13,11 +13,13 @@
 //!
 //! `--skin GROUP` and `--rigid GROUP` override the choice for whole groups.
 
-use std::collections::BTreeMap;
+use std::cmp::Reverse;
+use std::collections::{BTreeMap, BinaryHeap};
 
 use glam::DVec3;
 
 use crate::landmarks::{FaceFrame, CHIN, INNER_LOWER, INNER_UPPER, MOUTH_CORNERS};
+use crate::model::mesh::Distance;
 use crate::model::{Mask, Mesh, Rig};
 
 /// What a vertex is for fitting.
@@ -42,6 +44,55 @@ pub struct PartChoice {
     pub part: Part,
     /// Why: `landmarks`, `name`, `position`, `--skin`, `--rigid`.
     pub reason: &'static str,
+}
+
+/// The skin's edges from each vertex, with their lengths (skin to skin only; edges of no
+/// length are left out, so a distance's neighbours are always apart).
+pub(super) struct SkinGraph {
+    /// Each vertex's skin neighbours and the edge's length.
+    pub(super) next: Vec<Vec<(u32, f64)>>,
+}
+
+impl SkinGraph {
+    /// The graph of `mesh`'s skin edges as `parts` sorts them.
+    pub(super) fn new(mesh: &Mesh, parts: &Parts) -> SkinGraph {
+        let skin = |v: u32| parts.of_vertex[v as usize] == Part::Skin;
+        let mut next = vec![Vec::new(); mesh.vertex_count()];
+        for [a, b] in mesh.edges() {
+            if skin(a) && skin(b) {
+                let d = f64::from(mesh.positions[a as usize].distance(mesh.positions[b as usize]));
+                if d > 0.0 {
+                    next[a as usize].push((b, d));
+                    next[b as usize].push((a, d));
+                }
+            }
+        }
+        SkinGraph { next }
+    }
+
+    /// The distance along the skin from the nearest of `seeds` to every vertex, walked no
+    /// further than `limit` (infinite beyond, and off the seeds' pieces).
+    pub(super) fn distances(&self, seeds: &[u32], limit: f64) -> Vec<f64> {
+        let mut d = vec![f64::INFINITY; self.next.len()];
+        let mut queue = BinaryHeap::new();
+        for &s in seeds {
+            d[s as usize] = 0.0;
+            queue.push((Reverse(Distance(0.0)), s));
+        }
+        while let Some((Reverse(Distance(here)), v)) = queue.pop() {
+            if here > d[v as usize] {
+                continue;
+            }
+            for &(u, length) in &self.next[v as usize] {
+                let there = here + length;
+                if there < d[u as usize] && there <= limit {
+                    d[u as usize] = there;
+                    queue.push((Reverse(Distance(there)), u));
+                }
+            }
+        }
+        d
+    }
 }
 
 /// The parts of a mesh: one per vertex, and the choices per named piece.
