@@ -67,6 +67,7 @@ impl Renderer {
                 shade_triangle_in::<1>(p, [s], dots, w, depth, out);
             }
         }
+        self.tone_brows(w, h, depth);
         let look = Look {
             base: scene.palette.mesh,
             dither,
@@ -258,16 +259,25 @@ const TONES: [(&str, f32); 7] = [
     ("mouth_interior", 0.06),
     ("eye_interior", 0.08),
     ("iris", 0.45),
-    ("brow_hair", 0.3),
+    (BROW_HAIR, BROW_TONE),
     ("tongue", 0.6),
     ("gum", 0.7),
 ];
 
+/// The name part of brow hair's groups, and its tone.
+const BROW_HAIR: &str = "brow_hair";
+/// How dark brow hair is drawn.
+pub(super) const BROW_TONE: f32 = 0.3;
+
 /// Per-vertex tones from the mesh's named groups ([`TONES`]; the first name that matches
-/// wins), or nothing when no group names a dark material.
-pub(super) fn vertex_tones(mesh: &Mesh, out: &mut Vec<f32>) {
+/// wins), or nothing when no group names a dark material. With `brows_per_dot` brow hair
+/// is left out: its tone is decided per dot (`brow`).
+pub(super) fn vertex_tones(mesh: &Mesh, brows_per_dot: bool, out: &mut Vec<f32>) {
     out.clear();
     for (word, tone) in TONES.iter().rev() {
+        if brows_per_dot && *word == BROW_HAIR {
+            continue;
+        }
         for (name, members) in &mesh.groups {
             if !name.to_ascii_lowercase().contains(word) {
                 continue;
@@ -508,7 +518,7 @@ fn shade_rows<const N: usize>(
 /// Whether a dot with barycentric weights `la`, `lb` (and `1 - la - lb`) lies inside its
 /// triangle, within a small tolerance.
 #[inline(always)]
-fn inside(la: f32, lb: f32) -> bool {
+pub(super) fn inside(la: f32, lb: f32) -> bool {
     const EPS: f32 = -1e-5;
     (la >= EPS) & (lb >= EPS) & (1.0 - la - lb >= EPS)
 }
@@ -516,7 +526,7 @@ fn inside(la: f32, lb: f32) -> bool {
 /// The plane through the values `v` at a triangle's corners, as `(kx, ky, k0)`, from the
 /// linear functions `wa`, `wb` giving the weights of its first two corners.
 #[inline(always)]
-fn plane(wa: (f32, f32, f32), wb: (f32, f32, f32), v: [f32; 3]) -> (f32, f32, f32) {
+pub(super) fn plane(wa: (f32, f32, f32), wb: (f32, f32, f32), v: [f32; 3]) -> (f32, f32, f32) {
     let (ax, ay, a0) = wa;
     let (bx, by, b0) = wb;
     let [va, vb, vc] = v;
@@ -792,7 +802,7 @@ mod tone_tests {
     fn the_builtin_face_draws_its_brows_dark() {
         let mesh = crate::io::builtin::default_mesh();
         let mut tones = Vec::new();
-        vertex_tones(&mesh, &mut tones);
+        vertex_tones(&mesh, false, &mut tones);
         for side in ["left", "right"] {
             let brow = &mesh.groups[&format!("{side}_brow_hair")];
             assert!(brow.iter().all(|&v| tones[v as usize] < 0.5), "{side} brow");

@@ -16,6 +16,7 @@
 //! Each pass runs once per frame and is kept out of line (`#[inline(never)]`) so that a
 //! profile shows where the frame's time goes.
 
+mod brow;
 mod depth;
 mod features;
 mod fill;
@@ -108,6 +109,10 @@ pub struct Renderer {
     vertex_shade: Vec<f32>,
     /// Per vertex, how dark its material is in the shaded style (empty: all 1.0).
     vertex_tone: Vec<f32>,
+    /// The triangles the brows' bands cross, in triangle order (empty when the brows, if
+    /// any, are toned per vertex), and this frame's dots they darken.
+    brows: Vec<brow::BrowTriangle>,
+    brow_dots: Vec<u32>,
     vertex_heat: Vec<f32>,
     rest_projected: Vec<Vec3>,
     rest_facing: Vec<bool>,
@@ -161,7 +166,9 @@ impl Renderer {
         }
         self.edges = build_edges(&self.triangles, mesh.positions.len());
         self.auto_sign = detect_orientation(mesh);
-        fill::vertex_tones(mesh, &mut self.vertex_tone);
+        let brows = brow::brow_triangles(mesh, &self.triangles, self.auto_sign);
+        fill::vertex_tones(mesh, brows.is_some(), &mut self.vertex_tone);
+        self.brows = brows.unwrap_or_default();
     }
 
     /// The winding the renderer detected for its mesh: `Outward` or `Inward`.
@@ -222,7 +229,8 @@ impl Renderer {
                 .iter()
                 .map(|&i| self.vertex_shade[i as usize])
                 .sum::<f32>()
-                / 3.0;
+                / 3.0
+                * self.brow_factor(t);
             out.push(LitTriangle {
                 corners: p.map(|v| v.truncate()),
                 depth: (p[0].z + p[1].z + p[2].z) / 3.0,

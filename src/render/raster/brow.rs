@@ -1,0 +1,459 @@
+//! Eyebrows drawn per dot: the brow's tone decided at every dot from where the surface point
+//! lies in the brow's band, so that the brow's edge is sharp whatever the triangles' size.
+//!
+//! A head's brow hair is a vertex group (`left_brow_hair`, `right_brow_hair`: the built-in
+//! face's own, or marked from the landmarks when a head is loaded, `fit::brow_hair`). A tone
+//! per vertex, interpolated across the triangles, draws a dense mesh's brow well, but on a
+//! coarse one (MediaPipe's 468-vertex mask, whose brow group is the five vertices along the
+//! brow's upper edge) it smears the brow over triangles a centimetre wide, onto the forehead
+//! and the upper lids, and the face tracker no longer finds brows and eyes where they are.
+//!
+//! Here each brow becomes a band fitted to its group at rest, in the face's plane (across the
+//! face from the right brow to the left, up as forward cross across, forward the brows' outward
+//! normal):
+//!
+//! * `x`, along the brow from its head (0) to its tail (1): the group's extent across the face;
+//! * the band's centre, a quadratic in `x` fitted to the members' height;
+//! * its upper and lower edges: the members' highest and lowest offsets from that centre, in
+//!   the head's half and the tail's, blended along `x`; a band thinner than a brow is lowered
+//!   at its lower edge to [`HEIGHT_AT_HEAD`] of the brow's length at the head and
+//!   [`HEIGHT_AT_TAIL`] at the tail (landmarks run along the brow's upper edge, so a coarse
+//!   head's group can be a single row of vertices).
+//!
+//! Every corner of a triangle near a brow gets its coordinates in that band at rest: `x` and
+//! `v`, 0 at the upper edge and 1 at the lower. The rasterizer interpolates them per dot like
+//! any attribute, so the band is carried by the skin when muscles move it, and tones the dots
+//! inside (`0 <= x, v <= 1`). Every member vertex lies inside its band (tested).
+
+use glam::Vec3;
+
+use super::depth::{corner_weights, triangle_box};
+use super::fill::{float_box, inside, plane, plane_at, BROW_TONE};
+use super::Renderer;
+use crate::model::Mesh;
+
+/// The brow's height at its head and at its tail, as fractions of its length: on an adult
+/// face a brow about 50 mm long is drawn 5 mm tall at its head and 2 mm at its tail (the
+/// heights `fit::brow_hair` marks below the landmarks, measured against the brow's length
+/// instead of the eye's width, since the renderer knows the brow and not the eye).
+const HEIGHT_AT_HEAD: f32 = 0.1;
+const HEIGHT_AT_TAIL: f32 = 0.04;
+/// How far in front of or behind the brow's fitted surface a corner may lie and still be
+/// drawn as brow, as a fraction of the brow's length (the eye's lining and the back of the
+/// head are not brow).
+const DEPTH_REACH: f32 = 0.25;
+
+/// A triangle near a brow, drawn with the brow's tone where the band covers it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct BrowTriangle {
+    /// Index into the renderer's triangles.
+    pub triangle: u32,
+    /// Per corner, the position along the brow (0 head, 1 tail) and across it (0 upper
+    /// edge, 1 lower).
+    pub along: [f32; 3],
+    /// See `along`.
+    pub across: [f32; 3],
+    /// The share of the triangle the band covers (for outputs that draw a triangle in one
+    /// tone).
+    pub coverage: f32,
+}
+
+/// Whether a dot at band coordinates `(along, across)` lies inside the band.
+#[inline]
+pub(super) fn in_band(along: f32, across: f32) -> bool {
+    (0.0..=1.0).contains(&along) && (0.0..=1.0).contains(&across)
+}
+
+impl Renderer {
+    /// Darkens the shaded dots that the brows' bands cover: each brow triangle facing the
+    /// viewer is stepped over again, and a dot it drew (the depth there is its own, to the
+    /// bit: the same plane evaluated the same way) takes the brow's tone when its
+    /// interpolated band coordinates lie inside the band. A dot on an edge two brow
+    /// triangles share is toned once.
+    #[inline(never)]
+    pub(super) fn tone_brows(&mut self, w: usize, h: usize, depth: &[f32]) {
+        self.brow_dots.clear();
+        let small = w.max(h) < 1 << 24;
+        for b in &self.brows {
+            let t = b.triangle as usize;
+            if !self.facing[t] {
+                continue;
+            }
+            let tri = self.triangles[t];
+            let p = tri.map(|i| self.projected[i as usize]);
+            let [x0, x1, y0, y1] = if small {
+                triangle_box(tri.map(|i| self.dot_spans[i as usize]))
+            } else {
+                float_box(p, w, h)
+            };
+            let [a, bb, c] = p;
+            let area = (bb.x - a.x) * (c.y - a.y) - (bb.y - a.y) * (c.x - a.x);
+            if x0 >= x1 || y0 >= y1 || !area.is_finite() || area.abs() < 1e-9 {
+                continue;
+            }
+            let [wa, wb] = corner_weights(p, area);
+            let z = plane(wa, wb, [a.z, bb.z, c.z]);
+            let (along, across) = (plane(wa, wb, b.along), plane(wa, wb, b.across));
+            for y in y0..y1 {
+                let py = y as f32 + 0.5;
+                for x in x0..x1 {
+                    let px = x as f32 + 0.5;
+                    let i = y * w + x;
+                    let drawn = inside(plane_at(wa, px, py), plane_at(wb, px, py))
+                        && depth.get(i) == Some(&plane_at(z, px, py));
+                    if drawn && in_band(plane_at(along, px, py), plane_at(across, px, py)) {
+                        self.brow_dots.push(i as u32);
+                    }
+                }
+            }
+        }
+        self.brow_dots.sort_unstable();
+        self.brow_dots.dedup();
+        for &i in &self.brow_dots {
+            self.dot_shade[i as usize] *= BROW_TONE;
+        }
+    }
+
+    /// The brow's share of triangle `t`'s tone (1.0 off the brows), for outputs that draw a
+    /// triangle in one tone.
+    pub(super) fn brow_factor(&self, t: usize) -> f32 {
+        match self.brows.binary_search_by_key(&(t as u32), |b| b.triangle) {
+            Ok(k) => 1.0 - self.brows[k].coverage * (1.0 - BROW_TONE),
+            Err(_) => 1.0,
+        }
+    }
+}
+
+/// The face's frame at the brows: where the brows' midline is, and the unit vectors across
+/// the face (to the subject's left), up and forward (out of the face).
+#[derive(Debug, Clone, Copy)]
+struct Frame {
+    mid: Vec3,
+    lateral: Vec3,
+    up: Vec3,
+    forward: Vec3,
+}
+
+/// One brow's band at rest.
+#[derive(Debug, Clone, Copy)]
+struct Band {
+    /// +1 for the subject's left brow, -1 for the right: along the brow is `side` times
+    /// across the face.
+    side: f32,
+    /// The head's and the tail's distance across the face from the midline, signed by side.
+    head: f32,
+    length: f32,
+    /// The centre's height above `mid` as `c0 + c1 x + c2 x^2`.
+    centre: [f32; 3],
+    /// Offsets of the upper and lower edges from the centre at the head and at the tail.
+    upper: [f32; 2],
+    lower: [f32; 2],
+    /// The brow's surface depth along forward, as a quadratic in `x` like the centre.
+    depth: [f32; 3],
+}
+
+impl Band {
+    /// Band coordinates `(along, across)` of a point, and its distance from the brow's
+    /// surface along forward.
+    fn coordinates(&self, frame: &Frame, p: Vec3) -> (f32, f32, f32) {
+        let d = p - frame.mid;
+        let x = (self.side * d.dot(frame.lateral) - self.head) / self.length;
+        let centre = quadratic(self.centre, x);
+        let upper = centre + lerp(self.upper, x);
+        let lower = centre + lerp(self.lower, x);
+        let across = (upper - d.dot(frame.up)) / (upper - lower).max(f32::EPSILON);
+        let depth = d.dot(frame.forward) - quadratic(self.depth, x);
+        (x, across, depth)
+    }
+}
+
+/// The brow triangles of `mesh` drawn as `triangles` (right-hand normals outward when `sign`
+/// is +1), in triangle order, or nothing when the mesh has no pair of brow groups (left and
+/// right, three vertices or more each) a band can be fitted to.
+pub(super) fn brow_triangles(
+    mesh: &Mesh,
+    triangles: &[[u32; 3]],
+    sign: f32,
+) -> Option<Vec<BrowTriangle>> {
+    let members = |side: &str| {
+        mesh.groups
+            .iter()
+            .filter(|(name, _)| {
+                let lower = name.to_ascii_lowercase();
+                lower.contains("brow_hair") && lower.starts_with(side)
+            })
+            .flat_map(|(_, m)| m.iter().copied())
+            .filter(|&v| (v as usize) < mesh.positions.len())
+            .collect::<Vec<u32>>()
+    };
+    let (left, right) = (members("left"), members("right"));
+    let frame = frame(mesh, triangles, sign, &left, &right)?;
+    let bands = [
+        fit_band(mesh, &frame, &left, 1.0)?,
+        fit_band(mesh, &frame, &right, -1.0)?,
+    ];
+    let mut out = Vec::new();
+    for (t, tri) in triangles.iter().enumerate() {
+        let p = tri.map(|i| mesh.positions.get(i as usize).copied().unwrap_or(Vec3::NAN));
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        let band = if (centroid - frame.mid).dot(frame.lateral) >= 0.0 {
+            &bands[0]
+        } else {
+            &bands[1]
+        };
+        let c = p.map(|q| band.coordinates(&frame, q));
+        let reach = DEPTH_REACH * band.length;
+        if !c
+            .iter()
+            .all(|&(x, v, d)| x.is_finite() && v.is_finite() && d.abs() <= reach)
+        {
+            continue;
+        }
+        let along = c.map(|(x, _, _)| x);
+        let across = c.map(|(_, v, _)| v);
+        let coverage = coverage(along, across);
+        if coverage > 0.0 {
+            out.push(BrowTriangle {
+                triangle: t as u32,
+                along,
+                across,
+                coverage,
+            });
+        }
+    }
+    Some(out)
+}
+
+/// The face's frame from the two brows' members: across from the right brow's centroid to the
+/// left's, forward the outward normal of the triangles they touch, up forward cross across.
+fn frame(
+    mesh: &Mesh,
+    triangles: &[[u32; 3]],
+    sign: f32,
+    left: &[u32],
+    right: &[u32],
+) -> Option<Frame> {
+    if left.len() < 3 || right.len() < 3 {
+        return None;
+    }
+    let centroid =
+        |m: &[u32]| m.iter().map(|&v| mesh.positions[v as usize]).sum::<Vec3>() / m.len() as f32;
+    let (l, r) = (centroid(left), centroid(right));
+    let mut member = vec![false; mesh.positions.len()];
+    for &v in left.iter().chain(right) {
+        member[v as usize] = true;
+    }
+    let mut normal = Vec3::ZERO;
+    for tri in triangles {
+        if tri.iter().any(|&i| member.get(i as usize) == Some(&true)) {
+            let [a, b, c] = tri.map(|i| mesh.positions[i as usize]);
+            normal += (b - a).cross(c - a);
+        }
+    }
+    let forward = (normal * sign).normalize_or_zero();
+    let lateral = (l - r).reject_from_normalized(forward).normalize_or_zero();
+    let up = forward.cross(lateral);
+    let frame = Frame {
+        mid: (l + r) * 0.5,
+        lateral,
+        up,
+        forward,
+    };
+    (forward != Vec3::ZERO && lateral != Vec3::ZERO && frame.mid.is_finite()).then_some(frame)
+}
+
+/// The band of the brow whose members are `members`, on `side` (+1 left, -1 right).
+fn fit_band(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32) -> Option<Band> {
+    let points: Vec<(f32, f32, f32)> = members
+        .iter()
+        .map(|&v| {
+            let d = mesh.positions[v as usize] - frame.mid;
+            (
+                side * d.dot(frame.lateral),
+                d.dot(frame.up),
+                d.dot(frame.forward),
+            )
+        })
+        .collect();
+    let head = points.iter().map(|p| p.0).fold(f32::INFINITY, f32::min);
+    let tail = points.iter().map(|p| p.0).fold(f32::NEG_INFINITY, f32::max);
+    let length = tail - head;
+    if !(length > 0.0 && length.is_finite()) {
+        return None;
+    }
+    let xs: Vec<f32> = points.iter().map(|p| (p.0 - head) / length).collect();
+    let centre = fit_quadratic(&xs, &points.iter().map(|p| p.1).collect::<Vec<_>>())?;
+    let depth = fit_quadratic(&xs, &points.iter().map(|p| p.2).collect::<Vec<_>>())?;
+    // The members' extreme offsets from the centre in the head's half and in the tail's.
+    let mut upper = [f32::NEG_INFINITY; 2];
+    let mut lower = [f32::INFINITY; 2];
+    for (&x, p) in xs.iter().zip(&points) {
+        let r = p.1 - quadratic(centre, x);
+        let half = usize::from(x >= 0.5);
+        upper[half] = upper[half].max(r);
+        lower[half] = lower[half].min(r);
+    }
+    for k in 0..2 {
+        if !upper[k].is_finite() {
+            upper[k] = upper[1 - k];
+            lower[k] = lower[1 - k];
+        }
+    }
+    // A line from the head's half's extreme to the tail's, moved out until every member lies
+    // inside it.
+    let fit_edge = |ends: [f32; 2], sign: f32| {
+        let gap = xs
+            .iter()
+            .zip(&points)
+            .map(|(&x, p)| sign * (p.1 - quadratic(centre, x) - lerp(ends, x)))
+            .fold(0.0f32, f32::max);
+        ends.map(|e| e + sign * gap)
+    };
+    let upper = fit_edge(upper, 1.0);
+    let mut lower = fit_edge(lower, -1.0);
+    // At least a brow's height below the upper edge.
+    lower[0] = lower[0].min(upper[0] - HEIGHT_AT_HEAD * length);
+    lower[1] = lower[1].min(upper[1] - HEIGHT_AT_TAIL * length);
+    Some(Band {
+        side,
+        head,
+        length,
+        centre,
+        upper,
+        lower,
+        depth,
+    })
+}
+
+/// `v[0]` at 0 to `v[1]` at 1.
+fn lerp(v: [f32; 2], x: f32) -> f32 {
+    v[0] + (v[1] - v[0]) * x
+}
+
+/// `c0 + c1 x + c2 x^2`.
+fn quadratic(c: [f32; 3], x: f32) -> f32 {
+    c[0] + x * (c[1] + x * c[2])
+}
+
+/// The least-squares quadratic through `(x, y)` (a line through two distinct x, a constant
+/// through one).
+fn fit_quadratic(x: &[f32], y: &[f32]) -> Option<[f32; 3]> {
+    let mut m = [[0.0f64; 3]; 3];
+    let mut b = [0.0f64; 3];
+    for (&x, &y) in x.iter().zip(y) {
+        let p = [1.0, x as f64, (x as f64).powi(2)];
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] += p[i] * p[j];
+            }
+            b[i] += p[i] * y as f64;
+        }
+    }
+    for degree in (0..3).rev() {
+        if let Some(c) = solve(&m, &b, degree + 1) {
+            return Some([c[0] as f32, c[1] as f32, c[2] as f32]);
+        }
+    }
+    None
+}
+
+/// The first `n` unknowns of `m c = b` (the others zero), by Cramer's rule; `None` when
+/// that system is (nearly) singular.
+fn solve(m: &[[f64; 3]; 3], b: &[f64; 3], n: usize) -> Option<[f64; 3]> {
+    let det = |a: [[f64; 3]; 3]| -> f64 {
+        match n {
+            1 => a[0][0],
+            2 => a[0][0] * a[1][1] - a[0][1] * a[1][0],
+            _ => {
+                a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+                    - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+                    + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+            }
+        }
+    };
+    let d = det(*m);
+    let scale = m[0][0].powi(n as i32);
+    if !(d.abs() > 1e-9 * scale) {
+        return None;
+    }
+    let mut c = [0.0; 3];
+    for (k, ck) in c.iter_mut().enumerate().take(n) {
+        let mut a = *m;
+        for (row, bi) in a.iter_mut().zip(b) {
+            row[k] = *bi;
+        }
+        *ck = det(a) / d;
+    }
+    Some(c)
+}
+
+/// The share of a triangle inside the band, from its corners' band coordinates: the band
+/// test on a grid of barycentric samples.
+fn coverage(along: [f32; 3], across: [f32; 3]) -> f32 {
+    const STEPS: usize = 12;
+    let (mut inside, mut total) = (0usize, 0usize);
+    for i in 0..=STEPS {
+        for j in 0..=STEPS - i {
+            let (a, b) = (i as f32 / STEPS as f32, j as f32 / STEPS as f32);
+            let c = 1.0 - a - b;
+            let x = a * along[0] + b * along[1] + c * along[2];
+            let v = a * across[0] + b * across[1] + c * across[2];
+            inside += usize::from(in_band(x, v));
+            total += 1;
+        }
+    }
+    inside as f32 / total as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On the built-in face, every brow member lies inside its fitted band, the bands are
+    /// mirror images, and the skin of the glabella and the upper lids stays outside.
+    #[test]
+    fn the_builtin_brows_lie_inside_their_bands() {
+        let mesh = crate::io::builtin::default_mesh();
+        let tris = brow_triangles(&mesh, &mesh.triangles, 1.0).expect("bands");
+        let mut drawn = vec![false; mesh.positions.len()];
+        for g in ["left_brow_hair", "right_brow_hair"] {
+            for &v in &mesh.groups[g] {
+                drawn[v as usize] = true;
+            }
+        }
+        // Every member's triangles carry it inside the band at its corner.
+        for t in &tris {
+            for k in 0..3 {
+                let v = mesh.triangles[t.triangle as usize][k];
+                if drawn[v as usize] {
+                    assert!(
+                        in_band(t.along[k], t.across[k]) || {
+                            let (x, a) = (t.along[k], t.across[k]);
+                            (-1e-4..=1.0001).contains(&x) && (-1e-4..=1.0001).contains(&a)
+                        },
+                        "member {v} at {} {}",
+                        t.along[k],
+                        t.across[k]
+                    );
+                }
+            }
+        }
+        for side in ["left", "right"] {
+            for &v in &mesh.groups[&format!("{side}_upper_lid")] {
+                for t in tris
+                    .iter()
+                    .filter(|t| mesh.triangles[t.triangle as usize].contains(&v))
+                {
+                    let k = mesh.triangles[t.triangle as usize]
+                        .iter()
+                        .position(|&i| i == v)
+                        .unwrap();
+                    assert!(
+                        !in_band(t.along[k], t.across[k]),
+                        "{side} lid vertex {v} in the brow"
+                    );
+                }
+            }
+        }
+    }
+}
