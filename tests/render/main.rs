@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod brows;
 mod cells;
 mod classic;
 mod colors;
