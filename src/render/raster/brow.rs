@@ -53,9 +53,13 @@ pub(super) struct BrowTriangle {
     pub along: [f32; 3],
     /// See `along`.
     pub across: [f32; 3],
-    /// The share of the triangle the band covers (for outputs that draw a triangle in one
-    /// tone).
-    pub coverage: f32,
+}
+
+impl BrowTriangle {
+    /// Per corner, whether it lies inside the band.
+    pub fn corners_in_band(&self) -> [bool; 3] {
+        [0, 1, 2].map(|k| in_band(self.along[k], self.across[k]))
+    }
 }
 
 /// Whether a dot at band coordinates `(along, across)` lies inside the band.
@@ -65,14 +69,15 @@ pub(super) fn in_band(along: f32, across: f32) -> bool {
 }
 
 impl Renderer {
-    /// Darkens the shaded dots that the brows' bands cover: each brow triangle facing the
-    /// viewer is stepped over again, and a dot it drew (the depth there is its own, to the
-    /// bit: the same plane evaluated the same way) takes the brow's tone when its
-    /// interpolated band coordinates lie inside the band. A dot on an edge two brow
-    /// triangles share is toned once.
+    /// Tones the shaded dots of the triangles a brow band's edge crosses: each such triangle
+    /// facing the viewer is stepped over again, and every dot it drew (the depth there is
+    /// its own, to the bit: the same plane evaluated the same way) gets its shade again,
+    /// times the brow's tone when its interpolated band coordinates lie inside the band.
+    /// (A triangle wholly inside a band has its three corners toned per vertex, which is
+    /// the same at every dot.) A dot two such triangles both claim, on their shared edge,
+    /// is set, not scaled, so it is toned once.
     #[inline(never)]
     pub(super) fn tone_brows(&mut self, w: usize, h: usize, depth: &[f32]) {
-        self.brow_dots.clear();
         let small = w.max(h) < 1 << 24;
         for b in &self.brows {
             let t = b.triangle as usize;
@@ -94,6 +99,16 @@ impl Renderer {
             let [wa, wb] = corner_weights(p, area);
             let z = plane(wa, wb, [a.z, bb.z, c.z]);
             let (along, across) = (plane(wa, wb, b.along), plane(wa, wb, b.across));
+            // The corners' shades before the brow's tone (corners inside the band carry it
+            // per vertex).
+            let untoned = b
+                .corners_in_band()
+                .map(|inside| if inside { BROW_TONE } else { 1.0 });
+            let shade = plane(
+                wa,
+                wb,
+                [0, 1, 2].map(|k| self.vertex_shade[tri[k] as usize] / untoned[k]),
+            );
             for y in y0..y1 {
                 let py = y as f32 + 0.5;
                 for x in x0..x1 {
@@ -101,25 +116,35 @@ impl Renderer {
                     let i = y * w + x;
                     let drawn = inside(plane_at(wa, px, py), plane_at(wb, px, py))
                         && depth.get(i) == Some(&plane_at(z, px, py));
-                    if drawn && in_band(plane_at(along, px, py), plane_at(across, px, py)) {
-                        self.brow_dots.push(i as u32);
+                    if drawn {
+                        let brow = in_band(plane_at(along, px, py), plane_at(across, px, py));
+                        let tone = if brow { BROW_TONE } else { 1.0 };
+                        self.dot_shade[i] = plane_at(shade, px, py) * tone;
                     }
                 }
             }
         }
-        self.brow_dots.sort_unstable();
-        self.brow_dots.dedup();
-        for &i in &self.brow_dots {
-            self.dot_shade[i as usize] *= BROW_TONE;
-        }
     }
+}
 
-    /// The brow's share of triangle `t`'s tone (1.0 off the brows), for outputs that draw a
-    /// triangle in one tone.
-    pub(super) fn brow_factor(&self, t: usize) -> f32 {
-        match self.brows.binary_search_by_key(&(t as u32), |b| b.triangle) {
-            Ok(k) => 1.0 - self.brows[k].coverage * (1.0 - BROW_TONE),
-            Err(_) => 1.0,
+/// Gives the corners of `brows` that lie inside their band the brow's tone per vertex, of
+/// `n` vertices' `tones` (empty: all 1.0 so far), for the triangles wholly inside a band.
+pub(super) fn tone_corners(
+    brows: &[BrowTriangle],
+    triangles: &[[u32; 3]],
+    n: usize,
+    tones: &mut Vec<f32>,
+) {
+    if tones.is_empty() && !brows.is_empty() {
+        tones.resize(n, 1.0);
+    }
+    for b in brows {
+        let tri = triangles[b.triangle as usize];
+        for (k, inside) in b.corners_in_band().into_iter().enumerate() {
+            let v = tri[k] as usize;
+            if let (true, Some(t)) = (inside, tones.get_mut(v)) {
+                *t = BROW_TONE;
+            }
         }
     }
 }
@@ -211,13 +236,11 @@ pub(super) fn brow_triangles(
         }
         let along = c.map(|(x, _, _)| x);
         let across = c.map(|(_, v, _)| v);
-        let coverage = coverage(along, across);
-        if coverage > 0.0 {
+        if coverage(along, across) > 0.0 {
             out.push(BrowTriangle {
                 triangle: t as u32,
                 along,
                 across,
-                coverage,
             });
         }
     }

@@ -109,10 +109,9 @@ pub struct Renderer {
     vertex_shade: Vec<f32>,
     /// Per vertex, how dark its material is in the shaded style (empty: all 1.0).
     vertex_tone: Vec<f32>,
-    /// The triangles the brows' bands cross, in triangle order (empty when the brows, if
-    /// any, are toned per vertex), and this frame's dots they darken.
+    /// The triangles a brow band's edge crosses, in triangle order (empty when the brows,
+    /// if any, are toned per vertex).
     brows: Vec<brow::BrowTriangle>,
-    brow_dots: Vec<u32>,
     vertex_heat: Vec<f32>,
     rest_projected: Vec<Vec3>,
     rest_facing: Vec<bool>,
@@ -169,6 +168,10 @@ impl Renderer {
         let brows = brow::brow_triangles(mesh, &self.triangles, self.auto_sign);
         fill::vertex_tones(mesh, brows.is_some(), &mut self.vertex_tone);
         self.brows = brows.unwrap_or_default();
+        let n = mesh.positions.len();
+        brow::tone_corners(&self.brows, &self.triangles, n, &mut self.vertex_tone);
+        // Only the triangles a band's edge crosses need their dots toned one by one.
+        self.brows.retain(|b| b.corners_in_band() != [true; 3]);
     }
 
     /// The winding the renderer detected for its mesh: `Outward` or `Inward`.
@@ -229,8 +232,7 @@ impl Renderer {
                 .iter()
                 .map(|&i| self.vertex_shade[i as usize])
                 .sum::<f32>()
-                / 3.0
-                * self.brow_factor(t);
+                / 3.0;
             out.push(LitTriangle {
                 corners: p.map(|v| v.truncate()),
                 depth: (p[0].z + p[1].z + p[2].z) / 3.0,
