@@ -269,7 +269,8 @@ fn reference_shaded(
     scene: &crate::render::Scene,
     canvas: &mut DotCanvas,
 ) {
-    use super::fill::{float_box, plane_at, reference_light};
+    use super::brow::in_band;
+    use super::fill::{float_box, plane_at, reference_light, BROW_TONE};
     use crate::render::canvas::Layer;
     let (w, h, dither) = (canvas.width(), canvas.height(), canvas.dither);
     let base = scene.palette.mesh;
@@ -295,6 +296,20 @@ fn reference_shaded(
         };
         let z = plane([a.z, b.z, c.z]);
         let s = plane(tri.map(|i| renderer.vertex_shade[i as usize]));
+        // A triangle a brow band's edge crosses: its shade before the brow's tone, and its
+        // corners' band coordinates (`brow`).
+        let brow = renderer
+            .brows
+            .binary_search_by_key(&(t as u32), |b| b.triangle)
+            .ok()
+            .map(|k| {
+                let b = renderer.brows[k];
+                let untoned = b
+                    .corners_in_band()
+                    .map(|inside| if inside { BROW_TONE } else { 1.0 });
+                let shade = [0, 1, 2].map(|k| renderer.vertex_shade[tri[k] as usize] / untoned[k]);
+                (plane(shade), plane(b.along), plane(b.across))
+            });
         let k = (!renderer.vertex_heat.is_empty())
             .then(|| plane(tri.map(|i| renderer.vertex_heat[i as usize])));
         let [x0, x1, y0, y1] = float_box(p, w, h);
@@ -308,7 +323,14 @@ fn reference_shaded(
                 if inside && zi > depth[i] {
                     depth[i] = zi;
                     let heat = k.map(|k| plane_at(k, px, py));
-                    let (lit, rgb) = reference_light(base, dither, x, y, plane_at(s, px, py), heat);
+                    let shade = match brow {
+                        Some((untoned, along, across)) => {
+                            let inside = in_band(plane_at(along, px, py), plane_at(across, px, py));
+                            plane_at(untoned, px, py) * if inside { BROW_TONE } else { 1.0 }
+                        }
+                        None => plane_at(s, px, py),
+                    };
+                    let (lit, rgb) = reference_light(base, dither, x, y, shade, heat);
                     on[i] = lit;
                     color[i] = rgb;
                     layer[i] = if lit { Layer::Mesh } else { Layer::Empty };
