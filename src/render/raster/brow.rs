@@ -301,7 +301,7 @@ fn fit_band(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32) -> Option<Ba
     let head = points.iter().map(|p| p.0).fold(f32::INFINITY, f32::min);
     let tail = points.iter().map(|p| p.0).fold(f32::NEG_INFINITY, f32::max);
     let length = tail - head;
-    if !(length > 0.0 && length.is_finite()) {
+    if length.is_nan() || length <= 0.0 || length.is_infinite() {
         return None;
     }
     let xs: Vec<f32> = points.iter().map(|p| (p.0 - head) / length).collect();
@@ -396,7 +396,8 @@ fn solve(m: &[[f64; 3]; 3], b: &[f64; 3], n: usize) -> Option<[f64; 3]> {
     };
     let d = det(*m);
     let scale = m[0][0].powi(n as i32);
-    if !(d.abs() > 1e-9 * scale) {
+    // NaN fails too.
+    if d.abs().is_nan() || d.abs() <= 1e-9 * scale {
         return None;
     }
     let mut c = [0.0; 3];
