@@ -15,7 +15,8 @@
 //! * `x`, along the brow from its head (0) to its tail (1): the group's extent across the face;
 //! * the band's centre, a quadratic in `x` fitted to the members' height;
 //! * its upper and lower edges: the members' highest and lowest offsets from that centre, in
-//!   the head's half and the tail's, blended along `x`; a band thinner than a brow is lowered
+//!   the head's half and the tail's, blended along `x` and moved out until every member lies
+//!   inside; a band thinner than a brow is lowered
 //!   at its lower edge to [`HEIGHT_AT_HEAD`] of the brow's length at the head and
 //!   [`HEIGHT_AT_TAIL`] at the tail (landmarks run along the brow's upper edge, so a coarse
 //!   head's group can be a single row of vertices).
@@ -23,7 +24,10 @@
 //! Every corner of a triangle near a brow gets its coordinates in that band at rest: `x` and
 //! `v`, 0 at the upper edge and 1 at the lower. The rasterizer interpolates them per dot like
 //! any attribute, so the band is carried by the skin when muscles move it, and tones the dots
-//! inside (`0 <= x, v <= 1`). Every member vertex lies inside its band (tested).
+//! inside (`0 <= x, v <= 1`). Every member vertex lies inside its band (tested). A triangle
+//! wholly inside a band is toned per vertex (the band is convex in these coordinates, so that
+//! is the same at every dot); only the triangles a band's edge crosses are stepped over again
+//! after the fill ([`Renderer::tone_brows`]), which leaves the fill's inner loops as they were.
 
 use glam::Vec3;
 
