@@ -5,6 +5,7 @@ use glam::Vec3;
 use super::depth::{corner_weights, dot_span, triangle_box};
 use super::features::HEAT_FLOOR;
 use super::grid::{ceil_nonneg, floor_end};
+use super::project::Normals;
 use super::Renderer;
 use crate::model::Mesh;
 use crate::render::canvas::{DotCanvas, Layer, Rgb};
@@ -100,7 +101,7 @@ impl Renderer {
     /// for the others), unless this frame already has them.
     #[inline(never)]
     pub(super) fn compute_face_normals(&mut self, scene: &Scene) {
-        if self.face_normals_ready {
+        if self.normals_ready >= Normals::Faces {
             return;
         }
         self.face_normals.clear();
@@ -117,13 +118,16 @@ impl Renderer {
                     }
                 }),
         );
-        self.face_normals_ready = true;
+        self.normals_ready = Normals::Faces;
     }
 
     /// Oriented, area-weighted unit vertex normals from the front-facing triangles (zero
     /// where none touches).
     #[inline(never)]
     pub(super) fn compute_normals(&mut self, scene: &Scene) {
+        if self.normals_ready == Normals::Vertices {
+            return;
+        }
         self.compute_face_normals(scene);
         let n = self.projected.len();
         self.normals.clear();
@@ -144,6 +148,7 @@ impl Renderer {
             }
         }
         normalize_or_zero_all(&mut self.normals);
+        self.normals_ready = Normals::Vertices;
     }
 }
 

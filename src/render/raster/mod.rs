@@ -37,7 +37,7 @@ use depth::DotMask;
 use features::build_edges;
 use fill::LIGHT;
 use lines::LineDot;
-use project::{classify, detect_orientation, project_all};
+use project::{detect_orientation, project_all, Normals};
 
 /// What a camera fit depends on besides the rest pose: the camera's yaw, pitch, zoom and
 /// pan and the dot aspect (as bits), and the canvas size.
@@ -119,7 +119,8 @@ pub struct Renderer {
     viewer_mesh: Vec3,
     vertex_facing: Vec<f32>,
     face_normals: Vec<Vec3>,
-    face_normals_ready: bool,
+    /// Which normals this frame has computed so far (`face_normals`, `normals`).
+    normals_ready: Normals,
     runs: Option<Vec<Run>>,
     /// This frame's depth-tested lines, in drawing order, kept until the depth buffer holds
     /// every surface they pass over.
@@ -216,7 +217,12 @@ impl Renderer {
         dot_aspect: f32,
     ) -> Vec<LitTriangle> {
         if self
-            .prepare(scene, camera, width, height, dot_aspect)
+            .prepare(
+                scene,
+                camera,
+                (width, height, dot_aspect),
+                Normals::Vertices,
+            )
             .is_none()
         {
             return Vec::new();
@@ -243,15 +249,15 @@ impl Renderer {
         out
     }
 
-    /// Projects the scene and decides facing; `None` when there is nothing to draw.
+    /// Projects the scene, decides facing and computes the normals `want` asks for;
+    /// `None` when there is nothing to draw on a canvas of `(width, height, dot_aspect)`.
     #[inline(never)]
     fn prepare(
         &mut self,
         scene: &Scene,
         camera: &Camera,
-        width: usize,
-        height: usize,
-        dot_aspect: f32,
+        (width, height, dot_aspect): (usize, usize, f32),
+        want: Normals,
     ) -> Option<Projection> {
         let drawn_from = if self.source.is_empty() {
             &self.triangles
@@ -274,9 +280,8 @@ impl Renderer {
             scene.mesh.positions.len(),
             &mut self.projected,
         );
-        classify(&self.triangles, &self.projected, sign, &mut self.facing);
-        // Face normals follow the pose and the facing of this frame.
-        self.face_normals_ready = false;
+        // Face and vertex normals follow the pose and the facing of this frame.
+        self.classify_with_normals(scene.positions, sign, want);
         Some(proj)
     }
 
@@ -339,7 +344,13 @@ impl Renderer {
     fn draw(&mut self, scene: &Scene, camera: &Camera, style: Style, canvas: &mut DotCanvas) {
         canvas.clear();
         let (w, h, aspect) = (canvas.width(), canvas.height(), canvas.dot_aspect);
-        let Some(proj) = self.prepare(scene, camera, w, h, aspect) else {
+        let want = match style {
+            Style::Shaded => Normals::Vertices,
+            Style::Lines if !scene.facing_contours.is_empty() => Normals::Vertices,
+            Style::Lines => Normals::Faces,
+            Style::Wireframe => Normals::None,
+        };
+        let Some(proj) = self.prepare(scene, camera, (w, h, aspect), want) else {
             return;
         };
         if style == Style::Shaded {

@@ -3,6 +3,8 @@
 
 use glam::Vec3;
 
+use super::fill::normalize_or_zero_all;
+use super::Renderer;
 use crate::model::Mesh;
 use crate::render::camera::Projection;
 
@@ -78,14 +80,78 @@ pub(super) fn classify(
     facing: &mut Vec<bool>,
 ) {
     facing.clear();
-    facing.extend(triangles.iter().map(|tri| {
-        let Some([a, b, c]) = tri_positions(projected, *tri) else {
-            return false;
-        };
-        let (ab, ac) = (b - a, c - a);
-        let area = ab.x * ac.y - ab.y * ac.x;
-        // Screen y runs down, so a triangle counter-clockwise as the viewer sees it has a
-        // negative area here. NaN anywhere makes the comparison false.
-        sign * area < 0.0 && (a.z + b.z + c.z).is_finite()
-    }));
+    facing.extend(
+        triangles
+            .iter()
+            .map(|tri| faces_viewer(projected, *tri, sign)),
+    );
+}
+
+/// Whether one triangle faces the viewer (see [`classify`]).
+#[inline(always)]
+fn faces_viewer(projected: &[Vec3], tri: [u32; 3], sign: f32) -> bool {
+    let Some([a, b, c]) = tri_positions(projected, tri) else {
+        return false;
+    };
+    let (ab, ac) = (b - a, c - a);
+    let area = ab.x * ac.y - ab.y * ac.x;
+    // Screen y runs down, so a triangle counter-clockwise as the viewer sees it has a
+    // negative area here. NaN anywhere makes the comparison false.
+    sign * area < 0.0 && (a.z + b.z + c.z).is_finite()
+}
+
+/// What a frame needs besides facing, computed in the same pass over the triangles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Default)]
+pub(super) enum Normals {
+    /// Nothing (wireframe).
+    #[default]
+    None,
+    /// The front faces' normals (the crease test of `lines`).
+    Faces,
+    /// Those and the oriented unit vertex normals (shading, facing contours).
+    Vertices,
+}
+
+impl Renderer {
+    /// Decides facing (as [`classify`]) and computes what `want` asks of the normals in
+    /// one pass over the triangles: each triangle's indices and corners are read once
+    /// instead of once per pass. The same values, bit for bit, as classifying first and
+    /// then calling `compute_face_normals` and `compute_normals` (the same arithmetic, the
+    /// vertex sums added in the same triangle order).
+    #[inline(never)]
+    pub(super) fn classify_with_normals(&mut self, positions: &[Vec3], sign: f32, want: Normals) {
+        self.normals_ready = want;
+        if want == Normals::None {
+            classify(&self.triangles, &self.projected, sign, &mut self.facing);
+            return;
+        }
+        let vertices = want == Normals::Vertices;
+        self.facing.clear();
+        self.face_normals.clear();
+        if vertices {
+            self.normals.clear();
+            self.normals.resize(self.projected.len(), Vec3::ZERO);
+        }
+        for &tri in &self.triangles {
+            let facing = faces_viewer(&self.projected, tri, sign);
+            self.facing.push(facing);
+            if !facing {
+                self.face_normals.push(Vec3::ZERO);
+                continue;
+            }
+            // A facing triangle's corners were projected from the pose, so they are there.
+            let [a, b, c] = tri.map(|i| positions[i as usize]);
+            let normal = (b - a).cross(c - a);
+            self.face_normals.push(normal);
+            if vertices {
+                let oriented = normal * sign;
+                for i in tri {
+                    self.normals[i as usize] += oriented;
+                }
+            }
+        }
+        if vertices {
+            normalize_or_zero_all(&mut self.normals);
+        }
+    }
 }

@@ -478,3 +478,46 @@ proptest! {
         prop_assert_eq!(got, edges_by_sorting(&triangles, 12));
     }
 }
+
+/// The one pass over the triangles (facing, face normals, vertex normals) gives what the
+/// separate passes give, bit for bit: bent and partial poses, three views, both windings.
+#[test]
+fn facing_and_normals_in_one_pass_are_the_separate_passes() {
+    use super::project::Normals;
+    use crate::io::builtin;
+    use crate::render::scene::Orientation;
+    use crate::render::{Camera, CellMode, Scene};
+    let mesh = builtin::default_mesh();
+    let bent: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| *p + Vec3::new(0.0, 0.1 * p.x * p.x, 0.05 * p.y))
+        .collect();
+    // a pose missing its last vertices: their triangles face nowhere
+    let partial = &mesh.positions[..mesh.positions.len() - 50];
+    let bits = |v: &[Vec3]| -> Vec<[u32; 3]> {
+        v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+    };
+    let canvas = CellMode::Braille.canvas(80, 24);
+    let size = (canvas.width(), canvas.height(), canvas.dot_aspect);
+    for positions in [&mesh.positions[..], &bent, partial] {
+        for camera in [Camera::front(), Camera::three_quarter(), Camera::side()] {
+            for orientation in [Orientation::Auto, Orientation::Inward] {
+                let mut scene = Scene::new(&mesh, positions);
+                scene.orientation = orientation;
+                let mut apart = super::Renderer::new(&mesh);
+                apart.prepare(&scene, &camera, size, Normals::None).unwrap();
+                apart.compute_normals(&scene);
+                for want in [Normals::Faces, Normals::Vertices] {
+                    let mut one = super::Renderer::new(&mesh);
+                    one.prepare(&scene, &camera, size, want).unwrap();
+                    assert_eq!(one.facing, apart.facing);
+                    assert!(one.facing.contains(&true) && one.facing.contains(&false));
+                    assert_eq!(bits(&one.face_normals), bits(&apart.face_normals));
+                    one.compute_normals(&scene);
+                    assert_eq!(bits(&one.normals), bits(&apart.normals));
+                }
+            }
+        }
+    }
+}
