@@ -34,7 +34,19 @@ pub(super) struct Patch {
     c: f32,
     radius: f32,
     grip: f32,
+    /// The longest lift the vertex takes, so that lifts within steep triangles' planes do
+    /// not fold them (see [`set_lift_caps`]); [`NO_CAP`] where nothing caps it.
+    lift_cap: f32,
 }
+
+/// The share of a triangle's smallest altitude its vertices' lifts may move them within its
+/// plane, and the most neighbours' lift caps may differ per unit of distance between them
+/// (`docs/model.md`, "The slide at folds"): three vertices each moved less than a third of
+/// it cannot bring one across the opposite edge.
+const LIFT_SHARE: f32 = 1.0 / 3.0;
+
+/// The lift cap of a vertex nothing caps: finite, as the bind cache keeps only finite numbers.
+const NO_CAP: f32 = f32::MAX;
 
 impl Patch {
     /// The displacement `s` with `slide` of its sink below the patch removed.
@@ -55,7 +67,8 @@ impl Patch {
         let h = h.clamp(-r, r);
         let depth = h - sn;
         if depth > 0.0 {
-            s + self.normal * (depth * slide * self.grip)
+            let lift = (depth * slide * self.grip).min(self.lift_cap);
+            s + self.normal * lift
         } else {
             s
         }
@@ -109,7 +122,7 @@ impl Search<'_> {
         for (i, &v) in vertices.iter().enumerate() {
             row[v as usize] = i as u32;
         }
-        vertices
+        let mut patches = vertices
             .par_chunks(chunk)
             .flat_map_iter(|part| {
                 let fitted = search.chunk(part, |near, weight, outward| {
@@ -129,7 +142,85 @@ impl Search<'_> {
                 });
                 fitted.into_iter().map(|(v, g)| search.patch(v, g))
             })
-            .collect()
+            .collect::<Vec<Patch>>();
+        set_lift_caps(mesh, &row, &mut patches);
+        smooth_lift_caps(mesh, self.adjacency, vertices, &row, &mut patches);
+        patches
+    }
+}
+
+/// Sets each patch's [`Patch::lift_cap`]. The lift moves a vertex along its patch's normal;
+/// in a triangle steeper than 45 degrees against that normal (a lip's underside beside a
+/// mouth corner, whose patch faces out of the face) more of it runs within the triangle's
+/// plane than out of it, and neighbours lifted by different lengths folded small triangles
+/// over. Each such triangle caps its vertices' lift at [`LIFT_SHARE`] of its smallest
+/// altitude over `sin - cos` of its angle to the patch's normal (the share itself for a lift
+/// wholly within the plane). A triangle at 45 degrees or flatter (open face) caps nothing.
+fn set_lift_caps(mesh: &Mesh, row: &[u32], patches: &mut [Patch]) {
+    let rest = &mesh.positions;
+    for p in patches.iter_mut() {
+        p.lift_cap = NO_CAP;
+    }
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| rest[i as usize]);
+        let cross = (b - a).cross(c - a);
+        let longest = [b - a, c - b, a - c]
+            .map(|e| e.length())
+            .into_iter()
+            .fold(0.0f32, f32::max);
+        let Some(n) = cross.try_normalize() else {
+            continue;
+        };
+        let altitude = cross.length() / longest;
+        for &v in t {
+            let r = row[v as usize];
+            if r == u32::MAX {
+                continue;
+            }
+            let patch = &mut patches[r as usize];
+            let (sin, cos) = (patch.normal.cross(n).length(), patch.normal.dot(n).abs());
+            let steep = sin - cos;
+            if steep > 0.0 {
+                patch.lift_cap = patch.lift_cap.min(LIFT_SHARE * altitude / steep);
+            }
+        }
+    }
+}
+
+/// Lowers the lift caps until no two neighbours' caps differ by more than [`LIFT_SHARE`] of
+/// the distance between them (each cap becomes the least over the moved vertices of their cap
+/// plus that share of the distance along the mesh's edges, found nearest first): a capped
+/// vertex beside an uncapped one would otherwise be left behind by its neighbour's whole lift.
+fn smooth_lift_caps(
+    mesh: &Mesh,
+    adjacency: &Adjacency,
+    vertices: &[u32],
+    row: &[u32],
+    patches: &mut [Patch],
+) {
+    let rest = &mesh.positions;
+    let mut queue: BinaryHeap<Reverse<(Distance, usize)>> = patches
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.lift_cap < NO_CAP)
+        .map(|(r, p)| Reverse((Distance(f64::from(p.lift_cap)), r)))
+        .collect();
+    while let Some(Reverse((Distance(cap), r))) = queue.pop() {
+        if cap > f64::from(patches[r].lift_cap) {
+            continue;
+        }
+        let v = vertices[r] as usize;
+        for &w in adjacency.of_vertex(v) {
+            let q = row[w as usize];
+            if q == u32::MAX {
+                continue;
+            }
+            let reach = cap + f64::from(LIFT_SHARE) * (rest[w as usize] - rest[v]).length() as f64;
+            if reach < f64::from(patches[q as usize].lift_cap) {
+                patches[q as usize].lift_cap = reach as f32;
+                queue.push(Reverse((Distance(reach as f32 as f64), q as usize)));
+            }
+        }
     }
 }
 
@@ -230,6 +321,7 @@ impl Search<'_> {
             c: fit[4] as f32,
             radius: g.reach as f32,
             grip: grip(self.normals, &g.near, weight, n),
+            lift_cap: NO_CAP,
         }
     }
 }
@@ -365,16 +457,23 @@ fn solve<const N: usize>(mut m: [[f64; N]; N], mut r: [f64; N]) -> Option<[f64; 
 
 /// The numbers of a [`Patch`] in a fixed order, for the bind cache (`deform/cache.rs`),
 /// which keeps fitted patches so that a cached bind need not fit them again.
-pub(super) const PATCH_FLOATS: usize = 16;
+pub(super) const PATCH_FLOATS: usize = 17;
 
 impl Patch {
-    /// The patch as [`PATCH_FLOATS`] numbers: normal, u, v, then d, e, a, b, c, radius, grip.
+    /// The patch as [`PATCH_FLOATS`] numbers: normal, u, v, then d, e, a, b, c, radius, grip,
+    /// lift cap.
     pub(super) fn to_floats(self) -> [f32; PATCH_FLOATS] {
         let [n, u, v] = [self.normal, self.u, self.v].map(|x| x.to_array());
         let (d, e, a, b, c, r) = (self.d, self.e, self.a, self.b, self.c, self.radius);
-        [
-            n[0], n[1], n[2], u[0], u[1], u[2], v[0], v[1], v[2], d, e, a, b, c, r, self.grip,
-        ]
+        let rest = [d, e, a, b, c, r, self.grip, self.lift_cap];
+        let mut floats = [0.0; PATCH_FLOATS];
+        for (slot, x) in floats
+            .iter_mut()
+            .zip(n.into_iter().chain(u).chain(v).chain(rest))
+        {
+            *slot = x;
+        }
+        floats
     }
 
     /// The patch [`Patch::to_floats`] gave.
@@ -390,6 +489,7 @@ impl Patch {
             c: f[13],
             radius: f[14],
             grip: f[15],
+            lift_cap: f[16],
         }
     }
 }
@@ -440,6 +540,7 @@ mod tests {
             e: 0.0,
             radius: 1.0,
             grip: 1.0,
+            lift_cap: NO_CAP,
         };
         let s = patch.slide(Vec3::new(0.5, 0.0, -0.4), 0.75);
         assert!((s - Vec3::new(0.5, 0.0, -0.1)).length() < 1e-6, "{s}");
@@ -454,5 +555,79 @@ mod tests {
         assert_eq!(s.z, -0.25);
         let s = dome.slide(Vec3::new(0.5, 0.0, -1.25), 1.0);
         assert!((s.z + 0.25).abs() < 1e-6, "{s}");
+    }
+
+    #[test]
+    fn a_steep_triangle_caps_the_lift_and_the_caps_grow_slowly_across_the_skin() {
+        // a strip along x in the plane z = 0 whose first triangle stands up out of it: the
+        // patch normals are +z, so a lift in that triangle runs within its plane
+        let positions = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(-0.5, 0.5, 1.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(2.0, 1.0, 0.0),
+            Vec3::new(6.0, 0.0, 0.0),
+            Vec3::new(6.0, 1.0, 0.0),
+        ];
+        let triangles = vec![
+            [0, 1, 2],
+            [0, 3, 1],
+            [1, 3, 4],
+            [3, 5, 4],
+            [4, 5, 6],
+            [5, 7, 6],
+            [6, 7, 8],
+        ];
+        let mesh = Mesh::new(positions, triangles).expect("a mesh");
+        let flat = Patch {
+            normal: Vec3::Z,
+            u: Vec3::X,
+            v: Vec3::Y,
+            a: 0.0,
+            b: 0.0,
+            c: 0.0,
+            d: 0.0,
+            e: 0.0,
+            radius: 10.0,
+            grip: 1.0,
+            lift_cap: NO_CAP,
+        };
+        let vertices: Vec<u32> = (0..9).filter(|&v| v != 2).collect();
+        let mut row = vec![u32::MAX; 9];
+        for (r, &v) in vertices.iter().enumerate() {
+            row[v as usize] = r as u32;
+        }
+        let mut patches = vec![flat; vertices.len()];
+        set_lift_caps(&mesh, &row, &mut patches);
+        let cap = |patches: &[Patch], v: usize| patches[row[v] as usize].lift_cap;
+        // the standing triangle: twice its area sqrt(1.25) over its longest edge sqrt(1.5),
+        // at sin^2 = 0.8 to the patch normal; the flat ones cap nothing
+        let expected = LIFT_SHARE * (1.25f32 / 1.5).sqrt() / (0.8f32.sqrt() - 0.2f32.sqrt());
+        for v in [0, 1] {
+            assert!(
+                (cap(&patches, v) - expected).abs() < 1e-5,
+                "{v}: {}",
+                cap(&patches, v)
+            );
+        }
+        assert_eq!(cap(&patches, 3), NO_CAP);
+        smooth_lift_caps(&mesh, &Adjacency::of(&mesh), &vertices, &row, &mut patches);
+        for v in [3, 5, 7] {
+            let grown = cap(&patches, v) - cap(&patches, 0);
+            let far = mesh.positions[v].x;
+            assert!(
+                grown > 0.0 && grown <= LIFT_SHARE * far * 1.0001,
+                "{v}: {grown}"
+            );
+        }
+        // the lift is no longer than the cap; a sink on open skin far away is lifted more
+        let sink = Vec3::new(0.5, 0.0, -2.0);
+        let near = patches[row[0] as usize].slide(sink, 1.0);
+        let far = patches[row[7] as usize].slide(sink, 1.0);
+        assert!((near.z - sink.z - cap(&patches, 0)).abs() < 1e-6, "{near}");
+        assert!(far.z > near.z, "{far} {near}");
     }
 }
