@@ -23,16 +23,20 @@ use super::rig::{Combine, Rig};
 
 mod cache;
 mod checks;
+mod guard;
 mod sample;
 mod skin;
+mod slide;
 mod spread;
 mod whole;
 
 pub use cache::{CacheParts, BIND_CODE, CACHE_PATCH_FLOATS};
 use checks::{bind_jaw, check_budget, check_reach, mask_scales};
+use guard::Guard;
 pub use sample::{SampledPose, Sampler};
+use skin::Adjacency;
 pub use skin::SkinRules;
-use skin::{Adjacency, Guard, Patch};
+use slide::Patch;
 use spread::Surface;
 
 /// Meshes with at least this many vertices are deformed in parallel chunks.
@@ -350,7 +354,7 @@ impl BoundRig {
             let radius = (hi - lo).length() * self.skin.patch;
             let adjacency = Adjacency::of(mesh);
             let normals = skin::outward_normals(mesh);
-            self.patches = skin::fit_patches(mesh, &adjacency, &normals, &self.row_vertex, radius);
+            self.patches = slide::fit_patches(mesh, &adjacency, &normals, &self.row_vertex, radius);
         }
         self.build_guard(mesh);
     }

@@ -199,15 +199,18 @@ fn tears(head: &Head, skin: SkinRules) -> Vec<(String, Damage)> {
 }
 
 /// The spread tears fewer poses, and turns no more triangles over, than the muscles' own
-/// fields with the same slide and area bound. (Fewer, before the lips' muscles' masks were
-/// eased on fitted heads, `fit::ease`: the flips without the spread on MediaPipe fell to
-/// those with it, 44 each.)
+/// fields with the same slide and area bound; as few where those turn none. (Fewer, before
+/// the lips' muscles' masks were eased on fitted heads, `fit::ease`: the flips without the
+/// spread on MediaPipe fell to those with it, 44 each. Since the slide's lift is capped in
+/// steep triangles, MediaPipe turns none either way and tears the same five poses, the jaw
+/// stretching its joined lips.)
 fn assert_the_spread_tears_less(head: &Head) {
     let before = tears(head, SkinRules::DEFAULT);
     let after = tears(head, SkinRules::TISSUE);
     let flips = |t: &[(String, Damage)]| t.iter().map(|(_, d)| d.flips).sum::<usize>();
+    let fewer = after.len() < before.len() || (flips(&before) == 0 && after.len() == before.len());
     assert!(
-        after.len() < before.len() && flips(&after) <= flips(&before),
+        fewer && flips(&after) <= flips(&before),
         "{}: {} poses tear with the spread ({} flips), {} without ({} flips)",
         head.name,
         after.len(),
@@ -250,7 +253,9 @@ fn fitted_shared_heads_tear_no_more_than_measured() {
             // (16, 54 before the slide's normal took its patch's mean in folds)
             // (16, 48 before its midline read both sides of the template: AU10 2.58x)
             // (15, 48 before the lips' muscles' masks were eased: `fit::ease`)
-            "MediaPipe canonical face" => (15, 44),
+            // (15, 44 before the slide's lift was capped in steep triangles: docs/model.md,
+            // "The slide at folds"; what tears is the jaw stretching the joined lips)
+            "MediaPipe canonical face" => (5, 0),
             // With the lids shaped from the mesh (57, 1760 before AU1's medial frontalis
             // sheet), the brow's sheets kept out of the eye sockets (the sheet lifted the
             // socket's lining at AU1, sadness and at 2.0), the jaw's weights found along the
@@ -262,8 +267,9 @@ fn fitted_shared_heads_tear_no_more_than_measured() {
             // the lips' muscles' masks eased (`fit::ease`), the lower lid's ring faded along the
             // skin to the canthi and the closing ring's fold rows kept from passing each other
             // (`fit::lowerlid`, `fit::lids`; 29, 129 before: AU7, AU10, AU43/45/46 and the
-            // closing ring at 2.0 no longer tear)
-            "MakeHuman base mesh" => (14, 48),
+            // closing ring at 2.0 no longer tear); the slide's lift capped in steep triangles
+            // (14, 48 before: AU12 and its halves no longer tear)
+            "MakeHuman base mesh" => (9, 34),
             other => panic!("no bound for {other}"),
         };
         let torn = tears(&head, SkinRules::DEFAULT);

@@ -1,7 +1,7 @@
 //! What a bind cache keeps of a bound rig, and a bound rig made again from it.
 //!
 //! A bind's cost on a big head is the muscles' fields and, mostly, the rest-surface patches
-//! the slide rule fits around every moved vertex (`skin::fit_patches`). Those two are kept
+//! the slide rule fits around every moved vertex (`slide::fit_patches`). Those two are kept
 //! ([`BoundRig::cache_parts`]); everything else (the CSR rows, the jaw, the area bound's
 //! triangles) is found again from the rig and the mesh by the same code a fresh bind runs,
 //! so [`BoundRig::from_cache`] gives a bound rig equal to a fresh one, bit for bit, when the
@@ -19,7 +19,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::checks::{bind_jaw, check_reach, validate_names};
-use super::skin::{Patch, PATCH_FLOATS};
+use super::slide::{Patch, PATCH_FLOATS};
 use super::spread::Surface;
 use super::{BoundRig, SkinRules};
 use crate::model::field::Field;
@@ -32,11 +32,12 @@ pub const CACHE_PATCH_FLOATS: usize = PATCH_FLOATS;
 /// The source text of everything that computes what a bind cache keeps: the fields, the
 /// masks' scales, the spread, the patches, the checks and the rows. A cache's key hashes it,
 /// so any change to this code invalidates caches written before.
-pub const BIND_CODE: [&str; 10] = [
+pub const BIND_CODE: [&str; 11] = [
     include_str!("../deform.rs"),
     include_str!("cache.rs"),
     include_str!("checks.rs"),
     include_str!("skin.rs"),
+    include_str!("slide.rs"),
     include_str!("spread.rs"),
     include_str!("../field.rs"),
     include_str!("../muscle.rs"),
