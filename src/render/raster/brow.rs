@@ -16,10 +16,10 @@
 //! * the band's centre, a quadratic in `x` fitted to the members' height;
 //! * its upper and lower edges: the members' highest and lowest offsets from that centre, in
 //!   the head's half and the tail's, blended along `x` and moved out until every member lies
-//!   inside; a band thinner than a brow is lowered
-//!   at its lower edge to [`HEIGHT_AT_HEAD`] of the brow's length at the head and
-//!   [`HEIGHT_AT_TAIL`] at the tail (landmarks run along the brow's upper edge, so a coarse
-//!   head's group can be a single row of vertices).
+//!   inside; a group that is a single row of vertices (covering no triangle of its own:
+//!   landmarks run along the brow's upper edge, so a coarse head's group can be one) has its
+//!   band lowered at its lower edge to [`HEIGHT_AT_HEAD`] of the brow's length at the head
+//!   and [`HEIGHT_AT_TAIL`] at the tail; a denser group is drawn to its own members' extent.
 //!
 //! Every corner of a triangle near a brow gets its coordinates in that band at rest: `x` and
 //! `v`, 0 at the upper edge and 1 at the lower. The rasterizer interpolates them per dot like
