@@ -36,6 +36,35 @@ fn coarse_sheet() -> Mesh {
     mesh
 }
 
+/// A sheet like [`coarse_sheet`] with a second row of vertices 0.1 below the first, whose
+/// brows are both rows (a dense group covering triangles of its own, thinner than a brow's
+/// minimum height for a single row, 0.1 of its length at the head: 0.2 here).
+fn thin_dense_sheet() -> Mesh {
+    let xs: Vec<f32> = (-4..=4).map(|x| x as f32).collect();
+    let ys = [-2.0f32, -0.1, 0.0, 2.0];
+    let positions = ys
+        .iter()
+        .flat_map(|&y| xs.iter().map(move |&x| Vec3::new(x, y, 0.0)))
+        .collect();
+    let at = |i: usize, j: usize| (j * xs.len() + i) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..ys.len() - 1 {
+        for i in 0..xs.len() - 1 {
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    let mut mesh = Mesh::new(positions, triangles).expect("a valid sheet");
+    let rows = |range: std::ops::RangeInclusive<usize>| {
+        range
+            .flat_map(|i| [at(i, 1), at(i, 2)])
+            .collect::<Vec<u32>>()
+    };
+    mesh.groups.insert("left_brow_hair".into(), rows(5..=7));
+    mesh.groups.insert("right_brow_hair".into(), rows(1..=3));
+    mesh
+}
+
 /// The brightness (0 to 1) of the surface along a column of dots through `x`, from `y_top`
 /// down to `y_bottom` (mesh units), with each dot's height in mesh units; front view,
 /// undithered.
@@ -122,4 +151,19 @@ fn the_brow_moves_with_the_skin() {
         (lifted - at_rest - 0.5).abs() < 0.1,
         "{at_rest} -> {lifted}"
     );
+}
+
+/// A dense brow group is drawn as its own extent: near the brow's head, where a single row
+/// would be given 0.2 below it, the brow ends at the group's lower row, 0.1 below.
+#[test]
+fn a_dense_brow_is_drawn_as_its_own_extent() {
+    let mesh = thin_dense_sheet();
+    for x in [-1.25f32, 1.25] {
+        let dark = dark(&column(&mesh, &mesh.positions, x, (1.5, -1.5)));
+        println!("x {x}: dark from {:?} to {:?}", dark.first(), dark.last());
+        assert!(!dark.is_empty(), "x {x}: the brow is drawn");
+        for y in dark {
+            assert!((-0.14..=0.04).contains(&y), "x {x}: brow dot at {y}");
+        }
+    }
 }

@@ -16,10 +16,10 @@
 //! * the band's centre, a quadratic in `x` fitted to the members' height;
 //! * its upper and lower edges: the members' highest and lowest offsets from that centre, in
 //!   the head's half and the tail's, blended along `x` and moved out until every member lies
-//!   inside; a band thinner than a brow is lowered
-//!   at its lower edge to [`HEIGHT_AT_HEAD`] of the brow's length at the head and
-//!   [`HEIGHT_AT_TAIL`] at the tail (landmarks run along the brow's upper edge, so a coarse
-//!   head's group can be a single row of vertices).
+//!   inside; a group that is a single row of vertices (covering no triangle of its own:
+//!   landmarks run along the brow's upper edge, so a coarse head's group can be one) has its
+//!   band lowered at its lower edge to [`HEIGHT_AT_HEAD`] of the brow's length at the head
+//!   and [`HEIGHT_AT_TAIL`] at the tail; a denser group is drawn to its own members' extent.
 //!
 //! Every corner of a triangle near a brow gets its coordinates in that band at rest: `x` and
 //! `v`, 0 at the upper edge and 1 at the lower. The rasterizer interpolates them per dot like
@@ -218,8 +218,8 @@ pub(super) fn brow_triangles(
     let (left, right) = (members("left"), members("right"));
     let frame = frame(mesh, triangles, sign, &left, &right)?;
     let bands = [
-        fit_band(mesh, &frame, &left, 1.0)?,
-        fit_band(mesh, &frame, &right, -1.0)?,
+        fit_band(mesh, &frame, &left, 1.0, one_row(triangles, &left))?,
+        fit_band(mesh, &frame, &right, -1.0, one_row(triangles, &right))?,
     ];
     let mut out = Vec::new();
     for (t, tri) in triangles.iter().enumerate() {
@@ -289,8 +289,20 @@ fn frame(
     (forward != Vec3::ZERO && lateral != Vec3::ZERO && frame.mid.is_finite()).then_some(frame)
 }
 
-/// The band of the brow whose members are `members`, on `side` (+1 left, -1 right).
-fn fit_band(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32) -> Option<Band> {
+/// Whether a brow group is a single row of vertices: no drawn triangle has all three corners
+/// in it, so the group marks a line (a coarse head's landmarks along the brow's upper edge)
+/// rather than the hair's area.
+fn one_row(triangles: &[[u32; 3]], members: &[u32]) -> bool {
+    let mut sorted = members.to_vec();
+    sorted.sort_unstable();
+    !triangles
+        .iter()
+        .any(|tri| tri.iter().all(|v| sorted.binary_search(v).is_ok()))
+}
+
+/// The band of the brow whose members are `members`, on `side` (+1 left, -1 right); a
+/// group that is `one_row` is given a brow's height below its row.
+fn fit_band(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32, one_row: bool) -> Option<Band> {
     let points: Vec<(f32, f32, f32)> = members
         .iter()
         .map(|&v| {
@@ -338,9 +350,12 @@ fn fit_band(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32) -> Option<Ba
     };
     let upper = fit_edge(upper, 1.0);
     let mut lower = fit_edge(lower, -1.0);
-    // At least a brow's height below the upper edge.
-    lower[0] = lower[0].min(upper[0] - HEIGHT_AT_HEAD * length);
-    lower[1] = lower[1].min(upper[1] - HEIGHT_AT_TAIL * length);
+    // A row marks the brow's upper edge: the hair reaches a brow's height below it. A group
+    // covering triangles of its own is the hair's own extent.
+    if one_row {
+        lower[0] = lower[0].min(upper[0] - HEIGHT_AT_HEAD * length);
+        lower[1] = lower[1].min(upper[1] - HEIGHT_AT_TAIL * length);
+    }
     Some(Band {
         side,
         head,
@@ -436,6 +451,19 @@ fn coverage(along: [f32; 3], across: [f32; 3]) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A row of vertices along a brow covers no triangle of its own and is given a brow's
+    /// height; the built-in face's brow groups cover the hair's area and are not.
+    #[test]
+    fn a_row_of_landmarks_is_one_row_and_the_builtin_hair_is_not() {
+        let row = [0, 1, 2];
+        assert!(one_row(&[[0, 1, 3], [1, 2, 4], [1, 4, 3]], &row));
+        assert!(!one_row(&[[0, 1, 3], [0, 1, 2]], &row));
+        let mesh = crate::io::builtin::default_mesh();
+        for g in ["left_brow_hair", "right_brow_hair"] {
+            assert!(!one_row(&mesh.triangles, &mesh.groups[g]), "{g}");
+        }
+    }
 
     /// On the built-in face, every brow member lies inside its fitted band, the bands are
     /// mirror images, and the skin of the glabella and the upper lids stays outside.
