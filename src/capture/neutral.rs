@@ -13,7 +13,9 @@
 //! rest, every variable free to go below 0). Each muscle's least state is a low quantile of
 //! its readings over the recording ([`LEAST_QUANTILE`]), and a frame's work is the sum of
 //! how far each muscle works above its least (a muscle below it pays for no other's work: a
-//! narrow mouth does not make an open jaw calm). The new neutral is the per-landmark median
+//! narrow mouth does not make an open jaw calm). Muscles that pull against each other
+//! (antagonist groups, found from the Jacobian by `super::antagonists`) count together,
+//! by their net landmark motion from the recording's median (see `Work`). The new neutral is the per-landmark median
 //! of the quarter of frames ([`FRACTION`]) that work least; from it the frames are read
 //! again, until the same frames work least (at most [`PASSES`] passes). The neutral is then
 //! the face of the recording's least-working frames (a median of a quarter, not the one
