@@ -14,6 +14,7 @@
 //!
 //! `docs/capture.md` describes the method and its limits. Nothing here reads files.
 
+pub mod antagonists;
 pub mod aus;
 pub mod neutral;
 pub mod pose;

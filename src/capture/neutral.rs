@@ -13,7 +13,9 @@
 //! rest, every variable free to go below 0). Each muscle's least state is a low quantile of
 //! its readings over the recording ([`LEAST_QUANTILE`]), and a frame's work is the sum of
 //! how far each muscle works above its least (a muscle below it pays for no other's work: a
-//! narrow mouth does not make an open jaw calm). The new neutral is the per-landmark median
+//! narrow mouth does not make an open jaw calm). Muscles that pull against each other
+//! (antagonist groups, found from the Jacobian by `super::antagonists`) count together,
+//! by their net landmark motion from the recording's median (see `Work`). The new neutral is the per-landmark median
 //! of the quarter of frames ([`FRACTION`]) that work least; from it the frames are read
 //! again, until the same frames work least (at most [`PASSES`] passes). The neutral is then
 //! the face of the recording's least-working frames (a median of a quarter, not the one
@@ -27,6 +29,7 @@
 
 use glam::{DVec3, Vec3};
 
+use super::antagonists::{self, Group};
 use super::{CaptureError, LandmarkModel, NeutralSource, Regularisation, Session};
 use crate::model::BoundRig;
 
@@ -68,6 +71,7 @@ pub fn least_work(
         passes: 0,
     };
     let mut before: Vec<usize> = Vec::new();
+    let groups = antagonists::groups(model);
     for pass in 1..=PASSES {
         let source = NeutralSource::FirstFrame(0);
         let mut session = Session::new(bound, model, neutral.clone(), source, regularisation)?;
@@ -79,11 +83,11 @@ pub fn least_work(
         if read.is_empty() {
             return Err(CaptureError::NoUsableFrames);
         }
-        let least = least_states(&read);
+        let work = Work::new(model, &groups, &read);
         let mut work: Vec<(f64, usize)> = read
             .iter()
             .enumerate()
-            .map(|(r, (_, a, _))| (work_above(a, &least, model.muscle_count()), r))
+            .map(|(r, (_, a, _))| (work.of(model, a), r))
             .collect();
         work.sort_by(|a, b| a.0.total_cmp(&b.0));
         let used = ((work.len() as f64 * FRACTION).ceil() as usize).clamp(1, work.len());
@@ -124,15 +128,77 @@ fn least_states(read: &[(usize, Vec<f64>, Vec<DVec3>)]) -> Vec<f64> {
         .collect()
 }
 
-/// A frame's muscle work above every variable's least state: what the muscles do from a
-/// face where each rests as far as the recording shows it can. Only work above counts: a
-/// muscle below its least does not pay for another's work (a narrow mouth does not make an
-/// open jaw calm); the jaw counts at half, its range being twice a muscle's.
-fn work_above(signed: &[f64], least: &[f64], muscles: usize) -> f64 {
-    signed
-        .iter()
-        .zip(least)
-        .enumerate()
-        .map(|(i, (a, l))| (a - l).max(0.0) * if i < muscles { 1.0 } else { 0.5 })
-        .sum()
+/// How a frame's muscle work is measured over one pass's readings.
+///
+/// - A muscle alone (no antagonist) works above its least state: what it does from a face
+///   where it rests as far as the recording shows it can. Only work above counts: a muscle
+///   below its least does not pay for another's work (a narrow mouth does not make an open
+///   jaw calm); the jaw counts at half, its range being twice a muscle's.
+/// - An antagonist group ([`antagonists`]) works by its net landmark motion away from the
+///   recording's middle (the per-coordinate median of the group's net motion over the
+///   frames), in activation units ([`Group::unit`]). Moving either way is work, one side's
+///   muscles or the other's; the position from which the recording's motions cost least in
+///   total is their median, the L1 centre. A group has no least state of its own: its
+///   members' readings trade one for the other (a raised brow reads as a brow raiser
+///   working or as a lowerer working less than in the neutral), so each member's low
+///   quantile says more about that trade than about the face.
+struct Work {
+    least: Vec<f64>,
+    /// Whether each variable is a muscle alone (then it counts by its least state).
+    alone: Vec<bool>,
+    /// Each group with the median of its net motion over the frames.
+    groups: Vec<(Group, Vec<DVec3>)>,
+    muscles: usize,
+}
+
+impl Work {
+    fn new(
+        model: &LandmarkModel,
+        groups: &[Group],
+        read: &[(usize, Vec<f64>, Vec<DVec3>)],
+    ) -> Work {
+        let mut alone = vec![true; model.variable_count()];
+        for g in groups {
+            g.members.iter().for_each(|&i| alone[i] = false);
+        }
+        let groups = groups
+            .iter()
+            .map(|g| {
+                let nets: Vec<Vec<DVec3>> = read.iter().map(|r| g.net(model, &r.1)).collect();
+                let shapes: Vec<&[DVec3]> = nets.iter().map(Vec::as_slice).collect();
+                (g.clone(), super::pose::median_shape(&shapes))
+            })
+            .collect();
+        Work {
+            least: least_states(read),
+            alone,
+            groups,
+            muscles: model.muscle_count(),
+        }
+    }
+
+    /// The work of a frame whose signed reading is `signed`.
+    fn of(&self, model: &LandmarkModel, signed: &[f64]) -> f64 {
+        let alone: f64 = signed
+            .iter()
+            .zip(&self.least)
+            .enumerate()
+            .filter(|&(i, _)| self.alone[i])
+            .map(|(i, (a, l))| (a - l).max(0.0) * if i < self.muscles { 1.0 } else { 0.5 })
+            .sum();
+        let grouped: f64 = self
+            .groups
+            .iter()
+            .map(|(g, centre)| {
+                let away: Vec<DVec3> = g
+                    .net(model, signed)
+                    .iter()
+                    .zip(centre)
+                    .map(|(n, c)| *n - *c)
+                    .collect();
+                antagonists::norm(model, &away) / g.unit
+            })
+            .sum();
+        alone + grouped
+    }
 }

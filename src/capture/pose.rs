@@ -177,12 +177,14 @@ pub(crate) fn median_shape(shapes: &[&[DVec3]]) -> Vec<DVec3> {
             let mut axis = |pick: fn(DVec3) -> f64| {
                 values.clear();
                 values.extend(shapes.iter().map(|s| pick(s[i])));
-                values.sort_by(f64::total_cmp);
+                // A selection, not a sort: the least-work neutral takes medians of every
+                // antagonist group's motion over the whole recording on every pass.
                 let mid = values.len() / 2;
-                if values.len() % 2 == 0 {
-                    0.5 * (values[mid - 1] + values[mid])
-                } else {
-                    values[mid]
+                let (below, middle, _) = values.select_nth_unstable_by(mid, f64::total_cmp);
+                let upper = *middle;
+                match below.iter().copied().max_by(f64::total_cmp) {
+                    Some(lower) if mid * 2 == shapes.len() => 0.5 * (lower + upper),
+                    _ => upper,
                 }
             };
             DVec3::new(axis(|p| p.x), axis(|p| p.y), axis(|p| p.z))

@@ -67,11 +67,15 @@ const AUS: &[AuSpec] = &[
         ],
         0.0,
     ),
+    // the whole brow comes down over the lid (the orbital fibres' sheet, 7 mm), its head
+    // drawn in a little (the corrugator, which at 1.3 turned the brow's head over with it;
+    // the depressor supercilii at 1.0 squeezed the skin beside the nose root to 9 %)
     sided(
         4,
         &[
-            ("Lateral_Corrugator", 1.3),
-            ("Depressor_Supercilii", 1.0),
+            ("Orbicularis_Oculi_Superior", 1.75),
+            ("Lateral_Corrugator", 0.6),
+            ("Depressor_Supercilii", 0.5),
             ("Procerus", 1.0),
         ],
         0.0,
@@ -107,7 +111,8 @@ const AUS: &[AuSpec] = &[
     sided(11, &[("Zygomatic_Minor", 1.4)], 0.0),
     sided(12, &[("Zygomatic_Major", 1.5)], 0.0),
     sided(14, &[("Buccinator", 1.5)], 0.0),
-    sided(15, &[("Angular_Depressor", 1.3)], 0.0),
+    // the corners down 9 mm at E (a frown a face tracker reads, 0.3 and more)
+    sided(15, &[("Angular_Depressor", 2.0)], 0.0),
     au(16, &[("Depressor_Labii_Inferioris", 0.8)], 0.0),
     au(17, &[("Mentalis", 1.1)], 0.0),
     au(18, &[("Orbicularis_Oris", 2.0)], 0.0),
@@ -151,7 +156,9 @@ const AUS: &[AuSpec] = &[
 /// The EMFACS emotion prototypes (see `docs/au.md` for sources and intensity choices).
 pub const EXPRESSIONS: &[(&str, &str)] = &[
     ("happiness", "6C+12D"),
-    ("sadness", "1E+4C+15C"),
+    // the brows' heads drawn together (4A: a stronger 4 brings the whole brow down and takes
+    // back the inner brow raise), the corners down (15D)
+    ("sadness", "1E+4A+15D"),
     ("surprise", "1D+2D+5B+26C"),
     ("fear", "1C+2C+4C+5D+7C+20C+26B"),
     ("anger", "4D+5C+7C+23D"),

@@ -24,10 +24,10 @@ use crate::model::{Mask, Mesh};
 
 /// From the midline, where the eyebrow's head starts (mm): a little medial to the inner eye
 /// corner, over the root of the nose's side.
-const HAIR_HEAD_X: f64 = ENDOCANTHION_X - 3.0;
+pub(super) const HAIR_HEAD_X: f64 = ENDOCANTHION_X - 3.0;
 /// From the midline, where the eyebrow's tail ends (mm): beyond the outer eye corner, on the
 /// line from the ala through the outer canthus.
-const HAIR_TAIL_X: f64 = EXOCANTHION_X + 7.0;
+pub(super) const HAIR_TAIL_X: f64 = EXOCANTHION_X + 7.0;
 /// Along the brow (0 head, 1 tail), where its arch peaks: over the lateral limbus.
 const HAIR_PEAK_AT: f64 = 0.65;
 /// How far the arch's peak rises over the head's middle, and the tail drops below it (mm).
@@ -44,7 +44,7 @@ pub(super) const MEDIAL_FULL_MM: f64 = 14.0;
 /// which AU1 leaves (AU2 raises it).
 pub(super) const MEDIAL_END_MM: f64 = 42.0;
 /// Half the width of the fade across the midline (mm).
-const MIDLINE_FADE_MM: f64 = 6.0;
+pub(super) const MIDLINE_FADE_MM: f64 = 6.0;
 
 /// The medial share of the pull at `x` (mm from the midline, the muscle's own side positive).
 fn medial_share(x: f64) -> f64 {
@@ -76,7 +76,7 @@ pub(super) fn medial_mask(mesh: &Mesh, name: &str, own_side: f32, lowest_y: f32)
 /// The middle of the eyebrow at `t` along it (0 head, 1 tail), as height above the nasion
 /// (mm), and half its height there: it rises from the head to the arch's peak, then falls
 /// to the tail, and thins toward the tail.
-fn hair_band(t: f64) -> (f64, f64) {
+pub(super) fn hair_band(t: f64) -> (f64, f64) {
     use std::f64::consts::FRAC_PI_2;
     let head = BROW_Y;
     let peak = head + HAIR_ARCH_MM;

@@ -7,6 +7,7 @@
 pub mod anthropometry;
 pub mod au_table;
 mod brow;
+mod brow_lowering;
 pub mod classic;
 pub mod generator;
 pub mod groups;

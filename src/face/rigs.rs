@@ -14,7 +14,7 @@ use super::anthropometry::*;
 pub use super::jaw_skin::{jaw_weights, JAW_CORNER_WEIGHT};
 use super::jaw_skin::{relax_jaw_weights, MouthSlit, JAW_CORNER_REACH_MM};
 use super::lids::{closing_gain, LidProfile, Margin};
-use super::surface;
+use super::{brow_lowering, surface};
 use super::{round3, rounded};
 use crate::model::{
     Convergence, Frame, Jaw, Linear, Mask, Mesh, Muscle, MuscleKind, Rig, Sheet, Side, Sphincter,
@@ -273,7 +273,7 @@ pub fn paper_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
 /// Places the default rig: the paper's rig plus the muscles it lacks for the AUs face
 /// trackers report (levator palpebrae, pars orbitalis, buccinator, risorius, mentalis,
 /// depressor labii inferioris, depressor supercilii, zygomatic minor, procerus, the marginal
-/// part of the mouth sphincter).
+/// part of the mouth sphincter, the orbital orbicularis's upper fibres).
 pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
     let mut rig = paper_rig(mesh)?;
     let place = Placer { mesh };
@@ -289,6 +289,16 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
             .push(super::brow::medial_mask(mesh, &muscle.name, side, lowest));
     }
     rig.muscles.extend(medial);
+    // the orbital orbicularis's upper fibres lowering the whole brow (AU4)
+    let (x, y, depth) = brow_lowering::DEPTH_AT;
+    let z = place.skin(brow_lowering::NAME, x, y)?.z - units(depth) as f32;
+    let lowering = frontalis_pair(brow_lowering::NAME, brow_lowering::sheet(z));
+    for (muscle, side) in lowering.iter().zip([1.0, -1.0]) {
+        let mask = brow_lowering::mask(mesh, &muscle.name, side);
+        rig.masks
+            .push(mask.ok_or_else(|| PlacementError::MissingLandmark("left_upper_lid".into()))?);
+    }
+    rig.muscles.extend(lowering);
     let [left, right] = place.linear_pair(&LABII_NASI)?;
     for muscle in &mut rig.muscles {
         if muscle.name == left.name {
@@ -331,16 +341,18 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
 /// upper lip 20 mm, into the nose (58 triangles turned, edges stretched 4.9x); the frontalis
 /// sheet's edge turned 21 triangles and stretched 4.9x; the mentalis pushed the lower lip up
 /// over itself (19 turned); the medial frontalis stretched the brow 3.8x, the pars orbitalis
-/// 2.7x and the risorius 2.6x. The gains leave each muscle's 2.0 within what it does
+/// 2.7x and the risorius 2.6x; the orbital orbicularis's upper fibres (a sheet lowering the
+/// brow its whole activation in mesh units) bring the brow 11.5 mm down at 1.0. The gains leave each muscle's 2.0 within what it does
 /// without a tear (no triangle turned, no edge over 2.5x) with a margin: the levator lifts
 /// the upper lip about 8 mm, the most it rises over the teeth.
-const MUSCLE_RANGES: [(&str, f32); 6] = [
+const MUSCLE_RANGES: [(&str, f32); 7] = [
     ("Labii_Nasi", 0.4),
     ("Frontalis_Sheet", 0.25),
     ("Frontalis_Medial", 0.5),
     ("Mentalis", 0.5),
     ("Orbicularis_Oculi_Orbital", 0.8),
     ("Risorius", 0.8),
+    (brow_lowering::NAME, 0.4),
 ];
 
 /// Lip muscles of the default rig kept to one lip: `true` for the upper lip, `false` for

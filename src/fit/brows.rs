@@ -1,4 +1,4 @@
-//! The brow's sheets stop at the eye socket.
+//! The brow's sheets stop at the eye socket and behind the face.
 //!
 //! A sheet muscle (the frontalis, its medial fibres) pulls everything in its zone through
 //! the whole head's depth. On the template the zone ends above the lids, but a head whose
@@ -8,6 +8,11 @@
 //! at AU1 rows of it rose 10 mm beside rows that stayed (26 triangles turned over, an edge
 //! stretched 4.2x). The frontalis inserts into the brow's skin; what lies behind the globe
 //! does not go with it.
+//!
+//! A whole head lies in a sheet's zone through its depth as well: the back of MakeHuman's
+//! head, level with the brows, came down 14.7 mm with the brow lowerer's sheet (its carried
+//! mask, beyond the template's face, is 1 there) and turned 22 triangles over. So the cut
+//! also takes the skin two to three eye widths and more behind the eyes' corners.
 //!
 //! Each eye's socket, from its six lid landmarks: in the face's plane an ellipse about the
 //! landmarks' middle, 1.3 half-widths across and 1.2 up (the lids and the lining behind
@@ -39,6 +44,10 @@ const SOCKET_FADE: (f64, f64) = (1.0, 1.3);
 /// Behind the eye's deeper corner, the cut grows from nothing to full over these depths, in
 /// the eye's half-widths (negative: in front of it).
 const SOCKET_DEPTH: (f64, f64) = (-0.1, 0.2);
+/// Behind the face, anywhere across it, the cut grows from nothing to full over these depths
+/// behind the eyes' deeper corners, in the eye's half-widths (two to three eye widths: past
+/// the forehead's and the temples' sides, short of the ears and the back of the head).
+const BEHIND_FACE: (f64, f64) = (4.0, 6.0);
 
 /// One eye's socket, from its lid landmarks.
 struct Socket {
@@ -90,52 +99,72 @@ impl Socket {
         let behind = self.corner_depth - d.dot(self.forward);
         inside * smoothstep(SOCKET_DEPTH.0 * w, SOCKET_DEPTH.1 * w, behind)
     }
+
+    /// How much of a sheet's pull is taken away at `p` for lying behind the face, far behind
+    /// this eye's deeper corner.
+    fn behind_face(&self, p: DVec3) -> f64 {
+        let behind = self.corner_depth - (p - self.centre).dot(self.forward);
+        let w = self.half_width;
+        smoothstep(BEHIND_FACE.0 * w, BEHIND_FACE.1 * w, behind)
+    }
 }
 
-/// The larger cut of both sockets at `p`.
+/// The larger cut of both sockets at `p`, or of the face's back if larger (the lesser of
+/// the two eyes' measures of it).
 fn cut(sockets: &[Socket; 2], p: Vec3) -> f64 {
     let p = p.as_dvec3();
-    sockets[0].cut(p).max(sockets[1].cut(p))
+    let behind = sockets[0].behind_face(p).min(sockets[1].behind_face(p));
+    sockets[0].cut(p).max(sockets[1].cut(p)).max(behind)
 }
 
-/// One mask for the rig's sheets: each skin vertex weakened by how far it lies in an eye
-/// socket (module docs). `target` are the mesh's landmark positions. `None` when the rig has
-/// no sheet, nothing is cut, or the mesh is the template itself.
+/// The masks for the rig's sheets: one weakening each skin vertex by how far it lies in an
+/// eye socket or behind the face (module docs), and the brow lowerer's ramp caps
+/// (`fit::brow_ramp`). `target` are the mesh's landmark positions. None when the rig has no
+/// sheet or the mesh is the template itself.
 pub(super) fn socket_mask(
     rig: &Rig,
     template: Template<'_>,
     mesh: &Mesh,
     parts: &Parts,
     target: &[Vec3],
-) -> Option<Mask> {
+) -> Vec<Mask> {
     let sheets: Vec<String> = rig
         .muscles
         .iter()
         .filter(|m| matches!(m.kind, MuscleKind::Sheet(_)))
         .map(|m| m.name.clone())
         .collect();
-    if sheets.is_empty() {
-        return None;
-    }
     // the template fitted to itself: its own fields are the rig's, nothing to cut
-    if mesh.positions == template.mesh.positions && target == template.landmarks {
-        return None;
+    let itself = mesh.positions == template.mesh.positions && target == template.landmarks;
+    let Some(sockets) = Socket::both(target).filter(|_| !sheets.is_empty() && !itself) else {
+        return Vec::new();
+    };
+    let mut kept = vec![1.0; mesh.vertex_count()];
+    let mut weights: Vec<(u32, f32)> = Vec::new();
+    for (v, (p, part)) in mesh.positions.iter().zip(&parts.of_vertex).enumerate() {
+        let cut = if *part == Part::Skin {
+            cut(&sockets, *p)
+        } else {
+            0.0
+        };
+        if cut > EPSILON {
+            kept[v] = 1.0 - cut;
+            weights.push((v as u32, (1.0 - cut) as f32));
+        }
     }
-    let sockets = Socket::both(target)?;
-    let weights: Vec<(u32, f32)> = mesh
-        .positions
-        .iter()
-        .zip(&parts.of_vertex)
-        .enumerate()
-        .filter(|(_, (_, part))| **part == Part::Skin)
-        .filter_map(|(v, (p, _))| {
-            let cut = cut(&sockets, *p);
-            (cut > EPSILON).then_some((v as u32, (1.0 - cut) as f32))
+    let eyes = super::brow_ramp::Eyes {
+        width: sockets.iter().map(|s| s.half_width).sum::<f64>(),
+        corners: [36, 39, 42, 45].map(|i| target[i]),
+    };
+    let ramps = super::brow_ramp::ramp_masks(rig, mesh, parts, &kept, &eyes);
+    let mut masks: Vec<Mask> = (!weights.is_empty())
+        .then_some(Mask {
+            muscles: sheets,
+            gain: 1.0,
+            weights,
         })
+        .into_iter()
         .collect();
-    (!weights.is_empty()).then_some(Mask {
-        muscles: sheets,
-        gain: 1.0,
-        weights,
-    })
+    masks.extend(ramps);
+    masks
 }

@@ -4,7 +4,8 @@
 //! - the landmarks it fits from are in [`crate::landmarks`];
 //! - [`warp`]: the similarity and thin-plate spline from one face to another;
 //! - [`propose`]: landmarks proposed from some of them (a warp, a mirror plane);
-//! - `brows`: the brow's sheets kept out of the eye sockets;
+//! - `brows`: the brow's sheets kept out of the eye sockets and the head's back (`brow_ramp`:
+//!   the brow lowerer's rise no steeper than on the template);
 //! - [`brow_hair`]: eyebrows marked from the landmarks on heads without their own;
 //! - [`parts`]: which parts of a mesh are skin, still, or turn with the jaw;
 //! - `reach`: fitted rings kept to the part of the face the template's reach;
@@ -25,6 +26,7 @@
 //! Nothing here reads files or knows about terminals.
 
 pub mod brow_hair;
+mod brow_ramp;
 mod brows;
 mod ease;
 pub mod eyecut;

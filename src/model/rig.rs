@@ -95,9 +95,10 @@ impl Rig {
     /// The normal of the plane the face mirrors across, as the rig's partners show it: the
     /// mean direction from each right-side point to its left partner. On a head fitted in any
     /// orientation this is the face's own left-right axis; on the built-in face it is x
-    /// exactly. `None` without partners.
+    /// exactly (summed and normalised in f64: in f32 the unit length of some sums along x
+    /// rounded to 0.99999994). `None` without partners.
     pub fn mirror_normal(&self) -> Option<Vec3> {
-        let mut sum = Vec3::ZERO;
+        let mut sum = glam::DVec3::ZERO;
         for (i, muscle) in self.muscles.iter().enumerate() {
             let Some(j) = self.mirror_of(i) else {
                 continue;
@@ -109,10 +110,10 @@ impl Rig {
                 .into_iter()
                 .zip(points(&self.muscles[j].kind))
             {
-                sum += l - r;
+                sum += (l - r).as_dvec3();
             }
         }
-        let n = sum.normalize_or_zero();
+        let n = sum.normalize_or_zero().as_vec3();
         (n != Vec3::ZERO && n.is_finite()).then_some(n)
     }
 }

@@ -109,3 +109,85 @@ fn a_recording_that_smiles_throughout_is_solved_from_the_rest_face() {
         }
     }
 }
+
+/// The brow lowerer's sheets (the orbital orbicularis's upper fibres) at half of AU4's entry.
+const SHEETS: [(&str, f32); 2] = [
+    ("L_Orbicularis_Oculi_Superior", 0.875),
+    ("R_Orbicularis_Oculi_Superior", 0.875),
+];
+
+/// RMS distance over the brows' ten landmarks (17-26).
+fn brow_rms(a: &[DVec3], b: &[DVec3]) -> f64 {
+    rms(&a[17..27], &b[17..27])
+}
+
+/// The recording's frames (tracker coordinates) at `along` times the sheets' motion from
+/// rest: each frame's rest landmarks plus `along` times the sheets' motion in that frame's
+/// pose. Below 0 the brows rise along the sheets' own line: a subject's brow raise that
+/// the rig's frontalis does not make exactly, so the signed reading sees the sheets working
+/// less than in the neutral, as on real recordings.
+fn along_sheets(face: &Face, along: &[f32]) -> Vec<Vec<Vec3>> {
+    let still = Motion {
+        noise: 0.0,
+        ..Motion::default()
+    };
+    let make = |a: &Activations| {
+        let poses = vec![Some(a.clone()); along.len()];
+        synthetic::landmarks(&face.bound, &face.vertices, &poses, still)
+    };
+    let (rest, sheets) = (make(&act(face, &[], 0.0)), make(&act(face, &SHEETS, 0.0)));
+    let mut jitter = 0x5eed_u64;
+    rest.iter()
+        .zip(&sheets)
+        .zip(along)
+        .map(|((r, s), &t)| {
+            r.as_ref()
+                .unwrap()
+                .iter()
+                .zip(s.as_ref().unwrap())
+                .map(|(r, s)| {
+                    // 0.02 mm of tracker noise, as the other synthetic recordings have.
+                    jitter = jitter.wrapping_mul(6364136223846793005).wrapping_add(1);
+                    let n = ((jitter >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.04;
+                    *r + (*s - *r) * t + Vec3::splat(n)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn brows_lowered_and_raised_along_antagonists_leave_the_neutral_at_rest() {
+    let face = face();
+    // Lowered first (the first frame is not the neutral), then at rest, then raised, then
+    // lowered again: the brows spend as long below their rest as above it.
+    let along: Vec<f32> = (0..48)
+        .map(|k| match k {
+            0..8 | 40..48 => 1.0,
+            8..24 => 0.0,
+            _ => -1.0,
+        })
+        .collect();
+    let rows = along_sheets(&face, &along);
+    let frames: Vec<&[Vec3]> = rows.iter().map(Vec::as_slice).collect();
+    let model = LandmarkModel::new(&face.bound, &face.vertices);
+    let (median, _) = pose::estimate_neutral(&frames).unwrap();
+    let (found, _) = neutral::least_work(
+        &face.bound,
+        &model,
+        &frames,
+        median,
+        Regularisation::default(),
+    )
+    .unwrap();
+    let at = |points: &[Vec3], neutral: &[DVec3]| pose::align(points, neutral).unwrap().points;
+    let ends = along_sheets(&face, &[0.0, 1.0]);
+    let (rest, lowered) = (at(&ends[0], &found), at(&ends[1], &found));
+    let lowering = brow_rms(&lowered, &rest);
+    let off = brow_rms(&rest, &found);
+    eprintln!("brows: the neutral is {off:.3} mm from rest; the lowering {lowering:.3}");
+    assert!(
+        off < 0.15 * lowering,
+        "the neutral's brows are {off:.3} mm from rest (the lowering: {lowering:.3} mm)"
+    );
+}

@@ -8,6 +8,7 @@ mod common;
 
 mod au;
 mod beyond;
+mod brow_lowering;
 mod brows_drawn;
 mod classic;
 mod cli;

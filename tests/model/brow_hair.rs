@@ -62,3 +62,50 @@ fn the_brows_lower_at_au4_and_their_heads_rise_at_au1() {
     assert!(whole.y <= -2.0, "AU4 lowers the brow {} mm", -whole.y);
     assert!(au1.y >= 4.0, "AU1 raises the brow's head {} mm", au1.y);
 }
+
+/// AU4 brings the whole brow down over a lid that stays: the hair's lateral half (the brow's
+/// body and tail) comes down as well as its medial half, each at least 0.2 of the eye's
+/// width across (6.1 mm on the built-in eye, 30.6 mm from corner to corner), and the upper
+/// lid margin moves under 0.03 of it (0.9 mm). A face tracker reads a brow lowered only when
+/// the whole brow comes down (`docs/gallery.md`); before the orbital fibres' sheet, AU4 moved
+/// the medial half 0.107 of the eye's width (3.3 mm) and the lateral half 0.003.
+#[test]
+fn au4_lowers_the_whole_brow_over_a_lid_that_stays() {
+    let f = face();
+    let rest = &f.mesh.positions;
+    let eye = (rest[f.vertex("left_outer_eye_corner")].x
+        - rest[f.vertex("left_inner_eye_corner")].x)
+        .abs();
+    let hair = f.group("left_brow_hair");
+    let xs = hair.iter().map(|&v| rest[v as usize].x);
+    let middle = 0.5 * (xs.clone().fold(f32::MAX, f32::min) + xs.fold(f32::MIN, f32::max));
+    let p = f.combo("4");
+    let down = |lateral: bool| {
+        let members: Vec<usize> = hair
+            .iter()
+            .map(|&v| v as usize)
+            .filter(|&v| (rest[v].x > middle) == lateral)
+            .collect();
+        let sum: f32 = members.iter().map(|&v| rest[v].y - p[v].y).sum();
+        sum / members.len() as f32 / eye
+    };
+    let (medial, lateral) = (down(false), down(true));
+    let lid = f
+        .group("left_upper_lid")
+        .iter()
+        .map(|&v| p[v as usize].distance(rest[v as usize]) / eye)
+        .fold(0.0f32, f32::max);
+    println!(
+        "AU4 (eye widths of {:.1} mm): brow down {medial:.3} medial, {lateral:.3} lateral; lid margin {lid:.3}",
+        eye * MM
+    );
+    assert!(
+        medial >= 0.2,
+        "the brow's head comes down {medial:.3} eye widths"
+    );
+    assert!(
+        lateral >= 0.2,
+        "the brow's tail comes down {lateral:.3} eye widths"
+    );
+    assert!(lid < 0.03, "the upper lid margin moves {lid:.3} eye widths");
+}

@@ -163,8 +163,11 @@ fn a_version_1_rig_on_the_built_in_face_is_mirrored_on_load() {
     assert!(notice.contains("rig version 1 converted"), "{notice}");
     assert_eq!(old.rig.version, RIG_VERSION);
     let mut current = builtin::default_rig();
-    // the medial frontalis (AU1's sheet, `face::brow`) came later: the file has none
-    let medial = |name: &str| name.ends_with("_Frontalis_Medial");
+    // the medial frontalis (AU1's sheet, `face::brow`) and the orbital orbicularis's upper
+    // fibres (AU4's sheet, `face::brow_lowering`) came later: the file has neither
+    let medial = |name: &str| {
+        name.ends_with("_Frontalis_Medial") || name.ends_with("_Orbicularis_Oculi_Superior")
+    };
     current.muscles.retain(|m| !medial(&m.name));
     current
         .masks

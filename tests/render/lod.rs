@@ -163,9 +163,11 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
                 // surface moves some facing contours and creases; the worst case, 80x24 at
                 // three-quarters, reads 0.796 since the built-in rig's lip masks fade with the
                 // angle about each mouth corner and so label more of the mouth's surface, and
-                // 0.762 since the medial frontalis' mask bands the forehead, `face::brow`).
+                // 0.762 since the medial frontalis' mask bands the forehead, `face::brow`, and
+                // 0.740 since the brow lowerer's mask bands the skin from the lids to the
+                // forehead, `face::brow_lowering`).
                 assert!(
-                    added >= 0.75,
+                    added >= 0.73,
                     "{what}: {added} of the level's cells near a full one"
                 );
                 worst_added = worst_added.min(added);
