@@ -1,8 +1,6 @@
 //! AU4 on a fitted head brings the whole brow down over a lid that stays, as on the built-in
 //! face (tests/model/brow_hair.rs): the brow's tail as well as its head.
 
-use crate::common;
-
 use grimace::io::builtin;
 use grimace::io::landmarks::{beside, load_landmarks};
 use grimace::io::load::load_rig;
@@ -20,20 +18,7 @@ fn a_fitted_head_lowers_the_whole_brow_at_au4() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    let args = [
-        "fit-rig",
-        path.to_str().unwrap(),
-        "--landmarks",
-        "mediapipe",
-        "--out",
-        "mp.rig.ron",
-    ];
-    let out = common::grimace_in(dir.path(), &args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crate::fit_mediapipe_in(dir.path(), &path, &[]);
     let loaded = load_rig(&dir.path().join("mp.rig.ron")).unwrap();
     let (rig, mesh) = (&loaded.rig, &loaded.mesh);
     let landmarks = load_landmarks(&beside(loaded.mesh_path.as_ref().unwrap())).unwrap();

@@ -1,8 +1,6 @@
 //! Fitted heads without brow groups get their brows from the landmarks beside their mesh when
 //! the rig is loaded, so the editor, `render` and `export` draw the same brows.
 
-use crate::common;
-
 use grimace::io::load::load_rig;
 
 /// A fitted MediaPipe mask (no brow groups of its own) loads with a brow over each eye:
@@ -13,20 +11,7 @@ fn a_fitted_head_loads_with_brows_from_its_landmarks() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    let args = [
-        "fit-rig",
-        path.to_str().unwrap(),
-        "--landmarks",
-        "mediapipe",
-        "--out",
-        "mp.rig.ron",
-    ];
-    let out = common::grimace_in(dir.path(), &args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crate::fit_mediapipe_in(dir.path(), &path, &[]);
     let loaded = load_rig(&dir.path().join("mp.rig.ron")).unwrap();
     let mesh = &loaded.mesh;
     let marks = grimace::io::landmarks::load_landmarks(&grimace::io::landmarks::beside(

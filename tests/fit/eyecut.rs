@@ -4,8 +4,6 @@
 //! cut lids meet at AU43 and AU45 in front of the dark eye set behind them, and part wider at
 //! AU5.
 
-use crate::common;
-
 use std::collections::HashMap;
 
 use glam::Vec3;
@@ -280,24 +278,7 @@ fn fit_rig_cuts_covered_eyes_unless_kept() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    let run = |extra: &[&str]| {
-        let mut args = vec![
-            "fit-rig",
-            path.to_str().unwrap(),
-            "--landmarks",
-            "mediapipe",
-            "--out",
-            "mp.rig.ron",
-        ];
-        args.extend_from_slice(extra);
-        let out = common::grimace_in(dir.path(), &args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    };
+    let run = |extra: &[&str]| crate::fit_mediapipe_in(dir.path(), &path, extra);
     let said = run(&[]);
     assert!(
         said.contains("eyes: right covered") && said.contains("cut open"),

@@ -81,6 +81,27 @@ fn shared_mediapipe() -> Option<(PathBuf, Mesh, Landmarks)> {
     Some((path, mesh, landmarks))
 }
 
+/// Runs `grimace fit-rig PATH --landmarks mediapipe --out mp.rig.ron EXTRA...` in `dir`,
+/// asserts it succeeded and returns what it printed.
+fn fit_mediapipe_in(dir: &Path, path: &Path, extra: &[&str]) -> String {
+    let mut args = vec![
+        "fit-rig",
+        path.to_str().unwrap(),
+        "--landmarks",
+        "mediapipe",
+        "--out",
+        "mp.rig.ron",
+    ];
+    args.extend_from_slice(extra);
+    let out = common::grimace_in(dir, &args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 /// `check`'s failures (each named by head and AU) of `bound` at the built-in table's `aus`
 /// at full intensity, measured by `gauge` against `expect`.
 fn au_failures(
