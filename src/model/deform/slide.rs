@@ -525,11 +525,9 @@ mod tests {
         assert_eq!(parallel, one_pass);
     }
 
-    #[test]
-    fn slide_lifts_a_sinking_displacement_toward_the_patch() {
-        // a flat patch: a displacement straight into it loses `slide` of its depth,
-        // one out of it is kept
-        let patch = Patch {
+    /// A flat patch in the plane z = 0 (normal +z), full grip, no cap on its lift.
+    fn flat_patch(radius: f32) -> Patch {
+        Patch {
             normal: Vec3::Z,
             u: Vec3::X,
             v: Vec3::Y,
@@ -538,10 +536,17 @@ mod tests {
             c: 0.0,
             d: 0.0,
             e: 0.0,
-            radius: 1.0,
+            radius,
             grip: 1.0,
             lift_cap: NO_CAP,
-        };
+        }
+    }
+
+    #[test]
+    fn slide_lifts_a_sinking_displacement_toward_the_patch() {
+        // a flat patch: a displacement straight into it loses `slide` of its depth,
+        // one out of it is kept
+        let patch = flat_patch(1.0);
         let s = patch.slide(Vec3::new(0.5, 0.0, -0.4), 0.75);
         assert!((s - Vec3::new(0.5, 0.0, -0.1)).length() < 1e-6, "{s}");
         assert_eq!(patch.slide(Vec3::new(0.5, 0.0, 0.4), 0.75).z, 0.4);
@@ -582,19 +587,7 @@ mod tests {
             [6, 7, 8],
         ];
         let mesh = Mesh::new(positions, triangles).expect("a mesh");
-        let flat = Patch {
-            normal: Vec3::Z,
-            u: Vec3::X,
-            v: Vec3::Y,
-            a: 0.0,
-            b: 0.0,
-            c: 0.0,
-            d: 0.0,
-            e: 0.0,
-            radius: 10.0,
-            grip: 1.0,
-            lift_cap: NO_CAP,
-        };
+        let flat = flat_patch(10.0);
         let vertices: Vec<u32> = (0..9).filter(|&v| v != 2).collect();
         let mut row = vec![u32::MAX; 9];
         for (r, &v) in vertices.iter().enumerate() {
