@@ -5,28 +5,31 @@ use glam::Vec3;
 use grimace::model::Mesh;
 use grimace::render::{Camera, DotCanvas, Renderer, Scene, Style};
 
+/// A flat sheet facing +z: columns at `x` = -4 to 4, one unit apart, rows at `ys`, each
+/// quad split in two; with the index of the vertex in column `i`, row `j`.
+fn sheet(ys: &[f32]) -> (Mesh, impl Fn(usize, usize) -> u32) {
+    const COLUMNS: usize = 9;
+    let positions = ys
+        .iter()
+        .flat_map(|&y| (-4..=4).map(move |x| Vec3::new(x as f32, y, 0.0)))
+        .collect();
+    let at = |i: usize, j: usize| (j * COLUMNS + i) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..ys.len() - 1 {
+        for i in 0..COLUMNS - 1 {
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    (Mesh::new(positions, triangles).expect("a valid sheet"), at)
+}
+
 /// A flat sheet facing +z, 8 x 4 units in triangles 1 unit wide and 2 tall, whose brows are
 /// one row of vertices each (as on a coarse mask whose brow group is the landmarks along
 /// the brow's upper edge): `x` 1 to 3 on the subject's left (+x), -1 to -3 on the right, at
 /// `y = 0`.
 fn coarse_sheet() -> Mesh {
-    let xs: Vec<f32> = (-4..=4).map(|x| x as f32).collect();
-    let ys = [-2.0f32, 0.0, 2.0];
-    let mut positions = Vec::new();
-    for &y in &ys {
-        for &x in &xs {
-            positions.push(Vec3::new(x, y, 0.0));
-        }
-    }
-    let at = |i: usize, j: usize| (j * xs.len() + i) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..ys.len() - 1 {
-        for i in 0..xs.len() - 1 {
-            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    let mut mesh = Mesh::new(positions, triangles).expect("a valid sheet");
+    let (mut mesh, at) = sheet(&[-2.0, 0.0, 2.0]);
     mesh.groups
         .insert("left_brow_hair".into(), (5..=7).map(|i| at(i, 1)).collect());
     mesh.groups.insert(
@@ -40,21 +43,7 @@ fn coarse_sheet() -> Mesh {
 /// brows are both rows (a dense group covering triangles of its own, thinner than a brow's
 /// minimum height for a single row, 0.1 of its length at the head: 0.2 here).
 fn thin_dense_sheet() -> Mesh {
-    let xs: Vec<f32> = (-4..=4).map(|x| x as f32).collect();
-    let ys = [-2.0f32, -0.1, 0.0, 2.0];
-    let positions = ys
-        .iter()
-        .flat_map(|&y| xs.iter().map(move |&x| Vec3::new(x, y, 0.0)))
-        .collect();
-    let at = |i: usize, j: usize| (j * xs.len() + i) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..ys.len() - 1 {
-        for i in 0..xs.len() - 1 {
-            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    let mut mesh = Mesh::new(positions, triangles).expect("a valid sheet");
+    let (mut mesh, at) = sheet(&[-2.0, -0.1, 0.0, 2.0]);
     let rows = |range: std::ops::RangeInclusive<usize>| {
         range
             .flat_map(|i| [at(i, 1), at(i, 2)])
