@@ -48,9 +48,19 @@ fn weights(model: &LandmarkModel) -> Vec<DVec3> {
     (0..model.rest().len()).map(landmark_weight).collect()
 }
 
-/// The weighted norm of a landmark motion: `sqrt(sum_i w_i . d_i^2)`.
-pub fn norm(model: &LandmarkModel, d: &[DVec3]) -> f64 {
-    weighted_dot(&weights(model), d, d).sqrt()
+/// The weighted distance between two landmark motions, `sqrt(sum_i w_i . (a_i - b_i)^2)`,
+/// with the solve's weights ([`landmark_weight`]); nothing allocated, as it runs for every
+/// frame and group on each pass of the neutral's search.
+pub fn distance(a: &[DVec3], b: &[DVec3]) -> f64 {
+    a.iter()
+        .zip(b)
+        .enumerate()
+        .map(|(i, (a, b))| {
+            let d = *a - *b;
+            landmark_weight(i).dot(d * d)
+        })
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// The rig's antagonist groups (two or more muscles each), from its landmark columns.

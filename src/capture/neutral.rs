@@ -189,15 +189,7 @@ impl Work {
         let grouped: f64 = self
             .groups
             .iter()
-            .map(|(g, centre)| {
-                let away: Vec<DVec3> = g
-                    .net(model, signed)
-                    .iter()
-                    .zip(centre)
-                    .map(|(n, c)| *n - *c)
-                    .collect();
-                antagonists::norm(model, &away) / g.unit
-            })
+            .map(|(g, centre)| antagonists::distance(&g.net(model, signed), centre) / g.unit)
             .sum();
         alone + grouped
     }
