@@ -30,6 +30,7 @@ mod brow_ramp;
 mod brows;
 mod ease;
 pub mod eyecut;
+mod insertion;
 pub mod jaw;
 mod jawfade;
 mod lidedge;

@@ -141,7 +141,18 @@ pub fn fit_rig(
         return Err(FitError::NoSkin);
     }
     let rings = RingFit::all(template.landmarks, &target, [&from, &to], &warp.similarity);
-    let (muscles, gains) = carry_muscles(template, &warp, &rings);
+    let (mut muscles, gains) = carry_muscles(template, &warp, &rings);
+    // the mouth corners' muscles meet the skin at their insertion at the template's angle
+    let skins = [
+        super::insertion::Skin::of_template(template, super::insertion::front(&from)),
+        super::insertion::Skin::of_mesh(mesh, &parts, &target, super::insertion::front(&to)),
+    ];
+    let at_corner = |p: Vec3| super::insertion::at_mouth_corner(template.landmarks, p);
+    super::insertion::keep_angles(
+        (&template.rig.muscles, &at_corner),
+        &mut muscles,
+        [&skins[0], &skins[1]],
+    );
     let openings_from = Opening::all(template.landmarks);
     let openings_to = Opening::all(&target);
     let lips = [

@@ -1,0 +1,223 @@
+//! The muscles of the mouth's corners meet the skin at their insertion at the template's
+//! angle.
+//!
+//! A linear muscle pulls the skin toward its attachment, along the chord from insertion to
+//! attachment. The warp carries both ends, but the attachment lies far from any landmark and
+//! a few millimetres under the skin, where the warp bends most: on MakeHuman's head the
+//! depressor anguli oris's chord left the mouth corner about 40 degrees into the skin (6 on
+//! the template), so the corner went back into the face more than down (3.7 of 5.8 mm at
+//! sadness) and the tracker read little frown. What a muscle does to the skin is decided at
+//! its insertion: there its fibres run along the skin on every face. So a fitted chord that
+//! leaves the skin more steeply inward than the template's is turned about the insertion, in
+//! the plane of the chord and the skin's normal, until its angle to the skin's tangent plane
+//! is the template's; its length (and so the falloff's distances) and the insertion stay. A
+//! chord the warp left shallower is kept, and a template fitted to itself keeps every muscle
+//! as it was.
+//!
+//! Only the muscles that insert at the mouth's corners (the modiolus: the angular depressor,
+//! the zygomatic major, the risorius, the buccinator) are turned. Turned everywhere, the rule
+//! also lifted MediaPipe's levator labii, whose AU10 then stretched an edge of the upper lip
+//! 2.61x (2.39x before; over the 2.5x of a tear), and MakeHuman's frontalis, whose raised
+//! attachments moved the render's framing (`docs/gallery.md`).
+
+use glam::Vec3;
+
+use super::parts::{Part, Parts};
+use super::Template;
+use crate::landmarks::FaceFrame;
+use crate::model::{Mesh, Muscle, MuscleKind};
+
+/// Radius round the insertion over which the skin's normal is averaged, as a fraction of the
+/// outer canthal distance (6 mm on an adult face of 90 mm).
+const NORMAL_RADIUS: f32 = 6.0 / 90.0;
+/// Skin facing away from the face's front by more than this (the cosine of the angle to the
+/// front axis) is left out of the normal: the mouth's lining and the lips' inner faces lie
+/// within the radius at a mouth corner and face inward.
+const MIN_FRONT: f32 = 0.2;
+/// A template muscle inserts at a mouth corner when its insertion lies this close to the
+/// corner's landmark (iBUG 48 or 54), as a fraction of the mouth's width.
+const CORNER_REACH: f32 = 0.15;
+/// Angles this close (radians) are left as they are.
+const SAME_ANGLE: f32 = 1e-4;
+
+/// One face's skin triangles seen from the front, for the normals round an insertion.
+pub(super) struct Skin {
+    /// Skin triangles with their area-weighted normals, facing the front.
+    triangles: Vec<(Vec3, Vec3)>,
+    /// The radius of the normal's average (mesh units).
+    radius: f32,
+}
+
+impl Skin {
+    /// The skin of `mesh` (the vertices `is_skin` keeps) facing `front`; `canthi` is the
+    /// outer canthal distance in mesh units.
+    fn new(mesh: &Mesh, is_skin: &dyn Fn(usize) -> bool, front: Vec3, canthi: f32) -> Self {
+        let p = &mesh.positions;
+        let triangles = mesh
+            .triangles
+            .iter()
+            .filter(|t| t.iter().all(|&v| is_skin(v as usize)))
+            .filter_map(|t| {
+                let [a, b, c] = t.map(|v| p[v as usize]);
+                let n = (b - a).cross(c - a);
+                let unit = n.normalize_or_zero();
+                (unit.dot(front) > MIN_FRONT).then_some(((a + b + c) / 3.0, n))
+            })
+            .collect();
+        Skin {
+            triangles,
+            radius: NORMAL_RADIUS * canthi,
+        }
+    }
+
+    /// The template's skin: the connected pieces of its mesh that hold a landmark (its teeth,
+    /// tongue and eyeballs are pieces of their own).
+    pub(super) fn of_template(template: Template<'_>, front: Vec3) -> Self {
+        let component = super::parts::components(template.mesh);
+        let positions = &template.mesh.positions;
+        let mut pieces: Vec<u32> = template
+            .landmarks
+            .iter()
+            .filter_map(|l| {
+                (0..positions.len())
+                    .min_by(|&a, &b| {
+                        positions[a]
+                            .distance_squared(*l)
+                            .total_cmp(&positions[b].distance_squared(*l))
+                    })
+                    .map(|v| component[v])
+            })
+            .collect();
+        pieces.sort_unstable();
+        pieces.dedup();
+        let is_skin = |v: usize| pieces.binary_search(&component[v]).is_ok();
+        Skin::new(
+            template.mesh,
+            &is_skin,
+            front,
+            canthal_distance(template.landmarks),
+        )
+    }
+
+    /// The fitted mesh's skin (the parts the fit calls skin).
+    pub(super) fn of_mesh(mesh: &Mesh, parts: &Parts, landmarks: &[Vec3], front: Vec3) -> Self {
+        let is_skin = |v: usize| parts.of_vertex[v] == Part::Skin;
+        Skin::new(mesh, &is_skin, front, canthal_distance(landmarks))
+    }
+
+    /// The skin's outward normal round `at`: the area-weighted mean of the front-facing
+    /// triangles' normals within the radius; `None` where there are none.
+    fn normal(&self, at: Vec3) -> Option<Vec3> {
+        let r2 = self.radius * self.radius;
+        let sum: Vec3 = self
+            .triangles
+            .iter()
+            .filter(|(c, _)| c.distance_squared(at) <= r2)
+            .map(|(_, n)| *n)
+            .sum();
+        let n = sum.normalize_or_zero();
+        (n != Vec3::ZERO).then_some(n)
+    }
+}
+
+/// Distance between the outer eye corners (iBUG 36 and 45).
+fn canthal_distance(landmarks: &[Vec3]) -> f32 {
+    match (landmarks.get(36), landmarks.get(45)) {
+        (Some(a), Some(b)) => a.distance(*b),
+        _ => 0.0,
+    }
+}
+
+/// Whether `p` lies at a mouth corner of a face with these 68 `landmarks`.
+pub(super) fn at_mouth_corner(landmarks: &[Vec3], p: Vec3) -> bool {
+    let (Some(right), Some(left)) = (landmarks.get(48), landmarks.get(54)) else {
+        return false;
+    };
+    let reach = CORNER_REACH * right.distance(*left);
+    p.distance(*right).min(p.distance(*left)) <= reach
+}
+
+/// The front axis of a face frame, as `f32`.
+pub(super) fn front(frame: &FaceFrame) -> Vec3 {
+    frame.forward.as_vec3()
+}
+
+/// The angle (radians) of the chord from `insertion` to `attachment` over the skin's tangent
+/// plane with normal `n` (negative: into the skin).
+fn elevation(attachment: Vec3, insertion: Vec3, n: Vec3) -> Option<f32> {
+    let u = (attachment - insertion).normalize_or_zero();
+    (u != Vec3::ZERO).then(|| u.dot(n).clamp(-1.0, 1.0).asin())
+}
+
+/// `attachment` turned about `insertion` so that the chord's angle over the tangent plane of
+/// normal `n` is `angle`, its length kept; `None` when the chord lies along the normal.
+fn turned(attachment: Vec3, insertion: Vec3, n: Vec3, angle: f32) -> Option<Vec3> {
+    let chord = attachment - insertion;
+    let u = chord.normalize_or_zero();
+    let along = (u - n * u.dot(n)).normalize_or_zero();
+    (along != Vec3::ZERO)
+        .then(|| insertion + (along * angle.cos() + n * angle.sin()) * chord.length())
+}
+
+/// Turns each linear muscle of `fitted` (carried from `template_muscles`, in the same order)
+/// whose template insertion is `chosen` about its insertion so that it meets `skin[1]` at the angle the template's meets
+/// `skin[0]` where it dives into the skin more steeply than that. Muscles whose insertion has no front-facing skin round it, on either face,
+/// are left as carried.
+pub(super) fn keep_angles(
+    template: (&[Muscle], &dyn Fn(Vec3) -> bool),
+    fitted: &mut [Muscle],
+    skin: [&Skin; 2],
+) {
+    let (template_muscles, chosen) = template;
+    for (from, to) in template_muscles.iter().zip(fitted.iter_mut()) {
+        let (MuscleKind::Linear(a), MuscleKind::Linear(b)) = (&from.kind, &mut to.kind) else {
+            continue;
+        };
+        if !chosen(a.insertion) {
+            continue;
+        }
+        let Some(want) = skin[0]
+            .normal(a.insertion)
+            .and_then(|n| elevation(a.attachment, a.insertion, n))
+        else {
+            continue;
+        };
+        let Some(n) = skin[1].normal(b.insertion) else {
+            continue;
+        };
+        let Some(have) = elevation(b.attachment, b.insertion, n) else {
+            continue;
+        };
+        // only a chord the warp sank deeper than the template's is lifted: turned the other
+        // way, into the skin, a chord drags its skin through the tissue beneath (MediaPipe's
+        // inner levator labii, 9 degrees in against the template's 34, stretched an edge of
+        // the upper lip 2.6x at AU10 when turned to 34)
+        if want - have <= SAME_ANGLE {
+            continue;
+        }
+        if let Some(p) = turned(b.attachment, b.insertion, n, want) {
+            b.attachment = p;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turning_sets_the_angle_and_keeps_the_length() {
+        let n = Vec3::Z;
+        let (ins, att) = (Vec3::ZERO, Vec3::new(0.0, -30.0, -20.0));
+        let p = turned(att, ins, n, -0.1).unwrap();
+        assert!((p.length() - att.length()).abs() < 1e-4);
+        assert!((elevation(p, ins, n).unwrap() + 0.1).abs() < 1e-5);
+        // the chord keeps its direction within the tangent plane
+        assert!(p.x.abs() < 1e-5 && p.y < 0.0);
+    }
+
+    #[test]
+    fn a_chord_along_the_normal_is_not_turned() {
+        assert!(turned(Vec3::Z, Vec3::ZERO, Vec3::Z, 0.2).is_none());
+    }
+}
