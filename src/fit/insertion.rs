@@ -42,6 +42,8 @@ const SAME_ANGLE: f32 = 1e-4;
 
 /// One face's skin triangles seen from the front, for the normals round an insertion.
 pub(super) struct Skin {
+    /// The face's front axis.
+    front: Vec3,
     /// Skin triangles with their area-weighted normals, facing the front.
     triangles: Vec<(Vec3, Vec3)>,
     /// The radius of the normal's average (mesh units).
@@ -65,6 +67,7 @@ impl Skin {
             })
             .collect();
         Skin {
+            front,
             triangles,
             radius: NORMAL_RADIUS * canthi,
         }
@@ -149,14 +152,40 @@ fn elevation(attachment: Vec3, insertion: Vec3, n: Vec3) -> Option<f32> {
     (u != Vec3::ZERO).then(|| u.dot(n).clamp(-1.0, 1.0).asin())
 }
 
-/// `attachment` turned about `insertion` so that the chord's angle over the tangent plane of
-/// normal `n` is `angle`, its length kept; `None` when the chord lies along the normal.
-fn turned(attachment: Vec3, insertion: Vec3, n: Vec3, angle: f32) -> Option<Vec3> {
+/// `attachment` turned about `insertion` toward or away from the face's `front`, so that the
+/// chord's angle over the tangent plane of normal `n` is `angle`; its length and its
+/// direction as seen from the front are kept (the warp, fitted on landmarks spread over the
+/// face's plane, gets that direction right; the depth is what it bends). Of the two turns
+/// that reach the angle, the smaller, and no further than the face's plane (the attachment
+/// stays behind the insertion); `None` when none does, or the chord runs along `front`.
+fn turned(attachment: Vec3, insertion: Vec3, n: Vec3, front: Vec3, angle: f32) -> Option<Vec3> {
     let chord = attachment - insertion;
     let u = chord.normalize_or_zero();
-    let along = (u - n * u.dot(n)).normalize_or_zero();
-    (along != Vec3::ZERO)
-        .then(|| insertion + (along * angle.cos() + n * angle.sin()) * chord.length())
+    let f = front.normalize_or_zero();
+    let p = (u - f * u.dot(f)).normalize_or_zero();
+    if p == Vec3::ZERO || f == Vec3::ZERO {
+        return None;
+    }
+    // u(t) = cos t p + sin t f, and u(t).n = r cos(t - phi)
+    let (pn, fn_) = (p.dot(n), f.dot(n));
+    let (r, phi) = ((pn * pn + fn_ * fn_).sqrt(), fn_.atan2(pn));
+    let c = angle.sin() / r;
+    if !(r > 0.0 && c.abs() <= 1.0) {
+        return None;
+    }
+    let now = u.dot(f).atan2(u.dot(p));
+    let t = [phi + c.acos(), phi - c.acos()]
+        .into_iter()
+        .min_by(|a, b| wrap(a - now).abs().total_cmp(&wrap(b - now).abs()))?;
+    // the attachment is on bone, under the skin: never in front of the insertion
+    let t = t.min(0.0);
+    Some(insertion + (p * t.cos() + f * t.sin()) * chord.length())
+}
+
+/// An angle brought into (-pi, pi].
+fn wrap(a: f32) -> f32 {
+    let tau = std::f32::consts::TAU;
+    a - tau * ((a + std::f32::consts::PI) / tau).floor()
 }
 
 /// Turns each linear muscle of `fitted` (carried from `template_muscles`, in the same order)
@@ -195,7 +224,7 @@ pub(super) fn keep_angles(
         if want - have <= SAME_ANGLE {
             continue;
         }
-        if let Some(p) = turned(b.attachment, b.insertion, n, want) {
+        if let Some(p) = turned(b.attachment, b.insertion, n, skin[1].front, want) {
             b.attachment = p;
         }
     }
@@ -206,18 +235,20 @@ mod tests {
     use super::*;
 
     #[test]
-    fn turning_sets_the_angle_and_keeps_the_length() {
-        let n = Vec3::Z;
-        let (ins, att) = (Vec3::ZERO, Vec3::new(0.0, -30.0, -20.0));
-        let p = turned(att, ins, n, -0.1).unwrap();
-        assert!((p.length() - att.length()).abs() < 1e-4);
-        assert!((elevation(p, ins, n).unwrap() + 0.1).abs() < 1e-5);
-        // the chord keeps its direction within the tangent plane
-        assert!(p.x.abs() < 1e-5 && p.y < 0.0);
+    fn turning_sets_the_angle_and_keeps_the_length_and_the_front_view() {
+        // skin facing front and down, a chord down and back into it
+        let n = Vec3::new(0.0, -0.5, 1.0).normalize();
+        let (ins, att) = (Vec3::ZERO, Vec3::new(10.0, -30.0, -20.0));
+        let p = turned(att, ins, n, Vec3::Z, -0.1).unwrap();
+        assert!((p.length() - att.length()).abs() < 1e-3);
+        assert!((elevation(p, ins, n).unwrap() + 0.1).abs() < 1e-4);
+        // seen from the front it still points the same way
+        assert!((p.x / p.y - att.x / att.y).abs() < 1e-4 && p.y < 0.0);
+        assert!(p.z > att.z);
     }
 
     #[test]
-    fn a_chord_along_the_normal_is_not_turned() {
-        assert!(turned(Vec3::Z, Vec3::ZERO, Vec3::Z, 0.2).is_none());
+    fn a_chord_along_the_front_is_not_turned() {
+        assert!(turned(Vec3::Z, Vec3::ZERO, Vec3::Z, Vec3::Z, 0.2).is_none());
     }
 }
