@@ -244,3 +244,57 @@ fn cut_lips_open_onto_a_dark_pocket() {
         "the pocket's lower half moves {pocket_drop} with a lower lip moving {lower_drop}"
     );
 }
+
+/// How far (mm) the mouth corners (iBUG 48 and 54, mean of the two) of `mesh` move down and
+/// back at AU15 under `rig`: (down, back) in the frame of the face's landmarks `marks`.
+fn corners_at_au15(mesh: &Mesh, rig: &grimace::model::Rig, marks: &[u32]) -> (f32, f32) {
+    let points: Vec<Vec3> = marks.iter().map(|&v| mesh.positions[v as usize]).collect();
+    let (mm, frame) = (mm_per_unit(&points), FaceFrame::of(&points).unwrap());
+    let bound = Deformation::default().bind(rig, mesh).unwrap();
+    let moved = crate::positions_at_au(&bound, "15");
+    let along = |axis: Vec3| {
+        [48, 54]
+            .iter()
+            .map(|&i| (moved[marks[i] as usize] - mesh.positions[marks[i] as usize]).dot(axis))
+            .sum::<f32>()
+            * 0.5
+            * mm
+    };
+    (-along(frame.up.as_vec3()), -along(frame.forward.as_vec3()))
+}
+
+/// The angular depressor pulls a fitted head's mouth corners down at least as steeply
+/// against back as it pulls the built-in face's (5.4 mm down, 4.2 back in its landmarks'
+/// frame; `fit::insertion`). Carried by the warp alone, its attachment sank under the skin
+/// and MakeHuman's corners went about 4.8 mm down and 5.7 back: the tracker read little
+/// frown in sadness. The fitted muscle now leaves the corner at the template's angle to the
+/// skin (6.7 down, none back; MediaPipe's 7.0 down, 3.6 back).
+#[test]
+fn fitted_corners_go_down_more_than_back_at_au15() {
+    let face = builtin::default_mesh();
+    let face_marks = builtin::landmarks("face").unwrap().vertices(&face);
+    let (down, back) = corners_at_au15(&face, &builtin::default_rig(), &face_marks);
+    eprintln!("built-in face: corners {down:.1} mm down, {back:.1} mm back at AU15");
+    let steepest_back = back / down;
+    let heads = [crate::shared_makehuman(), crate::shared_mediapipe()];
+    for (path, mesh, landmarks) in heads.into_iter().flatten() {
+        let fitted = crate::fit_default(&mesh, &landmarks);
+        let marks = landmarks.vertices(&mesh);
+        let (down, back) = corners_at_au15(&mesh, &fitted.rig, &marks);
+        eprintln!(
+            "{}: corners {down:.1} mm down, {back:.1} mm back at AU15",
+            path.display()
+        );
+        assert!(
+            down >= 4.0,
+            "{}: corners only {down:.1} mm down",
+            path.display()
+        );
+        assert!(
+            back <= steepest_back * down,
+            "{}: corners {back:.1} mm back for {down:.1} mm down (built-in face: {:.2} back per mm down)",
+            path.display(),
+            steepest_back
+        );
+    }
+}
