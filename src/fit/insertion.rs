@@ -4,15 +4,17 @@
 //! A linear muscle pulls the skin toward its attachment, along the chord from insertion to
 //! attachment. The warp carries both ends, but the attachment lies far from any landmark and
 //! a few millimetres under the skin, where the warp bends most: on MakeHuman's head the
-//! depressor anguli oris's chord left the mouth corner about 40 degrees into the skin (6 on
-//! the template), so the corner went back into the face more than down (3.7 of 5.8 mm at
-//! sadness) and the tracker read little frown. What a muscle does to the skin is decided at
-//! its insertion: there its fibres run along the skin on every face. So a fitted chord that
-//! leaves the skin more steeply inward than the template's is turned about the insertion, in
-//! the plane of the chord and the skin's normal, until its angle to the skin's tangent plane
-//! is the template's; its length (and so the falloff's distances) and the insertion stay. A
-//! chord the warp left shallower is kept, and a template fitted to itself keeps every muscle
-//! as it was.
+//! depressor anguli oris's chord left the mouth corner 40 degrees back from the face's plane
+//! (31 on the template), steeply into the skin, so at AU15 the corners went about 4.8 mm
+//! down and 5.7 mm back into the face and the tracker read little frown at sadness. What a
+//! muscle does to the skin is decided at its insertion: there its fibres run along the skin
+//! on every face. So a fitted chord that leaves the skin more steeply inward than the
+//! template's is turned about the insertion toward the face's front until its angle to the
+//! skin's tangent plane is the template's. Its length (and so the falloff's distances), the
+//! insertion and its direction as seen from the front (which the warp, fitted on landmarks
+//! spread over the face's plane, gets right) stay, and its attachment stays behind the
+//! insertion. A chord the warp left shallower is kept, and a template fitted to itself keeps
+//! every muscle as it was.
 //!
 //! Only the muscles that insert at the mouth's corners (the modiolus: the angular depressor,
 //! the zygomatic major, the risorius, the buccinator) are turned. Turned everywhere, the rule
@@ -157,7 +159,8 @@ fn elevation(attachment: Vec3, insertion: Vec3, n: Vec3) -> Option<f32> {
 /// direction as seen from the front are kept (the warp, fitted on landmarks spread over the
 /// face's plane, gets that direction right; the depth is what it bends). Of the two turns
 /// that reach the angle, the smaller, and no further than the face's plane (the attachment
-/// stays behind the insertion); `None` when none does, or the chord runs along `front`.
+/// stays behind the insertion); `None` when none does, when that would not lift the chord,
+/// or when the chord runs along `front`.
 fn turned(attachment: Vec3, insertion: Vec3, n: Vec3, front: Vec3, angle: f32) -> Option<Vec3> {
     let chord = attachment - insertion;
     let u = chord.normalize_or_zero();
@@ -177,8 +180,12 @@ fn turned(attachment: Vec3, insertion: Vec3, n: Vec3, front: Vec3, angle: f32) -
     let t = [phi + c.acos(), phi - c.acos()]
         .into_iter()
         .min_by(|a, b| wrap(a - now).abs().total_cmp(&wrap(b - now).abs()))?;
-    // the attachment is on bone, under the skin: never in front of the insertion
+    // the attachment is on bone, under the skin: never in front of the insertion; and the
+    // chord is only ever lifted out of the skin
     let t = t.min(0.0);
+    if t <= now {
+        return None;
+    }
     Some(insertion + (p * t.cos() + f * t.sin()) * chord.length())
 }
 
@@ -189,9 +196,10 @@ fn wrap(a: f32) -> f32 {
 }
 
 /// Turns each linear muscle of `fitted` (carried from `template_muscles`, in the same order)
-/// whose template insertion is `chosen` about its insertion so that it meets `skin[1]` at the angle the template's meets
-/// `skin[0]` where it dives into the skin more steeply than that. Muscles whose insertion has no front-facing skin round it, on either face,
-/// are left as carried.
+/// whose template insertion is `chosen` about its insertion, so that it meets `skin[1]` at
+/// the angle the template's meets `skin[0]`, where it dives into the skin more steeply than
+/// that. Muscles with no front-facing skin round the insertion, on either face, are left as
+/// carried.
 pub(super) fn keep_angles(
     template: (&[Muscle], &dyn Fn(Vec3) -> bool),
     fitted: &mut [Muscle],
@@ -217,10 +225,8 @@ pub(super) fn keep_angles(
         let Some(have) = elevation(b.attachment, b.insertion, n) else {
             continue;
         };
-        // only a chord the warp sank deeper than the template's is lifted: turned the other
-        // way, into the skin, a chord drags its skin through the tissue beneath (MediaPipe's
-        // inner levator labii, 9 degrees in against the template's 34, stretched an edge of
-        // the upper lip 2.6x at AU10 when turned to 34)
+        // only a chord the warp sank is lifted: it is the attachment's depth, far from the
+        // landmarks, that the warp gets wrong, and a chord left shallower is kept as carried
         if want - have <= SAME_ANGLE {
             continue;
         }
@@ -245,6 +251,16 @@ mod tests {
         // seen from the front it still points the same way
         assert!((p.x / p.y - att.x / att.y).abs() < 1e-4 && p.y < 0.0);
         assert!(p.z > att.z);
+    }
+
+    #[test]
+    fn an_attachment_is_not_turned_in_front_of_its_insertion() {
+        let n = Vec3::new(0.0, -0.5, 1.0).normalize();
+        let att = Vec3::new(10.0, -30.0, -20.0);
+        let p = turned(att, Vec3::ZERO, n, Vec3::Z, 0.5).unwrap();
+        assert!(p.z.abs() < 1e-4, "{p}");
+        // nor turned deeper into the skin
+        assert!(turned(att, Vec3::ZERO, n, Vec3::Z, -0.5).is_none());
     }
 
     #[test]
