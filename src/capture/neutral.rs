@@ -93,27 +93,7 @@ pub fn least_work(
             .map(|(_, a, _)| work.of(model, &columns, a))
             .collect();
         let used = ((read.len() as f64 * FRACTION).ceil() as usize).clamp(1, read.len());
-        let mut chosen_all = Vec::with_capacity(REGIONS);
-        let mut next = neutral.clone();
-        for r in 0..REGIONS {
-            let mut order: Vec<(f64, usize)> = per_frame
-                .iter()
-                .enumerate()
-                .map(|(k, w)| (w[r], k))
-                .collect();
-            order.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let mut chosen: Vec<usize> = order[..used].iter().map(|w| read[w.1].0).collect();
-            chosen.sort_unstable();
-            chosen_all.push(chosen);
-            let shapes: Vec<&[DVec3]> = order[..used]
-                .iter()
-                .map(|w| read[w.1].2.as_slice())
-                .collect();
-            let median = super::pose::median_shape(&shapes);
-            for i in (0..median.len()).filter(|&i| region(i) == r) {
-                next[i] = median[i];
-            }
-        }
+        let (next, chosen_all) = least_working(&read, &per_frame, used, &neutral);
         found = LeastWork {
             used,
             of: read.len(),
@@ -126,6 +106,39 @@ pub fn least_work(
         before = chosen_all;
     }
     Ok((neutral, found))
+}
+
+/// The neutral whose every region is the per-landmark median of the `used` frames of `read`
+/// that work least there (`per_frame`: each frame's work per region), with the chosen frames'
+/// numbers per region.
+fn least_working(
+    read: &[(usize, Vec<f64>, Vec<DVec3>)],
+    per_frame: &[[f64; REGIONS]],
+    used: usize,
+    neutral: &[DVec3],
+) -> (Vec<DVec3>, Vec<Vec<usize>>) {
+    let mut next = neutral.to_vec();
+    let mut chosen_all = Vec::with_capacity(REGIONS);
+    for r in 0..REGIONS {
+        let mut order: Vec<(f64, usize)> = per_frame
+            .iter()
+            .enumerate()
+            .map(|(k, w)| (w[r], k))
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut chosen: Vec<usize> = order[..used].iter().map(|w| read[w.1].0).collect();
+        chosen.sort_unstable();
+        chosen_all.push(chosen);
+        let shapes: Vec<&[DVec3]> = order[..used]
+            .iter()
+            .map(|w| read[w.1].2.as_slice())
+            .collect();
+        let median = super::pose::median_shape(&shapes);
+        for i in (0..median.len()).filter(|&i| region(i) == r) {
+            next[i] = median[i];
+        }
+    }
+    (next, chosen_all)
 }
 
 /// The face's regions, each with its own least-working frames: the face but the brows (0)
