@@ -20,14 +20,11 @@ use super::solver::weighted_dot;
 /// smile's muscles (-0.4 to -0.6) move the corners along different lines and stay apart.
 pub const ANTAGONIST_COSINE: f64 = 0.7;
 
-/// A group of muscles joined by antagonist pairs and how their net motion is measured.
+/// A group of muscles joined by antagonist pairs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Group {
     /// The muscles, by index, in the rig's order.
     pub members: Vec<usize>,
-    /// The mean weighted norm of the members' columns: the net motion of one unit of
-    /// activation of a member, to measure the group's motion in activation units.
-    pub unit: f64,
 }
 
 impl Group {
@@ -46,21 +43,6 @@ impl Group {
 /// The weights the landmark columns are compared with: the solve's ([`landmark_weight`]).
 fn weights(model: &LandmarkModel) -> Vec<DVec3> {
     (0..model.rest().len()).map(landmark_weight).collect()
-}
-
-/// The weighted distance between two landmark motions, `sqrt(sum_i w_i . (a_i - b_i)^2)`,
-/// with the solve's weights ([`landmark_weight`]); nothing allocated, as it runs for every
-/// frame and group on each pass of the neutral's search.
-pub fn distance(a: &[DVec3], b: &[DVec3]) -> f64 {
-    a.iter()
-        .zip(b)
-        .enumerate()
-        .map(|(i, (a, b))| {
-            let d = *a - *b;
-            landmark_weight(i).dot(d * d)
-        })
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// The rig's antagonist groups (two or more muscles each), from its landmark columns.
@@ -91,8 +73,7 @@ pub fn groups(model: &LandmarkModel) -> Vec<Group> {
     for l in 0..m {
         let members: Vec<usize> = (0..m).filter(|&i| label[i] == l).collect();
         if members.len() > 1 {
-            let unit = members.iter().map(|&i| norms[i]).sum::<f64>() / members.len() as f64;
-            out.push(Group { members, unit });
+            out.push(Group { members });
         }
     }
     out

@@ -11,16 +11,18 @@
 //! 0 in that work's muscles. So each frame's muscles are read signed
 //! ([`super::FrameSolver::signed`]: linear least squares on the rig's landmark Jacobian at
 //! rest, every variable free to go below 0). Each muscle's least state is a low quantile of
-//! its readings over the recording ([`LEAST_QUANTILE`]), and a frame's work is the sum of
-//! how far each muscle works above its least (a muscle below it pays for no other's work: a
-//! narrow mouth does not make an open jaw calm). Muscles that pull against each other
-//! (antagonist groups, found from the Jacobian by `super::antagonists`) count together,
-//! by their net landmark motion from the recording's median (see `Work`). The new neutral is the per-landmark median
-//! of the quarter of frames ([`FRACTION`]) that work least; from it the frames are read
-//! again, until the same frames work least (at most [`PASSES`] passes). The neutral is then
-//! the face of the recording's least-working frames (a median of a quarter, not the one
-//! lowest frame, which noise decides), from which the others are reached by muscles
-//! pulling, not by muscles pulling less.
+//! its readings over the recording ([`LEAST_QUANTILE`]), and a frame's work is the landmark
+//! motion its muscles make working above their least (a muscle below it pays for no other's
+//! work: a narrow mouth does not make an open jaw calm). Muscles that pull against each other
+//! (antagonist groups, found from the Jacobian by `super::antagonists`) count together, by
+//! their net landmark motion from the recording's median (see `Work`). The work is measured
+//! per region ([`REGIONS`]: the brows, and the rest of the face), each region's landmarks of
+//! the new neutral the per-landmark median of the quarter of frames ([`FRACTION`]) that work
+//! least there; from it the frames are read again, until the same frames work least (at most
+//! [`PASSES`] passes). The neutral is then the face of the recording's least-working frames
+//! (a median of a quarter, not the one lowest frame, which noise decides), from which the
+//! others are reached by muscles pulling, not by muscles pulling less; a subject whose brows
+//! rest only while the mouth works has both at rest.
 //!
 //! Not kept (docs/capture.md): alternating the frames' non-negative activations with the
 //! neutral moved by their mean residual. A frame that works less than the neutral is mostly
@@ -30,6 +32,7 @@
 use glam::{DVec3, Vec3};
 
 use super::antagonists::{self, Group};
+use super::pose::landmark_weight;
 use super::{CaptureError, LandmarkModel, NeutralSource, Regularisation, Session};
 use crate::model::BoundRig;
 
@@ -70,8 +73,9 @@ pub fn least_work(
         of: 0,
         passes: 0,
     };
-    let mut before: Vec<usize> = Vec::new();
+    let mut before: Vec<Vec<usize>> = Vec::new();
     let groups = antagonists::groups(model);
+    let columns = Columns::new(model);
     for pass in 1..=PASSES {
         let source = NeutralSource::FirstFrame(0);
         let mut session = Session::new(bound, model, neutral.clone(), source, regularisation)?;
@@ -84,31 +88,94 @@ pub fn least_work(
             return Err(CaptureError::NoUsableFrames);
         }
         let work = Work::new(model, &groups, &read);
-        let mut work: Vec<(f64, usize)> = read
+        let per_frame: Vec<[f64; REGIONS]> = read
             .iter()
-            .enumerate()
-            .map(|(r, (_, a, _))| (work.of(model, a), r))
+            .map(|(_, a, _)| work.of(model, &columns, a))
             .collect();
-        work.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let used = ((work.len() as f64 * FRACTION).ceil() as usize).clamp(1, work.len());
-        let mut chosen: Vec<usize> = work[..used].iter().map(|w| read[w.1].0).collect();
-        chosen.sort_unstable();
+        let used = ((read.len() as f64 * FRACTION).ceil() as usize).clamp(1, read.len());
+        let (next, chosen_all) = least_working(&read, &per_frame, used, &neutral);
         found = LeastWork {
             used,
             of: read.len(),
             passes: pass,
         };
-        if chosen == before {
+        if chosen_all == before {
             break;
         }
-        let shapes: Vec<&[DVec3]> = work[..used]
+        neutral = next;
+        before = chosen_all;
+    }
+    Ok((neutral, found))
+}
+
+/// The neutral whose every region is the per-landmark median of the `used` frames of `read`
+/// that work least there (`per_frame`: each frame's work per region), with the chosen frames'
+/// numbers per region.
+fn least_working(
+    read: &[(usize, Vec<f64>, Vec<DVec3>)],
+    per_frame: &[[f64; REGIONS]],
+    used: usize,
+    neutral: &[DVec3],
+) -> (Vec<DVec3>, Vec<Vec<usize>>) {
+    let mut next = neutral.to_vec();
+    let mut chosen_all = Vec::with_capacity(REGIONS);
+    for r in 0..REGIONS {
+        let mut order: Vec<(f64, usize)> = per_frame
+            .iter()
+            .enumerate()
+            .map(|(k, w)| (w[r], k))
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut chosen: Vec<usize> = order[..used].iter().map(|w| read[w.1].0).collect();
+        chosen.sort_unstable();
+        chosen_all.push(chosen);
+        let shapes: Vec<&[DVec3]> = order[..used]
             .iter()
             .map(|w| read[w.1].2.as_slice())
             .collect();
-        neutral = super::pose::median_shape(&shapes);
-        before = chosen;
+        let median = super::pose::median_shape(&shapes);
+        for i in (0..median.len()).filter(|&i| region(i) == r) {
+            next[i] = median[i];
+        }
     }
-    Ok((neutral, found))
+    (next, chosen_all)
+}
+
+/// The face's regions, each with its own least-working frames: the face but the brows (0)
+/// and the brows (1).
+///
+/// The brows are apart: their raisers and lowerers (an antagonist group) work alone, and a
+/// subject whose brows rest only while the mouth works (or the other way round) has no
+/// frame where the whole face rests. Every other split tried lost the jaw
+/// (docs/capture.md): the mouth, the nose and the eyes share their frames.
+pub const REGIONS: usize = 2;
+
+/// The region of landmark `i` (see [`REGIONS`]): the brows (17-26) are region 1.
+pub fn region(i: usize) -> usize {
+    usize::from((17..=26).contains(&i))
+}
+
+/// Each variable's landmark motion per unit in each region (weighted norm, mm in the rig's
+/// space); the jaw's at rest.
+struct Columns(Vec<[f64; REGIONS]>);
+
+impl Columns {
+    fn new(model: &LandmarkModel) -> Columns {
+        let jaw = model.jaw_slope(0.0);
+        let m = model.muscle_count();
+        Columns(
+            (0..model.variable_count())
+                .map(|v| {
+                    let column = if v < m { model.column(v) } else { &jaw };
+                    let mut norm = [0.0; REGIONS];
+                    for (i, c) in column.iter().enumerate() {
+                        norm[region(i)] += landmark_weight(i).dot(*c * *c);
+                    }
+                    norm.map(f64::sqrt)
+                })
+                .collect(),
+        )
+    }
 }
 
 /// The quantile of each variable's signed reading over the frames taken as its least state:
@@ -130,13 +197,17 @@ fn least_states(read: &[(usize, Vec<f64>, Vec<DVec3>)]) -> Vec<f64> {
 
 /// How a frame's muscle work is measured over one pass's readings.
 ///
+/// Work is landmark motion (weighted as the solve weighs it, in the rig's space), summed per
+/// region ([`region`]): a muscle's work counts where it moves the face, so a smile does not
+/// make the brows' frames busy, and the jaw's weighs what its motion does.
+///
 /// - A muscle alone (no antagonist) works above its least state: what it does from a face
 ///   where it rests as far as the recording shows it can. Only work above counts: a muscle
 ///   below its least does not pay for another's work (a narrow mouth does not make an open
-///   jaw calm); the jaw counts at half, its range being twice a muscle's.
+///   jaw calm).
 /// - An antagonist group ([`antagonists`]) works by its net landmark motion away from the
 ///   recording's middle (the per-coordinate median of the group's net motion over the
-///   frames), in activation units ([`Group::unit`]). Moving either way is work, one side's
+///   frames). Moving either way is work, one side's
 ///   muscles or the other's; the position from which the recording's motions cost least in
 ///   total is their median, the L1 centre. A group has no least state of its own: its
 ///   members' readings trade one for the other (a raised brow reads as a brow raiser
@@ -148,7 +219,6 @@ struct Work {
     alone: Vec<bool>,
     /// Each group with the median of its net motion over the frames.
     groups: Vec<(Group, Vec<DVec3>)>,
-    muscles: usize,
 }
 
 impl Work {
@@ -173,24 +243,32 @@ impl Work {
             least: least_states(read),
             alone,
             groups,
-            muscles: model.muscle_count(),
         }
     }
 
-    /// The work of a frame whose signed reading is `signed`.
-    fn of(&self, model: &LandmarkModel, signed: &[f64]) -> f64 {
-        let alone: f64 = signed
-            .iter()
-            .zip(&self.least)
-            .enumerate()
-            .filter(|&(i, _)| self.alone[i])
-            .map(|(i, (a, l))| (a - l).max(0.0) * if i < self.muscles { 1.0 } else { 0.5 })
-            .sum();
-        let grouped: f64 = self
-            .groups
-            .iter()
-            .map(|(g, centre)| antagonists::distance(&g.net(model, signed), centre) / g.unit)
-            .sum();
-        alone + grouped
+    /// The work of a frame whose signed reading is `signed` in each region: the landmark
+    /// motion (weighted, mm in the rig's space) its muscles' work above their least makes
+    /// there, and its antagonist groups' net motion from their centres.
+    fn of(&self, model: &LandmarkModel, columns: &Columns, signed: &[f64]) -> [f64; REGIONS] {
+        let mut work = [0.0; REGIONS];
+        for (i, (a, l)) in signed.iter().zip(&self.least).enumerate() {
+            if self.alone[i] {
+                let above = (a - l).max(0.0);
+                work.iter_mut()
+                    .zip(&columns.0[i])
+                    .for_each(|(w, c)| *w += above * c);
+            }
+        }
+        for (g, centre) in &self.groups {
+            let mut squared = [0.0; REGIONS];
+            for (i, (n, c)) in g.net(model, signed).iter().zip(centre).enumerate() {
+                let d = *n - *c;
+                squared[region(i)] += landmark_weight(i).dot(d * d);
+            }
+            work.iter_mut()
+                .zip(squared)
+                .for_each(|(w, s)| *w += s.sqrt());
+        }
+        work
     }
 }

@@ -117,7 +117,7 @@ impl std::fmt::Display for NeutralSource {
             ),
             NeutralSource::LeastWork { used, of, passes } => write!(
                 f,
-                "estimated by the muscles: the per-landmark median of the {used} frames of {of} that work least (muscle work above each muscle's least state; {passes} passes from the median of the calm frames)"
+                "estimated by the muscles: the per-landmark median of the {used} frames of {of} that work least, the brows' and the rest of the face's each from their own (the landmark motion of muscle work above each muscle's least state; {passes} passes from the median of the calm frames)"
             ),
             NeutralSource::FirstFrame(n) => write!(f, "the first tracked frame ({n}) of the stream"),
         }

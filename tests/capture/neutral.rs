@@ -191,3 +191,66 @@ fn brows_lowered_and_raised_along_antagonists_leave_the_neutral_at_rest() {
         "the neutral's brows are {off:.3} mm from rest (the lowering: {lowering:.3} mm)"
     );
 }
+
+/// RMS distance over the mouth's twenty landmarks (48-67).
+fn mouth_rms(a: &[DVec3], b: &[DVec3]) -> f64 {
+    rms(&a[48..68], &b[48..68])
+}
+
+#[test]
+fn brows_that_rest_only_while_the_mouth_smiles_leave_the_neutral_at_rest() {
+    let face = face();
+    // No frame rests as a whole: the mouth smiles while the brows rest (24 frames), the
+    // brows rise while the mouth rests (16). One set of least-working frames for the whole
+    // face takes one or the other; the brows' own frames and the rest of the face's own
+    // frames each find their rest.
+    let smile = act(&face, &SMILE, 0.0);
+    let brows = [("L_Frontalis_Medial", 0.6), ("R_Frontalis_Medial", 0.6)];
+    let raised = act(&face, &brows, 0.0);
+    let acts: Vec<Option<Activations>> = (0..40)
+        .map(|k| {
+            Some(
+                if (12..28).contains(&k) {
+                    &raised
+                } else {
+                    &smile
+                }
+                .clone(),
+            )
+        })
+        .collect();
+    let rows = read(&synthetic::csv(&synthetic::landmarks(
+        &face.bound,
+        &face.vertices,
+        &acts,
+        Motion::default(),
+    )));
+    let frames: Vec<&[Vec3]> = rows.iter().map(Vec::as_slice).collect();
+    let model = LandmarkModel::new(&face.bound, &face.vertices);
+    let (median, _) = pose::estimate_neutral(&frames).unwrap();
+    let (found, _) = neutral::least_work(
+        &face.bound,
+        &model,
+        &frames,
+        median,
+        Regularisation::default(),
+    )
+    .unwrap();
+    let at = |points: &[Vec3], neutral: &[DVec3]| pose::align(points, neutral).unwrap().points;
+    let rest = at(&seen(&face, &act(&face, &[], 0.0)), &found);
+    let smiled = at(&seen(&face, &smile), &found);
+    let lifted = at(&seen(&face, &raised), &found);
+    let (smile_size, raise_size) = (mouth_rms(&smiled, &rest), brow_rms(&lifted, &rest));
+    let (mouth_off, brows_off) = (mouth_rms(&rest, &found), brow_rms(&rest, &found));
+    eprintln!(
+        "mouth {mouth_off:.3} mm from rest (the smile {smile_size:.3}); brows {brows_off:.3} (the raise {raise_size:.3})"
+    );
+    assert!(
+        mouth_off < 0.15 * smile_size,
+        "the neutral's mouth is {mouth_off:.3} mm from rest (the smile: {smile_size:.3} mm)"
+    );
+    assert!(
+        brows_off < 0.15 * raise_size,
+        "the neutral's brows are {brows_off:.3} mm from rest (the raise: {raise_size:.3} mm)"
+    );
+}
