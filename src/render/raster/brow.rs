@@ -21,6 +21,10 @@
 //!   band lowered at its lower edge to [`HEIGHT_AT_HEAD`] of the brow's length at the head
 //!   and [`HEIGHT_AT_TAIL`] at the tail; a denser group is drawn to its own members' extent.
 //!
+//! A group whose members leave a gap along the brow ([`GAP_SPACINGS`] times their spacing)
+//! is a brow in pieces: each run of members gets its own band, so no band bridges the gap,
+//! and a triangle near several takes the one covering most of it.
+//!
 //! Every corner of a triangle near a brow gets its coordinates in that band at rest: `x` and
 //! `v`, 0 at the upper edge and 1 at the lower. The rasterizer interpolates them per dot like
 //! any attribute, so the band is carried by the skin when muscles move it, and tones the dots
@@ -258,8 +262,9 @@ fn corner_coordinates(band: &Band, frame: &Frame, p: [Vec3; 3]) -> Option<([f32;
 }
 
 /// The bands of one brow group on `side` (+1 left, -1 right): one per run of its members
-/// along the brow ([`runs`]), so a brow marked in pieces is drawn as its pieces; `None`
-/// when the group gives no band at all.
+/// along the brow ([`runs`]), so a brow marked in pieces is drawn as its pieces (a run too
+/// short for a band, one vertex or one column, is left undrawn); `None` when the group
+/// gives no band at all.
 fn side_bands(
     mesh: &Mesh,
     frame: &Frame,
@@ -309,9 +314,11 @@ fn runs(
 ) -> Vec<Vec<u32>> {
     let along = |v: u32| side * (mesh.positions[v as usize] - frame.mid).dot(frame.lateral);
     let up = |v: u32| (mesh.positions[v as usize] - frame.mid).dot(frame.up);
-    let mut sorted = members.to_vec();
-    sorted.sort_unstable();
-    let member = |v: &u32| sorted.binary_search(v).is_ok();
+    let mut is_member = vec![false; mesh.positions.len()];
+    for &v in members {
+        is_member[v as usize] = true;
+    }
+    let member = |v: &u32| is_member.get(*v as usize) == Some(&true);
     let mut spans: Vec<f32> = triangles
         .iter()
         .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
