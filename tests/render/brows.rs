@@ -8,15 +8,20 @@ use grimace::render::{Camera, DotCanvas, Renderer, Scene, Style};
 /// A flat sheet facing +z: columns at `x` = -4 to 4, one unit apart, rows at `ys`, each
 /// quad split in two; with the index of the vertex in column `i`, row `j`.
 fn sheet(ys: &[f32]) -> (Mesh, impl Fn(usize, usize) -> u32) {
-    const COLUMNS: usize = 9;
+    wide_sheet(4, ys)
+}
+
+/// A sheet like [`sheet`] with columns at `x` = -`reach` to `reach`.
+fn wide_sheet(reach: i32, ys: &[f32]) -> (Mesh, impl Fn(usize, usize) -> u32) {
+    let columns = (2 * reach + 1) as usize;
     let positions = ys
         .iter()
-        .flat_map(|&y| (-4..=4).map(move |x| Vec3::new(x as f32, y, 0.0)))
+        .flat_map(|&y| (-reach..=reach).map(move |x| Vec3::new(x as f32, y, 0.0)))
         .collect();
-    let at = |i: usize, j: usize| (j * COLUMNS + i) as u32;
+    let at = move |i: usize, j: usize| (j * columns + i) as u32;
     let mut triangles = Vec::new();
     for j in 0..ys.len() - 1 {
-        for i in 0..COLUMNS - 1 {
+        for i in 0..columns - 1 {
             triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
             triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
         }
@@ -153,6 +158,37 @@ fn a_dense_brow_is_drawn_as_its_own_extent() {
         assert!(!dark.is_empty(), "x {x}: the brow is drawn");
         for y in dark {
             assert!((-0.14..=0.04).contains(&y), "x {x}: brow dot at {y}");
+        }
+    }
+}
+
+/// A brow group marked in two pieces along the brow: one row at `y = 0`, `x` 1 and 2 and
+/// then 6 and 7 on the subject's left, mirrored on the right. The gap (four units where the
+/// pieces' members are one apart) is left bare: each piece is drawn, and no bar bridges
+/// them.
+#[test]
+fn a_brow_in_two_pieces_is_drawn_as_its_pieces() {
+    let (mut mesh, at) = wide_sheet(8, &[-2.0, 0.0, 2.0]);
+    // Column `i` is at `x = i - 8`.
+    let row = |columns: [usize; 4]| columns.iter().map(|&i| at(i, 1)).collect::<Vec<u32>>();
+    mesh.groups
+        .insert("left_brow_hair".into(), row([9, 10, 14, 15]));
+    mesh.groups
+        .insert("right_brow_hair".into(), row([7, 6, 2, 1]));
+    for sign in [1.0f32, -1.0] {
+        for x in [1.5f32, 6.5] {
+            let dark = dark(&column(&mesh, &mesh.positions, sign * x, (1.5, -1.5)));
+            assert!(!dark.is_empty(), "x {}: the piece is drawn", sign * x);
+        }
+        for x in [3.0f32, 4.0, 5.0] {
+            let dark = dark(&column(&mesh, &mesh.positions, sign * x, (1.5, -1.5)));
+            assert!(
+                dark.is_empty(),
+                "x {}: {} brow dots in the gap, down to {:?}",
+                sign * x,
+                dark.len(),
+                dark.last()
+            );
         }
     }
 }

@@ -21,6 +21,10 @@
 //!   band lowered at its lower edge to [`HEIGHT_AT_HEAD`] of the brow's length at the head
 //!   and [`HEIGHT_AT_TAIL`] at the tail; a denser group is drawn to its own members' extent.
 //!
+//! A group whose members leave a gap along the brow ([`GAP_SPACINGS`] times their spacing)
+//! is a brow in pieces: each run of members gets its own band, so no band bridges the gap,
+//! and a triangle near several takes the one covering most of it.
+//!
 //! Every corner of a triangle near a brow gets its coordinates in that band at rest: `x` and
 //! `v`, 0 at the upper edge and 1 at the lower. The rasterizer interpolates them per dot like
 //! any attribute, so the band is carried by the skin when muscles move it, and tones the dots
@@ -179,6 +183,9 @@ struct Band {
     lower: [f32; 2],
     /// The brow's surface depth along forward, as a quadratic in `x` like the centre.
     depth: [f32; 3],
+    /// How far from that surface a point may lie and still be drawn as brow: a fraction
+    /// ([`DEPTH_REACH`]) of the whole brow's length, whichever piece of it this band is.
+    reach: f32,
 }
 
 impl Band {
@@ -218,29 +225,23 @@ pub(super) fn brow_triangles(
     let (left, right) = (members("left"), members("right"));
     let frame = frame(mesh, triangles, sign, &left, &right)?;
     let bands = [
-        fit_band(mesh, &frame, &left, 1.0, one_row(triangles, &left))?,
-        fit_band(mesh, &frame, &right, -1.0, one_row(triangles, &right))?,
+        side_bands(mesh, &frame, triangles, &left, 1.0)?,
+        side_bands(mesh, &frame, triangles, &right, -1.0)?,
     ];
     let mut out = Vec::new();
     for (t, tri) in triangles.iter().enumerate() {
         let p = tri.map(|i| mesh.positions.get(i as usize).copied().unwrap_or(Vec3::NAN));
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
-        let band = if (centroid - frame.mid).dot(frame.lateral) >= 0.0 {
-            &bands[0]
-        } else {
-            &bands[1]
-        };
-        let c = p.map(|q| band.coordinates(&frame, q));
-        let reach = DEPTH_REACH * band.length;
-        if !c
+        let side = usize::from((centroid - frame.mid).dot(frame.lateral) < 0.0);
+        // The band of this side covering most of the triangle (the pieces of a split brow
+        // are apart, so a triangle is rarely near two).
+        let best = bands[side]
             .iter()
-            .all(|&(x, v, d)| x.is_finite() && v.is_finite() && d.abs() <= reach)
-        {
-            continue;
-        }
-        let along = c.map(|(x, _, _)| x);
-        let across = c.map(|(_, v, _)| v);
-        if coverage(along, across) > 0.0 {
+            .filter_map(|band| corner_coordinates(band, &frame, p))
+            .map(|(along, across)| (coverage(along, across), along, across))
+            .filter(|c| c.0 > 0.0)
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((_, along, across)) = best {
             out.push(BrowTriangle {
                 triangle: t as u32,
                 along,
@@ -249,6 +250,97 @@ pub(super) fn brow_triangles(
         }
     }
     Some(out)
+}
+
+/// The band coordinates of a triangle's corners `p` in `band`, or `None` when a corner lies
+/// off the band's reach in depth (the eye's lining, the back of the head).
+fn corner_coordinates(band: &Band, frame: &Frame, p: [Vec3; 3]) -> Option<([f32; 3], [f32; 3])> {
+    let c = p.map(|q| band.coordinates(frame, q));
+    c.iter()
+        .all(|&(x, v, d)| x.is_finite() && v.is_finite() && d.abs() <= band.reach)
+        .then(|| (c.map(|(x, _, _)| x), c.map(|(_, v, _)| v)))
+}
+
+/// The bands of one brow group on `side` (+1 left, -1 right): one per run of its members
+/// along the brow ([`runs`]), so a brow marked in pieces is drawn as its pieces (a run too
+/// short for a band, one vertex or one column, is left undrawn); `None` when the group
+/// gives no band at all.
+fn side_bands(
+    mesh: &Mesh,
+    frame: &Frame,
+    triangles: &[[u32; 3]],
+    members: &[u32],
+    side: f32,
+) -> Option<Vec<Band>> {
+    let span = along_span(mesh, frame, members, side)?;
+    let bands: Vec<Band> = runs(mesh, frame, triangles, members, side)
+        .iter()
+        .filter_map(|run| fit_band(mesh, frame, run, side, one_row(triangles, run), span))
+        .collect();
+    (!bands.is_empty()).then_some(bands)
+}
+
+/// Where a brow group starts (its head) and how long it is across the face, signed by side.
+fn along_span(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32) -> Option<(f32, f32)> {
+    let xs = members
+        .iter()
+        .map(|&v| side * (mesh.positions[v as usize] - frame.mid).dot(frame.lateral));
+    let (head, tail) = xs.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), x| {
+        (lo.min(x), hi.max(x))
+    });
+    let length = tail - head;
+    (length.is_finite() && length > 0.0).then_some((head, length))
+}
+
+/// How many times the members' typical spacing along the brow a gap between two of them
+/// must be to cut the group there: within a row of landmarks or a band of hair, neighbours
+/// along the brow are about one spacing apart, and a single member missed by the marking
+/// leaves a gap of about two (fitted MakeHuman's brows: 1.97); a wider gap is skin the
+/// group leaves out, a brow in pieces.
+const GAP_SPACINGS: f32 = 3.0;
+
+/// The members split into runs along the brow: sorted by their position along it and cut
+/// wherever two neighbours in that order lie farther apart than [`GAP_SPACINGS`] times the
+/// members' typical spacing along the brow: the median length along the brow of the mesh's
+/// edges that join two members and run more along the brow than across it (an edge between
+/// two rows of the same column says nothing of the spacing along the brow). A group with no
+/// such edge is one run.
+fn runs(
+    mesh: &Mesh,
+    frame: &Frame,
+    triangles: &[[u32; 3]],
+    members: &[u32],
+    side: f32,
+) -> Vec<Vec<u32>> {
+    let along = |v: u32| side * (mesh.positions[v as usize] - frame.mid).dot(frame.lateral);
+    let up = |v: u32| (mesh.positions[v as usize] - frame.mid).dot(frame.up);
+    let mut is_member = vec![false; mesh.positions.len()];
+    for &v in members {
+        is_member[v as usize] = true;
+    }
+    let member = |v: &u32| is_member.get(*v as usize) == Some(&true);
+    let mut spans: Vec<f32> = triangles
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .filter(|(a, b)| member(a) && member(b))
+        .map(|(a, b)| ((along(a) - along(b)).abs(), (up(a) - up(b)).abs()))
+        .filter(|&(x, y)| x >= y)
+        .map(|(x, _)| x)
+        .collect();
+    spans.sort_by(f32::total_cmp);
+    let spacing = spans.get(spans.len() / 2).copied().unwrap_or(f32::INFINITY);
+    let mut points: Vec<(f32, u32)> = members.iter().map(|&v| (along(v), v)).collect();
+    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out: Vec<Vec<u32>> = Vec::new();
+    for (i, &(x, v)) in points.iter().enumerate() {
+        if i == 0 || x - points[i - 1].0 > GAP_SPACINGS * spacing {
+            out.push(Vec::new());
+        }
+        if let Some(run) = out.last_mut() {
+            run.push(v);
+        }
+    }
+    out
 }
 
 /// The face's frame from the two brows' members: across from the right brow's centroid to the
@@ -300,9 +392,17 @@ fn one_row(triangles: &[[u32; 3]], members: &[u32]) -> bool {
         .any(|tri| tri.iter().all(|v| sorted.binary_search(v).is_ok()))
 }
 
-/// The band of the brow whose members are `members`, on `side` (+1 left, -1 right); a
-/// group that is `one_row` is given a brow's height below its row.
-fn fit_band(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32, one_row: bool) -> Option<Band> {
+/// The band of one run of a brow's members, `members`, on `side` (+1 left, -1 right); a
+/// run that is `one_row` is given a brow's height below its row, that of the place it has
+/// along the whole brow (`brow`: the group's head and length, [`along_span`]).
+fn fit_band(
+    mesh: &Mesh,
+    frame: &Frame,
+    members: &[u32],
+    side: f32,
+    one_row: bool,
+    brow: (f32, f32),
+) -> Option<Band> {
     let points: Vec<(f32, f32, f32)> = members
         .iter()
         .map(|&v| {
@@ -353,8 +453,12 @@ fn fit_band(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32, one_row: boo
     // A row marks the brow's upper edge: the hair reaches a brow's height below it. A group
     // covering triangles of its own is the hair's own extent.
     if one_row {
-        lower[0] = lower[0].min(upper[0] - HEIGHT_AT_HEAD * length);
-        lower[1] = lower[1].min(upper[1] - HEIGHT_AT_TAIL * length);
+        let height = |x: f32| {
+            let t = ((x - brow.0) / brow.1).clamp(0.0, 1.0);
+            (HEIGHT_AT_HEAD + (HEIGHT_AT_TAIL - HEIGHT_AT_HEAD) * t) * brow.1
+        };
+        lower[0] = lower[0].min(upper[0] - height(head));
+        lower[1] = lower[1].min(upper[1] - height(tail));
     }
     Some(Band {
         side,
@@ -364,6 +468,7 @@ fn fit_band(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32, one_row: boo
         upper,
         lower,
         depth,
+        reach: DEPTH_REACH * brow.1,
     })
 }
 
