@@ -7,9 +7,9 @@
 //! * the edge is at most the level's length, and so is every edge the collapse makes;
 //!   or, where the surface is flat, at most [`FLAT_STRETCH`] times it: a collapse may make
 //!   longer edges when the vertex it removes (and every vertex merged into it before) lies
-//!   within [`FLAT_TOLERANCE`] of the level's length of the surface left, so a flat or
-//!   gently curved region (a cheek, a subdivided facet) gets fewer, larger triangles while
-//!   the picture moves by a fraction of a dot;
+//!   within [`FLAT_TOLERANCE`] of the level's length of the surface left and lies on no
+//!   border or crease, so a flat or gently curved region (a cheek, a subdivided facet) gets
+//!   fewer, larger triangles while the picture moves by a fraction of a dot;
 //! * the two vertices have the same signature (named groups, part label): part boundaries
 //!   and the mouth's and eyes' parts stay where they were;
 //! * a border vertex moves only along a border edge onto a border vertex, and a crease
@@ -241,11 +241,46 @@ impl<'a> Collapser<'a> {
             off = off.max((pv - pu).dot(n1).abs() / n1.length());
         }
         let error = self.error[v as usize] + off;
-        if long && !(error <= limit.tolerance) {
+        // The distance above is across the surface only: a border or crease vertex moved
+        // along its line could straighten it (a lip's edge), so a border vertex makes a long
+        // collapse only where its border runs straight on, and a crease vertex never.
+        if long
+            && (error.is_nan()
+                || error > limit.tolerance
+                || self.crease[v as usize]
+                || !self.border_straight(v, u, limit, sc))
+        {
             return None;
         }
         // last, as the dearest check
         self.link_holds(v, u, sc).then_some(error)
+    }
+
+    /// Whether border vertex `v` lies within the tolerance of the line from `u` to its
+    /// other border neighbour (the vertex across the one other border edge of `v`'s
+    /// triangles, `sc.tv`); true for a vertex on no border. Uses `sc.ring_v` as scratch.
+    fn border_straight(&self, v: u32, u: u32, limit: Limit, sc: &mut Scratch) -> bool {
+        if !self.border[v as usize] {
+            return true;
+        }
+        let ring = &mut sc.ring_v;
+        ring.clear();
+        for &t in &sc.tv {
+            ring.extend(self.triangles[t as usize].into_iter().filter(|&w| w != v));
+        }
+        ring.sort_unstable();
+        // A neighbour across a border edge is in one triangle of the fan, the others in two.
+        let once = |k: usize| {
+            (k == 0 || ring[k - 1] != ring[k]) && (k + 1 == ring.len() || ring[k + 1] != ring[k])
+        };
+        let mut other = (0..ring.len()).filter(|&k| once(k) && ring[k] != u);
+        let (Some(k), None) = (other.next(), other.next()) else {
+            return false;
+        };
+        let (pv, pu, pw) = [v, u, ring[k]].map(|i| self.positions[i as usize]).into();
+        let along = pw - pu;
+        let off = (pv - pu).cross(along).length() / along.length();
+        off <= limit.tolerance
     }
 
     /// Whether the edge of the two triangles in `sc.shared` is a crease.

@@ -436,6 +436,46 @@ mod tests {
     }
 
     #[test]
+    fn flat_regions_get_longer_edges_than_curved_ones() {
+        // A sheet flat on one half and rippled (a few cells a wave) on the other.
+        let mut mesh = sheet(200);
+        for p in &mut mesh.positions {
+            if p.x > 100.0 {
+                p.z = 4.0 * ((p.x - 100.0) / 5.0).sin() * (p.y / 5.0).sin();
+            }
+        }
+        let lod = Lod::build(&mesh, &[], &mesh.positions);
+        let level = &lod.levels()[0];
+        let (mut flat, mut rippled) = ((0.0f32, 0.0f32, 0usize), (0.0f32, 0.0f32, 0usize));
+        for t in &level.mesh.triangles {
+            let p = t.map(|v| level.mesh.positions[v as usize]);
+            let side = if p.iter().all(|q| q.x < 95.0) {
+                &mut flat
+            } else if p.iter().all(|q| q.x > 105.0) {
+                &mut rippled
+            } else {
+                continue;
+            };
+            for (a, b) in [(p[0], p[1]), (p[1], p[2]), (p[2], p[0])] {
+                let len = a.distance(b);
+                *side = (side.0.max(len), side.1 + len, side.2 + 1);
+            }
+        }
+        let cell = level.cell;
+        // flat: past the level's length, never past the stretch
+        assert!(flat.0 > 1.5 * cell, "{} {cell}", flat.0);
+        assert!(flat.0 <= 3.0 * cell * 1.001 && rippled.0 <= 3.0 * cell * 1.001);
+        // rippled: shorter edges on the whole
+        let mean = |s: (f32, f32, usize)| s.1 / s.2 as f32;
+        assert!(
+            mean(rippled) < 0.8 * mean(flat),
+            "{} {}",
+            mean(rippled),
+            mean(flat)
+        );
+    }
+
+    #[test]
     fn unconnected_sides_never_merge() {
         // Two sheets a hair apart (lips across a slit): connected nowhere, never merged.
         let a = sheet(130);
