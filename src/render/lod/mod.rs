@@ -62,7 +62,8 @@ pub struct Level {
     pub mesh: Mesh,
     /// Per level vertex: the full-mesh vertex it is.
     pub source: Vec<u32>,
-    /// The longest edge a collapse could make, in mesh units.
+    /// The longest edge a collapse could make, in mesh units, where the surface curves
+    /// (flat regions may have edges up to three times as long, see `collapse`).
     pub cell: f32,
     /// The points views of this level fit (the framed points, one per grid cell): few, so
     /// fitting the camera costs little.
