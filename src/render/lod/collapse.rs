@@ -26,7 +26,7 @@ use glam::Vec3;
 const PASSES: usize = 2;
 
 /// How much longer than the level's length an edge may grow where the surface is flat.
-const FLAT_STRETCH: f32 = 3.0;
+pub(super) const FLAT_STRETCH: f32 = 3.0;
 
 /// How far, as a fraction of the level's length, the vertices a long collapse removes may
 /// lie from the surface left (at the level's length of four dots, a tenth of a dot).

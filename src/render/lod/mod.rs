@@ -465,7 +465,8 @@ mod tests {
         let cell = level.cell;
         // flat: past the level's length, never past the stretch
         assert!(flat.0 > 1.5 * cell, "{} {cell}", flat.0);
-        assert!(flat.0 <= 3.0 * cell * 1.001 && rippled.0 <= 3.0 * cell * 1.001);
+        let most = collapse::FLAT_STRETCH * cell * 1.001;
+        assert!(flat.0 <= most && rippled.0 <= most);
         // rippled: shorter edges on the whole
         let mean = |s: (f32, f32, usize)| s.1 / s.2 as f32;
         assert!(
