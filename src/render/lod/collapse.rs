@@ -29,8 +29,8 @@ const PASSES: usize = 2;
 pub(super) const FLAT_STRETCH: f32 = 3.0;
 
 /// How far, as a fraction of the level's length, the vertices a long collapse removes may
-/// lie from the surface left (at the level's length of four dots, a tenth of a dot).
-const FLAT_TOLERANCE: f32 = 0.025;
+/// lie from the surface left (at the level's length of four dots, a fifth of a dot).
+const FLAT_TOLERANCE: f32 = 0.05;
 
 /// The mesh being simplified.
 pub(super) struct Collapser<'a> {
