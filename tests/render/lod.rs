@@ -161,13 +161,15 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
                 assert!(kept >= 0.99, "{what}: {kept} of the full mesh's cells kept");
                 // ... and the level draws few lines the full mesh does not (re-faceting a
                 // surface moves some facing contours and creases; the worst case, 80x24 at
-                // three-quarters, reads 0.796 since the built-in rig's lip masks fade with the
+                // three-quarters, read 0.796 since the built-in rig's lip masks fade with the
                 // angle about each mouth corner and so label more of the mouth's surface, and
                 // 0.762 since the medial frontalis' mask bands the forehead, `face::brow`, and
                 // 0.740 since the brow lowerer's mask bands the skin from the lids to the
-                // forehead, `face::brow_lowering`).
+                // forehead, `face::brow_lowering`; since flat regions collapse further, so
+                // that fewer of the level's triangles cross the flat facets, the worst case
+                // reads 0.896 and the mean 0.965, against 0.740 and 0.906 before).
                 assert!(
-                    added >= 0.73,
+                    added >= 0.85,
                     "{what}: {added} of the level's cells near a full one"
                 );
                 worst_added = worst_added.min(added);
@@ -182,7 +184,7 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
          {worst_added}, mean {}",
         sum_added / count as f32
     );
-    assert!(sum_added / count as f32 >= 0.88);
+    assert!(sum_added / count as f32 >= 0.94);
     if std::env::var("GRIMACE_WRITE_GALLERY").is_ok_and(|v| v == "1") {
         write_gallery(mesh.vertex_count(), &screens);
     }

@@ -5,6 +5,11 @@
 //! made only when it keeps the surface a clean surface and keeps what the renderer draws:
 //!
 //! * the edge is at most the level's length, and so is every edge the collapse makes;
+//!   or, where the surface is flat, at most [`FLAT_STRETCH`] times it: a collapse may make
+//!   longer edges when the vertex it removes (and every vertex merged into it before) lies
+//!   within [`FLAT_TOLERANCE`] of the level's length of the surface left and lies on no
+//!   border or crease, so a flat or gently curved region (a cheek, a subdivided facet) gets
+//!   fewer, larger triangles while the picture moves by a fraction of a dot;
 //! * the two vertices have the same signature (named groups, part label): part boundaries
 //!   and the mouth's and eyes' parts stay where they were;
 //! * a border vertex moves only along a border edge onto a border vertex, and a crease
@@ -20,6 +25,13 @@ use glam::Vec3;
 /// made possible.
 const PASSES: usize = 2;
 
+/// How much longer than the level's length an edge may grow where the surface is flat.
+pub(super) const FLAT_STRETCH: f32 = 3.0;
+
+/// How far, as a fraction of the level's length, the vertices a long collapse removes may
+/// lie from the surface left (at the level's length of four dots, a fifth of a dot).
+const FLAT_TOLERANCE: f32 = 0.05;
+
 /// The mesh being simplified.
 pub(super) struct Collapser<'a> {
     positions: &'a [Vec3],
@@ -32,10 +44,23 @@ pub(super) struct Collapser<'a> {
     kept: Vec<bool>,
     border: Vec<bool>,
     crease: Vec<bool>,
+    /// Per vertex: how far the vertices merged into it so far may lie from the surface
+    /// (a bound, summed along each chain of collapses).
+    error: Vec<f32>,
     /// The cosine of the crease angle.
     cos_crease: f32,
     /// Scratch lists reused by every collapse (nothing is allocated per edge).
     scratch: Scratch,
+}
+
+/// The lengths one level's collapses keep to (squared lengths, and a distance).
+#[derive(Debug, Clone, Copy)]
+struct Limit {
+    /// The longest edge a collapse may make anywhere.
+    short: f32,
+    /// The longest edge a collapse may make where the surface stays within `tolerance`.
+    flat: f32,
+    tolerance: f32,
 }
 
 /// The lists one collapse looks at: the triangles around its two vertices, those on its
@@ -78,6 +103,7 @@ impl<'a> Collapser<'a> {
             kept: vec![true; positions.len()],
             border,
             crease,
+            error: vec![0.0; positions.len()],
             cos_crease: super::CREASE_DEGREES.to_radians().cos(),
             scratch: Scratch::default(),
         }
@@ -85,9 +111,13 @@ impl<'a> Collapser<'a> {
 
     /// Collapses edges up to `length` long while the rules allow.
     pub(super) fn run(&mut self, length: f32) {
-        let limit = length * length;
+        let limit = Limit {
+            short: length * length,
+            flat: (FLAT_STRETCH * length).powi(2),
+            tolerance: FLAT_TOLERANCE * length,
+        };
         for _ in 0..PASSES {
-            let edges = self.short_edges(limit);
+            let edges = self.short_edges(limit.flat);
             let mut done = 0usize;
             for (a, b) in edges {
                 if !(self.kept[a as usize] && self.kept[b as usize]) {
@@ -134,7 +164,7 @@ impl<'a> Collapser<'a> {
     }
 
     /// Moves `v` onto `u` when the rules allow; true when done.
-    fn try_collapse(&mut self, v: u32, u: u32, limit: f32) -> bool {
+    fn try_collapse(&mut self, v: u32, u: u32, limit: Limit) -> bool {
         let (vi, ui) = (v as usize, u as usize);
         if self.signature[vi] != self.signature[ui] || (self.border[vi] && !self.border[ui]) {
             return false;
@@ -145,16 +175,19 @@ impl<'a> Collapser<'a> {
         self.prune(v);
         self.prune(u);
         let mut sc = std::mem::take(&mut self.scratch);
-        let ok = self.allowed(v, u, limit, &mut sc);
-        if ok {
+        let error = self.allowed(v, u, limit, &mut sc);
+        if let Some(error) = error {
             self.apply(v, u, &sc);
+            self.error[u as usize] = self.error[u as usize].max(error);
         }
         self.scratch = sc;
-        ok
+        error.is_some()
     }
 
-    /// Whether moving `v` onto `u` keeps every rule (the lists in `sc` are filled here).
-    fn allowed(&self, v: u32, u: u32, limit: f32, sc: &mut Scratch) -> bool {
+    /// Whether moving `v` onto `u` keeps every rule (the lists in `sc` are filled here):
+    /// if so, the bound on how far the vertices merged into `v`, `v` included, lie from
+    /// the surface after it.
+    fn allowed(&self, v: u32, u: u32, limit: Limit, sc: &mut Scratch) -> Option<f32> {
         let tris = &self.triangles;
         sc.tv.clear();
         sc.tv.extend_from_slice(&self.around[v as usize]);
@@ -171,12 +204,13 @@ impl<'a> Collapser<'a> {
         // border
         let want = if self.border[v as usize] { 1 } else { 2 };
         if sc.shared.is_empty() || sc.shared.len() > 2 || (want == 1 && sc.shared.len() != 1) {
-            return false;
+            return None;
         }
         if self.crease[v as usize] && sc.shared.len() == 2 && !self.is_crease(sc) {
-            return false;
+            return None;
         }
-        let pu = self.positions[u as usize];
+        let (pu, pv) = (self.positions[u as usize], self.positions[v as usize]);
+        let (mut long, mut off) = (false, 0.0f32);
         for &t in &sc.tv {
             if sc.shared.contains(&t) {
                 continue;
@@ -190,18 +224,63 @@ impl<'a> Collapser<'a> {
                     self.positions[i as usize]
                 }
             });
-            if new.iter().any(|p| p.distance_squared(pu) > limit) {
-                return false;
+            let reach = new
+                .iter()
+                .map(|p| p.distance_squared(pu))
+                .fold(0.0, f32::max);
+            if reach > limit.flat {
+                return None;
             }
+            long |= reach > limit.short;
             let n0 = (old[1] - old[0]).cross(old[2] - old[0]);
             let n1 = (new[1] - new[0]).cross(new[2] - new[0]);
             // not turned over, and not thinned to a sliver
             if n1.dot(n0) <= 0.1 * n0.length() * n1.length() || n1.length_squared() == 0.0 {
-                return false;
+                return None;
             }
+            off = off.max((pv - pu).dot(n1).abs() / n1.length());
+        }
+        let error = self.error[v as usize] + off;
+        // The distance above is across the surface only: a border or crease vertex moved
+        // along its line could straighten it (a lip's edge), so a border vertex makes a long
+        // collapse only where its border runs straight on, and a crease vertex never.
+        if long
+            && (error.is_nan()
+                || error > limit.tolerance
+                || self.crease[v as usize]
+                || !self.border_straight(v, u, limit, sc))
+        {
+            return None;
         }
         // last, as the dearest check
-        self.link_holds(v, u, sc)
+        self.link_holds(v, u, sc).then_some(error)
+    }
+
+    /// Whether border vertex `v` lies within the tolerance of the line from `u` to its
+    /// other border neighbour (the vertex across the one other border edge of `v`'s
+    /// triangles, `sc.tv`); true for a vertex on no border. Uses `sc.ring_v` as scratch.
+    fn border_straight(&self, v: u32, u: u32, limit: Limit, sc: &mut Scratch) -> bool {
+        if !self.border[v as usize] {
+            return true;
+        }
+        let ring = &mut sc.ring_v;
+        ring.clear();
+        for &t in &sc.tv {
+            ring.extend(self.triangles[t as usize].into_iter().filter(|&w| w != v));
+        }
+        ring.sort_unstable();
+        // A neighbour across a border edge is in one triangle of the fan, the others in two.
+        let once = |k: usize| {
+            (k == 0 || ring[k - 1] != ring[k]) && (k + 1 == ring.len() || ring[k + 1] != ring[k])
+        };
+        let mut other = (0..ring.len()).filter(|&k| once(k) && ring[k] != u);
+        let (Some(k), None) = (other.next(), other.next()) else {
+            return false;
+        };
+        let (pv, pu, pw) = [v, u, ring[k]].map(|i| self.positions[i as usize]).into();
+        let along = pw - pu;
+        let off = (pv - pu).cross(along).length() / along.length();
+        off <= limit.tolerance
     }
 
     /// Whether the edge of the two triangles in `sc.shared` is a crease.

@@ -62,7 +62,8 @@ pub struct Level {
     pub mesh: Mesh,
     /// Per level vertex: the full-mesh vertex it is.
     pub source: Vec<u32>,
-    /// The longest edge a collapse could make, in mesh units.
+    /// The longest edge a collapse could make, in mesh units, where the surface curves
+    /// (flat regions may have edges up to three times as long, see `collapse`).
     pub cell: f32,
     /// The points views of this level fit (the framed points, one per grid cell): few, so
     /// fitting the camera costs little.
@@ -433,6 +434,47 @@ mod tests {
                 assert!(near <= level.cell * 1.5, "{near} {}", level.cell);
             }
         }
+    }
+
+    #[test]
+    fn flat_regions_get_longer_edges_than_curved_ones() {
+        // A sheet flat on one half and rippled (a few cells a wave) on the other.
+        let mut mesh = sheet(200);
+        for p in &mut mesh.positions {
+            if p.x > 100.0 {
+                p.z = 4.0 * ((p.x - 100.0) / 5.0).sin() * (p.y / 5.0).sin();
+            }
+        }
+        let lod = Lod::build(&mesh, &[], &mesh.positions);
+        let level = &lod.levels()[0];
+        let (mut flat, mut rippled) = ((0.0f32, 0.0f32, 0usize), (0.0f32, 0.0f32, 0usize));
+        for t in &level.mesh.triangles {
+            let p = t.map(|v| level.mesh.positions[v as usize]);
+            let side = if p.iter().all(|q| q.x < 95.0) {
+                &mut flat
+            } else if p.iter().all(|q| q.x > 105.0) {
+                &mut rippled
+            } else {
+                continue;
+            };
+            for (a, b) in [(p[0], p[1]), (p[1], p[2]), (p[2], p[0])] {
+                let len = a.distance(b);
+                *side = (side.0.max(len), side.1 + len, side.2 + 1);
+            }
+        }
+        let cell = level.cell;
+        // flat: past the level's length, never past the stretch
+        assert!(flat.0 > 1.5 * cell, "{} {cell}", flat.0);
+        let most = collapse::FLAT_STRETCH * cell * 1.001;
+        assert!(flat.0 <= most && rippled.0 <= most);
+        // rippled: shorter edges on the whole
+        let mean = |s: (f32, f32, usize)| s.1 / s.2 as f32;
+        assert!(
+            mean(rippled) < 0.8 * mean(flat),
+            "{} {}",
+            mean(rippled),
+            mean(flat)
+        );
     }
 
     #[test]
