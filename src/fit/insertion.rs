@@ -78,24 +78,8 @@ impl Skin {
     /// The template's skin: the connected pieces of its mesh that hold a landmark (its teeth,
     /// tongue and eyeballs are pieces of their own).
     pub(super) fn of_template(template: Template<'_>, front: Vec3) -> Self {
-        let component = super::parts::components(template.mesh);
-        let positions = &template.mesh.positions;
-        let mut pieces: Vec<u32> = template
-            .landmarks
-            .iter()
-            .filter_map(|l| {
-                (0..positions.len())
-                    .min_by(|&a, &b| {
-                        positions[a]
-                            .distance_squared(*l)
-                            .total_cmp(&positions[b].distance_squared(*l))
-                    })
-                    .map(|v| component[v])
-            })
-            .collect();
-        pieces.sort_unstable();
-        pieces.dedup();
-        let is_skin = |v: usize| pieces.binary_search(&component[v]).is_ok();
+        let skin = super::parts::on_landmark_pieces(template.mesh, template.landmarks);
+        let is_skin = |v: usize| skin[v];
         Skin::new(
             template.mesh,
             &is_skin,

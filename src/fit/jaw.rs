@@ -162,25 +162,9 @@ pub fn weights(
 /// of the template mesh that hold a landmark (its teeth, gums and tongue, each weighted 0 or 1 as a
 /// whole, say nothing about the skin lining a mouth).
 fn template_skin(template: Template<'_>, carried: &[Vec3]) -> Nearest {
-    let component = super::parts::components(template.mesh);
-    let positions = &template.mesh.positions;
-    let mut skin_pieces: Vec<u32> = template
-        .landmarks
-        .iter()
-        .filter_map(|l| {
-            (0..positions.len())
-                .min_by(|&a, &b| {
-                    positions[a]
-                        .distance_squared(*l)
-                        .total_cmp(&positions[b].distance_squared(*l))
-                })
-                .map(|v| component[v])
-        })
-        .collect();
-    skin_pieces.sort_unstable();
-    skin_pieces.dedup();
-    let ids: Vec<u32> = (0..positions.len() as u32)
-        .filter(|&v| skin_pieces.binary_search(&component[v as usize]).is_ok())
+    let skin = super::parts::on_landmark_pieces(template.mesh, template.landmarks);
+    let ids: Vec<u32> = (0..skin.len() as u32)
+        .filter(|&v| skin[v as usize])
         .collect();
     Nearest::new(ids.iter().map(|&v| carried[v as usize]).collect(), ids)
 }

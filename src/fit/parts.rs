@@ -226,6 +226,32 @@ fn jaw_name(name: &str) -> bool {
                 .any(|w| lower.contains(w)))
 }
 
+/// Whether each vertex lies on a piece of `mesh` (a connected component) that holds one of
+/// `landmarks` (the vertex nearest each landmark names its piece): a template's skin, as its
+/// teeth, tongue and eyeballs are pieces of their own.
+pub fn on_landmark_pieces(mesh: &Mesh, landmarks: &[glam::Vec3]) -> Vec<bool> {
+    let component = components(mesh);
+    let positions = &mesh.positions;
+    let mut pieces: Vec<u32> = landmarks
+        .iter()
+        .filter_map(|l| {
+            (0..positions.len())
+                .min_by(|&a, &b| {
+                    positions[a]
+                        .distance_squared(*l)
+                        .total_cmp(&positions[b].distance_squared(*l))
+                })
+                .map(|v| component[v])
+        })
+        .collect();
+    pieces.sort_unstable();
+    pieces.dedup();
+    component
+        .iter()
+        .map(|c| pieces.binary_search(c).is_ok())
+        .collect()
+}
+
 /// Connected components of the mesh's vertices (by triangles): a component id per vertex.
 pub fn components(mesh: &Mesh) -> Vec<u32> {
     let n = mesh.vertex_count();
