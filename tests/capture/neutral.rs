@@ -43,15 +43,56 @@ fn rms(a: &[DVec3], b: &[DVec3]) -> f64 {
         .sqrt()
 }
 
-/// One pose's landmarks as the tracker would see it at the recording's first frame, no noise.
-fn seen(face: &Face, pose: &Activations) -> Vec<Vec3> {
-    let still = Motion {
+/// The head turned and moved as [`Motion::default`], without the tracker's noise.
+fn still() -> Motion {
+    Motion {
         noise: 0.0,
         ..Motion::default()
-    };
-    synthetic::landmarks(&face.bound, &face.vertices, &[Some(pose.clone())], still)
+    }
+}
+
+/// One pose's landmarks as the tracker would see it at the recording's first frame, no noise.
+fn seen(face: &Face, pose: &Activations) -> Vec<Vec3> {
+    synthetic::landmarks(&face.bound, &face.vertices, &[Some(pose.clone())], still())
         .remove(0)
         .unwrap()
+}
+
+/// A synthetic recording of `acts` (default motion: turned, moved and noised), written as an
+/// OpenFace CSV and read back as landmark rows.
+fn recorded(face: &Face, acts: &[Option<Activations>]) -> Vec<Vec<Vec3>> {
+    read(&synthetic::csv(&synthetic::landmarks(
+        &face.bound,
+        &face.vertices,
+        acts,
+        Motion::default(),
+    )))
+}
+
+/// The recording's calm-frame median and the least-work neutral found from it.
+struct Neutrals {
+    model: LandmarkModel,
+    median: Vec<DVec3>,
+    found: Vec<DVec3>,
+}
+
+fn neutrals(face: &Face, rows: &[Vec<Vec3>]) -> Neutrals {
+    let frames: Vec<&[Vec3]> = rows.iter().map(Vec::as_slice).collect();
+    let model = LandmarkModel::new(&face.bound, &face.vertices);
+    let (median, _) = pose::estimate_neutral(&frames).unwrap();
+    let regularisation = Regularisation::default();
+    let (found, _) =
+        neutral::least_work(&face.bound, &model, &frames, median.clone(), regularisation).unwrap();
+    Neutrals {
+        model,
+        median,
+        found,
+    }
+}
+
+/// `points` aligned onto `neutral`.
+fn at(points: &[Vec3], neutral: &[DVec3]) -> Vec<DVec3> {
+    pose::align(points, neutral).unwrap().points
 }
 
 #[test]
@@ -59,23 +100,17 @@ fn a_recording_that_smiles_throughout_is_solved_from_the_rest_face() {
     let face = face();
     let poses = recording(&face);
     let acts: Vec<Option<Activations>> = poses.iter().map(|(a, _)| Some(a.clone())).collect();
-    let rows = read(&synthetic::csv(&synthetic::landmarks(
-        &face.bound,
-        &face.vertices,
-        &acts,
-        Motion::default(),
-    )));
-    let frames: Vec<&[Vec3]> = rows.iter().map(Vec::as_slice).collect();
-    let model = LandmarkModel::new(&face.bound, &face.vertices);
-    let (median, _) = pose::estimate_neutral(&frames).unwrap();
+    let rows = recorded(&face, &acts);
+    let Neutrals {
+        model,
+        median,
+        found,
+    } = neutrals(&face, &rows);
     let regularisation = Regularisation::default();
-    let (found, _) =
-        neutral::least_work(&face.bound, &model, &frames, median.clone(), regularisation).unwrap();
 
     // The neutral recovered: the rest face, not the smile the calm-frame median is.
     let rest = seen(&face, &act(&face, &[], 0.0));
     let smile = seen(&face, &act(&face, &SMILE, 0.0));
-    let at = |points: &[Vec3], neutral: &[DVec3]| pose::align(points, neutral).unwrap().points;
     let smile_size = rms(&at(&smile, &median), &at(&rest, &median));
     let was = rms(&at(&rest, &median), &median);
     let off = rms(&at(&rest, &found), &found);
@@ -127,13 +162,9 @@ fn brow_rms(a: &[DVec3], b: &[DVec3]) -> f64 {
 /// the rig's frontalis does not make exactly, so the signed reading sees the sheets working
 /// less than in the neutral, as on real recordings.
 fn along_sheets(face: &Face, along: &[f32]) -> Vec<Vec<Vec3>> {
-    let still = Motion {
-        noise: 0.0,
-        ..Motion::default()
-    };
     let make = |a: &Activations| {
         let poses = vec![Some(a.clone()); along.len()];
-        synthetic::landmarks(&face.bound, &face.vertices, &poses, still)
+        synthetic::landmarks(&face.bound, &face.vertices, &poses, still())
     };
     let (rest, sheets) = (make(&act(face, &[], 0.0)), make(&act(face, &SHEETS, 0.0)));
     let mut jitter = 0x5eed_u64;
@@ -169,18 +200,7 @@ fn brows_lowered_and_raised_along_antagonists_leave_the_neutral_at_rest() {
         })
         .collect();
     let rows = along_sheets(&face, &along);
-    let frames: Vec<&[Vec3]> = rows.iter().map(Vec::as_slice).collect();
-    let model = LandmarkModel::new(&face.bound, &face.vertices);
-    let (median, _) = pose::estimate_neutral(&frames).unwrap();
-    let (found, _) = neutral::least_work(
-        &face.bound,
-        &model,
-        &frames,
-        median,
-        Regularisation::default(),
-    )
-    .unwrap();
-    let at = |points: &[Vec3], neutral: &[DVec3]| pose::align(points, neutral).unwrap().points;
+    let found = neutrals(&face, &rows).found;
     let ends = along_sheets(&face, &[0.0, 1.0]);
     let (rest, lowered) = (at(&ends[0], &found), at(&ends[1], &found));
     let lowering = brow_rms(&lowered, &rest);
@@ -219,24 +239,8 @@ fn brows_that_rest_only_while_the_mouth_smiles_leave_the_neutral_at_rest() {
             )
         })
         .collect();
-    let rows = read(&synthetic::csv(&synthetic::landmarks(
-        &face.bound,
-        &face.vertices,
-        &acts,
-        Motion::default(),
-    )));
-    let frames: Vec<&[Vec3]> = rows.iter().map(Vec::as_slice).collect();
-    let model = LandmarkModel::new(&face.bound, &face.vertices);
-    let (median, _) = pose::estimate_neutral(&frames).unwrap();
-    let (found, _) = neutral::least_work(
-        &face.bound,
-        &model,
-        &frames,
-        median,
-        Regularisation::default(),
-    )
-    .unwrap();
-    let at = |points: &[Vec3], neutral: &[DVec3]| pose::align(points, neutral).unwrap().points;
+    let rows = recorded(&face, &acts);
+    let found = neutrals(&face, &rows).found;
     let rest = at(&seen(&face, &act(&face, &[], 0.0)), &found);
     let smiled = at(&seen(&face, &smile), &found);
     let lifted = at(&seen(&face, &raised), &found);
