@@ -26,12 +26,12 @@ use glam::Vec3;
 
 use super::parts::{Part, Parts};
 use super::Template;
-use crate::landmarks::FaceFrame;
+use crate::landmarks::{mm_per_unit, FaceFrame};
 use crate::model::{Mesh, Muscle, MuscleKind};
 
-/// Radius round the insertion over which the skin's normal is averaged, as a fraction of the
-/// outer canthal distance (6 mm on an adult face of 90 mm).
-const NORMAL_RADIUS: f32 = 6.0 / 90.0;
+/// Radius round the insertion over which the skin's normal is averaged, in mm (the face's
+/// units from its outer canthal distance: [`mm_per_unit`]).
+const NORMAL_MM: f32 = 6.0;
 /// Skin facing away from the face's front by more than this (the cosine of the angle to the
 /// front axis) is left out of the normal: the mouth's lining and the lips' inner faces lie
 /// within the radius at a mouth corner and face inward.
@@ -53,9 +53,9 @@ pub(super) struct Skin {
 }
 
 impl Skin {
-    /// The skin of `mesh` (the vertices `is_skin` keeps) facing `front`; `canthi` is the
-    /// outer canthal distance in mesh units.
-    fn new(mesh: &Mesh, is_skin: &dyn Fn(usize) -> bool, front: Vec3, canthi: f32) -> Self {
+    /// The skin of `mesh` (the vertices `is_skin` keeps) facing `front`, on a face with these
+    /// 68 `landmarks` (its scale; no normal is found when they give none).
+    fn new(mesh: &Mesh, is_skin: &dyn Fn(usize) -> bool, front: Vec3, landmarks: &[Vec3]) -> Self {
         let p = &mesh.positions;
         let triangles = mesh
             .triangles
@@ -71,7 +71,7 @@ impl Skin {
         Skin {
             front,
             triangles,
-            radius: NORMAL_RADIUS * canthi,
+            radius: mm_per_unit(landmarks).map_or(0.0, |mm| NORMAL_MM / mm),
         }
     }
 
@@ -80,18 +80,13 @@ impl Skin {
     pub(super) fn of_template(template: Template<'_>, front: Vec3) -> Self {
         let skin = super::parts::on_landmark_pieces(template.mesh, template.landmarks);
         let is_skin = |v: usize| skin[v];
-        Skin::new(
-            template.mesh,
-            &is_skin,
-            front,
-            canthal_distance(template.landmarks),
-        )
+        Skin::new(template.mesh, &is_skin, front, template.landmarks)
     }
 
     /// The fitted mesh's skin (the parts the fit calls skin).
     pub(super) fn of_mesh(mesh: &Mesh, parts: &Parts, landmarks: &[Vec3], front: Vec3) -> Self {
         let is_skin = |v: usize| parts.of_vertex[v] == Part::Skin;
-        Skin::new(mesh, &is_skin, front, canthal_distance(landmarks))
+        Skin::new(mesh, &is_skin, front, landmarks)
     }
 
     /// The skin's outward normal round `at`: the area-weighted mean of the front-facing
@@ -109,16 +104,8 @@ impl Skin {
     }
 }
 
-/// Distance between the outer eye corners (iBUG 36 and 45).
-fn canthal_distance(landmarks: &[Vec3]) -> f32 {
-    match (landmarks.get(36), landmarks.get(45)) {
-        (Some(a), Some(b)) => a.distance(*b),
-        _ => 0.0,
-    }
-}
-
 /// Whether `p` lies at a mouth corner of a face with these 68 `landmarks`.
-pub(super) fn at_mouth_corner(landmarks: &[Vec3], p: Vec3) -> bool {
+fn at_mouth_corner(landmarks: &[Vec3], p: Vec3) -> bool {
     let (Some(right), Some(left)) = (landmarks.get(48), landmarks.get(54)) else {
         return false;
     };
@@ -180,21 +167,21 @@ fn wrap(a: f32) -> f32 {
 }
 
 /// Turns each linear muscle of `fitted` (carried from `template_muscles`, in the same order)
-/// whose template insertion is `chosen` about its insertion, so that it meets `skin[1]` at
-/// the angle the template's meets `skin[0]`, where it dives into the skin more steeply than
-/// that. Muscles with no front-facing skin round the insertion, on either face, are left as
-/// carried.
+/// whose template insertion lies at a mouth corner of the template's 68 `corners_of`
+/// landmarks about its insertion, so that it meets `skin[1]` at the angle the template's
+/// meets `skin[0]`, where it dives into the skin more steeply than that. Muscles with no
+/// front-facing skin round the insertion, on either face, are left as carried.
 pub(super) fn keep_angles(
-    template: (&[Muscle], &dyn Fn(Vec3) -> bool),
+    template_muscles: &[Muscle],
+    corners_of: &[Vec3],
     fitted: &mut [Muscle],
     skin: [&Skin; 2],
 ) {
-    let (template_muscles, chosen) = template;
     for (from, to) in template_muscles.iter().zip(fitted.iter_mut()) {
         let (MuscleKind::Linear(a), MuscleKind::Linear(b)) = (&from.kind, &mut to.kind) else {
             continue;
         };
-        if !chosen(a.insertion) {
+        if !at_mouth_corner(corners_of, a.insertion) {
             continue;
         }
         let Some(want) = skin[0]

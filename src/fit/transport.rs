@@ -147,9 +147,9 @@ pub fn fit_rig(
         super::insertion::Skin::of_template(template, super::insertion::front(&from)),
         super::insertion::Skin::of_mesh(mesh, &parts, &target, super::insertion::front(&to)),
     ];
-    let at_corner = |p: Vec3| super::insertion::at_mouth_corner(template.landmarks, p);
     super::insertion::keep_angles(
-        (&template.rig.muscles, &at_corner),
+        &template.rig.muscles,
+        template.landmarks,
         &mut muscles,
         [&skins[0], &skins[1]],
     );
