@@ -167,6 +167,19 @@ struct Frame {
     forward: Vec3,
 }
 
+impl Frame {
+    /// `p` in this frame on `side` (+1 left, -1 right): along the brow from the midline,
+    /// up, forward.
+    fn local(&self, p: Vec3, side: f32) -> Vec3 {
+        let d = p - self.mid;
+        Vec3::new(
+            side * d.dot(self.lateral),
+            d.dot(self.up),
+            d.dot(self.forward),
+        )
+    }
+}
+
 /// One brow's band at rest.
 #[derive(Debug, Clone, Copy)]
 struct Band {
@@ -272,7 +285,8 @@ fn side_bands(
     members: &[u32],
     side: f32,
 ) -> Option<Vec<Band>> {
-    let span = along_span(mesh, frame, members, side)?;
+    let (head, tail) = along_span(mesh, frame, members, side)?;
+    let span = (head, tail - head);
     let bands: Vec<Band> = runs(mesh, frame, triangles, members, side)
         .iter()
         .filter_map(|run| fit_band(mesh, frame, run, side, one_row(triangles, run), span))
@@ -280,16 +294,17 @@ fn side_bands(
     (!bands.is_empty()).then_some(bands)
 }
 
-/// Where a brow group starts (its head) and how long it is across the face, signed by side.
+/// Where a group of brow members starts and ends across the face (its head and its tail,
+/// signed by side); `None` when it has no length.
 fn along_span(mesh: &Mesh, frame: &Frame, members: &[u32], side: f32) -> Option<(f32, f32)> {
     let xs = members
         .iter()
-        .map(|&v| side * (mesh.positions[v as usize] - frame.mid).dot(frame.lateral));
+        .map(|&v| frame.local(mesh.positions[v as usize], side).x);
     let (head, tail) = xs.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), x| {
         (lo.min(x), hi.max(x))
     });
     let length = tail - head;
-    (length.is_finite() && length > 0.0).then_some((head, length))
+    (length.is_finite() && length > 0.0).then_some((head, tail))
 }
 
 /// How many times the members' typical spacing along the brow a gap between two of them
@@ -312,8 +327,8 @@ fn runs(
     members: &[u32],
     side: f32,
 ) -> Vec<Vec<u32>> {
-    let along = |v: u32| side * (mesh.positions[v as usize] - frame.mid).dot(frame.lateral);
-    let up = |v: u32| (mesh.positions[v as usize] - frame.mid).dot(frame.up);
+    let local = |v: u32| frame.local(mesh.positions[v as usize], side);
+    let along = |v: u32| local(v).x;
     let mut is_member = vec![false; mesh.positions.len()];
     for &v in members {
         is_member[v as usize] = true;
@@ -323,7 +338,8 @@ fn runs(
         .iter()
         .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
         .filter(|(a, b)| member(a) && member(b))
-        .map(|(a, b)| ((along(a) - along(b)).abs(), (up(a) - up(b)).abs()))
+        .map(|(a, b)| (local(a) - local(b)).abs())
+        .map(|d| (d.x, d.y))
         .filter(|&(x, y)| x >= y)
         .map(|(x, _)| x)
         .collect();
@@ -405,21 +421,10 @@ fn fit_band(
 ) -> Option<Band> {
     let points: Vec<(f32, f32, f32)> = members
         .iter()
-        .map(|&v| {
-            let d = mesh.positions[v as usize] - frame.mid;
-            (
-                side * d.dot(frame.lateral),
-                d.dot(frame.up),
-                d.dot(frame.forward),
-            )
-        })
+        .map(|&v| frame.local(mesh.positions[v as usize], side).into())
         .collect();
-    let head = points.iter().map(|p| p.0).fold(f32::INFINITY, f32::min);
-    let tail = points.iter().map(|p| p.0).fold(f32::NEG_INFINITY, f32::max);
+    let (head, tail) = along_span(mesh, frame, members, side)?;
     let length = tail - head;
-    if length.is_nan() || length <= 0.0 || length.is_infinite() {
-        return None;
-    }
     let xs: Vec<f32> = points.iter().map(|p| (p.0 - head) / length).collect();
     let centre = fit_quadratic(&xs, &points.iter().map(|p| p.1).collect::<Vec<_>>())?;
     let depth = fit_quadratic(&xs, &points.iter().map(|p| p.2).collect::<Vec<_>>())?;
