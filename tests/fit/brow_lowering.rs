@@ -2,8 +2,6 @@
 //! face (tests/model/brow_hair.rs): the brow's tail as well as its head.
 
 use grimace::io::builtin;
-use grimace::io::landmarks::{beside, load_landmarks};
-use grimace::io::load::load_rig;
 use grimace::landmarks::FaceFrame;
 use grimace::model::Deformation;
 
@@ -14,14 +12,10 @@ use grimace::model::Deformation;
 /// head half came down about 0.2 and the tail half not at all.
 #[test]
 fn a_fitted_head_lowers_the_whole_brow_at_au4() {
-    let Some((path, _, _)) = crate::shared_mediapipe() else {
+    let Some((_dir, loaded, landmarks)) = crate::fitted_mediapipe() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    crate::fit_mediapipe_in(dir.path(), &path, &[]);
-    let loaded = load_rig(&dir.path().join("mp.rig.ron")).unwrap();
     let (rig, mesh) = (&loaded.rig, &loaded.mesh);
-    let landmarks = load_landmarks(&beside(loaded.mesh_path.as_ref().unwrap())).unwrap();
     let marks = landmarks.positions(mesh).unwrap();
     let vertices = landmarks.vertices(mesh);
     let frame = FaceFrame::of(&marks).unwrap();

@@ -1,25 +1,15 @@
 //! Fitted heads without brow groups get their brows from the landmarks beside their mesh when
 //! the rig is loaded, so the editor, `render` and `export` draw the same brows.
 
-use grimace::io::load::load_rig;
-
 /// A fitted MediaPipe mask (no brow groups of its own) loads with a brow over each eye:
 /// mirrored, above the lids' landmarks, off the midline.
 #[test]
 fn a_fitted_head_loads_with_brows_from_its_landmarks() {
-    let Some((path, _, _)) = crate::shared_mediapipe() else {
+    let Some((_dir, loaded, landmarks)) = crate::fitted_mediapipe() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    crate::fit_mediapipe_in(dir.path(), &path, &[]);
-    let loaded = load_rig(&dir.path().join("mp.rig.ron")).unwrap();
     let mesh = &loaded.mesh;
-    let marks = grimace::io::landmarks::load_landmarks(&grimace::io::landmarks::beside(
-        loaded.mesh_path.as_ref().unwrap(),
-    ))
-    .unwrap()
-    .positions(mesh)
-    .unwrap();
+    let marks = landmarks.positions(mesh).unwrap();
     let frame = grimace::landmarks::FaceFrame::of(&marks).unwrap();
     let height = |p: glam::Vec3| p.as_dvec3().dot(frame.up);
     let eye_top = [37, 38, 43, 44]

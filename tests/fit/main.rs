@@ -102,6 +102,19 @@ fn fit_mediapipe_in(dir: &Path, path: &Path, extra: &[&str]) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// The shared MediaPipe face fitted by `fit-rig` in a temporary folder and loaded as a user's
+/// rig would be: the folder (the files live as long as it does), the rig and its mesh, and
+/// the landmarks written beside the mesh. `None` where the shared data is missing (outside CI).
+fn fitted_mediapipe() -> Option<(tempfile::TempDir, grimace::io::load::LoadedRig, Landmarks)> {
+    let (path, _, _) = shared_mediapipe()?;
+    let dir = tempfile::tempdir().unwrap();
+    fit_mediapipe_in(dir.path(), &path, &[]);
+    let loaded = grimace::io::load::load_rig(&dir.path().join("mp.rig.ron")).unwrap();
+    let beside = grimace::io::landmarks::beside(loaded.mesh_path.as_ref().unwrap());
+    let landmarks = load_landmarks(&beside).unwrap();
+    Some((dir, loaded, landmarks))
+}
+
 /// `check`'s failures (each named by head and AU) of `bound` at the built-in table's `aus`
 /// at full intensity, measured by `gauge` against `expect`.
 fn au_failures(
