@@ -49,6 +49,7 @@ pub mod regions;
 mod seam;
 pub mod solve;
 mod sources;
+pub mod tones;
 pub mod transport;
 pub mod warp;
 

@@ -25,6 +25,7 @@ mod real;
 mod rig;
 mod rings;
 mod scheme;
+mod tones;
 
 use std::path::{Path, PathBuf};
 
