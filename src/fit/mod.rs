@@ -49,7 +49,6 @@ pub mod regions;
 mod seam;
 pub mod solve;
 mod sources;
-pub mod tones;
 pub mod transport;
 pub mod warp;
 

@@ -123,16 +123,10 @@ pub fn table(name: &str) -> Option<AuTable> {
     (name == "default").then(default_table)
 }
 
-/// Parses the embedded face and finds its named vertex groups again, and its lash lines and
-/// lips from its landmarks as on any other head ([`crate::fit::tones`]).
+/// Parses the embedded face and finds its named vertex groups again.
 pub fn load_mesh() -> Result<Mesh, LoadError> {
     let mut mesh = obj::parse_obj(FACE_OBJ, &embedded("face.obj"))?;
     mesh.groups = find_groups_in(&mesh);
-    let marks = landmarks("face").expect("the face has landmarks");
-    if let Ok(points) = marks.positions(&mesh) {
-        let vertices = marks.vertices(&mesh);
-        crate::fit::tones::mark(&mut mesh, &vertices, &points);
-    }
     Ok(mesh)
 }
 

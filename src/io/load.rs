@@ -160,7 +160,7 @@ pub fn load_rig_with(
         _ => load_named_mesh(&rig, &text, path, builtin)?,
     };
     if let Some(file) = &mesh_path {
-        mark_from_landmarks(&mut mesh, file);
+        mark_brow_hair(&mut mesh, file);
     }
     if let (None, MeshRef::Builtin(name)) = (mesh_override, mesh_ref(path, &rig.mesh)) {
         builtin::hold_eyes_still(&name, &mesh, &mut rig);
@@ -177,22 +177,19 @@ pub fn load_rig_with(
     })
 }
 
-/// Eyebrows, lash lines and lips for a head that has none, from the landmarks beside its
-/// mesh ([`crate::fit::brow_hair`], [`crate::fit::tones`]): without landmarks (or with
-/// landmarks that cannot be read) the mesh stays as it is, its brows, lids' lines and lips
-/// simply not drawn.
-fn mark_from_landmarks(mesh: &mut Mesh, mesh_file: &Path) {
+/// Eyebrows for a head that has none, from the landmarks beside its mesh
+/// ([`crate::fit::brow_hair`]): without landmarks (or with landmarks that cannot be read) the
+/// mesh stays as it is, its brows simply not drawn.
+fn mark_brow_hair(mesh: &mut Mesh, mesh_file: &Path) {
     let path = super::landmarks::beside(mesh_file);
     if !path.is_file() {
         return;
     }
-    let Ok(landmarks) = super::landmarks::load_landmarks(&path) else {
-        return;
-    };
-    if let Ok(points) = landmarks.positions(mesh) {
+    let points = super::landmarks::load_landmarks(&path)
+        .ok()
+        .and_then(|l| l.positions(mesh).ok());
+    if let Some(points) = points {
         crate::fit::brow_hair::mark(mesh, &points);
-        let vertices = landmarks.vertices(mesh);
-        crate::fit::tones::mark(mesh, &vertices, &points);
     }
 }
 

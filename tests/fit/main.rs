@@ -25,7 +25,6 @@ mod real;
 mod rig;
 mod rings;
 mod scheme;
-mod tones;
 
 use std::path::{Path, PathBuf};
 

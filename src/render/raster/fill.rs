@@ -7,7 +7,6 @@ use super::features::HEAT_FLOOR;
 use super::grid::{ceil_nonneg, floor_end};
 use super::project::Normals;
 use super::Renderer;
-use crate::fit::tones;
 use crate::model::Mesh;
 use crate::render::canvas::{DotCanvas, Layer, Rgb};
 use crate::render::scene::{displacement_ramp, Scene};
@@ -259,10 +258,8 @@ impl Look<'_> {
 
 /// The tone of a vertex group's material by its name: irises are mid grey, pupils and the
 /// inside of the mouth and of a cut-open eye nearly black, brow hair dark, the tongue and gums a little darker
-/// than skin and teeth, the upper lids' lash lines dark and the lower ones' lighter, the lips'
-/// vermilion darker than skin (`fit::tones` marks them from the landmarks), everything else
-/// as lit.
-const TONES: [(&str, f32); 10] = [
+/// than skin and teeth, everything else as lit.
+const TONES: [(&str, f32); 7] = [
     ("pupil", 0.12),
     ("mouth_interior", 0.06),
     ("eye_interior", 0.08),
@@ -270,9 +267,6 @@ const TONES: [(&str, f32); 10] = [
     (BROW_HAIR, BROW_TONE),
     ("tongue", 0.6),
     ("gum", 0.7),
-    (tones::UPPER_LID_LINE, 0.35),
-    (tones::LOWER_LID_LINE, 0.7),
-    (tones::VERMILION, 0.75),
 ];
 
 /// The name part of brow hair's groups, and its tone.
