@@ -25,6 +25,10 @@ pub struct Regularisation {
     /// alone comes out this much lower than it would without the term, so noise does not
     /// wake it; the price per unit is the same for every muscle.
     pub sparsity: f64,
+    /// The ridge of the signed reading ([`FrameSolver::signed`]) as a fraction of each
+    /// variable's own weight (`J_i W J_i`): a muscle acting alone reads `1 / (1 + ridge)` of
+    /// its activation, whatever its strength.
+    pub signed_ridge: f64,
 }
 
 impl Default for Regularisation {
@@ -32,6 +36,7 @@ impl Default for Regularisation {
         Regularisation {
             temporal: 0.02,
             sparsity: 0.01,
+            signed_ridge: 0.2,
         }
     }
 }
@@ -77,7 +82,8 @@ pub struct FrameSolver<'a> {
     temporal: f64,
     previous: Option<Vec<f64>>,
     scratch: Vec<Vec3>,
-    /// `(J^T W J + temporal I)^-1` at rest (row-major): [`FrameSolver::signed`]'s solve.
+    /// `(J^T W J + ridge diag(J^T W J))^-1` at rest (row-major): [`FrameSolver::signed`]'s
+    /// solve.
     signed_inverse: Vec<f64>,
 }
 
@@ -106,7 +112,13 @@ impl<'a> FrameSolver<'a> {
         // a muscle that moves the landmarks little is not a cheaper way to explain them.
         let sparsity = vec![2.0 * regularisation.sparsity * mean; lo.len()];
         let temporal = regularisation.temporal * mean;
-        let signed_inverse = signed_inverse(model, &weights, &muscle_gram, temporal);
+        let signed_inverse = signed_inverse(
+            model,
+            &weights,
+            &muscle_gram,
+            regularisation.signed_ridge,
+            mean,
+        );
         FrameSolver {
             bound,
             model,
@@ -204,8 +216,9 @@ impl<'a> FrameSolver<'a> {
     /// Signed activations for a motion measured from a neutral that may itself carry
     /// muscle work: the linear least-squares answer on the Jacobian at rest (the jaw's slope
     /// at rest), every variable free to go below 0 as far as above it (below 0, a muscle
-    /// works less than in the neutral), held near 0 by the temporal term's weight as a ridge
-    /// rather than by the sparsity term (an L1 price would favour going below 0). The bounds
+    /// works less than in the neutral), held near 0 by a ridge on each variable scaled by its
+    /// own weight ([`Regularisation::signed_ridge`]) rather than by the sparsity term (an L1
+    /// price would favour going below 0). The bounds
     /// are applied after the solve, not in it: this reads how far a frame is from the
     /// neutral in muscle units, it does not explain the frame.
     pub fn signed(&self, motion: &[DVec3]) -> Vec<f64> {
@@ -266,13 +279,21 @@ impl<'a> FrameSolver<'a> {
     }
 }
 
-/// `(J^T W J + ridge I)^-1` (row-major) over every variable, the jaw's column its slope at
-/// rest; the identity scaled by `1 / ridge` if it cannot be inverted (no ridge, no motion).
+/// `(J^T W J + ridge D)^-1` (row-major) over every variable, `D` the diagonal of each
+/// variable's own weight `J_i W J_i` (at least [`SILENT_FLOOR`] of the mean muscle's, `mean`,
+/// so a muscle that moves no landmark still has a ridge), the jaw's column its slope at rest;
+/// the identity scaled by the inverse of the smallest ridge if it cannot be inverted.
+///
+/// The ridge is each variable's own: one of the whole (a multiple of the mean muscle's weight)
+/// shrinks a weak muscle's reading far more than a strong one's, and on a real recording
+/// (docs/capture.md) the jaw's reading with it; scaled by each variable's weight, every
+/// reading shrinks alike, and a muscle's reading does not depend on the units of its column.
 fn signed_inverse(
     model: &LandmarkModel,
     weights: &[DVec3],
     muscle_gram: &[f64],
     ridge: f64,
+    mean: f64,
 ) -> Vec<f64> {
     let m = model.muscle_count();
     let n = model.variable_count();
@@ -284,16 +305,29 @@ fn signed_inverse(
         } else {
             weighted_dot(weights, column(i), column(j))
         };
-        g + if i == j { ridge } else { 0.0 }
+        g + if i == j {
+            ridge * g.max(SILENT_FLOOR * mean)
+        } else {
+            0.0
+        }
     });
     match gram.cholesky() {
         Some(c) => c.inverse().transpose().iter().copied().collect(),
-        None => nalgebra::DMatrix::from_diagonal_element(n, n, 1.0 / ridge.max(1e-300))
-            .iter()
-            .copied()
-            .collect(),
+        None => nalgebra::DMatrix::from_diagonal_element(
+            n,
+            n,
+            1.0 / (ridge * SILENT_FLOOR * mean).max(1e-300),
+        )
+        .iter()
+        .copied()
+        .collect(),
     }
 }
+
+/// The least weight, as a fraction of the mean muscle's, a variable's ridge in the signed
+/// reading is scaled by: a muscle that moves no landmark (the orbital orbicularis oculi on
+/// the default rig) reads 0 rather than making the matrix singular.
+pub const SILENT_FLOOR: f64 = 1e-3;
 
 /// `sum_i w_i . (a_i * b_i)`: each axis weighted.
 pub fn weighted_dot(weights: &[DVec3], a: &[DVec3], b: &[DVec3]) -> f64 {

@@ -25,6 +25,12 @@ const AUS: [(u8, &str); 7] = [
     (45, "eyelid aperture, negated"),
 ];
 
+/// The AUs on which the muscles lead the geometry on the expressive sample (docs/capture.md):
+/// held to within 0.02 of it, the most these AUs moved between the settings of the signed
+/// reading's ridge that kept the jaw (AU4 0.883 to 0.906, AU45 0.865 to 0.885); the others
+/// (AU12, AU25, which trail it) to within 0.05.
+const LEADING: [u8; 5] = [1, 2, 4, 26, 45];
+
 fn geometry(au: u8, p: &[DVec3]) -> f64 {
     let d = |a: usize, b: usize| p[a].distance(p[b]);
     match au {
@@ -157,8 +163,9 @@ fn samples_are_captured_and_measured_against_openface_and_geometry() {
             // smiling subject's typical face (docs/capture.md).
             if name == FILES[0] && [1, 2, 4, 12, 25, 26, 45].contains(&au) {
                 let (m, g) = (muscles.unwrap(), baseline.unwrap());
+                let margin = if LEADING.contains(&au) { 0.02 } else { 0.05 };
                 assert!(
-                    m >= g - 0.05,
+                    m >= g - margin,
                     "{name}: AU{au}: muscles r {m:.2}, geometry r {g:.2}"
                 );
             }
