@@ -406,17 +406,26 @@ mod tests {
         if let Some(jaw) = &mut rig.jaw {
             jaw.pivot = turn * jaw.pivot;
         }
-        let framing = Framing::of_rig(&rig, &mesh);
-        // Mesh z is the face's up, mesh -y is out of the face.
-        assert_eq!(framing.basis.row(1), Vec3::Z);
-        assert_eq!(framing.basis.row(2), -Vec3::Y);
-        let focus = framing.focus.expect("the face is a small part of the mesh");
-        assert!(
-            focus.len() >= face * 9 / 10 && focus.len() < face + face / 4,
-            "{}",
-            focus.len()
-        );
-        assert_eq!(Framing::of_mesh(&mesh).basis, framing.basis);
+        let points: Vec<Vec3> = builtin_points(&builtin::default_mesh())
+            .iter()
+            .map(|p| turn * *p)
+            .collect();
+        let by_rig = Framing::of_rig(&rig, &mesh);
+        // The face's landmarks alone frame it the same way: its own vertices (the forehead
+        // and sides within the margins) and the top of the body just under the chin.
+        let by_landmarks = Framing::of_face(None, &mesh, Some(&points), None);
+        for framing in [by_rig.clone(), by_landmarks] {
+            // Mesh z is the face's up, mesh -y is out of the face.
+            assert_eq!(framing.basis.row(1), Vec3::Z);
+            assert_eq!(framing.basis.row(2), -Vec3::Y);
+            let focus = framing.focus.expect("the face is a small part of the mesh");
+            assert!(
+                focus.len() >= face * 9 / 10 && focus.len() < face + face / 4,
+                "{}",
+                focus.len()
+            );
+        }
+        assert_eq!(Framing::of_mesh(&mesh).basis, by_rig.basis);
     }
 
     #[test]
@@ -461,37 +470,6 @@ mod tests {
         assert_eq!(
             Framing::of_face(None, &mesh, None, None),
             Framing::of_mesh(&mesh)
-        );
-    }
-
-    #[test]
-    fn landmarks_stand_a_z_up_face_on_a_body_up_and_frame_its_face() {
-        let turn = Mat3::from_rotation_x(std::f32::consts::FRAC_PI_2);
-        let mut mesh = builtin::default_mesh();
-        let points: Vec<Vec3> = builtin_points(&mesh).iter().map(|p| turn * *p).collect();
-        let face = mesh.positions.len();
-        let (lo, hi) = mesh.bounds();
-        // A body below the chin, three faces wide and as deep as the face.
-        let body = (0..4 * face).map(|i| {
-            let t = i as f32 / (4 * face) as f32;
-            Vec3::new(
-                lo.x * 3.0 * (1.0 - t) + hi.x * 3.0 * t,
-                lo.y - 40.0 * t,
-                lo.z,
-            )
-        });
-        mesh.positions.extend(body);
-        mesh.positions.iter_mut().for_each(|p| *p = turn * *p);
-        let framing = Framing::of_face(None, &mesh, Some(&points), None);
-        assert_eq!(framing.basis.row(1), Vec3::Z);
-        assert_eq!(framing.basis.row(2), -Vec3::Y);
-        let focus = framing.focus.expect("the face is a small part of the mesh");
-        // The face's own vertices (its forehead and sides within the margins) and the top of
-        // the body just under the chin.
-        assert!(
-            focus.len() >= face * 9 / 10 && focus.len() < face + face / 4,
-            "{}",
-            focus.len()
         );
     }
 
