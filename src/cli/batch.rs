@@ -17,7 +17,6 @@ use super::export::{self, SourceArgs};
 use crate::batch::{Batch, Face, Plan, Progress, RunOptions, Shard};
 use crate::io::LoadError;
 use crate::model::Deformation;
-use crate::render::Framing;
 
 /// Arguments of `grimace batch`.
 #[derive(Debug, Args)]
@@ -168,7 +167,7 @@ fn load_faces(plan: &Plan, deformation: Deformation) -> Result<Vec<Face>, LoadEr
         // a millimetre per unit.
         let mm = crate::io::builtin::mm_per_unit(&sources.rig.mesh).unwrap_or(1.0);
         faces.push(Face {
-            framing: Framing::of_rig(&sources.rig.rig, &sources.rig.mesh),
+            framing: super::framing(&sources.rig, None),
             rig: sources.rig,
             table,
             bound,

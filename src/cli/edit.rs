@@ -8,10 +8,11 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use crate::facs::{AuTable, TABLE_VERSION};
-use crate::io::load::load_rig_ref;
 use crate::io::load::rig_ref;
+use crate::io::load::{load_rig_ref, LoadedRig};
 use crate::io::{recovery, reference};
 use crate::model::{Mesh, Rig};
+use crate::render::Framing;
 use crate::tui;
 use crate::tui::app::{App, ColorMode, FileStamp, Mode, Question, Recovered, View};
 use crate::tui::face::Face;
@@ -102,16 +103,18 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
         (Some(_), None) => (new_table(args.rig.as_deref()), None, true),
         (None, None) => (builtin_table()?, None, false),
     };
-    let (rig, mesh, notice, rig_path) = load_face(args, &table, &table_path)?;
+    let (face, rig_path) = load_face(args, &table, &table_path)?;
     if let Some(loaded) = &loaded {
-        crate::io::table_file::check_table_rig(&loaded.table, &rig, &loaded.text, &table_path)
+        crate::io::table_file::check_table_rig(&loaded.table, &face.rig, &loaded.text, &table_path)
             .map_err(|e| e.to_string())?;
     }
+    let facing = args.facing.basis().map_err(|e| e.to_string())?;
+    let (framing, framing_warning) = Framing::of_loaded(&face, facing);
+    let LoadedRig {
+        rig, mesh, notice, ..
+    } = face;
     // A big head is bound on a thread: the first screen shows its rest pose at once.
-    let mut scene = Face::start(rig, mesh)?;
-    if let Some(basis) = args.facing.basis().map_err(|e| e.to_string())? {
-        scene.face(basis);
-    }
+    let scene = Face::start(rig, mesh, framing)?;
     let mut app = App::new(scene, table, args.file.clone());
     app.doc.file_stamp = stamp;
     // Rig mode's `:w` writes the rig file back; the stamp notices changes made meanwhile.
@@ -130,8 +133,8 @@ pub fn prepare(args: &EditArgs) -> Result<(App, Session), String> {
             ));
         }
     }
-    if let Some(notice) = notice {
-        app.warn(notice);
+    for warning in notice.into_iter().chain(framing_warning) {
+        app.warn(warning);
     }
     for warning in app.doc.face.take_bind_warnings() {
         app.warn(warning);
@@ -224,8 +227,8 @@ pub fn default_face() -> Result<(Rig, Mesh, AuTable), String> {
     Ok((loaded.rig, loaded.mesh, builtin_table()?))
 }
 
-/// The rig, its mesh, what loading it did, and its file (`None` when built in).
-type FaceParts = (Rig, Mesh, Option<String>, Option<PathBuf>);
+/// The rig loaded with its mesh, and its file (`None` when built in).
+type FaceParts = (LoadedRig, Option<PathBuf>);
 
 /// The rig and mesh to edit with: `--rig` (a file or `builtin:NAME`) if given, else the
 /// table's rig; `--mesh` replaces the rig's mesh. Also what loading an older rig file did
@@ -241,5 +244,5 @@ fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<Face
         // Absolute while the editor runs (see `new_table`).
         loaded.rig.mesh = reference::absolute(file, &loaded.rig.mesh);
     }
-    Ok((loaded.rig, loaded.mesh, loaded.notice, file))
+    Ok((loaded, file))
 }

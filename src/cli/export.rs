@@ -18,7 +18,6 @@ use crate::io::load::{load_rig_ref, load_table_and_rig, load_table_ref_for, Load
 use crate::io::morph::{morph_targets, target_states, TargetSet, TargetStates};
 use crate::io::{gltf, obj};
 use crate::model::{Activations, BoundRig, Deformation};
-use crate::render::Framing;
 use glam::Quat;
 
 /// Where the rig, mesh and AU table come from.
@@ -362,7 +361,7 @@ fn export_gltf(args: &ExportArgs, sources: &Sources, path: &std::path::Path) -> 
         Quat::IDENTITY
     } else {
         // Face coordinates are glTF's (y up, the face toward +z).
-        Quat::from_mat3(&Framing::of_rig(rig, &sources.rig.mesh).basis)
+        Quat::from_mat3(&super::framing(&sources.rig, None).basis)
     };
     let placement = gltf::Placement {
         metres_per_unit: mm / 1000.0,

@@ -9,13 +9,14 @@ use std::path::{Path, PathBuf};
 
 use anyhow::anyhow;
 use clap::Args;
+use glam::Vec3;
 
 use crate::io::landmarks::{check_against, parse_landmarks};
 use crate::io::pick_recovery;
 use crate::io::{error::read_text, obj, LoadError, MAX_FILE_BYTES};
 use crate::landmarks::Landmarks;
 use crate::model::Mesh;
-use crate::render::CellMode;
+use crate::render::{CellMode, Framing};
 use crate::tui::pick::state::{Mode, Question};
 use crate::tui::pick::{self, PickApp};
 use crate::tui::session::Session;
@@ -108,7 +109,10 @@ pub fn prepare(
     app.out_stamp = std::fs::read(out)
         .ok()
         .map(|bytes| crate::tui::app::FileStamp::of(&bytes));
-    if let Some(landmarks) = existing {
+    if let Some((landmarks, points)) = existing {
+        // A file being corrected stands the face up by its own landmarks (the mesh's shape
+        // only guesses; `--up`/`--front` still turn it after).
+        app.face(Framing::of_face(None, &app.mesh, Some(&points), None).basis);
         let vertices = landmarks.vertices(&app.mesh);
         if let Landmarks::Points(points) = &landmarks {
             app.kept_points = Some(
@@ -154,15 +158,15 @@ fn check_mesh(mesh: &Mesh, path: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The landmarks of an existing landmark file, checked against the mesh.
-fn existing_picks(out: &Path, mesh: &Mesh) -> anyhow::Result<Option<Landmarks>> {
+/// The landmarks of an existing landmark file, checked against the mesh, and their points.
+fn existing_picks(out: &Path, mesh: &Mesh) -> anyhow::Result<Option<(Landmarks, Vec<Vec3>)>> {
     if !out.exists() {
         return Ok(None);
     }
     let text = read_text(out, MAX_FILE_BYTES)?;
     let landmarks = parse_landmarks(&text, out)?;
-    check_against(&landmarks, mesh, out, Some(&text))?;
-    Ok(Some(landmarks))
+    let points = check_against(&landmarks, mesh, out, Some(&text))?;
+    Ok(Some((landmarks, points)))
 }
 
 /// Offers picks kept by a session that stopped; a file another running picker owns is left

@@ -104,6 +104,19 @@ impl FacingArgs {
     }
 }
 
+/// The framing of a loaded rig ([`crate::render::Framing::of_loaded`]) for a command that
+/// prints: a landmark file that cannot be used is a warning on stderr, never an error.
+pub(crate) fn framing(
+    loaded: &crate::io::load::LoadedRig,
+    given: Option<glam::Mat3>,
+) -> crate::render::Framing {
+    let (framing, warning) = crate::render::Framing::of_loaded(loaded, given);
+    if let Some(warning) = warning {
+        eprintln!("warning: {warning}");
+    }
+    framing
+}
+
 /// Parses an axis: `x`, `y`, `z`, optionally with a sign.
 fn parse_axis(text: &str) -> Result<glam::Vec3, String> {
     let t = text.trim().to_ascii_lowercase();

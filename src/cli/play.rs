@@ -113,31 +113,33 @@ pub struct PlayArgs {
 /// Runs `grimace play`, returning the first error (named with file, line and column).
 pub fn run(args: &PlayArgs) -> Result<()> {
     check_args(args)?;
-    let (LoadedRig { rig, mesh, .. }, table) = load_face(args)?;
+    let (face, table) = load_face(args)?;
+    // Only the terminal's view is framed (headless prints numbers).
+    let framing = (!args.headless).then(|| super::framing(&face, None));
+    let LoadedRig { rig, mesh, .. } = face;
     let mapper = AuMapper::new(&table, &rig);
     let source = open_source(args, &rig, &table, &mapper)?;
-    if args.headless {
+    let Some(framing) = framing else {
         let stdout = io::stdout();
         let mut out = BufWriter::new(stdout.lock());
         let summary = play_headless(args, source, &rig, &table, &mapper, &mut out)?;
         if args.stats {
             eprintln!("{}", summary.stats.summary());
         }
-        Ok(())
-    } else {
-        if !io::stdout().is_terminal() {
-            bail!("stdout is not a terminal: use --headless to print frames instead of drawing");
-        }
-        let summary = view(args, source, mesh, &rig, &table, &mapper)?;
-        println!(
-            "played {} frames, skipped {}",
-            summary.played, summary.skipped
-        );
-        if args.stats {
-            eprintln!("{}", summary.stats.summary());
-        }
-        Ok(())
+        return Ok(());
+    };
+    if !io::stdout().is_terminal() {
+        bail!("stdout is not a terminal: use --headless to print frames instead of drawing");
     }
+    let summary = view(args, source, mesh, framing, &rig, &table, &mapper)?;
+    println!(
+        "played {} frames, skipped {}",
+        summary.played, summary.skipped
+    );
+    if args.stats {
+        eprintln!("{}", summary.stats.summary());
+    }
+    Ok(())
 }
 
 fn check_args(args: &PlayArgs) -> Result<()> {
@@ -221,6 +223,7 @@ fn view(
     args: &PlayArgs,
     source: Box<dyn FrameSource>,
     mesh: Mesh,
+    framing: crate::render::Framing,
     rig: &Rig,
     table: &AuTable,
     mapper: &AuMapper,
@@ -236,7 +239,8 @@ fn view(
     };
     let reopen = args.repeat.then_some(reopen);
     let mut player = Player::new(source, reopen, args.speed, args.strict, args.frames);
-    crate::tui::play::run(&mut player, mesh, rig, args.cells.mode(), args.frames)?;
+    let cells = args.cells.mode();
+    crate::tui::play::run(&mut player, mesh, framing, rig, cells, args.frames)?;
     Ok(Summary {
         played: player.played,
         skipped: player.skipped,

@@ -182,8 +182,7 @@ impl Look {
             bail!("--zoom {}: must be a positive number", args.zoom);
         }
         camera.zoom = args.zoom;
-        let framing =
-            Framing::of_rig_facing(&sources.rig.rig, &sources.rig.mesh, args.facing.basis()?);
+        let framing = super::framing(&sources.rig, args.facing.basis()?);
         camera.basis = framing.basis;
         let mode = args.cells.mode();
         let mut overlays = Vec::new();

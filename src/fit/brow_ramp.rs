@@ -21,12 +21,10 @@
 //! the skin above the corner came down 0.24 mm at anger (4D+5C+7C+23D) as AU7 raised the skin
 //! below it 0.6 mm, and two triangles turned over.
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-
 use super::parts::{Part, Parts};
 use glam::Vec3;
 
+use crate::model::envelope::lower_envelope;
 use crate::model::{Field, Mask, Mesh, Rig};
 
 /// The name the brow lowerer's sheets end with.
@@ -38,24 +36,6 @@ const RAMP: f64 = 0.6;
 const CANTHUS: f64 = 0.3;
 /// Caps this close to the pull are left out of the mask.
 const EPSILON: f64 = 1e-4;
-
-/// A vertex waiting in the distance transform, the lowest cap first.
-#[derive(PartialEq)]
-struct Queued(f64, u32);
-
-impl Eq for Queued {}
-
-impl Ord for Queued {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other.0.total_cmp(&self.0).then(other.1.cmp(&self.1))
-    }
-}
-
-impl PartialOrd for Queued {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
 
 /// The eyes as the ramp sees them: their width and their corners (the landmarks 36, 39, 42
 /// and 45).
@@ -91,12 +71,18 @@ pub(super) fn ramp_masks(
         .filter(|m| m.name.ends_with(LOWERING))
         .filter_map(|m| {
             let pull = pull(rig, &m.name, &Field::of(&m.kind, &mesh.positions), cut);
-            let start: Vec<f64> = pull
+            let mut capped: Vec<f64> = pull
                 .iter()
                 .zip(&held)
                 .map(|(&p, &h)| if h { 0.0 } else { p })
                 .collect();
-            let capped = distance_transform(&start, &neighbours, slope);
+            let edges = |v: usize| {
+                neighbours[v]
+                    .iter()
+                    .map(|&(u, length)| (u as usize, length))
+            };
+            let every_vertex = 0..capped.len();
+            lower_envelope(&mut capped, every_vertex, edges, |c, l| c + l * slope);
             let weights: Vec<(u32, f32)> = pull
                 .iter()
                 .zip(&capped)
@@ -154,54 +140,4 @@ fn pull(rig: &Rig, name: &str, field: &Field, cut: &[f64]) -> Vec<f64> {
         }
     }
     pull
-}
-
-/// The largest values under `pull` that rise by at most `slope` per unit of length along
-/// the edges: each vertex's least of its own pull and a neighbour's cap plus the edge times
-/// the slope (Dijkstra's order, every vertex a source).
-fn distance_transform(pull: &[f64], neighbours: &[Vec<(u32, f64)>], slope: f64) -> Vec<f64> {
-    let mut cap = pull.to_vec();
-    let mut queue: BinaryHeap<Queued> = cap
-        .iter()
-        .enumerate()
-        .map(|(v, &c)| Queued(c, v as u32))
-        .collect();
-    while let Some(Queued(c, v)) = queue.pop() {
-        if c > cap[v as usize] {
-            continue;
-        }
-        for &(u, length) in &neighbours[v as usize] {
-            let candidate = c + length * slope;
-            if candidate < cap[u as usize] {
-                cap[u as usize] = candidate;
-                queue.push(Queued(candidate, u));
-            }
-        }
-    }
-    cap
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A step from nothing to the full pull becomes a ramp of the given slope; a gentle rise
-    /// is left as it is.
-    #[test]
-    fn a_steep_rise_becomes_a_ramp() {
-        let pull = [0.0, 1.0, 1.0, 1.0];
-        let line: Vec<Vec<(u32, f64)>> = (0..4u32)
-            .map(|v| {
-                [v.checked_sub(1), (v < 3).then_some(v + 1)]
-                    .into_iter()
-                    .flatten()
-                    .map(|u| (u, 1.0))
-                    .collect()
-            })
-            .collect();
-        let cap = distance_transform(&pull, &line, 0.4);
-        assert_eq!(cap, vec![0.0, 0.4, 0.8, 1.0]);
-        let gentle = [0.0, 0.2, 0.4, 0.6];
-        assert_eq!(distance_transform(&gentle, &line, 0.4), gentle.to_vec());
-    }
 }

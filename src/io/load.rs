@@ -70,6 +70,31 @@ impl LoadedRig {
             }
         }
     }
+
+    /// The landmark points on the loaded mesh when it has any, for what only looks at the
+    /// face (the views' framing): the built-in face's own, the file [`beside`] the mesh read,
+    /// else MediaPipe's numbering on a mesh with a MediaPipe face mesh's vertex count when
+    /// that makes a face. `Ok(None)` without landmarks; an error for a landmark file that is
+    /// there but cannot be read or does not fit the mesh.
+    pub fn landmark_points(&self) -> Result<Option<Vec<glam::Vec3>>, LoadError> {
+        let Some(mesh_file) = &self.mesh_path else {
+            let name = match mesh_ref(&self.path, &self.rig.mesh) {
+                MeshRef::Builtin(name) => name,
+                MeshRef::File(_) => return Ok(None),
+            };
+            return Ok(builtin::landmarks(&name).and_then(|l| l.positions(&self.mesh).ok()));
+        };
+        let path = super::landmarks::beside(mesh_file);
+        if path.is_file() {
+            let landmarks = super::landmarks::load_landmarks(&path)?;
+            return super::landmarks::check_against(&landmarks, &self.mesh, &path, None).map(Some);
+        }
+        // A MediaPipe face mesh needs no landmark file; a mesh that only has its vertex
+        // count gives points that are no face, and is framed without landmarks.
+        Ok(crate::landmarks::Landmarks::mediapipe(&self.mesh)
+            .and_then(|l| l.positions(&self.mesh))
+            .ok())
+    }
 }
 
 /// Where a rig's mesh comes from.

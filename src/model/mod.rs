@@ -5,6 +5,7 @@
 pub mod activations;
 pub mod deform;
 pub mod deformation;
+pub mod envelope;
 pub mod field;
 pub mod jaw;
 pub mod mesh;

@@ -2,19 +2,24 @@
 //!
 //! A mesh may stand any way up (y up as glTF, z up as Blender and many scanners) and may be a
 //! face, a head, a bust or a whole body. Views are defined in the face's own axes: across
-//! (the subject's left), up, and out of the face. [`Framing::of_rig`] reads those axes from
-//! the rig's sphincters (their frames lie in the face's plane, major axis across, minor axis
-//! up; `fit-rig` sets them from the landmarks) and the face's extent from the rig's muscle
-//! points, so a fitted bust is shown upright with its face filling the view. A mesh without a
-//! rig ([`Framing::of_mesh`]) is stood up by its shape: the longer of its y and z extents is
-//! taken for up.
+//! (the subject's left), up, and out of the face. [`Framing::of_face`] takes them, best
+//! first, from the axes the user gives (`--up`, `--front`), the face's 68 landmarks (the eye
+//! line across, the mouth to the eyes up, out toward the nose tip), the rig's sphincters
+//! (their frames lie in the face's plane, major axis across, minor axis up), else the mesh's
+//! shape ([`Framing::of_mesh`]: the longer of its y and z extents is taken for up). The face
+//! region comes from the landmarks, with margins in the face's own proportions, else from
+//! the rig's muscle points: a fitted bust is shown upright with its face filling the view,
+//! and the view does not move when fitting moves a muscle. [`Framing::of_loaded`] looks the
+//! landmarks up for a loaded rig; every front end frames through it.
 //!
 //! Axes within 20 degrees of the mesh's own are snapped to them exactly, so a face modelled
 //! square to its axes is drawn square (the built-in face's front view is the mesh's xy plane
 //! bit for bit), while a scan lying at an angle is turned upright.
 
-use glam::{Mat3, Vec3};
+use glam::{Mat3, Vec2, Vec3};
 
+use crate::io::load::LoadedRig;
+use crate::landmarks::{FaceFrame, CHIN, COUNT};
 use crate::model::{Mesh, MuscleKind, Rig};
 
 /// Up to this angle between the face's axes and an axis-aligned frame, the aligned frame is
@@ -28,6 +33,20 @@ const MOSTLY_FACE: f32 = 0.9;
 /// How far beyond the rig's muscle points the face region reaches, as a fraction of their
 /// extent on each side (the chin below the lowest muscle, the forehead above the frontalis).
 const FACE_MARGIN: f32 = 0.12;
+
+/// The forehead above the brows, in the face's middle third (brows to the nose's base): the
+/// canon of facial thirds makes hairline to brows, brows to the nose's base and the nose's
+/// base to the chin about equal.
+const FOREHEAD_THIRDS: f32 = 1.0;
+
+/// Room below the chin, in the face's lower third (the nose's base to the chin): the chin
+/// drops as the jaw opens (at AU26 about 15 mm of a lower third of about 65 mm).
+const BELOW_CHIN_THIRDS: f32 = 0.25;
+
+/// Room beside the jaw line's ends (landmarks 0 and 16, in front of the ears), in the
+/// contour's width, each side: a head is about 1.1-1.2 times as broad as its face, the
+/// ears a little more.
+const BESIDE_JAW: f32 = 0.1;
 
 /// How a mesh is shown: its face's axes and the points a view is fitted to.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,20 +62,62 @@ pub struct Framing {
     extent: Vec3,
 }
 
+/// The face region: a box across and up in face coordinates (depth is not bounded).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Region {
+    lo: Vec2,
+    hi: Vec2,
+}
+
 impl Framing {
-    /// The framing of a rigged mesh: axes from the sphincters' frames (the mouth's first),
-    /// the face region from the muscles' points.
-    pub fn of_rig(rig: &Rig, mesh: &Mesh) -> Framing {
-        Framing::of_rig_facing(rig, mesh, None)
+    /// The framing of a loaded rig: [`Framing::of_face`] with the landmarks of its mesh
+    /// ([`LoadedRig::landmark_points`]) and the axes given (`--up`, `--front`; see
+    /// [`facing`]), if any. Never fails: a landmark file that is there but cannot be used
+    /// leaves the rig to frame the face, and the second value says why (for the front end to
+    /// show as a warning).
+    pub fn of_loaded(loaded: &LoadedRig, given: Option<Mat3>) -> (Framing, Option<String>) {
+        let (points, warning) = match loaded.landmark_points() {
+            Ok(points) => (points, None),
+            Err(e) => (
+                None,
+                Some(format!("{e}; the view is framed without the landmarks")),
+            ),
+        };
+        let framing = Framing::of_face(Some(&loaded.rig), &loaded.mesh, points.as_deref(), given);
+        (framing, warning)
     }
 
-    /// [`Framing::of_rig`] with the face's axes given (`--up`, `--front`; see
-    /// [`facing`]) instead of read from the rig.
-    pub fn of_rig_facing(rig: &Rig, mesh: &Mesh, given: Option<Mat3>) -> Framing {
-        match given.or_else(|| face_axes(rig).map(snap)) {
-            Some(basis) => Framing::new(basis, face_region(rig, mesh, basis), mesh),
-            None => Framing::of_mesh(mesh),
-        }
+    /// The framing of a rigged mesh without landmarks: axes from the sphincters' frames (the
+    /// mouth's first), the face region from the muscles' points.
+    pub fn of_rig(rig: &Rig, mesh: &Mesh) -> Framing {
+        Framing::of_face(Some(rig), mesh, None, None)
+    }
+
+    /// The framing of a face from what is known of it. Axes: `given`, else the landmarks'
+    /// (68 points on the mesh, in the iBUG scheme), else the rig's sphincters, else the
+    /// mesh's shape ([`Framing::of_mesh`]); all but `given` snapped to the mesh's axes within
+    /// 20 degrees. Face region: from the landmarks, else from the rig's muscle points, else
+    /// the whole mesh; a region that is most of the mesh fits the whole mesh.
+    pub fn of_face(
+        rig: Option<&Rig>,
+        mesh: &Mesh,
+        landmarks: Option<&[Vec3]>,
+        given: Option<Mat3>,
+    ) -> Framing {
+        let marks = landmarks.and_then(|points| Some((points, landmark_axes(points)?)));
+        let basis = given
+            .or_else(|| marks.map(|(_, axes)| snap(axes)))
+            .or_else(|| rig.and_then(face_axes).map(snap));
+        let Some(basis) = basis else {
+            return Framing::of_mesh(mesh);
+        };
+        let region = match (marks, rig) {
+            (Some((points, _)), _) => landmark_region(points, basis),
+            (None, Some(rig)) => muscle_region(rig, basis),
+            (None, None) => None,
+        };
+        let focus = region.and_then(|region| vertices_inside(region, mesh, basis));
+        Framing::new(basis, focus, mesh)
     }
 
     /// The framing of a mesh alone: up is the longer of its y and z extents (y when equal),
@@ -74,12 +135,8 @@ impl Framing {
 
     fn new(basis: Mat3, focus: Option<Vec<Vec3>>, mesh: &Mesh) -> Framing {
         let points = focus.as_deref().unwrap_or(&mesh.positions);
-        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-        for p in points.iter().filter(|p| p.is_finite()) {
-            let f = basis * *p;
-            lo = lo.min(f);
-            hi = hi.max(f);
-        }
+        let face: Vec<Vec3> = points.iter().map(|p| basis * *p).collect();
+        let (lo, hi) = bounds(&face);
         let extent = hi - lo;
         Framing {
             basis,
@@ -198,40 +255,96 @@ fn muscle_points(rig: &Rig) -> Vec<Vec3> {
     points
 }
 
-/// The rest vertices inside the face region (the muscles' extent across and up, with a
-/// margin), or `None` when that is most of the mesh.
-fn face_region(rig: &Rig, mesh: &Mesh, basis: Mat3) -> Option<Vec<Vec3>> {
-    let points = muscle_points(rig);
+/// The face's axes (rows across, up, out) from its 68 landmarks: across along the eye line
+/// (toward the subject's left), up from the mouth to the eyes, out of the face on the nose
+/// tip's side ([`FaceFrame`]). A mirrored set (the subject's left on the wrong side) still
+/// gives a rotation: across is then taken from up and out. `None` for points that are no
+/// face.
+fn landmark_axes(points: &[Vec3]) -> Option<Mat3> {
+    let frame = FaceFrame::of(points)?;
+    let (up, out) = (frame.up.as_vec3(), frame.forward.as_vec3());
+    let across = up.cross(out).normalize_or_zero();
+    (across != Vec3::ZERO && up.is_finite() && out.is_finite())
+        .then(|| Mat3::from_cols(across, up, out).transpose())
+}
+
+/// The face region the landmarks mark, in face coordinates: their extent, with the forehead
+/// above the brows, room below the chin and beside the jaw line, each measured in the face's
+/// own thirds and width (`FOREHEAD_THIRDS`, `BELOW_CHIN_THIRDS`, `BESIDE_JAW`).
+fn landmark_region(points: &[Vec3], basis: Mat3) -> Option<Region> {
+    if points.len() != COUNT {
+        return None;
+    }
+    let face: Vec<Vec3> = points.iter().map(|p| basis * *p).collect();
+    let (lo, hi) = bounds(&face);
+    let brows = face[17..=26].iter().map(|p| p.y).sum::<f32>() / 10.0;
+    let nose_base = face[NOSE_BASE].y;
+    let middle_third = (brows - nose_base).max(0.0);
+    let lower_third = (nose_base - face[CHIN].y).max(0.0);
+    let beside = (hi.x - lo.x) * BESIDE_JAW;
+    let region = Region {
+        lo: Vec2::new(lo.x - beside, lo.y - lower_third * BELOW_CHIN_THIRDS),
+        hi: Vec2::new(hi.x + beside, hi.y + middle_third * FOREHEAD_THIRDS),
+    };
+    region.is_finite().then_some(region)
+}
+
+/// The landmark below the nose tip (the columella, at the nose's base).
+const NOSE_BASE: usize = 33;
+
+/// The face region the rig's muscle points span, with `FACE_MARGIN` on each side; `None`
+/// with fewer than three points.
+fn muscle_region(rig: &Rig, basis: Mat3) -> Option<Region> {
+    let points: Vec<Vec3> = muscle_points(rig).iter().map(|p| basis * *p).collect();
     if points.len() < 3 {
         return None;
     }
-    let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-    for p in &points {
-        let f = basis * *p;
-        lo = lo.min(f);
-        hi = hi.max(f);
-    }
+    let (lo, hi) = bounds(&points);
     let margin = (hi - lo) * FACE_MARGIN;
-    let (lo, hi) = (lo - margin, hi + margin);
-    let (mut mlo, mut mhi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-    for p in mesh.positions.iter().filter(|p| p.is_finite()) {
-        let f = basis * *p;
-        mlo = mlo.min(f);
-        mhi = mhi.max(f);
+    Some(Region {
+        lo: (lo - margin).truncate(),
+        hi: (hi + margin).truncate(),
+    })
+}
+
+impl Region {
+    fn is_finite(&self) -> bool {
+        self.lo.is_finite() && self.hi.is_finite()
     }
+
+    fn contains(&self, f: Vec3) -> bool {
+        f.x >= self.lo.x && f.x <= self.hi.x && f.y >= self.lo.y && f.y <= self.hi.y
+    }
+}
+
+/// The smallest box holding the finite points (infinite for none).
+fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
+    points
+        .iter()
+        .filter(|p| p.is_finite())
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        })
+}
+
+/// The rest vertices inside the face region, or `None` when that is most of the mesh (or
+/// almost none of it).
+fn vertices_inside(region: Region, mesh: &Mesh, basis: Mat3) -> Option<Vec<Vec3>> {
+    let face: Vec<Vec3> = mesh.positions.iter().map(|p| basis * *p).collect();
+    let (mlo, mhi) = bounds(&face);
+    let (mlo, mhi) = (mlo.truncate(), mhi.truncate());
     // The share of the mesh's extent, across and up, that the face region covers.
-    let covered = (hi.min(mhi) - lo.max(mlo)) / (mhi - mlo).max(Vec3::splat(f32::EPSILON));
+    let covered =
+        (region.hi.min(mhi) - region.lo.max(mlo)) / (mhi - mlo).max(Vec2::splat(f32::EPSILON));
     if covered.x >= MOSTLY_FACE && covered.y >= MOSTLY_FACE {
         return None;
     }
     let inside: Vec<Vec3> = mesh
         .positions
         .iter()
-        .copied()
-        .filter(|p| {
-            let f = basis * *p;
-            f.x >= lo.x && f.x <= hi.x && f.y >= lo.y && f.y <= hi.y
-        })
+        .zip(&face)
+        .filter(|(_, f)| region.contains(**f))
+        .map(|(p, _)| *p)
         .collect();
     (inside.len() >= 3).then_some(inside)
 }
@@ -293,17 +406,26 @@ mod tests {
         if let Some(jaw) = &mut rig.jaw {
             jaw.pivot = turn * jaw.pivot;
         }
-        let framing = Framing::of_rig(&rig, &mesh);
-        // Mesh z is the face's up, mesh -y is out of the face.
-        assert_eq!(framing.basis.row(1), Vec3::Z);
-        assert_eq!(framing.basis.row(2), -Vec3::Y);
-        let focus = framing.focus.expect("the face is a small part of the mesh");
-        assert!(
-            focus.len() >= face * 9 / 10 && focus.len() < face + face / 4,
-            "{}",
-            focus.len()
-        );
-        assert_eq!(Framing::of_mesh(&mesh).basis, framing.basis);
+        let points: Vec<Vec3> = builtin_points(&builtin::default_mesh())
+            .iter()
+            .map(|p| turn * *p)
+            .collect();
+        let by_rig = Framing::of_rig(&rig, &mesh);
+        // The face's landmarks alone frame it the same way: its own vertices (the forehead
+        // and sides within the margins) and the top of the body just under the chin.
+        let by_landmarks = Framing::of_face(None, &mesh, Some(&points), None);
+        for framing in [by_rig.clone(), by_landmarks] {
+            // Mesh z is the face's up, mesh -y is out of the face.
+            assert_eq!(framing.basis.row(1), Vec3::Z);
+            assert_eq!(framing.basis.row(2), -Vec3::Y);
+            let focus = framing.focus.expect("the face is a small part of the mesh");
+            assert!(
+                focus.len() >= face * 9 / 10 && focus.len() < face + face / 4,
+                "{}",
+                focus.len()
+            );
+        }
+        assert_eq!(Framing::of_mesh(&mesh).basis, by_rig.basis);
     }
 
     #[test]
@@ -320,8 +442,35 @@ mod tests {
         );
         let rig = builtin::default_rig();
         let mesh = builtin::default_mesh();
-        let turned = Framing::of_rig_facing(&rig, &mesh, Some(z_up));
+        let turned = Framing::of_face(Some(&rig), &mesh, None, Some(z_up));
         assert_eq!(turned.basis, z_up);
+        let points = builtin_points(&mesh);
+        let turned = Framing::of_face(Some(&rig), &mesh, Some(&points), Some(z_up));
+        assert_eq!(turned.basis, z_up, "given axes come before the landmarks'");
+    }
+
+    fn builtin_points(mesh: &Mesh) -> Vec<Vec3> {
+        builtin::landmarks("face").unwrap().positions(mesh).unwrap()
+    }
+
+    #[test]
+    fn the_built_in_face_is_framed_by_its_landmarks_as_by_its_rig() {
+        let mesh = builtin::default_mesh();
+        let rig = builtin::default_rig();
+        let points = builtin_points(&mesh);
+        let by_marks = Framing::of_face(Some(&rig), &mesh, Some(&points), None);
+        assert_eq!(by_marks, Framing::of_rig(&rig, &mesh));
+        assert_eq!(by_marks, Framing::of_face(None, &mesh, Some(&points), None));
+        // Points that are no face leave the rig to frame it.
+        let flat: Vec<Vec3> = points.iter().map(|p| p.truncate().extend(0.0)).collect();
+        assert_eq!(
+            Framing::of_face(Some(&rig), &mesh, Some(&flat), None),
+            by_marks
+        );
+        assert_eq!(
+            Framing::of_face(None, &mesh, None, None),
+            Framing::of_mesh(&mesh)
+        );
     }
 
     fn tall_in_z() -> Mesh {

@@ -97,21 +97,28 @@ impl KeptPose {
 }
 
 impl Face {
-    /// Binds a rig to its mesh. Fails with a message when the rig does not fit the mesh.
+    /// Binds a rig to its mesh, framed by the rig ([`Framing::of_rig`]). Fails with a
+    /// message when the rig does not fit the mesh.
     pub fn new(rig: Rig, mesh: Mesh) -> Result<Face, String> {
+        let framing = Framing::of_rig(&rig, &mesh);
+        Face::framed(rig, mesh, framing)
+    }
+
+    /// [`Face::new`] with the framing given (the editor's: [`Framing::of_loaded`]).
+    pub fn framed(rig: Rig, mesh: Mesh, framing: Framing) -> Result<Face, String> {
         let (bound, warnings) = bind(&rig, &mesh)?;
-        let mut face = Face::with(Binding::Bound(Box::new(bound)), mesh, None);
+        let mut face = Face::with(Binding::Bound(Box::new(bound)), mesh, framing, None);
         face.share_mesh();
         face.bind_warnings = warnings;
         Ok(face)
     }
 
-    /// Like [`Face::new`], but a big mesh (one with levels of detail) is bound on a thread:
-    /// until [`Face::poll_bind`] takes the bound rig the face shows its rest pose, and a
-    /// bind that fails is reported there.
-    pub fn start(rig: Rig, mesh: Mesh) -> Result<Face, String> {
+    /// Like [`Face::framed`], but a big mesh (one with levels of detail) is bound on a
+    /// thread: until [`Face::poll_bind`] takes the bound rig the face shows its rest pose,
+    /// and a bind that fails is reported there.
+    pub fn start(rig: Rig, mesh: Mesh, framing: Framing) -> Result<Face, String> {
         if mesh.positions.len() < LOD_MIN_VERTICES {
-            return Face::new(rig, mesh);
+            return Face::framed(rig, mesh, framing);
         }
         let rig = Arc::new(rig);
         let slot = Arc::new(OnceLock::new());
@@ -124,6 +131,7 @@ impl Face {
                 slot: Arc::clone(&slot),
             },
             mesh,
+            framing,
             Some(after_bind),
         );
         let mesh = Arc::clone(&face.mesh);
@@ -136,15 +144,19 @@ impl Face {
         Ok(face)
     }
 
-    /// The face around a binding: its framing, and its levels of detail started on a thread
-    /// (once `after` hears from the bind, when there is one).
-    fn with(binding: Binding, mesh: Mesh, after: Option<std::sync::mpsc::Receiver<()>>) -> Face {
+    /// The face around a binding, framed once as loaded (rig-mode edits do not move the
+    /// view), its levels of detail started on a thread (once `after` hears from the bind,
+    /// when there is one).
+    fn with(
+        binding: Binding,
+        mesh: Mesh,
+        framing: Framing,
+        after: Option<std::sync::mpsc::Receiver<()>>,
+    ) -> Face {
         let rig = match &binding {
             Binding::Bound(bound) => bound.rig(),
             Binding::Pending { rig, .. } => rig,
         };
-        // Once, from the rig as loaded: rig-mode edits do not move the view.
-        let framing = Framing::of_rig(rig, &mesh);
         let big = mesh.positions.len() >= LOD_MIN_VERTICES;
         let positions = OnceCell::from(mesh.positions.clone());
         let activations = Activations::zero(rig);
@@ -338,11 +350,6 @@ impl Face {
         &self.framing
     }
 
-    /// Shows the face with the axes given (`--up`, `--front`) instead of the rig's.
-    pub fn face(&mut self, basis: glam::Mat3) {
-        self.framing = Framing::of_rig_facing(self.rig(), &self.mesh, Some(basis));
-    }
-
     /// The rest mesh.
     pub fn mesh(&self) -> &Mesh {
         &self.mesh
@@ -532,7 +539,7 @@ mod tests {
     #[test]
     fn a_started_big_face_shows_its_rest_pose_until_the_bind_lands_then_what_was_given_meanwhile() {
         let rig = builtin::default_rig();
-        let mut scene = Face::start(rig.clone(), big_face()).unwrap();
+        let mut scene = crate::tui::fixture::started(rig.clone(), big_face()).unwrap();
         // The slot is taken only by a poll: until then the face is binding, whatever the
         // thread has done.
         assert!(scene.is_binding());
@@ -580,7 +587,7 @@ mod tests {
             })
             .expect("a linear muscle");
         linear.zone = 120.0;
-        let mut scene = Face::start(rig, big_face()).unwrap();
+        let mut scene = crate::tui::fixture::started(rig, big_face()).unwrap();
         let error = scene.wait_for_bind().unwrap_err();
         assert!(
             error.starts_with("the rig does not fit its mesh"),
@@ -590,8 +597,10 @@ mod tests {
         assert!(scene.is_binding(), "the rest pose stays");
         assert_eq!(scene.poll_bind(), Some(Err(error)), "told again");
         // A small face binds at once, its errors before anything is shown.
-        assert!(Face::start(builtin::default_rig(), builtin::default_mesh())
-            .is_ok_and(|face| !face.is_binding()));
+        assert!(
+            crate::tui::fixture::started(builtin::default_rig(), builtin::default_mesh())
+                .is_ok_and(|face| !face.is_binding())
+        );
     }
 
     #[test]

@@ -107,6 +107,12 @@ pub(crate) fn app() -> App {
     app
 }
 
+/// [`Face::start`] framed by the rig, as the editor frames a rig without landmarks.
+pub(crate) fn started(rig: Rig, mesh: Mesh) -> Result<Face, String> {
+    let framing = crate::render::Framing::of_rig(&rig, &mesh);
+    Face::start(rig, mesh, framing)
+}
+
 /// The built-in face with each triangle split into four (old vertices keep their
 /// numbers, so the built-in rig binds): big enough for levels of detail.
 pub(crate) fn big_face() -> Mesh {

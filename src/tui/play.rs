@@ -115,11 +115,12 @@ struct Status {
     playback: Playback,
 }
 
-/// Plays in the terminal until `q`, a signal, or `frames` frames; the counts stay in
-/// `player`. Skipped rows are named and counted on stderr once the terminal is restored.
+/// Plays in the terminal until `q`, a signal, or `frames` frames, the face shown as
+/// `framing` frames it ([`Framing::of_loaded`]); the counts stay in `player`. Skipped rows are named and counted on stderr once the terminal is restored.
 pub fn run(
     player: &mut Player,
     mesh: Mesh,
+    framing: Framing,
     rig: &Rig,
     cells: CellMode,
     frames: Option<usize>,
@@ -133,7 +134,7 @@ pub fn run(
     let bound = done.bound;
     let rest = bound.rest().to_vec();
     let face = Face {
-        framing: Framing::of_rig(rig, &mesh),
+        framing,
         renderer: Renderer::new(&mesh),
         mesh,
         bound,

@@ -1,6 +1,6 @@
 //! Framing on a head the user brings: a z-up bust (the face toward -y, a body below it)
-//! fitted with `fit-rig` opens upright, facing the viewer, with the face filling the view;
-//! glTF export stands it up in y-up viewers.
+//! fitted with `fit-rig` opens upright, facing the viewer, with the face filling the view
+//! (framed by the landmarks beside its mesh); glTF export stands it up in y-up viewers.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -88,7 +88,8 @@ fn a_fitted_z_up_bust_opens_upright_with_its_face_filling_the_view() {
         String::from_utf8_lossy(&fit.stderr)
     );
     let loaded = grimace::io::load::load_rig(&dir.path().join("bust.rig.ron")).unwrap();
-    let framing = Framing::of_rig(&loaded.rig, &loaded.mesh);
+    let (framing, warning) = Framing::of_loaded(&loaded, None);
+    assert_eq!(warning, None, "the landmarks beside the mesh are read");
     assert_eq!(framing.basis.row(1), Vec3::Z, "up is the mesh's z");
     assert_eq!(framing.basis.row(2), -Vec3::Y, "the face looks toward -y");
     let focus = framing
@@ -176,6 +177,25 @@ fn a_fitted_z_up_bust_opens_upright_with_its_face_filling_the_view() {
     let doc = gltf::Gltf::from_slice(&std::fs::read(dir.path().join("kept.glb")).unwrap()).unwrap();
     let (_, rotation, _) = doc.nodes().next().unwrap().transform().decomposed();
     assert_eq!(rotation, [0.0, 0.0, 0.0, 1.0]);
+
+    // A landmark file that no longer reads frames the face from the rig, with a warning:
+    // the command still draws.
+    std::fs::write(
+        dir.path().join("bust.landmarks.ron"),
+        "(version: 1, vertices: [1, 2])",
+    )
+    .unwrap();
+    let loaded = grimace::io::load::load_rig(&dir.path().join("bust.rig.ron")).unwrap();
+    let (by_rig, warning) = Framing::of_loaded(&loaded, None);
+    assert!(warning.is_some_and(|w| w.contains("without the landmarks")));
+    assert_eq!(by_rig, Framing::of_rig(&loaded.rig, &loaded.mesh));
+    let drawn = grimace_in(dir.path(), &["render", "--rig", "bust.rig.ron"]);
+    assert!(drawn.status.success());
+    let said = String::from_utf8_lossy(&drawn.stderr);
+    assert!(
+        said.contains("warning:") && said.contains("bust.landmarks.ron"),
+        "{said}"
+    );
 }
 
 #[test]

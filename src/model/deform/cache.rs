@@ -32,7 +32,7 @@ pub const CACHE_PATCH_FLOATS: usize = PATCH_FLOATS;
 /// The source text of everything that computes what a bind cache keeps: the fields, the
 /// masks' scales, the spread, the patches, the checks and the rows. A cache's key hashes it,
 /// so any change to this code invalidates caches written before.
-pub const BIND_CODE: [&str; 11] = [
+pub const BIND_CODE: [&str; 12] = [
     include_str!("../deform.rs"),
     include_str!("cache.rs"),
     include_str!("checks.rs"),
@@ -44,6 +44,7 @@ pub const BIND_CODE: [&str; 11] = [
     include_str!("../jaw.rs"),
     include_str!("../rig.rs"),
     include_str!("../mesh.rs"),
+    include_str!("../envelope.rs"),
 ];
 
 /// The costly parts of a bind, borrowed from a bound rig for writing.

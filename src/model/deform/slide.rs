@@ -18,6 +18,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::skin::Adjacency;
+use crate::model::envelope::lower_envelope;
 use crate::model::mesh::{Distance, Mesh};
 
 /// The rest surface around one vertex: an outward normal, two tangents and the quadratic
@@ -199,28 +200,21 @@ fn smooth_lift_caps(
     patches: &mut [Patch],
 ) {
     let rest = &mesh.positions;
-    let mut queue: BinaryHeap<Reverse<(Distance, usize)>> = patches
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| p.lift_cap < NO_CAP)
-        .map(|(r, p)| Reverse((Distance(f64::from(p.lift_cap)), r)))
-        .collect();
-    while let Some(Reverse((Distance(cap), r))) = queue.pop() {
-        if cap > f64::from(patches[r].lift_cap) {
-            continue;
-        }
+    let mut caps: Vec<f64> = patches.iter().map(|p| f64::from(p.lift_cap)).collect();
+    let capped = (0..patches.len()).filter(|&r| patches[r].lift_cap < NO_CAP);
+    let neighbours = |r: usize| {
         let v = vertices[r] as usize;
-        for &w in adjacency.of_vertex(v) {
+        adjacency.of_vertex(v).iter().filter_map(move |&w| {
             let q = row[w as usize];
-            if q == u32::MAX {
-                continue;
-            }
-            let reach = cap + f64::from(LIFT_SHARE) * (rest[w as usize] - rest[v]).length() as f64;
-            if reach < f64::from(patches[q as usize].lift_cap) {
-                patches[q as usize].lift_cap = reach as f32;
-                queue.push(Reverse((Distance(reach as f32 as f64), q as usize)));
-            }
-        }
+            let length = (rest[w as usize] - rest[v]).length() as f64;
+            (q != u32::MAX).then_some((q as usize, length))
+        })
+    };
+    // Rounded to the caps' own precision, so the caps compared are the ones kept.
+    let rise = |cap: f64, length: f64| (cap + f64::from(LIFT_SHARE) * length) as f32 as f64;
+    lower_envelope(&mut caps, capped, neighbours, rise);
+    for (patch, cap) in patches.iter_mut().zip(caps) {
+        patch.lift_cap = cap as f32;
     }
 }
 

@@ -78,7 +78,6 @@ mod tests {
 
     use super::*;
     use crate::io::builtin;
-    use crate::tui::face::Face;
 
     fn status_text(app: &App) -> String {
         let area = Rect::new(0, 0, 160, 1);
@@ -89,7 +88,9 @@ mod tests {
 
     #[test]
     fn the_status_line_says_binding_until_the_bound_rig_is_taken() {
-        let face = Face::start(builtin::default_rig(), crate::tui::fixture::big_face()).unwrap();
+        let face =
+            crate::tui::fixture::started(builtin::default_rig(), crate::tui::fixture::big_face())
+                .unwrap();
         let mut app = App::new(face, builtin::default_table(), None);
         assert!(
             status_text(&app).contains("| binding... "),
