@@ -11,8 +11,15 @@ mod slurm;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// The example plan with tiny images, so a debug build runs it in seconds.
+/// The example plan (`presets/example.plan.ron`) written in `dir` with small pictures (24 x
+/// 24), so its 336 items run in seconds.
 fn small_example(dir: &Path) -> PathBuf {
+    example_sized(dir, 24)
+}
+
+/// The example plan written in `dir` with pictures `side` x `side`: its 336 items cost time
+/// in proportion to their pixels, not to the code's speed alone.
+fn example_sized(dir: &Path, side: u32) -> PathBuf {
     let text = std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/example.plan.ron"),
     )
@@ -22,7 +29,8 @@ fn small_example(dir: &Path) -> PathBuf {
         "the example plan's size changed"
     );
     let path = dir.join("example.plan.ron");
-    std::fs::write(&path, text.replace("size: (128, 128)", "size: (24, 24)")).expect("write plan");
+    let size = format!("size: ({side}, {side})");
+    std::fs::write(&path, text.replace("size: (128, 128)", &size)).expect("write plan");
     path
 }
 

@@ -214,7 +214,10 @@ fn the_example_plan_runs_as_a_slurm_array_with_a_cancelled_shard_resubmitted() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
-    let plan = small_example(tmp.path());
+    // Pictures large enough (a shard of 84 items takes about 2 s on one core of an optimised
+    // build) that shard 2 is still running when it is cancelled: with the tiny ones a fast
+    // build finished the shard between the poll that saw it start and the cancel.
+    let plan = example_sized(tmp.path(), 768);
     let one = tmp.path().join("one");
     let out = run(&[
         plan.as_os_str(),
