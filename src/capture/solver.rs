@@ -218,9 +218,9 @@ impl<'a> FrameSolver<'a> {
     /// at rest), every variable free to go below 0 as far as above it (below 0, a muscle
     /// works less than in the neutral), held near 0 by a ridge on each variable scaled by its
     /// own weight ([`Regularisation::signed_ridge`]) rather than by the sparsity term (an L1
-    /// price would favour going below 0). The bounds
-    /// are applied after the solve, not in it: this reads how far a frame is from the
-    /// neutral in muscle units, it does not explain the frame.
+    /// price would favour going below 0). The bounds are applied after the solve, not in
+    /// it: this reads how far a frame is from the neutral in muscle units, it does not
+    /// explain the frame.
     pub fn signed(&self, motion: &[DVec3]) -> Vec<f64> {
         let n = self.model.variable_count();
         let jaw = self.model.has_jaw().then(|| self.model.jaw_slope(0.0));

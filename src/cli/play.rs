@@ -114,24 +114,22 @@ pub struct PlayArgs {
 pub fn run(args: &PlayArgs) -> Result<()> {
     check_args(args)?;
     let (face, table) = load_face(args)?;
-    // Only the terminal's view is framed (headless prints numbers).
-    let framing = (!args.headless).then(|| super::framing(&face, None));
-    let LoadedRig { rig, mesh, .. } = face;
-    let mapper = AuMapper::new(&table, &rig);
-    let source = open_source(args, &rig, &table, &mapper)?;
-    let Some(framing) = framing else {
+    let mapper = AuMapper::new(&table, &face.rig);
+    let source = open_source(args, &face.rig, &table, &mapper)?;
+    if args.headless {
         let stdout = io::stdout();
         let mut out = BufWriter::new(stdout.lock());
-        let summary = play_headless(args, source, &rig, &table, &mapper, &mut out)?;
+        let summary = play_headless(args, source, &face.rig, &table, &mapper, &mut out)?;
         if args.stats {
             eprintln!("{}", summary.stats.summary());
         }
         return Ok(());
-    };
+    }
     if !io::stdout().is_terminal() {
         bail!("stdout is not a terminal: use --headless to print frames instead of drawing");
     }
-    let summary = view(args, source, mesh, framing, &rig, &table, &mapper)?;
+    let framing = super::framing(&face, None);
+    let summary = view(args, source, face.mesh, framing, &face.rig, &table, &mapper)?;
     println!(
         "played {} frames, skipped {}",
         summary.played, summary.skipped

@@ -20,6 +20,7 @@ use glam::{Mat3, Vec2, Vec3};
 
 use crate::io::load::LoadedRig;
 use crate::landmarks::{FaceFrame, CHIN, COUNT};
+use crate::model::mesh::bounds_of as bounds;
 use crate::model::{Mesh, MuscleKind, Rig};
 
 /// Up to this angle between the face's axes and an axis-aligned frame, the aligned frame is
@@ -315,16 +316,6 @@ impl Region {
     fn contains(&self, f: Vec3) -> bool {
         f.x >= self.lo.x && f.x <= self.hi.x && f.y >= self.lo.y && f.y <= self.hi.y
     }
-}
-
-/// The smallest box holding the finite points (infinite for none).
-fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
-    points
-        .iter()
-        .filter(|p| p.is_finite())
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(*p), hi.max(*p))
-        })
 }
 
 /// The rest vertices inside the face region, or `None` when that is most of the mesh (or

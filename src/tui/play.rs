@@ -116,7 +116,8 @@ struct Status {
 }
 
 /// Plays in the terminal until `q`, a signal, or `frames` frames, the face shown as
-/// `framing` frames it ([`Framing::of_loaded`]); the counts stay in `player`. Skipped rows are named and counted on stderr once the terminal is restored.
+/// `framing` frames it ([`Framing::of_loaded`]); the counts stay in `player`. Skipped rows
+/// are named and counted on stderr once the terminal is restored.
 pub fn run(
     player: &mut Player,
     mesh: Mesh,
