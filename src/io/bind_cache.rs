@@ -267,13 +267,13 @@ fn prune(dir: &Path, keep: &Path) {
         })
         .collect();
     files.sort_by_key(|f| std::cmp::Reverse(f.0));
+    // `keep` is one of the files kept wherever its time puts it (files written within the
+    // file system's time resolution tie, in no set order): the others are counted apart.
     let mut total = 0u64;
-    for (index, (_, len, path)) in files.into_iter().enumerate() {
-        if path == keep {
-            continue;
-        }
+    let others = files.into_iter().filter(|(_, _, path)| path != keep);
+    for (index, (_, len, path)) in others.enumerate() {
         total += len;
-        if index >= KEEP_FILES || total > KEEP_BYTES {
+        if index + 1 >= KEEP_FILES || total > KEEP_BYTES {
             let _ = fs::remove_file(&path);
         }
     }
