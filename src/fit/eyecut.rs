@@ -4,8 +4,9 @@
 //! is as lit as the cheek, so it does not read as an eye. [`find`] finds, per eye, the lid
 //! margins from the landmarks and the mesh and the band between them; [`open`] takes the
 //! band out of the skin: its triangles move onto copies of their vertices, set back behind
-//! the opening and closed by a dome behind it into a dark eye (the group [`GROUP`], drawn
-//! dark by `shaded` and kept still by the muscles). The lids are then separate surfaces that
+//! the opening and closed by a dome behind it into an eye (the group [`GROUP`], kept still by
+//! the muscles; `shaded` paints an iris on it where the landmarks are known and draws it dark
+//! where they are not). The lids are then separate surfaces that
 //! meet at the corners.
 //!
 //! The margins are found as the lip line is ([`super::lipcut`]): the shortest chain of mesh
@@ -31,8 +32,8 @@ use crate::landmarks::{
 };
 use crate::model::Mesh;
 
-/// The eye's inside: its group name, drawn nearly black by `shaded`, a still part for
-/// `fit-rig` (the name holds `eye`).
+/// The eye's inside: its group name, drawn by `shaded` as an eye with a painted iris (nearly
+/// black without landmarks), a still part for `fit-rig` (the name holds `eye`).
 pub const GROUP: &str = "eye_interior";
 
 /// How far from the eye's centre its margins are looked for, in eye widths (corner to

@@ -19,7 +19,9 @@
 use glam::{Mat3, Vec2, Vec3};
 
 use crate::io::load::LoadedRig;
-use crate::landmarks::{FaceFrame, CHIN, COUNT};
+use crate::landmarks::{
+    FaceFrame, CHIN, COUNT, LEFT_EYE_LOWER, LEFT_EYE_UPPER, RIGHT_EYE_LOWER, RIGHT_EYE_UPPER,
+};
 use crate::model::mesh::bounds_of as bounds;
 use crate::model::{Mesh, MuscleKind, Rig};
 
@@ -61,6 +63,65 @@ pub struct Framing {
     /// The extent of what a view fits, in face coordinates (measured once, so views that
     /// scale steps and pans with the face pay nothing per frame).
     extent: Vec3,
+    /// Where the irises are, from the landmarks (empty without them): `shaded` paints them on
+    /// eyes the mesh does not model to the iris ([`Iris`]).
+    pub irises: Vec<Iris>,
+}
+
+/// An iris looking straight out of the face, at rest: a disc in the face's plane. Drawn on
+/// the eye's surface where a mesh's eyes are blank (an eyeball without an iris of its own, or
+/// the inside of an eye opened by `fit-rig`): a face tracker, like a person, reads an eye
+/// with no iris as a closed or a blind one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Iris {
+    /// The iris's centre, in mesh coordinates (only its place in the face's plane counts).
+    pub centre: Vec3,
+    /// Unit vectors across the face (to the subject's left) and up it, in mesh coordinates.
+    pub across: Vec3,
+    /// See `across`.
+    pub up: Vec3,
+    /// The iris's radius, in mesh units.
+    pub radius: f32,
+}
+
+/// The iris's diameter over the eye's width (corner to corner): about 11.8 mm of a
+/// palpebral fissure about 29 mm long in adults.
+const IRIS_OF_EYE_WIDTH: f32 = 0.2;
+
+impl Iris {
+    /// The two irises of a face with these 68 landmarks (iBUG scheme), in the face's axes
+    /// `basis` (rows across, up, out): each centred on its eye's opening (the mean of its six
+    /// landmarks, so straight ahead), its radius a fifth of the eye's width ([`IRIS_OF_EYE_WIDTH`]).
+    /// None when the landmarks are not 68 or an eye has no width.
+    pub fn of_landmarks(points: &[Vec3], basis: Mat3) -> Vec<Iris> {
+        if points.len() != COUNT {
+            return Vec::new();
+        }
+        let (across, up) = (basis.row(0), basis.row(1));
+        let eye = |upper: [usize; 4], lower: [usize; 4]| {
+            let ring = [upper[0], upper[1], upper[2], upper[3], lower[1], lower[2]];
+            let centre = ring.iter().map(|&i| points[i]).sum::<Vec3>() / 6.0;
+            let width = points[upper[0]].distance(points[upper[3]]);
+            Iris {
+                centre,
+                across,
+                up,
+                radius: IRIS_OF_EYE_WIDTH * width,
+            }
+        };
+        let irises = [
+            eye(RIGHT_EYE_UPPER, RIGHT_EYE_LOWER),
+            eye(LEFT_EYE_UPPER, LEFT_EYE_LOWER),
+        ];
+        if irises
+            .iter()
+            .all(|i| i.radius.is_finite() && i.radius > 0.0 && i.centre.is_finite())
+        {
+            irises.to_vec()
+        } else {
+            Vec::new()
+        }
+    }
 }
 
 /// The face region: a box across and up in face coordinates (depth is not bounded).
@@ -118,7 +179,11 @@ impl Framing {
             (None, None) => None,
         };
         let focus = region.and_then(|region| vertices_inside(region, mesh, basis));
-        Framing::new(basis, focus, mesh)
+        let mut framing = Framing::new(basis, focus, mesh);
+        if let Some((points, _)) = marks {
+            framing.irises = Iris::of_landmarks(points, basis);
+        }
+        framing
     }
 
     /// The framing of a mesh alone: up is the longer of its y and z extents (y when equal),
@@ -147,6 +212,7 @@ impl Framing {
             } else {
                 Vec3::ONE
             },
+            irises: Vec::new(),
         }
     }
 
@@ -450,8 +516,14 @@ mod tests {
         let rig = builtin::default_rig();
         let points = builtin_points(&mesh);
         let by_marks = Framing::of_face(Some(&rig), &mesh, Some(&points), None);
-        assert_eq!(by_marks, Framing::of_rig(&rig, &mesh));
         assert_eq!(by_marks, Framing::of_face(None, &mesh, Some(&points), None));
+        // The landmarks add the irises; the view is the rig's.
+        assert_eq!(by_marks.irises.len(), 2);
+        let by_marks = Framing {
+            irises: Vec::new(),
+            ..by_marks
+        };
+        assert_eq!(by_marks, Framing::of_rig(&rig, &mesh));
         // Points that are no face leave the rig to frame it.
         let flat: Vec<Vec3> = points.iter().map(|p| p.truncate().extend(0.0)).collect();
         assert_eq!(

@@ -225,6 +225,9 @@ pub struct Scene<'a> {
     /// The points the view is fitted to (the face region of a bigger mesh, see
     /// [`super::Framing`]); `None` fits the whole rest pose.
     pub focus: Option<&'a [Vec3]>,
+    /// Irises the shaded style paints on blank eyes (see [`super::framing::Iris`]); set by
+    /// [`Scene::with_framing`].
+    pub irises: &'a [super::framing::Iris],
     /// Shapes drawn on top.
     pub overlays: &'a [Overlay],
     /// Draw the rest pose's outline faintly where the mesh leaves dots dark.
@@ -258,6 +261,7 @@ impl<'a> Scene<'a> {
             positions,
             rest: None,
             focus: None,
+            irises: &[],
             overlays: &[],
             ghost: false,
             displacement: false,
@@ -293,10 +297,12 @@ impl<'a> Scene<'a> {
         self.focus.unwrap_or_else(|| self.rest_positions())
     }
 
-    /// The same scene fitted to `framing`'s face region (unchanged when it has none).
+    /// The same scene fitted to `framing`'s face region (unchanged when it has none), with
+    /// its irises.
     pub fn with_framing(self, framing: &'a super::Framing) -> Scene<'a> {
         Scene {
             focus: framing.focus.as_deref().or(self.focus),
+            irises: &framing.irises,
             ..self
         }
     }

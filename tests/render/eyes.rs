@@ -9,7 +9,7 @@ use grimace::face::groups::skin_len;
 use grimace::face::rigs::skin_under;
 use grimace::io::builtin;
 use grimace::model::Mesh;
-use grimace::render::{Camera, CellMode, DotCanvas, Projection, Renderer, Scene, Style};
+use grimace::render::{Camera, CellMode, DotCanvas, Framing, Projection, Renderer, Scene, Style};
 
 const COLS: usize = 200;
 const ROWS: usize = 60;
@@ -158,4 +158,104 @@ fn shaded_the_iris_is_darker_than_the_white_and_the_pupil_darkest() {
         "iris {iris:.2} of its dots lit, the white {sclera:.2}"
     );
     assert!(pupil < 0.5 * iris, "pupil {pupil:.2}, iris {iris:.2}");
+}
+
+/// The default face with its irises and pupils taken away: blank eyeballs.
+fn blank_eyed() -> Mesh {
+    let mut mesh = builtin::default_mesh();
+    mesh.groups
+        .retain(|name, _| !name.contains("iris") && !name.contains("pupil"));
+    assert!(mesh.groups.keys().any(|name| name.contains("eyeball")));
+    mesh
+}
+
+/// The luma of the lit dot nearest `p` (within two dots), or `None` where none is lit.
+fn luma_near(canvas: &DotCanvas, p: Vec2) -> Option<f32> {
+    let mut best: Option<(f32, f32)> = None;
+    for dy in -2i32..=2 {
+        for dx in -2i32..=2 {
+            let (x, y) = (p.x as i32 + dx, p.y as i32 + dy);
+            if x < 0 || y < 0 || !canvas.is_on(x as usize, y as usize) {
+                continue;
+            }
+            let d = (dx * dx + dy * dy) as f32;
+            let luma = canvas.color(x as usize, y as usize).map(|c| c.luma());
+            if let (Some(l), true) = (luma, best.is_none_or(|(bd, _)| d < bd)) {
+                best = Some((d, l));
+            }
+        }
+    }
+    best.map(|(_, l)| l)
+}
+
+#[test]
+fn blank_eyes_get_irises_where_the_landmarks_put_them() {
+    let mesh = blank_eyed();
+    let points = builtin::landmarks("default")
+        .expect("the default face has landmarks")
+        .positions(&mesh)
+        .expect("they lie on it");
+    let framing = Framing::of_face(None, &mesh, Some(&points), None);
+    assert_eq!(framing.irises.len(), 2, "one iris per eye");
+    let camera = Camera::front();
+    let draw = |scene: Scene| {
+        let mut canvas = CellMode::Braille.canvas(COLS, ROWS);
+        // Undithered: a dot's colour is its shade.
+        canvas.dither = false;
+        Renderer::new(&mesh).render(&scene, &camera, Style::Shaded, &mut canvas);
+        canvas
+    };
+    let painted = draw(Scene::new(&mesh, &mesh.positions).with_framing(&framing));
+    let blank = draw(Scene::new(&mesh, &mesh.positions));
+    let proj = camera.fit_points(
+        &mesh.positions,
+        painted.width(),
+        painted.height(),
+        painted.dot_aspect,
+    );
+    for iris in &framing.irises {
+        // The pupil at the centre, the iris half way out, the sclera beyond the iris.
+        let at = |r: f32| {
+            proj.project(iris.centre + iris.across * iris.radius * r)
+                .truncate()
+        };
+        let luma = |canvas: &DotCanvas, r: f32| {
+            luma_near(canvas, at(r)).unwrap_or_else(|| panic!("no dot drawn at {r} iris radii"))
+        };
+        // The sclera beside the iris, on the side the light comes from (the renderer's
+        // light is to the viewer's left, the subject's right).
+        let sclera = luma(&painted, -1.5).max(luma(&painted, 1.5));
+        for r in [-0.2, 0.0, 0.2] {
+            let (p, b) = (luma(&painted, r), luma(&blank, r));
+            assert!(
+                p < 0.25 * sclera && p < 0.25 * b,
+                "pupil at {r}: {p} against the sclera's {sclera} and the blank eye's {b}"
+            );
+        }
+        for r in [-0.7, 0.7] {
+            let p = luma(&painted, r);
+            assert!(
+                (0.25 * sclera..0.75 * sclera).contains(&p),
+                "iris at {r}: {p} against the sclera's {sclera}"
+            );
+        }
+    }
+    // The face's own irises are left as they are.
+    let own = builtin::default_mesh();
+    let mut a = CellMode::Braille.canvas(COLS, ROWS);
+    let mut b = CellMode::Braille.canvas(COLS, ROWS);
+    let scene = Scene::new(&own, &own.positions);
+    Renderer::new(&own).render(&scene, &camera, Style::Shaded, &mut a);
+    let with = Scene::new(&own, &own.positions).with_framing(&framing);
+    Renderer::new(&own).render(&with, &camera, Style::Shaded, &mut b);
+    let colors = |c: &DotCanvas| {
+        (0..c.height())
+            .flat_map(|y| (0..c.width()).map(move |x| (x, y)))
+            .map(|(x, y)| c.color(x, y))
+            .collect::<Vec<_>>()
+    };
+    assert!(
+        colors(&a) == colors(&b),
+        "a face with irises of its own is drawn as it was"
+    );
 }

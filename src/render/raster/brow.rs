@@ -86,49 +86,74 @@ impl Renderer {
     /// is set, not scaled, so it is toned once.
     #[inline(never)]
     pub(super) fn tone_brows(&mut self, w: usize, h: usize, depth: &[f32]) {
-        let small = w.max(h) < 1 << 24;
-        for b in &self.brows {
-            let t = b.triangle as usize;
-            if !self.facing[t] {
-                continue;
-            }
-            let tri = self.triangles[t];
-            let p = tri.map(|i| self.projected[i as usize]);
-            let [x0, x1, y0, y1] = if small {
-                triangle_box(tri.map(|i| self.dot_spans[i as usize]))
-            } else {
-                float_box(p, w, h)
-            };
-            let [a, bb, c] = p;
-            let area = (bb.x - a.x) * (c.y - a.y) - (bb.y - a.y) * (c.x - a.x);
-            if x0 >= x1 || y0 >= y1 || !area.is_finite() || area.abs() < 1e-9 {
-                continue;
-            }
-            let [wa, wb] = corner_weights(p, area);
-            let z = plane(wa, wb, [a.z, bb.z, c.z]);
-            let (along, across) = (plane(wa, wb, b.along), plane(wa, wb, b.across));
+        for k in 0..self.brows.len() {
+            let b = self.brows[k];
+            let tri = self.triangles[b.triangle as usize];
             // The corners' shades before the brow's tone (corners inside the band carry it
             // per vertex).
             let untoned = b
                 .corners_in_band()
                 .map(|inside| if inside { BROW_TONE } else { 1.0 });
-            let shade = plane(
-                wa,
-                wb,
-                [0, 1, 2].map(|k| self.vertex_shade[tri[k] as usize] / untoned[k]),
+            let shade = [0, 1, 2].map(|k| self.vertex_shade[tri[k] as usize] / untoned[k]);
+            self.retone_dots(
+                b.triangle as usize,
+                shade,
+                [b.along, b.across],
+                (w, h, depth),
+                |shade, [along, across]| {
+                    shade
+                        * if in_band(along, across) {
+                            BROW_TONE
+                        } else {
+                            1.0
+                        }
+                },
             );
-            for y in y0..y1 {
-                let py = y as f32 + 0.5;
-                for x in x0..x1 {
-                    let px = x as f32 + 0.5;
-                    let i = y * w + x;
-                    let drawn = inside(plane_at(wa, px, py), plane_at(wb, px, py))
-                        && depth.get(i) == Some(&plane_at(z, px, py));
-                    if drawn {
-                        let brow = in_band(plane_at(along, px, py), plane_at(across, px, py));
-                        let tone = if brow { BROW_TONE } else { 1.0 };
-                        self.dot_shade[i] = plane_at(shade, px, py) * tone;
-                    }
+        }
+    }
+
+    /// Steps again over the dots triangle `t` drew (if it faces the viewer): every dot whose
+    /// depth is the triangle's own (to the bit: the same plane evaluated the same way) gets
+    /// the shade `dot` gives from the corners' `shade` and the corner attributes `attrs`
+    /// interpolated there. A dot two such triangles both claim, on their shared edge, is set,
+    /// not scaled, so it is toned once.
+    pub(super) fn retone_dots<const K: usize>(
+        &mut self,
+        t: usize,
+        shade: [f32; 3],
+        attrs: [[f32; 3]; K],
+        (w, h, depth): (usize, usize, &[f32]),
+        dot: impl Fn(f32, [f32; K]) -> f32,
+    ) {
+        if !self.facing[t] {
+            return;
+        }
+        let tri = self.triangles[t];
+        let p = tri.map(|i| self.projected[i as usize]);
+        let [x0, x1, y0, y1] = if w.max(h) < 1 << 24 {
+            triangle_box(tri.map(|i| self.dot_spans[i as usize]))
+        } else {
+            float_box(p, w, h)
+        };
+        let [a, b, c] = p;
+        let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        if x0 >= x1 || y0 >= y1 || !area.is_finite() || area.abs() < 1e-9 {
+            return;
+        }
+        let [wa, wb] = corner_weights(p, area);
+        let z = plane(wa, wb, [a.z, b.z, c.z]);
+        let attrs = attrs.map(|v| plane(wa, wb, v));
+        let shade = plane(wa, wb, shade);
+        for y in y0..y1 {
+            let py = y as f32 + 0.5;
+            for x in x0..x1 {
+                let px = x as f32 + 0.5;
+                let i = y * w + x;
+                let drawn = inside(plane_at(wa, px, py), plane_at(wb, px, py))
+                    && depth.get(i) == Some(&plane_at(z, px, py));
+                if drawn {
+                    let at = attrs.map(|a| plane_at(a, px, py));
+                    self.dot_shade[i] = dot(plane_at(shade, px, py), at);
                 }
             }
         }

@@ -14,7 +14,7 @@ use crate::render::scene::{displacement_ramp, Scene};
 /// Light direction in view space: from the upper front, a little from the viewer's left.
 pub(super) const LIGHT: Vec3 = Vec3::new(-0.30, 0.55, 0.78);
 /// Shading floor, so surfaces turned away from the light still show a few dots.
-const AMBIENT: f32 = 0.08;
+pub(super) const AMBIENT: f32 = 0.08;
 /// A 4x4 ordered-dither (Bayer) matrix, thresholds 0..16.
 const BAYER: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
 
@@ -69,6 +69,7 @@ impl Renderer {
             }
         }
         self.tone_brows(w, h, depth);
+        self.tone_irises(w, h, depth);
         let look = Look {
             base: scene.palette.mesh,
             dither,
@@ -257,8 +258,9 @@ impl Look<'_> {
 }
 
 /// The tone of a vertex group's material by its name: irises are mid grey, pupils and the
-/// inside of the mouth and of a cut-open eye nearly black, brow hair dark, the tongue and gums a little darker
-/// than skin and teeth, everything else as lit.
+/// inside of the mouth and of a cut-open eye nearly black (an eye with an iris painted on it
+/// is lit instead, `iris`), brow hair dark, the tongue and gums a little darker than skin and
+/// teeth, everything else as lit.
 const TONES: [(&str, f32); 7] = [
     ("pupil", 0.12),
     ("mouth_interior", 0.06),

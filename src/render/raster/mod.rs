@@ -21,6 +21,7 @@ mod depth;
 mod features;
 mod fill;
 mod grid;
+mod iris;
 mod lines;
 mod project;
 
@@ -112,6 +113,12 @@ pub struct Renderer {
     /// The triangles a brow band's edge crosses, in triangle order (empty when the brows,
     /// if any, are toned per vertex).
     brows: Vec<brow::BrowTriangle>,
+    /// Per vertex, whether it lies on an eye drawn without an iris (empty: none).
+    blank_eyes: Vec<bool>,
+    /// The triangles of blank eyes that reach an iris's disc (see `iris`).
+    irises: Vec<iris::IrisTriangle>,
+    /// The irises `irises` was found for (`None`: not yet, since the last rebuild).
+    painted_irises: Option<Vec<crate::render::framing::Iris>>,
     vertex_heat: Vec<f32>,
     rest_projected: Vec<Vec3>,
     rest_facing: Vec<bool>,
@@ -166,6 +173,15 @@ impl Renderer {
         }
         self.edges = build_edges(&self.triangles, mesh.positions.len());
         self.auto_sign = detect_orientation(mesh);
+        self.blank_eyes = iris::blank_eyes(mesh);
+        self.irises.clear();
+        self.painted_irises = None;
+        self.compute_tones(mesh);
+    }
+
+    /// Per-vertex tones of the materials, the brows' bands, and the eyes: a blank eye that
+    /// has an iris painted on it is a lit sclera.
+    fn compute_tones(&mut self, mesh: &Mesh) {
         let brows = brow::brow_triangles(mesh, &self.triangles, self.auto_sign);
         fill::vertex_tones(mesh, brows.is_some(), &mut self.vertex_tone);
         self.brows = brows.unwrap_or_default();
@@ -173,6 +189,16 @@ impl Renderer {
         brow::tone_corners(&self.brows, &self.triangles, n, &mut self.vertex_tone);
         // Only the triangles a band's edge crosses need their dots toned one by one.
         self.brows.retain(|b| b.corners_in_band() != [true; 3]);
+        if !self.irises.is_empty() && !self.vertex_tone.is_empty() {
+            for (tone, _) in self
+                .vertex_tone
+                .iter_mut()
+                .zip(&self.blank_eyes)
+                .filter(|(_, &eye)| eye)
+            {
+                *tone = 1.0;
+            }
+        }
     }
 
     /// The winding the renderer detected for its mesh: `Outward` or `Inward`.
@@ -354,6 +380,9 @@ impl Renderer {
             return;
         };
         if style == Style::Shaded {
+            if !self.blank_eyes.is_empty() {
+                self.paint_irises(scene.mesh, scene.irises);
+            }
             self.compute_shading(scene);
             self.compute_heat(scene);
             self.fill_shaded(scene, canvas);

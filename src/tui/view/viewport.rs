@@ -142,6 +142,7 @@ fn render_face(app: &App, cache: &mut RenderCache, inner: Rect, selected: Option
             app.doc.face.sample(level, sampled);
             Scene {
                 focus: Some(&level.frame),
+                irises: &app.doc.face.framing().irises,
                 ..Scene::new(&level.mesh, sampled)
             }
         }
