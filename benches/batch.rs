@@ -87,13 +87,7 @@ fn face(rig: Rig, mesh: Mesh) -> Face {
         framing: Framing::of_rig(&rig, &mesh),
         bound,
         table: builtin::default_table(),
-        rig: LoadedRig {
-            rig,
-            mesh,
-            path: PathBuf::from("bench"),
-            mesh_path: None,
-            notice: None,
-        },
+        rig: LoadedRig::new(rig, mesh, PathBuf::from("bench"), None),
         metres_per_unit: 0.001,
     }
 }

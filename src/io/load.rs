@@ -31,9 +31,19 @@ pub struct LoadedRig {
     /// What loading did to an older file (a version 1 rig converted), to show the user once;
     /// `None` for a current file.
     pub notice: Option<String>,
+    /// The landmark points on the mesh, found once when loading ([`LoadedRig::landmark_points`]).
+    points: Result<Option<Vec<glam::Vec3>>, LoadError>,
 }
 
 impl LoadedRig {
+    /// A rig and its mesh as loading makes them, from parts already in memory: `path` is the
+    /// rig's file (relative mesh names resolve against it), `mesh_path` the mesh's file
+    /// (`None`: the built-in mesh the rig names). Its landmark points are found as loading
+    /// finds them, and a mesh file's brows marked from them.
+    pub fn new(rig: Rig, mesh: Mesh, path: PathBuf, mesh_path: Option<PathBuf>) -> LoadedRig {
+        loaded(rig, mesh, &path, mesh_path, None)
+    }
+
     /// The landmarks of a loaded rig's mesh when none are given: the built-in face's own for a
     /// built-in mesh, else the file [`beside`] the mesh. Gives the landmarks and where they came
     /// from; the error says what is missing and names `flag`, the option that gives them.
@@ -75,25 +85,61 @@ impl LoadedRig {
     /// face (the views' framing): the built-in face's own, the file [`beside`] the mesh read,
     /// else MediaPipe's numbering on a mesh with a MediaPipe face mesh's vertex count when
     /// that makes a face. `Ok(None)` without landmarks; an error for a landmark file that is
-    /// there but cannot be read or does not fit the mesh.
+    /// there but cannot be read or does not fit the mesh. Found once, when the rig is loaded
+    /// (the brows are marked from the same points).
     pub fn landmark_points(&self) -> Result<Option<Vec<glam::Vec3>>, LoadError> {
-        let Some(mesh_file) = &self.mesh_path else {
-            let name = match mesh_ref(&self.path, &self.rig.mesh) {
-                MeshRef::Builtin(name) => name,
-                MeshRef::File(_) => return Ok(None),
-            };
-            return Ok(builtin::landmarks(&name).and_then(|l| l.positions(&self.mesh).ok()));
+        self.points.clone()
+    }
+}
+
+/// [`LoadedRig::landmark_points`] of a rig file `path` whose mesh is `mesh`, read from
+/// `mesh_file` (`None`: the built-in mesh the rig names).
+fn find_landmark_points(
+    path: &Path,
+    rig: &Rig,
+    mesh: &Mesh,
+    mesh_file: Option<&Path>,
+) -> Result<Option<Vec<glam::Vec3>>, LoadError> {
+    let Some(mesh_file) = mesh_file else {
+        let name = match mesh_ref(path, &rig.mesh) {
+            MeshRef::Builtin(name) => name,
+            MeshRef::File(_) => return Ok(None),
         };
-        let path = super::landmarks::beside(mesh_file);
-        if path.is_file() {
-            let landmarks = super::landmarks::load_landmarks(&path)?;
-            return super::landmarks::check_against(&landmarks, &self.mesh, &path, None).map(Some);
-        }
-        // A MediaPipe face mesh needs no landmark file; a mesh that only has its vertex
-        // count gives points that are no face, and is framed without landmarks.
-        Ok(crate::landmarks::Landmarks::mediapipe(&self.mesh)
-            .and_then(|l| l.positions(&self.mesh))
-            .ok())
+        return Ok(builtin::landmarks(&name).and_then(|l| l.positions(mesh).ok()));
+    };
+    let beside = super::landmarks::beside(mesh_file);
+    if beside.is_file() {
+        let landmarks = super::landmarks::load_landmarks(&beside)?;
+        return super::landmarks::check_against(&landmarks, mesh, &beside, None).map(Some);
+    }
+    // A MediaPipe face mesh needs no landmark file; a mesh that only has its vertex
+    // count gives points that are no face, and is framed without landmarks.
+    Ok(crate::landmarks::Landmarks::mediapipe(mesh)
+        .and_then(|l| l.positions(mesh))
+        .ok())
+}
+
+/// A loaded rig, its landmark points found and, on a mesh file without brows of its own,
+/// the brows marked from them ([`crate::fit::brow_hair`]; without landmarks, or with
+/// landmarks that cannot be used, the mesh stays as it is, its brows simply not drawn).
+fn loaded(
+    rig: Rig,
+    mut mesh: Mesh,
+    path: &Path,
+    mesh_path: Option<PathBuf>,
+    notice: Option<String>,
+) -> LoadedRig {
+    let points = find_landmark_points(path, &rig, &mesh, mesh_path.as_deref());
+    if let (Some(_), Ok(Some(points))) = (&mesh_path, &points) {
+        crate::fit::brow_hair::mark(&mut mesh, points);
+    }
+    LoadedRig {
+        rig,
+        mesh,
+        path: path.to_path_buf(),
+        mesh_path,
+        notice,
+        points,
     }
 }
 
@@ -154,13 +200,7 @@ pub fn load_rig_ref(
         }
     };
     check_rig_mesh(&rig, &mesh).map_err(|issue| LoadError::new(reference, issue.to_string()))?;
-    Ok(LoadedRig {
-        rig,
-        mesh,
-        path: reference.to_path_buf(),
-        mesh_path,
-        notice: None,
-    })
+    Ok(loaded(rig, mesh, reference, mesh_path, None))
 }
 
 /// Loads a rig file; `mesh_override` replaces the mesh the rig names (as `--mesh` does on the
@@ -179,43 +219,18 @@ pub fn load_rig_with(
         (parsed, read.map(|thread| thread.join()))
     });
     let (mut rig, notice) = parsed?;
-    let (mut mesh, mesh_path) = match (mesh_override, read) {
+    let (mesh, mesh_path) = match (mesh_override, read) {
         (Some(file), Some(Ok(read))) => (read?, Some(file.to_path_buf())),
         (_, Some(Err(panic))) => std::panic::resume_unwind(panic),
         _ => load_named_mesh(&rig, &text, path, builtin)?,
     };
-    if let Some(file) = &mesh_path {
-        mark_brow_hair(&mut mesh, file);
-    }
     if let (None, MeshRef::Builtin(name)) = (mesh_override, mesh_ref(path, &rig.mesh)) {
         builtin::hold_eyes_still(&name, &mesh, &mut rig);
     }
     if let Err(issue) = check_rig_mesh(&rig, &mesh) {
         return Err(locate(path, &text, &issue));
     }
-    Ok(LoadedRig {
-        rig,
-        mesh,
-        path: path.to_path_buf(),
-        mesh_path,
-        notice,
-    })
-}
-
-/// Eyebrows for a head that has none, from the landmarks beside its mesh
-/// ([`crate::fit::brow_hair`]): without landmarks (or with landmarks that cannot be read) the
-/// mesh stays as it is, its brows simply not drawn.
-fn mark_brow_hair(mesh: &mut Mesh, mesh_file: &Path) {
-    let path = super::landmarks::beside(mesh_file);
-    if !path.is_file() {
-        return;
-    }
-    let points = super::landmarks::load_landmarks(&path)
-        .ok()
-        .and_then(|l| l.positions(mesh).ok());
-    if let Some(points) = points {
-        crate::fit::brow_hair::mark(mesh, &points);
-    }
+    Ok(loaded(rig, mesh, path, mesh_path, notice))
 }
 
 fn load_named_mesh(

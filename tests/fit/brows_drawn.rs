@@ -34,3 +34,30 @@ fn a_fitted_head_loads_with_brows_from_its_landmarks() {
         "{sizes:?}"
     );
 }
+
+/// A MediaPipe face mesh needs no landmark file: fitted with its topology kept (the rig
+/// names the user's own mesh, with nothing beside it), it loads with MediaPipe's numbering
+/// as its landmarks, and its brows are marked from the same points the view is framed by.
+#[test]
+fn a_mediapipe_mesh_without_a_landmark_file_gets_brows_from_its_numbering() {
+    let Some((path, _, _)) = crate::shared_mediapipe() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    crate::fit_mediapipe_in(dir.path(), &path, &["--keep-lips", "--keep-eyes"]);
+    let loaded = grimace::io::load::load_rig(&dir.path().join("mp.rig.ron")).unwrap();
+    let mesh_file = loaded.mesh_path.as_ref().expect("the rig names a mesh file");
+    assert!(
+        !grimace::io::landmarks::beside(mesh_file).exists(),
+        "this test needs a mesh with no landmark file beside it"
+    );
+    let points = loaded
+        .landmark_points()
+        .unwrap()
+        .expect("MediaPipe's numbering gives the landmarks");
+    assert_eq!(points.len(), 68);
+    for side in ["left", "right"] {
+        let brow = loaded.mesh.groups.get(&format!("{side}_brow_hair"));
+        assert!(brow.is_some_and(|b| !b.is_empty()), "no {side} brow");
+    }
+}
