@@ -46,7 +46,10 @@ fn a_mediapipe_mesh_without_a_landmark_file_gets_brows_from_its_numbering() {
     let dir = tempfile::tempdir().unwrap();
     crate::fit_mediapipe_in(dir.path(), &path, &["--keep-lips", "--keep-eyes"]);
     let loaded = grimace::io::load::load_rig(&dir.path().join("mp.rig.ron")).unwrap();
-    let mesh_file = loaded.mesh_path.as_ref().expect("the rig names a mesh file");
+    let mesh_file = loaded
+        .mesh_path
+        .as_ref()
+        .expect("the rig names a mesh file");
     assert!(
         !grimace::io::landmarks::beside(mesh_file).exists(),
         "this test needs a mesh with no landmark file beside it"

@@ -259,3 +259,56 @@ fn blank_eyes_get_irises_where_the_landmarks_put_them() {
         "a face with irises of its own is drawn as it was"
     );
 }
+
+/// The shade of the last (nearest) of `triangles` drawn over the dot `p`.
+fn top_shade(triangles: &[grimace::render::LitTriangle], p: Vec2) -> Option<f32> {
+    let inside = |[a, b, c]: [Vec2; 3]| {
+        let s = [(a, b), (b, c), (c, a)].map(|(u, v)| (v - u).perp_dot(p - u));
+        s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0)
+    };
+    triangles
+        .iter()
+        .rev()
+        .find(|t| inside(t.corners))
+        .map(|t| t.shade)
+}
+
+#[test]
+fn vector_output_paints_the_same_irises() {
+    let mesh = blank_eyed();
+    let points = builtin::landmarks("default")
+        .unwrap()
+        .positions(&mesh)
+        .unwrap();
+    let framing = Framing::of_face(None, &mesh, Some(&points), None);
+    let camera = Camera::front();
+    let (w, h) = (400, 400);
+    let painted = Renderer::new(&mesh).lit_triangles(
+        &Scene::new(&mesh, &mesh.positions).with_framing(&framing),
+        &camera,
+        w,
+        h,
+        1.0,
+    );
+    let blank =
+        Renderer::new(&mesh).lit_triangles(&Scene::new(&mesh, &mesh.positions), &camera, w, h, 1.0);
+    assert!(painted.len() > blank.len(), "the irises add pieces");
+    let proj = camera.fit_points(&mesh.positions, w, h, 1.0);
+    for iris in &framing.irises {
+        let at = |r: f32| {
+            proj.project(iris.centre + iris.across * iris.radius * r)
+                .truncate()
+        };
+        let pupil = top_shade(&painted, at(0.0)).expect("the pupil is drawn");
+        let ring = top_shade(&painted, at(0.7)).expect("the iris is drawn");
+        let bare = top_shade(&blank, at(0.0)).expect("the blank eye is drawn");
+        assert!(
+            pupil < 0.2 && pupil < 0.5 * ring,
+            "pupil {pupil}, iris {ring}"
+        );
+        assert!(
+            bare > 2.0 * pupil,
+            "the blank eye {bare} against the pupil {pupil}"
+        );
+    }
+}

@@ -253,24 +253,46 @@ impl Renderer {
         {
             return Vec::new();
         }
+        if !self.blank_eyes.is_empty() {
+            self.paint_irises(scene.mesh, scene.irises);
+        }
         self.compute_shading(scene);
+        // Which iris triangle each triangle is, if any.
+        let mut iris_of = vec![
+            u32::MAX;
+            if self.irises.is_empty() {
+                0
+            } else {
+                self.triangles.len()
+            }
+        ];
+        for (k, i) in self.irises.iter().enumerate() {
+            iris_of[i.triangle as usize] = k as u32;
+        }
         let mut out = Vec::new();
         for (t, tri) in self.triangles.iter().enumerate() {
             if !self.facing[t] {
                 continue;
             }
             let p = tri.map(|i| self.projected[i as usize]);
+            let corners = p.map(|v| v.truncate());
+            let depth = (p[0].z + p[1].z + p[2].z) / 3.0;
+            if let Some(&k) = iris_of.get(t).filter(|&&k| k != u32::MAX) {
+                out.extend(self.iris_pieces(k as usize, corners, depth));
+                continue;
+            }
             let shade = tri
                 .iter()
                 .map(|&i| self.vertex_shade[i as usize])
                 .sum::<f32>()
                 / 3.0;
             out.push(LitTriangle {
-                corners: p.map(|v| v.truncate()),
-                depth: (p[0].z + p[1].z + p[2].z) / 3.0,
+                corners,
+                depth,
                 shade,
             });
         }
+        // Stable: an eye's iris and pupil stay over the triangle they were cut from.
         out.sort_by(|a, b| a.depth.total_cmp(&b.depth));
         out
     }
