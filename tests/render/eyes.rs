@@ -264,7 +264,8 @@ fn blank_eyes_get_irises_where_the_landmarks_put_them() {
 fn top_shade(triangles: &[grimace::render::LitTriangle], p: Vec2) -> Option<f32> {
     let inside = |[a, b, c]: [Vec2; 3]| {
         let s = [(a, b), (b, c), (c, a)].map(|(u, v)| (v - u).perp_dot(p - u));
-        s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0)
+        let area = (b - a).perp_dot(c - a);
+        area != 0.0 && (s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0))
     };
     triangles
         .iter()

@@ -33,11 +33,12 @@
 //! is the same at every dot); only the triangles a band's edge crosses are stepped over again
 //! after the fill ([`Renderer::tone_brows`]), which leaves the fill's inner loops as they were.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::depth::{corner_weights, triangle_box};
 use super::fill::{float_box, inside, plane, plane_at, BROW_TONE};
-use super::Renderer;
+use super::pieces::{affine, clip_convex, fan, UNIT_SQUARE};
+use super::{LitTriangle, Renderer};
 use crate::model::Mesh;
 
 /// The brow's height at its head and at its tail, as fractions of its length: on an adult
@@ -157,6 +158,43 @@ impl Renderer {
                 }
             }
         }
+    }
+}
+
+impl Renderer {
+    /// For vector output: the brow triangle `k` (one a band's edge crosses), projected to
+    /// the dots `screen`, as flat pieces at its `depth`: the triangle with its corners'
+    /// shades before the brow's tone, then the part of it inside the band in the brow's tone.
+    pub(super) fn brow_pieces(&self, k: usize, screen: [Vec2; 3], depth: f32) -> Vec<LitTriangle> {
+        let b = self.brows[k];
+        let tri = self.triangles[b.triangle as usize];
+        let untoned = b
+            .corners_in_band()
+            .map(|inside| if inside { BROW_TONE } else { 1.0 });
+        let shade = [0, 1, 2]
+            .map(|k| self.vertex_shade[tri[k] as usize] / untoned[k])
+            .iter()
+            .sum::<f32>()
+            / 3.0;
+        let mut out = vec![LitTriangle {
+            corners: screen,
+            depth,
+            shade,
+        }];
+        let place = [0, 1, 2].map(|j| Vec2::new(b.along[j], b.across[j]));
+        let Some(to_screen) = affine(place, screen) else {
+            return out;
+        };
+        let band: Vec<Vec2> = clip_convex(&place, &UNIT_SQUARE)
+            .into_iter()
+            .map(to_screen)
+            .collect();
+        out.extend(fan(&band).map(|corners| LitTriangle {
+            corners,
+            depth,
+            shade: shade * BROW_TONE,
+        }));
+        out
     }
 }
 

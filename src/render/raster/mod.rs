@@ -23,6 +23,7 @@ mod fill;
 mod grid;
 mod iris;
 mod lines;
+mod pieces;
 mod project;
 
 pub use depth::depth_triangle;
@@ -88,6 +89,17 @@ pub struct LitTriangle {
     pub depth: f32,
     /// Lambert intensity, 0.0 to 1.0.
     pub shade: f32,
+}
+
+/// How [`Renderer::lit_triangles`] draws a triangle.
+#[derive(Debug, Clone, Copy)]
+enum Piece {
+    /// Flat, as lit.
+    Whole,
+    /// The iris triangle of this index, cut into the eyeball, the iris and the pupil.
+    Iris(usize),
+    /// The brow triangle of this index, cut along its band's edge.
+    Brow(usize),
 }
 
 /// Renders scenes of one mesh, keeping its edge topology and scratch buffers between frames.
@@ -257,17 +269,14 @@ impl Renderer {
             self.paint_irises(scene.mesh, scene.irises);
         }
         self.compute_shading(scene);
-        // Which iris triangle each triangle is, if any.
-        let mut iris_of = vec![
-            u32::MAX;
-            if self.irises.is_empty() {
-                0
-            } else {
-                self.triangles.len()
-            }
-        ];
+        // Which iris or brow triangle each triangle is, if any (toned per dot when rastered,
+        // cut into pieces here).
+        let mut piece_of = vec![Piece::Whole; self.triangles.len()];
+        for (k, b) in self.brows.iter().enumerate() {
+            piece_of[b.triangle as usize] = Piece::Brow(k);
+        }
         for (k, i) in self.irises.iter().enumerate() {
-            iris_of[i.triangle as usize] = k as u32;
+            piece_of[i.triangle as usize] = Piece::Iris(k);
         }
         let mut out = Vec::new();
         for (t, tri) in self.triangles.iter().enumerate() {
@@ -277,9 +286,16 @@ impl Renderer {
             let p = tri.map(|i| self.projected[i as usize]);
             let corners = p.map(|v| v.truncate());
             let depth = (p[0].z + p[1].z + p[2].z) / 3.0;
-            if let Some(&k) = iris_of.get(t).filter(|&&k| k != u32::MAX) {
-                out.extend(self.iris_pieces(k as usize, corners, depth));
-                continue;
+            match piece_of[t] {
+                Piece::Iris(k) => {
+                    out.extend(self.iris_pieces(k, corners, depth));
+                    continue;
+                }
+                Piece::Brow(k) => {
+                    out.extend(self.brow_pieces(k, corners, depth));
+                    continue;
+                }
+                Piece::Whole => {}
             }
             let shade = tri
                 .iter()
@@ -292,7 +308,7 @@ impl Renderer {
                 shade,
             });
         }
-        // Stable: an eye's iris and pupil stay over the triangle they were cut from.
+        // Stable: the pieces cut from a triangle stay over it.
         out.sort_by(|a, b| a.depth.total_cmp(&b.depth));
         out
     }
