@@ -112,11 +112,13 @@ fn find_landmark_points(
         let landmarks = super::landmarks::load_landmarks(&beside)?;
         return super::landmarks::check_against(&landmarks, mesh, &beside, None).map(Some);
     }
-    // A MediaPipe face mesh needs no landmark file; a mesh that only has its vertex
-    // count gives points that are no face, and is framed without landmarks.
+    // A MediaPipe face mesh needs no landmark file; a mesh that only has its vertex count
+    // (Waters' classic face has 478 vertices too) gives points that do not follow the iBUG
+    // scheme, and has no landmarks.
     Ok(crate::landmarks::Landmarks::mediapipe(mesh)
         .and_then(|l| l.positions(mesh))
-        .ok())
+        .ok()
+        .filter(|points| crate::landmarks::order_problems(points).is_empty()))
 }
 
 /// A loaded rig, its landmark points found and, on a mesh file without brows of its own,

@@ -151,5 +151,10 @@ fn written_files_read_back_equal() {
     rig_file::save_rig(&out.path().join("rig.ron"), &imported.rig).unwrap();
     let loaded = load_rig(&out.path().join("rig.ron")).unwrap();
     assert_eq!(loaded.rig, imported.rig);
+    // The classic face has 478 vertices, as many as a MediaPipe face mesh with irises: read
+    // without its landmark file, MediaPipe's numbering on it is no face, so it has no
+    // landmarks and no brows are marked from them.
+    assert_eq!(loaded.mesh.vertex_count(), 478);
+    assert_eq!(loaded.landmark_points().unwrap(), None);
     assert_eq!(loaded.mesh, imported.mesh);
 }
