@@ -7,9 +7,13 @@
 //! activations themselves: a lip-corner pull the solve found with the zygomatic minor and the
 //! risorius is still the table's AU12 (the zygomatic major) if it moves the landmarks alike.
 //!
-//! Lips Part (AU25) is the exception: FACS scores it by the inner lips' separation, with or
+//! Lips Part (AU25) is the exception: FACS scores it by the lips' separation, with or
 //! without the jaw, so it is read there ([`LIPS_PART`]) on its entry's own opening. In the
-//! joint fit the jaw's drop, which AU25, AU26 and AU27 all carry, decided it.
+//! joint fit the jaw's drop, which AU25, AU26 and AU27 all carry, decided it. The
+//! separation is read on both contours of the lips, the inner and the outer: the rig's
+//! inner-lip landmarks part less than a real mouth's in a smile (its lips do not thin and
+//! part as they stretch), while the outer contour's motion is reproduced in full
+//! (docs/capture.md, "AU25 diagnosed").
 
 use glam::{DVec3, Vec3};
 
@@ -29,16 +33,20 @@ pub struct AuProjection {
     entries: Vec<Vec<DVec3>>,
     weights: Vec<DVec3>,
     gram: Vec<f64>,
-    /// AU25's column and its entry's opening of the inner lips ([`LIPS_PART`]).
+    /// AU25's column and its entry's opening of the lips ([`LIPS_PART`]).
     lips_part: Option<(usize, Vec<DVec3>)>,
 }
 
 /// The FACS number of Lips Part.
 pub const LIPS_PART_AU: u8 = 25;
 
-/// The inner lips' facing pairs (upper, lower) of the 68 landmarks: their separation is
-/// what FACS calls the lips' part, whether the jaw drops with it or not.
-pub const LIPS_PART: [(usize, usize); 3] = [(61, 67), (62, 66), (63, 65)];
+/// The lips' facing pairs (upper, lower) of the 68 landmarks, the inner contour's three
+/// and the outer contour's three: their separation is what FACS calls the lips' part,
+/// whether the jaw drops with it or not. FACS looks at the inner contour; the outer one is
+/// where a rig reproduces the lips' motion most fully (its inner-lip points lag their lip
+/// when the mouth stretches), so both are read.
+pub const LIPS_PART: [(usize, usize); 6] =
+    [(61, 67), (62, 66), (63, 65), (50, 58), (51, 57), (52, 56)];
 
 /// How far each pair of [`LIPS_PART`] separates under a landmark motion.
 fn lip_separation(motion: &[DVec3]) -> Vec<DVec3> {
@@ -120,7 +128,7 @@ impl AuProjection {
             .collect();
         let k = c.len();
         let mut weights = box_least_squares(&self.gram, &c, &vec![0.0; k], &vec![1.0; k]);
-        // Lips Part is the inner lips' separation: read there, on the entry's own opening,
+        // Lips Part is the lips' separation: read there, on the entry's own opening,
         // not from the jaw's drop the table's entries share with AU26 and AU27.
         if let Some((k, entry)) = &self.lips_part {
             let seen = lip_separation(motion);

@@ -85,3 +85,32 @@ fn the_jaw_reads_as_jaw_drop_whatever_the_lower_lip_does() {
         "AU26 {with_lips:.2} with the lower lip down, {alone:.2} without"
     );
 }
+
+#[test]
+fn lips_part_is_read_on_both_contours_of_the_lips() {
+    // A rig's inner-lip points can lag their lip (on a real recording the default rig's
+    // smile parts the inner lips less than the subject's, docs/capture.md): the table's AU25
+    // with its inner-lip points held where they rest still reads as lips part, from the
+    // outer contour, and the whole entry reads in full.
+    let (bound, model) = projection();
+    let table = grimace::io::builtin::default_table();
+    let projection = AuProjection::new(&table, &bound, &model);
+    let act = table
+        .entry_activations(&grimace::facs::AuKey::new(25), bound.rig())
+        .unwrap();
+    let mut scratch: Vec<Vec3> = Vec::new();
+    let full: Vec<DVec3> = model.displacement(&bound, &act, &mut scratch);
+    let mut outer_only = full.clone();
+    outer_only[60..68].fill(DVec3::ZERO);
+    let k = projection.numbers().iter().position(|&n| n == 25).unwrap();
+    let whole = projection.intensities(&full)[k];
+    let outer = projection.intensities(&outer_only)[k];
+    assert!(
+        (whole - 5.0).abs() < 1e-6,
+        "the entry itself reads {whole:.2}"
+    );
+    assert!(
+        outer > 1.5 && outer < whole,
+        "inner lips held: AU25 {outer:.2} of {whole:.2}"
+    );
+}

@@ -27,9 +27,9 @@ const AUS: [(u8, &str); 7] = [
 
 /// The AUs on which the muscles lead the geometry on the expressive sample (docs/capture.md):
 /// held to within 0.02 of it, the most these AUs moved between the settings of the signed
-/// reading's ridge that kept the jaw (AU4 0.883 to 0.906, AU45 0.865 to 0.885); the others
-/// (AU12, AU25, which trail it) to within 0.05.
-const LEADING: [u8; 5] = [1, 2, 4, 26, 45];
+/// reading's ridge that kept the jaw (AU4 0.883 to 0.906, AU45 0.865 to 0.885); AU25 since
+/// it is read on both contours of the lips; the other (AU12, which trails it) to within 0.05.
+const LEADING: [u8; 6] = [1, 2, 4, 25, 26, 45];
 
 fn geometry(au: u8, p: &[DVec3]) -> f64 {
     let d = |a: usize, b: usize| p[a].distance(p[b]);
