@@ -168,14 +168,23 @@ pub fn helper_name(name: &str) -> bool {
             || (lower.contains("helper") && !ANATOMY_WORDS.iter().any(|w| lower.contains(w))))
 }
 
-/// The triangles to draw: every triangle but those whose corners all belong to helper
-/// groups ([`helper_name`]) and to no other group. `None` when that is every triangle
-/// (a mesh without helper groups draws exactly as read). Export keeps every triangle.
+/// True when a group's triangles are not drawn: helper geometry ([`helper_name`]), and
+/// eyelashes. Lashes are modelled as cards that a texture's transparency cuts into hairs;
+/// drawn opaque (no style reads textures) a card is a pale band over the lid and under the
+/// eye, not lashes, and a face tracker took MakeHuman's for part of the eye
+/// (`docs/gallery.md`, "Lash cards"). They still move with their lids, and export keeps them.
+pub fn undrawn_name(name: &str) -> bool {
+    helper_name(name) || lash_name(name)
+}
+
+/// The triangles to draw: every triangle but those whose corners all belong to undrawn
+/// groups ([`undrawn_name`]) and to no other group. `None` when that is every triangle
+/// (a mesh without such groups draws exactly as read). Export keeps every triangle.
 pub fn drawn_triangles(mesh: &Mesh) -> Option<Vec<[u32; 3]>> {
     let helpers: Vec<&Vec<u32>> = mesh
         .groups
         .iter()
-        .filter(|(name, _)| helper_name(name))
+        .filter(|(name, _)| undrawn_name(name))
         .map(|(_, members)| members)
         .collect();
     if helpers.is_empty() {
@@ -187,7 +196,7 @@ pub fn drawn_triangles(mesh: &Mesh) -> Option<Vec<[u32; 3]>> {
     }
     // A vertex a drawn group also holds stays drawn.
     for (name, members) in &mesh.groups {
-        if !helper_name(name) {
+        if !undrawn_name(name) {
             for &v in members {
                 hidden[v as usize] = false;
             }

@@ -56,6 +56,12 @@ fn helper_geometry_in_front_of_the_face_is_not_drawn() {
             (drawn - nose).abs() < 0.05 * (sheet - nose).abs(),
             "{style:?}: depth {drawn} at the nose's dot, the nose is at {nose}, the helper at {sheet}"
         );
+        // Lash cards (hairs cut out of a card by a texture no style reads) are not drawn.
+        let (drawn, nose, sheet) = depth_at_nose(&covered_face("upper_eyelashes"), style);
+        assert!(
+            (drawn - nose).abs() < 0.05 * (sheet - nose).abs(),
+            "{style:?}: depth {drawn} at the nose's dot under a lash card at {sheet}"
+        );
         let (drawn, nose, sheet) = depth_at_nose(&covered_face("hair"), style);
         assert!(
             (drawn - sheet).abs() < 0.05 * (sheet - nose).abs(),
