@@ -14,7 +14,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use grimace::io::builtin;
 use grimace::model::{BoundRig, Mesh};
-use grimace::render::{Camera, CellGrid, CellMode, ColorMode, Renderer, Scene, Style};
+use grimace::render::{Camera, CellGrid, CellMode, ColorMode, Framing, Renderer, Scene, Style};
 
 /// The terminal the benchmark draws for.
 const COLS: usize = 200;
@@ -109,6 +109,41 @@ fn frame(c: &mut Criterion) {
             c.bench_function(&format!("render_only_{COLS}x{ROWS}_face_{style}"), |b| {
                 b.iter(&mut one)
             });
+        }
+    }
+    // Blank eyes: the default face without its iris and pupil groups, shaded with the irises
+    // its landmarks place painted on (`raster::iris`) and without them, the cost of the
+    // painting per frame.
+    if selected("blank_eyes") {
+        let mut blank = mesh.clone();
+        blank
+            .groups
+            .retain(|name, _| !name.contains("iris") && !name.contains("pupil"));
+        let points = builtin::landmarks("default")
+            .expect("landmarks")
+            .positions(&blank)
+            .expect("on the face");
+        let framing = Framing::of_face(None, &blank, Some(&points), None);
+        let mut none = framing.clone();
+        none.irises.clear();
+        let mut renderer = Renderer::new(&blank);
+        for (name, framing) in [("painted", &framing), ("blank", &none)] {
+            let mut one = || {
+                bound.deform(&act, &mut positions).expect("in range");
+                let scene = Scene::new(&blank, &positions)
+                    .with_rest(&blank.positions)
+                    .with_framing(framing);
+                renderer.render(&scene, black_box(&camera), Style::Shaded, &mut canvas);
+                grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
+                black_box(&grid);
+            };
+            if let Some((median, min)) = cpu_time_per_frame(&mut one) {
+                eprintln!(
+                    "frame_{COLS}x{ROWS}_blank_eyes_{name}_shaded: {:.1} us CPU per frame (min {:.1})",
+                    median / 1000.0,
+                    min / 1000.0
+                );
+            }
         }
     }
     if let Some(classic) = classic_face().filter(|_| selected("classic_lines")) {
