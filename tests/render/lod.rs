@@ -190,14 +190,22 @@ fn a_level_of_detail_keeps_the_feature_lines_within_a_cell() {
     }
 }
 
-/// Replaces the big-head section at the end of `docs/gallery.md` (from its heading on) with
-/// these screens: the full mesh and the level drawn, the same size, state and view.
+/// Replaces the big-head section of `docs/gallery.md` (from its heading to the next `## `
+/// heading; sections written by hand after it are kept) with these screens: the full mesh
+/// and the level drawn, the same size, state and view.
 fn write_gallery(vertices: usize, screens: &[((usize, usize), usize, String, String)]) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/gallery.md");
     let text = std::fs::read_to_string(&path).unwrap();
-    let keep = text
-        .find(GALLERY_HEADING)
-        .map_or(&text[..], |at| &text[..at]);
+    let (keep, after) = match text.find(GALLERY_HEADING) {
+        Some(at) => {
+            let rest = &text[at + GALLERY_HEADING.len()..];
+            let end = rest
+                .find("\n## ")
+                .map_or(text.len(), |n| at + GALLERY_HEADING.len() + n);
+            (&text[..at], &text[end..])
+        }
+        None => (&text[..], ""),
+    };
     let mut out = keep.trim_end().to_string();
     out.push_str("\n\n");
     out.push_str(GALLERY_HEADING);
@@ -224,8 +232,9 @@ fn write_gallery(vertices: usize, screens: &[((usize, usize), usize, String, Str
             out.push_str("```\n");
         }
     }
+    out.push_str(after);
     std::fs::write(&path, out).unwrap();
 }
 
-/// The heading of the gallery's big-head section (kept last in the file).
+/// The heading of the gallery's big-head section.
 pub const GALLERY_HEADING: &str = "## Big heads: the full mesh and its level of detail";
