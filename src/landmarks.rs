@@ -32,6 +32,15 @@ pub const RIGHT_EYE_LOWER: [usize; 4] = [36, 41, 40, 39];
 pub const LEFT_EYE_UPPER: [usize; 4] = [42, 43, 44, 45];
 /// Left eye: lower lid from the inner corner to the outer corner.
 pub const LEFT_EYE_LOWER: [usize; 4] = [42, 47, 46, 45];
+
+/// The six landmarks round each eye's opening: the subject's right eye, then the left.
+pub const EYES: [[usize; 6]; 2] = [[36, 37, 38, 39, 40, 41], [42, 43, 44, 45, 46, 47]];
+
+/// The centre of an eye's opening (one of [`EYES`]): the mean of its six landmarks.
+pub fn eye_centre(points: &[Vec3], eye: [usize; 6]) -> DVec3 {
+    eye.iter().map(|&i| points[i].as_dvec3()).sum::<DVec3>() / 6.0
+}
+
 /// The chin's lowest point.
 pub const CHIN: usize = 8;
 /// The nose tip.
@@ -571,8 +580,8 @@ impl FaceFrame {
         let mean = |ids: &[usize]| {
             ids.iter().map(|&i| points[i].as_dvec3()).sum::<DVec3>() / ids.len() as f64
         };
-        let right_eye = mean(&[36, 37, 38, 39, 40, 41]);
-        let left_eye = mean(&[42, 43, 44, 45, 46, 47]);
+        let right_eye = eye_centre(points, EYES[0]);
+        let left_eye = eye_centre(points, EYES[1]);
         let mouth = mean(&[48, 51, 54, 57, 60, 62, 64, 66]);
         let eyes = 0.5 * (right_eye + left_eye);
         let across = left_eye - right_eye;

@@ -19,9 +19,7 @@
 use glam::{Mat3, Vec2, Vec3};
 
 use crate::io::load::LoadedRig;
-use crate::landmarks::{
-    FaceFrame, CHIN, COUNT, LEFT_EYE_LOWER, LEFT_EYE_UPPER, RIGHT_EYE_LOWER, RIGHT_EYE_UPPER,
-};
+use crate::landmarks::{eye_centre, FaceFrame, CHIN, COUNT, EYES};
 use crate::model::mesh::bounds_of as bounds;
 use crate::model::{Mesh, MuscleKind, Rig};
 
@@ -98,21 +96,16 @@ impl Iris {
             return Vec::new();
         }
         let (across, up) = (basis.row(0), basis.row(1));
-        let eye = |upper: [usize; 4], lower: [usize; 4]| {
-            let ring = [upper[0], upper[1], upper[2], upper[3], lower[1], lower[2]];
-            let centre = ring.iter().map(|&i| points[i]).sum::<Vec3>() / 6.0;
-            let width = points[upper[0]].distance(points[upper[3]]);
+        let irises = EYES.map(|eye| {
+            // The ring runs from one corner (first) to the other (fourth).
+            let width = points[eye[0]].distance(points[eye[3]]);
             Iris {
-                centre,
+                centre: eye_centre(points, eye).as_vec3(),
                 across,
                 up,
                 radius: IRIS_OF_EYE_WIDTH * width,
             }
-        };
-        let irises = [
-            eye(RIGHT_EYE_UPPER, RIGHT_EYE_LOWER),
-            eye(LEFT_EYE_UPPER, LEFT_EYE_LOWER),
-        ];
+        });
         if irises
             .iter()
             .all(|i| i.radius.is_finite() && i.radius > 0.0 && i.centre.is_finite())
