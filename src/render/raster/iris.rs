@@ -124,52 +124,35 @@ pub(super) fn iris_triangles(
         if !tri.iter().all(|&v| on_eye(v)) {
             continue;
         }
-        let Some(p) = tri
-            .map(|v| rest.get(v as usize).copied())
-            .iter()
-            .copied()
-            .collect::<Option<Vec<_>>>()
-        else {
-            continue;
-        };
-        let middle = (p[0] + p[1] + p[2]) / 3.0;
+        // `eye` has one entry per rest vertex, so the corners are in range.
+        let p = tri.map(|v| rest[v as usize]);
         let place = |iris: &Iris, q: glam::Vec3| {
             let d = q - iris.centre;
-            (
-                d.dot(iris.across) / iris.radius,
-                d.dot(iris.up) / iris.radius,
-            )
+            Vec2::new(d.dot(iris.across), d.dot(iris.up)) / iris.radius
         };
+        let middle = (p[0] + p[1] + p[2]) / 3.0;
         let nearest = irises.iter().enumerate().min_by(|(_, a), (_, b)| {
-            let (ax, ay) = place(a, middle);
-            let (bx, by) = place(b, middle);
-            (ax * ax + ay * ay).total_cmp(&(bx * bx + by * by))
+            let (a, b) = (place(a, middle), place(b, middle));
+            a.length_squared().total_cmp(&b.length_squared())
         });
         let Some((index, iris)) = nearest else {
             continue;
         };
-        let corners = [p[0], p[1], p[2]].map(|q| place(iris, q));
-        let across = corners.map(|c| c.0);
-        let up = corners.map(|c| c.1);
-        if !across.iter().chain(&up).all(|c| c.is_finite()) {
+        let corners = p.map(|q| place(iris, q));
+        if !corners.iter().all(|c| c.is_finite()) {
             continue;
         }
-        // The disc's nearest point to the triangle's box: is it inside the box?
-        let (lo_x, hi_x) = (
-            across.iter().copied().fold(f32::MAX, f32::min),
-            across.iter().copied().fold(f32::MIN, f32::max),
+        // The point of the triangle's box nearest the iris's centre, within reach?
+        let (lo, hi) = (
+            corners[0].min(corners[1]).min(corners[2]),
+            corners[0].max(corners[1]).max(corners[2]),
         );
-        let (lo_y, hi_y) = (
-            up.iter().copied().fold(f32::MAX, f32::min),
-            up.iter().copied().fold(f32::MIN, f32::max),
-        );
-        let (nx, ny) = (0.0f32.clamp(lo_x, hi_x), 0.0f32.clamp(lo_y, hi_y));
-        if nx * nx + ny * ny < REACH * REACH {
+        if Vec2::ZERO.clamp(lo, hi).length_squared() < REACH * REACH {
             out.push(IrisTriangle {
                 triangle: t as u32,
                 iris: index as u32,
-                across,
-                up,
+                across: corners.map(|c| c.x),
+                up: corners.map(|c| c.y),
             });
         }
     }
@@ -179,9 +162,10 @@ pub(super) fn iris_triangles(
 impl Renderer {
     /// Brings the painted irises up to `irises` (the scene's): the triangles that carry them
     /// and the eyes' tones (a painted eye's surface is a lit sclera, not the dark inside it
-    /// is drawn as without one). Nothing to do when they are the ones already painted.
+    /// is drawn as without one). Nothing to do on a mesh without blank eyes, or when they
+    /// are the ones already painted.
     pub(super) fn paint_irises(&mut self, mesh: &Mesh, irises: &[Iris]) {
-        if self.painted_irises.as_deref() == Some(irises) {
+        if self.blank_eyes.is_empty() || self.painted_irises.as_deref() == Some(irises) {
             return;
         }
         self.painted_irises = Some(irises.to_vec());

@@ -265,9 +265,7 @@ impl Renderer {
         {
             return Vec::new();
         }
-        if !self.blank_eyes.is_empty() {
-            self.paint_irises(scene.mesh, scene.irises);
-        }
+        self.paint_irises(scene.mesh, scene.irises);
         self.compute_shading(scene);
         // Which iris or brow triangle each triangle is, if any (toned per dot when rastered,
         // cut into pieces here).
@@ -418,9 +416,7 @@ impl Renderer {
             return;
         };
         if style == Style::Shaded {
-            if !self.blank_eyes.is_empty() {
-                self.paint_irises(scene.mesh, scene.irises);
-            }
+            self.paint_irises(scene.mesh, scene.irises);
             self.compute_shading(scene);
             self.compute_heat(scene);
             self.fill_shaded(scene, canvas);
