@@ -74,13 +74,11 @@ fn frame(c: &mut Criterion) {
         };
         // On a shared machine wall time includes waiting for a core; the thread's own CPU
         // time per frame is printed too.
-        if let Some((median, min)) = cpu_time_per_frame(&mut one) {
-            eprintln!(
-                "frame_{COLS}x{ROWS}_face_{style}: {:.1} us CPU per frame (deform + render + cells; min {:.1})",
-                median / 1000.0,
-                min / 1000.0
-            );
-        }
+        print_cpu_time(
+            &format!("frame_{COLS}x{ROWS}_face_{style}"),
+            "deform + render + cells; ",
+            &mut one,
+        );
         if !cpu_only {
             c.bench_function(&format!("frame_{COLS}x{ROWS}_face_{style}"), |b| {
                 b.iter(&mut one)
@@ -98,13 +96,11 @@ fn frame(c: &mut Criterion) {
             grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
             black_box(&grid);
         };
-        if let Some((median, min)) = cpu_time_per_frame(&mut one) {
-            eprintln!(
-                "render_only_{COLS}x{ROWS}_face_{style}: {:.1} us CPU per frame (min {:.1})",
-                median / 1000.0,
-                min / 1000.0
-            );
-        }
+        print_cpu_time(
+            &format!("render_only_{COLS}x{ROWS}_face_{style}"),
+            "",
+            &mut one,
+        );
         if !cpu_only {
             c.bench_function(&format!("render_only_{COLS}x{ROWS}_face_{style}"), |b| {
                 b.iter(&mut one)
@@ -137,13 +133,11 @@ fn frame(c: &mut Criterion) {
                 grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
                 black_box(&grid);
             };
-            if let Some((median, min)) = cpu_time_per_frame(&mut one) {
-                eprintln!(
-                    "frame_{COLS}x{ROWS}_blank_eyes_{name}_shaded: {:.1} us CPU per frame (min {:.1})",
-                    median / 1000.0,
-                    min / 1000.0
-                );
-            }
+            print_cpu_time(
+                &format!("frame_{COLS}x{ROWS}_blank_eyes_{name}_shaded"),
+                "",
+                &mut one,
+            );
         }
     }
     if let Some(classic) = classic_face().filter(|_| selected("classic_lines")) {
@@ -154,13 +148,23 @@ fn frame(c: &mut Criterion) {
             grid.fill(&canvas, CellMode::Braille, ColorMode::TrueColor);
             black_box(&grid);
         };
-        if let Some((median, min)) = cpu_time_per_frame(&mut one) {
-            eprintln!(
-                "render_only_{COLS}x{ROWS}_classic_lines: {:.1} us CPU per frame (min {:.1})",
-                median / 1000.0,
-                min / 1000.0
-            );
-        }
+        print_cpu_time(
+            &format!("render_only_{COLS}x{ROWS}_classic_lines"),
+            "",
+            &mut one,
+        );
+    }
+}
+
+/// Prints the thread's CPU time per frame of `one` (median and minimum over five batches),
+/// `what` saying what a frame holds beyond rendering.
+fn print_cpu_time(name: &str, what: &str, one: &mut impl FnMut()) {
+    if let Some((median, min)) = cpu_time_per_frame(one) {
+        eprintln!(
+            "{name}: {:.1} us CPU per frame ({what}min {:.1})",
+            median / 1000.0,
+            min / 1000.0
+        );
     }
 }
 
