@@ -49,6 +49,10 @@ pub struct CaptureArgs {
     /// recording (with --live: the first tracked frame).
     #[arg(long, value_name = "N")]
     pub neutral: Option<u64>,
+    /// The face to capture in a recording of several (OpenFace's `face_id`); default: the face
+    /// of the first tracked row.
+    #[arg(long, value_name = "ID")]
+    pub face: Option<u32>,
     /// Read rows as they arrive (a running OpenFace piped to stdin) and write each frame at
     /// once.
     #[arg(long)]
@@ -105,8 +109,19 @@ pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
     }
     let file =
         File::open(recording).with_context(|| format!("cannot open {}", recording.display()))?;
-    let mut reader = OpenFaceReader::with_landmarks(BufReader::new(file), recording)?;
+    let mut reader =
+        OpenFaceReader::with_landmarks(BufReader::new(file), recording)?.follow_face(args.face);
+    check_face_column(args.face, &reader, recording)?;
     let (rows, skips) = read_rows(&mut reader)?;
+    if rows.is_empty() {
+        if let (Some(id), false) = (args.face, reader.faces().others().is_empty()) {
+            bail!(
+                "{}: no tracked row of face {id}; the recording's faces: {}",
+                recording.display(),
+                list(&reader.faces().others())
+            );
+        }
+    }
     let (mut session, neutral) = file_session(args, recording, &prepared, &rows)?;
     let mut text = String::new();
     text.push_str(&header(&prepared));
@@ -138,6 +153,7 @@ pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
         explained,
         neutral,
         skips,
+        faces: reader.faces().summary(),
         seconds: started.elapsed().as_secs_f64(),
     };
     if args.out != Path::new("-") {
@@ -324,6 +340,8 @@ struct Summary {
     explained: Vec<f64>,
     neutral: NeutralSource,
     skips: Skips,
+    /// Which face was followed, when the recording holds several.
+    faces: Option<String>,
     seconds: f64,
 }
 
@@ -357,6 +375,9 @@ impl Summary {
             ));
         }
         if let Some(s) = self.skips.summary() {
+            out.push_str(&format!("  {s}\n"));
+        }
+        if let Some(s) = &self.faces {
             out.push_str(&format!("  {s}\n"));
         }
         out
@@ -395,13 +416,15 @@ fn live(args: &CaptureArgs, prepared: &Prepared) -> anyhow::Result<()> {
         eprintln!("listening on udp {}", socket.local_addr()?);
         // Room for the largest datagram, so none is cut.
         let input = BufReader::with_capacity(1 << 17, Datagrams { socket });
-        let reader = OpenFaceReader::with_landmarks(input, Path::new("udp"))?;
+        let reader =
+            OpenFaceReader::with_landmarks(input, Path::new("udp"))?.follow_face(args.face);
         return live_rows(args, prepared, reader);
     }
     if args.recording.as_deref() != Some(Path::new("-")) {
         bail!("--live reads rows from stdin (give `-` as the recording) or from --udp ADDR");
     }
-    let reader = OpenFaceReader::with_landmarks(std::io::stdin().lock(), Path::new("-"))?;
+    let reader = OpenFaceReader::with_landmarks(std::io::stdin().lock(), Path::new("-"))?
+        .follow_face(args.face);
     live_rows(args, prepared, reader)
 }
 
@@ -435,6 +458,7 @@ fn live_rows<R: BufRead>(
                 .with_context(|| format!("cannot create {}", args.out.display()))?,
         )
     };
+    check_face_column(args.face, &reader, reader.path())?;
     writeln!(out, "{}", header(prepared))?;
     out.flush()?;
     let mut session: Option<Session> = None;
@@ -479,7 +503,34 @@ fn live_rows<R: BufRead>(
     if let Some(s) = skips.summary() {
         eprintln!("{s}");
     }
+    if let Some(s) = reader.faces().summary() {
+        eprintln!("{s}");
+    }
     Ok(())
+}
+
+/// `--face ID` other than 0 on a recording without `face_id` (one face) is a mistake worth
+/// naming rather than a capture of the only face.
+fn check_face_column<R: BufRead>(
+    face: Option<u32>,
+    reader: &OpenFaceReader<R>,
+    recording: &Path,
+) -> anyhow::Result<()> {
+    match face {
+        Some(id) if id != 0 && reader.columns().face_id.is_none() => bail!(
+            "{}: --face {id}: the recording has no face_id column (it holds one face)",
+            recording.display()
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// `0, 1, 2`.
+fn list(ids: &[u32]) -> String {
+    ids.iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The next row of a stream: `None` at its end, `Some(None)` for a row skipped (untracked or
@@ -491,6 +542,9 @@ fn next_tracked<R: BufRead>(
     let Some(outcome) = reader.next_row()? else {
         return Ok(None);
     };
+    if let Some(notice) = reader.take_face_notice() {
+        eprintln!("note: {notice}");
+    }
     Ok(Some(match outcome {
         RowOutcome::Malformed(e) => {
             if let Some(message) = skips.malformed(&format!("-:{e}")) {

@@ -29,7 +29,8 @@ use crate::tui::keymap;
 /// The notes at the end of `grimace play --help`, before the keys.
 const NOTES: &str = "\
 INPUT:
-  FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped),
+  FILE.csv            OpenFace 2.0 output (AUxx_r intensities 0-5; rows with success 0 skipped;
+                      of several faces, the first tracked face_id or --face ID is played),
                       or a Live Link Face recording (Timecode,BlendShapeCount, then ARKit
                       weights 0-1, played through presets/arkit.map.ron; timecodes at --fps,
                       default 60), or an activation CSV from `grimace capture` (muscles by
@@ -77,6 +78,10 @@ pub struct PlayArgs {
     /// Intensities are already on a 0-1 scale (default: OpenFace's 0-5).
     #[arg(long)]
     pub scale: bool,
+    /// The face to play in an OpenFace recording of several (its `face_id`); default: the
+    /// face of the first tracked row.
+    #[arg(long, value_name = "ID")]
+    pub face: Option<u32>,
     /// Stop at the first malformed row instead of skipping it.
     #[arg(long)]
     pub strict: bool,
@@ -204,6 +209,7 @@ fn open_source(
             scale,
             fps: args.fps,
             muscles: rig.muscles.iter().map(|m| m.name.clone()).collect(),
+            face: args.face,
         };
         return Ok(open_file(path, &options)?);
     }
@@ -213,7 +219,9 @@ fn open_source(
         eprintln!("listening on udp {bound}");
         return Ok(Box::new(source));
     }
-    Ok(Box::new(LiveSource::stdin(mapper.clone(), scale, args.fps)))
+    Ok(Box::new(
+        LiveSource::stdin(mapper.clone(), scale, args.fps).follow_face(args.face),
+    ))
 }
 
 /// Plays in the terminal view (see [`crate::tui::play`]); `--loop` reopens the input.

@@ -10,6 +10,7 @@ pub mod atomic;
 pub mod bind_cache;
 pub mod builtin;
 pub mod error;
+pub mod faces;
 pub mod gltf;
 pub mod inputs;
 pub mod landmarks;

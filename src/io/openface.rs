@@ -5,7 +5,9 @@
 //! - LF, CRLF or CR line ends, a missing final newline, blank lines (ignored), a UTF-8 BOM;
 //! - older column layouts: only `AUxx_r` intensity columns are required; `frame`,
 //!   `timestamp` and `success` are used when present (without `success`, every row counts);
-//!   everything else (`AUxx_c` presence, gaze, pose, landmarks, `face_id`) is ignored.
+//!   everything else (`AUxx_c` presence, gaze, pose, landmarks) is ignored;
+//! - `face_id` (OpenFace's multi-face tracker writes one row per face and frame): one face is
+//!   followed ([`super::faces`]) and the other faces' rows are passed over and counted.
 //! - for `grimace capture` ([`OpenFaceReader::with_landmarks`]): the 68 3D landmarks
 //!   `X_0..X_67`, `Y_*`, `Z_*` (millimetres, camera coordinates; the lower-case `x_*`, `y_*`
 //!   are the 2D image points) and the head pose `pose_Tx..pose_Rz` when present; the AU
@@ -22,6 +24,7 @@ use glam::Vec3;
 use thiserror::Error;
 
 use super::error::LoadError;
+use super::faces::Faces;
 use super::lines::{Line, LineReader};
 
 /// The highest AU intensity OpenFace writes (`AUxx_r` runs from 0 to 5).
@@ -55,6 +58,8 @@ pub struct OpenFaceColumns {
     pub timestamp: Option<usize>,
     /// `success` (0 or 1), if present; without it every row counts as tracked.
     pub success: Option<usize>,
+    /// `face_id`, if present; without it the recording is one face.
+    pub face_id: Option<usize>,
     /// The `AUxx_r` intensity columns, in header order.
     pub aus: Vec<AuColumn>,
     /// The 3D landmark columns, when read ([`OpenFaceReader::with_landmarks`]).
@@ -152,6 +157,7 @@ impl OpenFaceColumns {
             frame: None,
             timestamp: None,
             success: None,
+            face_id: None,
             aus: Vec::new(),
             landmarks: None,
             pose: None,
@@ -162,6 +168,7 @@ impl OpenFaceColumns {
                 "frame" => &mut columns.frame,
                 "timestamp" => &mut columns.timestamp,
                 "success" => &mut columns.success,
+                "face_id" => &mut columns.face_id,
                 _ => {
                     if let Some(number) = au_intensity_number(name) {
                         if columns.aus.iter().any(|c| c.number == number) {
@@ -217,6 +224,7 @@ impl OpenFaceColumns {
             Some(i) => number(i, "success")? != 0.0,
             None => true,
         };
+        let face = self.face_id.map(|i| row.face_id(i)).transpose()?;
         let mut intensities = Vec::with_capacity(self.aus.len());
         // Rows OpenFace could not track carry placeholder values; they are skipped unread.
         if success {
@@ -256,6 +264,7 @@ impl OpenFaceColumns {
             frame,
             timestamp,
             success,
+            face,
             intensities,
             landmarks,
             pose,
@@ -323,6 +332,23 @@ impl Fields<'_> {
         })
     }
 
+    /// The field at `index` as a face number: a whole number from 0 to
+    /// [`super::faces::MAX_FACE_ID`].
+    fn face_id(&self, index: usize) -> Result<u32, RowError> {
+        let value = self.in_range(index, "face_id", f64::from(super::faces::MAX_FACE_ID))?;
+        if value < 0.0 || value.fract() != 0.0 {
+            return Err(RowError {
+                line: self.line,
+                column: Some(self.fields[index].0),
+                message: format!(
+                    "face_id `{}` is not a face number (0, 1, 2...)",
+                    shorten(self.fields[index].1)
+                ),
+            });
+        }
+        Ok(value as u32)
+    }
+
     /// [`Fields::number`], refused beyond `limit` in size.
     pub(crate) fn in_range(&self, index: usize, what: &str, limit: f64) -> Result<f64, RowError> {
         let value = self.number(index, what)?;
@@ -368,6 +394,8 @@ pub struct OpenFaceRow {
     pub timestamp: Option<f64>,
     /// Whether OpenFace tracked a face in this frame (`success` 1, or no `success` column).
     pub success: bool,
+    /// The `face_id` value, if the layout has one.
+    pub face: Option<u32>,
     /// Raw intensities, one per [`OpenFaceColumns::aus`] entry (empty when not `success`).
     pub intensities: Vec<f32>,
     /// The 68 3D landmarks in millimetres, camera coordinates (empty unless read with
@@ -405,6 +433,7 @@ pub struct OpenFaceReader<R> {
     lines: LineReader<R>,
     path: PathBuf,
     columns: OpenFaceColumns,
+    faces: Faces,
 }
 
 impl<R: BufRead> OpenFaceReader<R> {
@@ -451,7 +480,25 @@ impl<R: BufRead> OpenFaceReader<R> {
             lines,
             path: path.to_path_buf(),
             columns,
+            faces: Faces::new(None),
         })
+    }
+
+    /// Follows face `id` of a recording with several (`None`, the default: the face of the
+    /// first tracked row); see [`super::faces`].
+    pub fn follow_face(mut self, id: Option<u32>) -> OpenFaceReader<R> {
+        self.faces = Faces::new(id);
+        self
+    }
+
+    /// The face followed and the rows of other faces passed over so far.
+    pub fn faces(&self) -> &Faces {
+        &self.faces
+    }
+
+    /// Once, when a row of another face has been passed over: what is happening.
+    pub fn take_face_notice(&mut self) -> Option<String> {
+        self.faces.take_notice()
     }
 
     /// The columns found in the header.
@@ -466,15 +513,25 @@ impl<R: BufRead> OpenFaceReader<R> {
 
     /// The next row, `Ok(None)` at the end of the input; blank lines are passed over. A line
     /// longer than [`MAX_LINE_BYTES`] is a malformed row, read past in bounded memory.
+    /// Rows of faces other than the followed one are passed over ([`OpenFaceReader::faces`]
+    /// counts them).
     pub fn next_row(&mut self) -> Result<Option<RowOutcome>, OpenFaceError> {
-        let read = next_row_line(&mut self.lines, &self.path)?;
-        Ok(read.map(|line| match line {
-            Ok(line) => match self.columns.parse_row(&line.text, line.number) {
-                Ok(row) => RowOutcome::Row(row),
+        loop {
+            let Some(line) = next_row_line(&mut self.lines, &self.path)? else {
+                return Ok(None);
+            };
+            let outcome = match line {
+                Ok(line) => match self.columns.parse_row(&line.text, line.number) {
+                    Ok(row) => RowOutcome::Row(row),
+                    Err(e) => RowOutcome::Malformed(e),
+                },
                 Err(e) => RowOutcome::Malformed(e),
-            },
-            Err(e) => RowOutcome::Malformed(e),
-        }))
+            };
+            match &outcome {
+                RowOutcome::Row(row) if !self.faces.admits(row.face, row.success) => continue,
+                _ => return Ok(Some(outcome)),
+            }
+        }
     }
 }
 
@@ -554,6 +611,48 @@ mod tests {
     }
 
     #[test]
+    fn rows_of_a_second_face_are_passed_over_and_counted() {
+        let text = "frame, face_id, timestamp, success, AU12_r\n\
+                    1, 0, 0.0, 1, 1.0\n1, 1, 0.0, 1, 4.0\n\
+                    2, 1, 0.1, 1, 4.0\n2, 0, 0.1, 1, 2.0\n3, 0, 0.2, x, 2.0\n";
+        let mut reader = OpenFaceReader::new(text.as_bytes(), Path::new("t.csv")).unwrap();
+        let rows: Vec<RowOutcome> = reader.by_ref().map(Result::unwrap).collect();
+        let values: Vec<f32> = rows
+            .iter()
+            .filter_map(|r| match r {
+                RowOutcome::Row(row) => Some(row.intensities[0]),
+                RowOutcome::Malformed(_) => None,
+            })
+            .collect();
+        assert_eq!(values, vec![1.0, 2.0]);
+        assert_eq!(
+            rows.len(),
+            3,
+            "the malformed row is still reported: {rows:?}"
+        );
+        assert_eq!(reader.faces().skipped(), 2);
+        assert!(reader.take_face_notice().is_some());
+
+        let mut second = OpenFaceReader::new(text.as_bytes(), Path::new("t.csv"))
+            .unwrap()
+            .follow_face(Some(1));
+        let values: Vec<f32> = second
+            .by_ref()
+            .filter_map(|r| match r.unwrap() {
+                RowOutcome::Row(row) => Some(row.intensities[0]),
+                RowOutcome::Malformed(_) => None,
+            })
+            .collect();
+        assert_eq!(values, vec![4.0, 4.0]);
+
+        let (_, rows) = read_all("face_id, AU12_r\n0.5, 1.0\n");
+        let RowOutcome::Malformed(e) = &rows[0] else {
+            panic!("{rows:?}")
+        };
+        assert!(e.message.contains("not a face number"), "{e}");
+    }
+
+    #[test]
     fn header_without_au_columns_is_refused() {
         assert_eq!(
             OpenFaceColumns::from_header("frame, timestamp, AU01_c"),
@@ -595,6 +694,7 @@ mod tests {
                 frame: None,
                 timestamp: None,
                 success: false,
+                face: None,
                 intensities: vec![],
                 landmarks: vec![],
                 pose: None,

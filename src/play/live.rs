@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use crate::facs::AuKey;
 use crate::io::arkit::{self, ArkitMap};
+use crate::io::faces::Faces;
 use crate::io::lines::LineReader;
 use crate::io::livelink::{is_header, LiveLinkColumns};
 use crate::io::openface::{OpenFaceColumns, RowOutcome, MAX_LINE_BYTES};
@@ -150,9 +151,17 @@ pub struct LiveSource {
     csv_allowed: bool,
     stashed: Option<Event>,
     arkit: ArkitMap,
+    /// The face followed in OpenFace rows of several faces.
+    faces: Faces,
 }
 
 impl LiveSource {
+    /// Follows face `id` of OpenFace rows of several faces (`None`: the first tracked face).
+    pub fn follow_face(mut self, id: Option<u32>) -> LiveSource {
+        self.faces = Faces::new(id);
+        self
+    }
+
     /// Reads stdin on a thread; the first non-blank line says CSV (an OpenFace or Live Link
     /// Face header) or JSON (`{`). `fps` times rows without timestamps, or a Live Link take's
     /// frames (each format has its own default).
@@ -248,6 +257,7 @@ impl LiveSource {
             csv_allowed,
             stashed: None,
             arkit: ArkitMap::builtin(),
+            faces: Faces::new(None),
         }
     }
 
@@ -268,6 +278,9 @@ impl LiveSource {
             LiveFormat::Csv(columns) => {
                 let columns = columns.clone();
                 let outcome = match columns.parse_row(trimmed, number) {
+                    Ok(row) if !self.faces.admits(row.face, row.success) => {
+                        return self.faces.take_notice().map(Event::Notice);
+                    }
                     Ok(row) => RowOutcome::Row(row),
                     Err(e) => RowOutcome::Malformed(e),
                 };

@@ -27,6 +27,9 @@ pub struct RecordingOptions {
     pub fps: Option<f64>,
     /// The playing rig's muscle names, for activation CSVs (`grimace capture`'s output).
     pub muscles: Vec<String>,
+    /// The face followed in an OpenFace recording of several (`--face`; default: the first
+    /// tracked face, [`crate::io::faces`]).
+    pub face: Option<u32>,
 }
 
 /// Opens the recording at `path`: a Live Link Face take when its first line is that header,
@@ -61,7 +64,8 @@ pub fn open_file(
             fps,
         )?));
     }
-    let source = OpenFaceSource::new(input, path, options.mapper.clone(), options.scale, fps)?;
+    let source = OpenFaceSource::new(input, path, options.mapper.clone(), options.scale, fps)?
+        .follow_face(options.face);
     Ok(Box::new(source))
 }
 

@@ -259,8 +259,17 @@ impl FrameSource for OpenFaceSource {
 }
 
 impl OpenFaceSource {
+    /// Follows face `id` of a recording with several (`None`: the first tracked face).
+    pub fn follow_face(mut self, id: Option<u32>) -> OpenFaceSource {
+        self.reader = self.reader.follow_face(id);
+        self
+    }
+
     fn next_event(&mut self) -> Result<Poll, SourceError> {
         if let Some(notice) = self.builder.take_notice() {
+            return Ok(Poll::Event(Event::Notice(notice)));
+        }
+        if let Some(notice) = self.reader.take_face_notice() {
             return Ok(Poll::Event(Event::Notice(notice)));
         }
         if let Some(event) = self.stashed.take() {

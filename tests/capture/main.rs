@@ -5,6 +5,7 @@
 mod common;
 
 mod aus;
+mod faces;
 mod neutral;
 mod samples;
 mod synthetic;
