@@ -48,7 +48,7 @@ fn last_value(acts: &str, muscle: &str) -> f64 {
     let mut lines = acts.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').map(str::trim).collect();
     let column = header.iter().position(|n| *n == muscle).unwrap();
-    let last = lines.last().unwrap();
+    let last = lines.next_back().unwrap();
     last.split(',').nth(column).unwrap().trim().parse().unwrap()
 }
 
