@@ -174,6 +174,7 @@ fn rig(muscles: Vec<Muscle>, jaw: Option<Jaw>) -> Rig {
         masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("classic"),
+        landmarks: None,
         combine: Combine::Sum,
         muscles,
         jaw,

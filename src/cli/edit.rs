@@ -243,6 +243,9 @@ fn load_face(args: &EditArgs, table: &AuTable, table_path: &Path) -> Result<Face
     if let Some(file) = &file {
         // Absolute while the editor runs (see `new_table`).
         loaded.rig.mesh = reference::absolute(file, &loaded.rig.mesh);
+        if let Some(landmarks) = loaded.rig.landmarks.as_mut() {
+            *landmarks = reference::absolute(file, landmarks);
+        }
     }
     Ok((loaded, file))
 }

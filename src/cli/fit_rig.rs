@@ -47,9 +47,11 @@ pub struct FitRigArgs {
     /// The mesh to rig (Wavefront OBJ), in its own units and orientation.
     #[arg(value_name = "MESH.obj")]
     pub mesh: PathBuf,
-    /// The mesh's 68 iBUG landmarks: a *.landmarks.ron file, or `mediapipe` for a MediaPipe
-    /// face mesh (468 or 478 vertices, numbered like MediaPipe's landmarks). With --pick, the
-    /// file the picked landmarks are saved to (default: MESH.landmarks.ron beside the mesh).
+    /// The mesh's 68 iBUG landmarks: a *.landmarks.ron file, MeshLab's picked points (*.pp),
+    /// a list one a line (*.txt, *.csv, *.xyz: x y z or a vertex number), or `mediapipe` for a
+    /// MediaPipe face mesh (468 or 478 vertices, numbered like MediaPipe's landmarks). With
+    /// --pick, the file the picked landmarks are saved to (default: MESH.landmarks.ron beside
+    /// the mesh).
     #[arg(long, value_name = "FILE|mediapipe", required_unless_present = "pick")]
     pub landmarks: Option<String>,
     /// Pick the landmarks in the terminal first, then fit.
@@ -151,8 +153,9 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     Deformation::default()
         .bind(&fitted.rig, mesh)
         .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
-    if let Some((cut, files)) = &opened {
-        fitted.rig.mesh = write_opened(args, cut, files)?;
+    match &opened {
+        Some((cut, files)) => fitted.rig.mesh = write_opened(args, cut, files)?,
+        None => fitted.rig.landmarks = named_landmarks(args, &landmark_arg, &landmark_file),
     }
     rig_file::save_rig(&args.out, &fitted.rig)?;
     if fitted.bend >= SUSPICIOUS_BEND {
@@ -168,6 +171,16 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     text.push_str(&lips_summary(args, &lips, lips_cut));
     text.push_str(&eyes_summary(args, &eyes, written));
     super::print(&text)
+}
+
+/// The landmark file as the rig names it, when loading would not find it by itself: a file
+/// other than `MESH.landmarks.ron` beside the mesh (a MediaPipe mesh's numbering needs none).
+/// Without it the views would frame the rig without its landmarks: no face framing, brows or
+/// painted eyes.
+fn named_landmarks(args: &FitRigArgs, given: &str, file: &Path) -> Option<PathBuf> {
+    let real = |p: &Path| std::fs::canonicalize(p).ok();
+    let found_anyway = given == "mediapipe" || real(file) == real(&beside(&args.mesh));
+    (!found_anyway).then(|| reference::written_reference(&args.out, file))
 }
 
 /// The opened mesh to write, with the files it goes to: joined lips unless `--keep-lips`,

@@ -89,6 +89,13 @@ pub fn prepare(
     let mut inputs = crate::io::inputs::Inputs::new();
     inputs.add("the mesh being picked", mesh_path);
     inputs.check_output(out)?;
+    if crate::io::landmark_text::form_of(out) != crate::io::landmark_text::Form::Ron {
+        return Err(anyhow!(
+            "{}: picked landmarks are saved as RON; name the file NAME.landmarks.ron (MeshLab's \
+             .pp and .txt, .csv, .xyz lists are read, not written)",
+            out.display()
+        ));
+    }
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         if !dir.is_dir() {
             return Err(anyhow!(

@@ -119,8 +119,13 @@ fn check_rig(path: &Path) -> Result<String, LoadError> {
     Deformation::default()
         .bind(&loaded.rig, &loaded.mesh)
         .map_err(|e| LoadError::new(path, e.to_string()))?;
+    // Landmarks the rig names must load and fit its mesh (others are looked for, not required).
+    let landmarks = match (&loaded.rig.landmarks, loaded.landmark_points()?) {
+        (Some(file), Some(_)) => format!(", landmarks {}", file.display()),
+        _ => String::new(),
+    };
     Ok(format!(
-        "rig: {} muscles{}, mesh {} vertices",
+        "rig: {} muscles{}, mesh {} vertices{landmarks}",
         loaded.rig.muscles.len(),
         if loaded.rig.jaw.is_some() {
             " and a jaw"

@@ -262,6 +262,7 @@ pub fn paper_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
         masks: Vec::new(),
         version: RIG_VERSION,
         mesh: FACE_PATH.into(),
+        landmarks: None,
         combine: Default::default(),
         muscles,
         jaw: Some(place.jaw()?),

@@ -255,6 +255,7 @@ mod tests {
             masks: Vec::new(),
             version: 1,
             mesh: PathBuf::from("builtin:test"),
+            landmarks: None,
             combine: Default::default(),
             muscles: vec![muscle("a"), muscle("b")],
             jaw: None,

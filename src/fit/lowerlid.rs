@@ -268,6 +268,7 @@ mod tests {
             ],
             version: crate::model::RIG_VERSION,
             mesh: "mesh.obj".into(),
+            landmarks: None,
             combine: Default::default(),
             muscles: Vec::new(),
             jaw: None,

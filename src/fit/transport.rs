@@ -176,6 +176,7 @@ pub fn fit_rig(
     let mut rig = Rig {
         version: template.rig.version,
         mesh: mesh_path,
+        landmarks: None,
         combine: template.rig.combine,
         muscles,
         jaw,

@@ -10,7 +10,8 @@
 //!
 //! Exactly one of `vertices` and `points`, with 68 entries. Errors name the file, line and
 //! column: of the entry for a bad landmark, of the list for a wrong count. The format is in
-//! `docs/formats.md`.
+//! `docs/formats.md`. Files other tools write (MeshLab's `*.pp`, plain `*.txt`/`*.csv`/`*.xyz`
+//! lists) are read by [`super::landmark_text`] and checked the same way.
 
 use std::path::{Path, PathBuf};
 
@@ -18,6 +19,7 @@ use glam::Vec3;
 use serde::Deserialize;
 
 use super::error::{read_text, LoadError, SaveError, MAX_FILE_BYTES};
+use super::landmark_text::{self, form_of, Form};
 use super::{atomic, ron_text};
 use crate::landmarks::{LandmarkError, Landmarks, COUNT};
 use crate::model::Mesh;
@@ -61,6 +63,12 @@ pub fn load_landmarks(path: &Path) -> Result<Landmarks, LoadError> {
 
 /// Parses the text of a landmark file; `path` is used in messages only.
 pub fn parse_landmarks(text: &str, path: &Path) -> Result<Landmarks, LoadError> {
+    let form = landmark_text::form_of(path);
+    if form != Form::Ron {
+        let read = landmark_text::parse(text, path, form)?;
+        read.landmarks.check().map_err(|e| locate(path, text, &e))?;
+        return Ok(read.landmarks);
+    }
     ron_text::check_version(path, text, LANDMARKS_VERSION, "landmark file")?;
     let file: LandmarksFile = ron_text::parse(path, text, "landmarks")?;
     let landmarks = match (file.vertices, file.points) {
@@ -110,14 +118,26 @@ pub fn check_against(
 
 /// Turns a landmark error into a load error at the entry (or list) it concerns.
 pub fn locate(path: &Path, text: &str, error: &LandmarkError) -> LoadError {
-    let list = ron_text::find_field(text, 0, "vertices")
-        .or_else(|| ron_text::find_field(text, 0, "points"));
-    let offset = match error {
+    let entry = match error {
         LandmarkError::VertexOutOfRange { landmark, .. }
-        | LandmarkError::NonFinite { landmark } => list
-            .and_then(|at| item_offset(text, at, *landmark))
-            .or(list),
-        _ => list,
+        | LandmarkError::NonFinite { landmark } => Some(*landmark),
+        _ => None,
+    };
+    let offset = match landmark_text::form_of(path) {
+        // The entry's own line in another tool's file, else its first.
+        Form::PickedPoints | Form::Lines => landmark_text::parse(text, path, form_of(path))
+            .ok()
+            .and_then(|read| {
+                let first = read.offsets.first().copied();
+                entry.and_then(|n| read.offsets.get(n).copied()).or(first)
+            }),
+        Form::Ron => {
+            let list = ron_text::find_field(text, 0, "vertices")
+                .or_else(|| ron_text::find_field(text, 0, "points"));
+            entry
+                .and_then(|n| list.and_then(|at| item_offset(text, at, n)))
+                .or(list)
+        }
     };
     match offset {
         Some(at) => LoadError::at_offset(path, text, at, error.to_string()),
@@ -187,8 +207,16 @@ pub fn landmarks_to_ron(landmarks: &Landmarks) -> String {
     out
 }
 
-/// Writes a landmark file atomically.
+/// Writes a landmark file atomically, as RON (a name in another tool's form is refused).
 pub fn save_landmarks(path: &Path, landmarks: &Landmarks) -> Result<(), SaveError> {
+    // Another tool's form would be written as RON under its name and not read back.
+    if form_of(path) != Form::Ron {
+        return Err(SaveError::new(
+            path,
+            "landmarks are saved as RON: name the file NAME.landmarks.ron (MeshLab's .pp and \
+             plain .txt, .csv, .xyz lists are read, not written)",
+        ));
+    }
     landmarks
         .check()
         .map_err(|e| SaveError::new(path, e.to_string()))?;

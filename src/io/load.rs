@@ -51,6 +51,9 @@ impl LoadedRig {
         &self,
         flag: &str,
     ) -> Result<(crate::landmarks::Landmarks, PathBuf), LoadError> {
+        if let Some(file) = named_landmarks(&self.path, &self.rig) {
+            return Ok((super::landmarks::load_landmarks(&file)?, file));
+        }
         match mesh_ref(&self.path, &self.rig.mesh) {
             MeshRef::Builtin(name) => builtin::landmarks(&name)
                 .map(|marks| {
@@ -100,6 +103,10 @@ fn find_landmark_points(
     mesh: &Mesh,
     mesh_file: Option<&Path>,
 ) -> Result<Option<Vec<glam::Vec3>>, LoadError> {
+    if let Some(file) = named_landmarks(path, rig) {
+        let landmarks = super::landmarks::load_landmarks(&file)?;
+        return super::landmarks::check_against(&landmarks, mesh, &file, None).map(Some);
+    }
     let Some(mesh_file) = mesh_file else {
         let name = match mesh_ref(path, &rig.mesh) {
             MeshRef::Builtin(name) => name,
@@ -119,6 +126,13 @@ fn find_landmark_points(
         .and_then(|l| l.positions(mesh))
         .ok()
         .filter(|points| crate::landmarks::order_problems(points).is_empty()))
+}
+
+/// The landmark file a rig names (`landmarks`), resolved against the rig file's folder.
+fn named_landmarks(path: &Path, rig: &Rig) -> Option<PathBuf> {
+    rig.landmarks
+        .as_deref()
+        .map(|file| super::reference::resolve(path, file))
 }
 
 /// A loaded rig, its landmark points found and, on a mesh file without brows of its own,

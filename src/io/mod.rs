@@ -13,6 +13,7 @@ pub mod error;
 pub mod faces;
 pub mod gltf;
 pub mod inputs;
+pub mod landmark_text;
 pub mod landmarks;
 pub mod lines;
 pub mod livelink;

@@ -77,12 +77,15 @@ pub fn table_for_file(file: &Path, table: &AuTable) -> AuTable {
     table
 }
 
-/// `rig` as written at `file`: an absolute mesh reference becomes relative to `file`'s real
-/// folder (see [`table_for_file`]).
+/// `rig` as written at `file`: an absolute mesh or landmark reference becomes relative to
+/// `file`'s real folder (see [`table_for_file`]).
 pub fn rig_for_file(file: &Path, rig: &Rig) -> Rig {
     let mut rig = rig.clone();
     if rig.mesh.is_absolute() {
         rig.mesh = written_reference(file, &rig.mesh);
+    }
+    if let Some(landmarks) = rig.landmarks.as_mut().filter(|l| l.is_absolute()) {
+        *landmarks = written_reference(file, landmarks);
     }
     rig
 }
@@ -152,6 +155,19 @@ mod tests {
             fs::canonicalize(resolve(&rig, &reference)).unwrap(),
             fs::canonicalize(&mesh).unwrap()
         );
+    }
+
+    #[test]
+    fn a_rig_saved_elsewhere_names_its_mesh_and_landmarks_from_there() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = fs::canonicalize(dir.path()).unwrap();
+        fs::create_dir_all(root.join("rigs")).unwrap();
+        let mut rig = crate::io::builtin::default_rig();
+        rig.mesh = root.join("head.obj");
+        rig.landmarks = Some(root.join("marks/head.ron"));
+        let written = rig_for_file(&root.join("rigs/head.rig.ron"), &rig);
+        assert_eq!(written.mesh, Path::new("../head.obj"));
+        assert_eq!(written.landmarks.unwrap(), Path::new("../marks/head.ron"));
     }
 
     #[cfg(unix)]

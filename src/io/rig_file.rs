@@ -224,6 +224,7 @@ pub fn rig_to_ron(rig: &Rig) -> String {
     let Rig {
         version,
         mesh,
+        landmarks,
         combine,
         muscles,
         jaw,
@@ -236,6 +237,12 @@ pub fn rig_to_ron(rig: &Rig) -> String {
         "    mesh: {},\n",
         ron_text::string(&mesh.to_string_lossy())
     ));
+    if let Some(landmarks) = landmarks {
+        out.push_str(&format!(
+            "    landmarks: {},\n",
+            ron_text::string(&landmarks.to_string_lossy())
+        ));
+    }
     out.push_str(&format!("    combine: {combine:?},\n"));
     out.push_str("    muscles: [\n");
     for muscle in muscles {
@@ -410,6 +417,8 @@ type P3 = [f32; 3];
 struct RigFile {
     version: u32,
     mesh: String,
+    #[serde(default, deserialize_with = "bare_some")]
+    landmarks: Option<String>,
     #[serde(default)]
     combine: Combine,
     muscles: Vec<MuscleFile>,
@@ -512,6 +521,7 @@ impl RigFile {
         Rig {
             version: self.version,
             mesh: PathBuf::from(self.mesh),
+            landmarks: self.landmarks.map(PathBuf::from),
             combine: self.combine,
             muscles: self
                 .muscles

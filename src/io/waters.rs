@@ -223,6 +223,7 @@ pub fn linear_rig(muscles: &[WatersMuscle], mesh: PathBuf) -> Rig {
         masks: Vec::new(),
         version: RIG_VERSION,
         mesh,
+        landmarks: None,
         combine: Combine::Sum,
         muscles: muscles
             .iter()

@@ -32,6 +32,11 @@ pub struct Rig {
     pub version: u32,
     /// The mesh the rig is placed on: a path relative to the rig file, or `builtin:NAME`.
     pub mesh: PathBuf,
+    /// The mesh's 68 landmarks (a landmark file, relative to the rig file), when they are not
+    /// the built-in mesh's own or `MESH.landmarks.ron` beside the mesh: the views frame the
+    /// face and draw its brows and eyes from them, `check` and `capture` measure with them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub landmarks: Option<PathBuf>,
     /// How overlapping muscles combine.
     #[serde(default)]
     pub combine: Combine,

@@ -48,6 +48,7 @@ pub(crate) fn app() -> App {
         masks: Vec::new(),
         version: crate::model::rig::RIG_VERSION,
         mesh: PathBuf::from("grid.obj"),
+        landmarks: None,
         combine: Combine::Sum,
         muscles: vec![
             Muscle {

@@ -45,6 +45,7 @@ pub fn fixture_rig_and_table() -> (Rig, AuTable) {
         masks: Vec::new(),
         version: grimace::model::RIG_VERSION,
         mesh: PathBuf::from("builtin:default"),
+        landmarks: None,
         combine: Default::default(),
         muscles: vec![muscle("brow"), muscle("cheek"), muscle("mouth")],
         jaw: None,

@@ -445,3 +445,187 @@ fn fit_au_map_skips_a_rest_shaped_and_a_broken_target_and_writes_the_rest() {
     let table = grimace::io::load_table(&d.join("mine.au.ron")).unwrap();
     assert_eq!(table.aus.len(), 1);
 }
+
+#[test]
+fn landmarks_kept_apart_from_the_mesh_are_named_by_the_rig() {
+    let dir = temp();
+    write_face(dir.path(), "head", |p| p * 10.0);
+    std::fs::create_dir(dir.path().join("marks")).unwrap();
+    std::fs::rename(
+        dir.path().join("head.landmarks.ron"),
+        dir.path().join("marks/picked.ron"),
+    )
+    .unwrap();
+    let fit = |landmarks: &str| {
+        let out = grimace_in(
+            dir.path(),
+            &[
+                "fit-rig",
+                "head.obj",
+                "--landmarks",
+                landmarks,
+                "--out",
+                "head.rig.ron",
+                "--keep-lips",
+                "--keep-eyes",
+            ],
+        );
+        assert!(out.status.success(), "{}", text(&out).1);
+        std::fs::read_to_string(dir.path().join("head.rig.ron")).unwrap()
+    };
+    let rig = fit("marks/picked.ron");
+    assert!(rig.contains("landmarks: \"marks/picked.ron\""), "{rig}");
+    // Loading finds them through the rig (the views frame the face and draw brows from
+    // them), from another working directory too.
+    let loaded = grimace::io::load_rig(&dir.path().join("head.rig.ron")).unwrap();
+    let points = loaded
+        .landmark_points()
+        .unwrap()
+        .expect("the rig's landmarks");
+    assert_eq!(points.len(), 68);
+    assert!(loaded.mesh.groups.keys().any(|g| g.contains("brow_hair")));
+    let out = grimace_in(dir.path(), &["validate", "head.rig.ron"]);
+    assert!(
+        text(&out).0.contains("landmarks marks/picked.ron"),
+        "{:?}",
+        text(&out)
+    );
+
+    // A landmark file the rig names and that is gone is named by `validate`.
+    std::fs::rename(
+        dir.path().join("marks/picked.ron"),
+        dir.path().join("marks/moved.ron"),
+    )
+    .unwrap();
+    let out = grimace_in(dir.path(), &["validate", "head.rig.ron"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out).1.contains("marks/picked.ron"),
+        "{:?}",
+        text(&out)
+    );
+
+    // Beside the mesh they are found without being named.
+    std::fs::rename(
+        dir.path().join("marks/moved.ron"),
+        dir.path().join("head.landmarks.ron"),
+    )
+    .unwrap();
+    let rig = fit("head.landmarks.ron");
+    assert!(!rig.contains("landmarks:"), "{rig}");
+}
+
+/// Landmarks picked in MeshLab (`*.pp`) or listed one a line (`*.csv`) fit as a landmark file
+/// does, and their errors name the line.
+#[test]
+fn landmarks_from_other_tools_are_read_as_they_are() {
+    let dir = temp();
+    write_face(dir.path(), "head", |p| p * 10.0);
+    let mesh = builtin::default_mesh();
+    let points: Vec<Vec3> = builtin::landmarks("default")
+        .unwrap()
+        .positions(&mesh)
+        .unwrap()
+        .into_iter()
+        .map(|p| p * 10.0)
+        .collect();
+    let mut pp = String::from("<!DOCTYPE PickedPoints>\n<PickedPoints>\n <DocumentData/>\n");
+    let mut csv = String::from("name,x,y,z\n");
+    for (i, p) in points.iter().enumerate() {
+        pp.push_str(&format!(
+            " <point x=\"{}\" y=\"{}\" z=\"{}\" active=\"1\" name=\"{i}\"/>\n",
+            p.x, p.y, p.z
+        ));
+        csv.push_str(&format!("lm{i},{},{},{}\n", p.x, p.y, p.z));
+    }
+    pp.push_str("</PickedPoints>\n");
+    std::fs::write(dir.path().join("head.pp"), &pp).unwrap();
+    std::fs::write(dir.path().join("marks.csv"), &csv).unwrap();
+    let reference = grimace_in(
+        dir.path(),
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "head.landmarks.ron",
+            "--out",
+            "a.rig.ron",
+        ],
+    );
+    assert!(reference.status.success(), "{}", text(&reference).1);
+    for (file, rig) in [("head.pp", "b.rig.ron"), ("marks.csv", "c.rig.ron")] {
+        let out = grimace_in(
+            dir.path(),
+            &["fit-rig", "head.obj", "--landmarks", file, "--out", rig],
+        );
+        assert!(out.status.success(), "{file}: {}", text(&out).1);
+        // The same rig as from the RON file, but for the last digits (points against the
+        // vertices they were read from) and the line naming the landmark file.
+        let numbers = |name: &str| -> Vec<f64> {
+            std::fs::read_to_string(dir.path().join(name))
+                .unwrap()
+                .lines()
+                .filter(|l| !l.contains("landmarks:"))
+                .flat_map(|l| {
+                    l.split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-' || c == 'e'))
+                        .filter_map(|w| w.parse::<f64>().ok())
+                        .collect::<Vec<_>>()
+                })
+                .collect()
+        };
+        let (a, b) = (numbers("a.rig.ron"), numbers(rig));
+        assert_eq!(a.len(), b.len(), "{file}");
+        let gap = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            gap < 1e-3,
+            "{file}: the rig differs by {gap} from the RON fit"
+        );
+        let b = grimace::io::load_rig(&dir.path().join(rig)).unwrap();
+        assert_eq!(
+            b.landmark_points().unwrap().map(|p| p.len()),
+            Some(68),
+            "{file}: the rig's views find the landmarks"
+        );
+    }
+    let unplaced = pp.replacen("active=\"1\"", "active=\"0\"", 1);
+    std::fs::write(dir.path().join("bad.pp"), unplaced).unwrap();
+    fails_naming(
+        dir.path(),
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "bad.pp",
+            "--out",
+            "d.rig.ron",
+        ],
+        "bad.pp:4:2",
+        "not placed",
+    );
+    // They are read, never written: the picker refuses to save in their form.
+    fails_naming(
+        dir.path(),
+        &["landmarks", "head.obj", "--out", "picked.pp"],
+        "picked.pp",
+        "saved as RON",
+    );
+    let short: String = csv.lines().take(60).map(|l| format!("{l}\n")).collect();
+    std::fs::write(dir.path().join("short.csv"), short).unwrap();
+    fails_naming(
+        dir.path(),
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "short.csv",
+            "--out",
+            "e.rig.ron",
+        ],
+        "short.csv",
+        "59",
+    );
+}

@@ -38,6 +38,7 @@ fn rig(n: usize) -> Rig {
         masks: Vec::new(),
         version: grimace::model::RIG_VERSION,
         mesh: PathBuf::from("m.obj"),
+        landmarks: None,
         combine: Default::default(),
         muscles: (0..n)
             .map(|i| Muscle {

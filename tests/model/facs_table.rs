@@ -13,6 +13,7 @@ fn rig(names: &[&str]) -> Rig {
         masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("m.obj"),
+        landmarks: None,
         combine: Default::default(),
         muscles: names
             .iter()

@@ -115,6 +115,7 @@ fn rig_of(g: &Golden) -> Rig {
         masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("golden"),
+        landmarks: None,
         combine: Combine::Sum,
         muscles: g.muscles.clone(),
         jaw: None,

@@ -34,6 +34,7 @@ fn sample_rig() -> Rig {
         masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("face.obj"),
+        landmarks: None,
         combine: Combine::Average,
         muscles: vec![
             linear(
@@ -169,6 +170,21 @@ fn the_jaw_slide_round_trips_and_defaults_to_none() {
     assert_eq!(read.jaw.map(|j| j.slide), Some(Vec3::ZERO));
 }
 
+/// The landmark file a rig names is written after its mesh and read back; a rig without one
+/// writes no such line.
+#[test]
+fn a_rigs_landmark_file_round_trips() {
+    let mut rig = sample_rig();
+    rig.landmarks = Some("marks/head.landmarks.ron".into());
+    let text = io::rig_to_ron(&rig);
+    assert!(
+        text.contains("    landmarks: \"marks/head.landmarks.ron\",\n"),
+        "{text}"
+    );
+    assert_eq!(io::parse_rig(&text, p()).unwrap(), rig);
+    assert!(!io::rig_to_ron(&sample_rig()).contains("landmarks"));
+}
+
 #[test]
 fn table_round_trips_exactly_and_reads_well() {
     let table = sample_table();
@@ -229,7 +245,7 @@ fn rig_semantic_errors_name_the_muscle_and_place() {
     );
     let unknown = good.replace("combine: Average", "combine: Average,\n    colour: 3");
     assert!(
-        rig_error(&unknown).starts_with("t.ron:6:5: unknown field `colour` in rig; expected one of: version, mesh, combine, muscles, jaw"),
+        rig_error(&unknown).starts_with("t.ron:6:5: unknown field `colour` in rig; expected one of: version, mesh, landmarks, combine, muscles, jaw"),
         "{}", rig_error(&unknown)
     );
 }

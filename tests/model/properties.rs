@@ -164,6 +164,7 @@ fn symmetric_rig(combine: Combine) -> Rig {
         masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("dome.obj"),
+        landmarks: None,
         combine,
         muscles,
         jaw: Some(Jaw {

@@ -433,6 +433,7 @@ fn muscle_overlays_cover_every_muscle_and_the_jaw() {
         masks: Vec::new(),
         version: grimace::model::RIG_VERSION,
         mesh: "builtin:default".into(),
+        landmarks: None,
         combine: Default::default(),
         muscles: vec![linear, sphincter, sheet],
         jaw: Some(Jaw {

@@ -41,6 +41,7 @@ fn rig(muscles: Vec<Muscle>, jaw: Option<Jaw>) -> Rig {
         masks: Vec::new(),
         version: RIG_VERSION,
         mesh: PathBuf::from("test.obj"),
+        landmarks: None,
         combine: Combine::Sum,
         muscles,
         jaw,

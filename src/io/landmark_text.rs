@@ -1,0 +1,341 @@
+//! Landmark files written by other tools, read as they are: MeshLab's picked points
+//! (`*.pp`, from its PickPoints editor) and plain text (`*.txt`, `*.csv`, `*.xyz`), so
+//! landmarks picked elsewhere need no conversion before `fit-rig`.
+//!
+//! - Picked points: the `<point x=".." y=".." z=".." .../>` elements, in file order (their
+//!   `name`s are not read: MeshLab numbers from 0 or 1 as its user chose). A point with
+//!   `active="0"` was never placed and is refused.
+//! - Plain text: one landmark a line, in the iBUG order; a line is three numbers (x y z in the
+//!   mesh's coordinates), a label and three numbers (`17,x,y,z` or `brow_r1 x y z`: the label
+//!   is not read), or one whole number (a vertex number, from 0), separated by spaces, tabs,
+//!   commas or semicolons. Blank lines and lines starting with `#` or `//` are passed
+//!   over, and so is a first line of words (a CSV header such as `x,y,z`). Every line takes
+//!   the same form.
+//!
+//! Errors name the file, line and column of the entry at fault; each entry's place is kept so
+//! that a check against the mesh (a vertex number past its end) points at the line too.
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use super::error::LoadError;
+use crate::landmarks::Landmarks;
+
+/// A landmark file's form, by its name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Form {
+    /// grimace's own `*.landmarks.ron` (and any name not below).
+    Ron,
+    /// MeshLab's picked points, `*.pp`.
+    PickedPoints,
+    /// One landmark a line, `*.txt`, `*.csv`, `*.xyz`.
+    Lines,
+}
+
+/// The form of the landmark file at `path`, from its extension.
+pub fn form_of(path: &Path) -> Form {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("pp") => Form::PickedPoints,
+        Some("txt" | "csv" | "xyz") => Form::Lines,
+        _ => Form::Ron,
+    }
+}
+
+/// Landmarks read from another tool's file, with each entry's byte offset in the text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Read {
+    /// The landmarks, unchecked (the caller checks count and values as for RON files).
+    pub landmarks: Landmarks,
+    /// Byte offset of each entry, in order.
+    pub offsets: Vec<usize>,
+}
+
+/// Parses `text` in `form` (not [`Form::Ron`]); `path` names the file in errors.
+pub fn parse(text: &str, path: &Path, form: Form) -> Result<Read, LoadError> {
+    match form {
+        Form::PickedPoints => picked_points(text, path),
+        Form::Lines | Form::Ron => lines(text, path),
+    }
+}
+
+/// MeshLab's `<point .../>` elements.
+fn picked_points(text: &str, path: &Path) -> Result<Read, LoadError> {
+    let mut points = Vec::new();
+    let mut offsets = Vec::new();
+    let mut from = 0;
+    while let Some(found) = text[from..].find("<point") {
+        let start = from + found;
+        let after = start + "<point".len();
+        // `<pointSet>` or another element that only begins with the word is not a point.
+        if !text[after..].starts_with(|c: char| c.is_whitespace() || c == '/' || c == '>') {
+            from = after;
+            continue;
+        }
+        let end = text[after..]
+            .find('>')
+            .map(|e| after + e)
+            .ok_or_else(|| LoadError::at_offset(path, text, start, "a `<point` that never ends"))?;
+        let element = &text[after..end];
+        let number = |name: &str| -> Result<f32, LoadError> {
+            let (at, value) = attribute(element, name).ok_or_else(|| {
+                LoadError::at_offset(
+                    path,
+                    text,
+                    start,
+                    format!("point {} has no `{name}`", points.len() + 1),
+                )
+            })?;
+            value.trim().parse::<f32>().map_err(|_| {
+                LoadError::at_offset(
+                    path,
+                    text,
+                    after + at,
+                    format!("{name}=\"{value}\" is not a number"),
+                )
+            })
+        };
+        let point = Vec3::new(number("x")?, number("y")?, number("z")?);
+        if let Some((_, active)) = attribute(element, "active") {
+            if active.trim() == "0" {
+                return Err(LoadError::at_offset(
+                    path,
+                    text,
+                    start,
+                    format!(
+                        "point {} is not placed (active=\"0\"): place every landmark in MeshLab before saving",
+                        points.len() + 1
+                    ),
+                ));
+            }
+        }
+        points.push(point);
+        offsets.push(start);
+        from = end;
+    }
+    if points.is_empty() {
+        return Err(LoadError::new(
+            path,
+            "no `<point x=\"..\" y=\"..\" z=\"..\"/>` elements: is this a MeshLab picked points file?",
+        ));
+    }
+    Ok(Read {
+        landmarks: Landmarks::Points(points),
+        offsets,
+    })
+}
+
+/// The value of attribute `name` in an element's text, with its byte offset there.
+fn attribute<'a>(element: &'a str, name: &str) -> Option<(usize, &'a str)> {
+    let mut from = 0;
+    while let Some(found) = element[from..].find(name) {
+        let at = from + found;
+        let before_ok = at == 0 || element[..at].ends_with(char::is_whitespace);
+        let rest = element[at + name.len()..].trim_start();
+        if before_ok && rest.starts_with('=') {
+            let value = rest[1..].trim_start();
+            let quote = value.chars().next().filter(|q| *q == '"' || *q == '\'')?;
+            let inner = &value[1..];
+            let close = inner.find(quote)?;
+            return Some((at, &inner[..close]));
+        }
+        from = at + name.len();
+    }
+    None
+}
+
+/// One entry of a plain-text line: its fields and their byte offsets.
+fn fields(line: &str) -> Vec<(usize, &str)> {
+    let mut out = Vec::new();
+    let mut start = None;
+    for (i, c) in line.char_indices() {
+        let separator = c.is_whitespace() || c == ',' || c == ';';
+        match (separator, start) {
+            (true, Some(s)) => {
+                out.push((s, &line[s..i]));
+                start = None;
+            }
+            (false, None) => start = Some(i),
+            _ => {}
+        }
+    }
+    if let Some(s) = start {
+        out.push((s, &line[s..]));
+    }
+    out
+}
+
+/// One landmark a line.
+fn lines(text: &str, path: &Path) -> Result<Read, LoadError> {
+    let mut vertices = Vec::new();
+    let mut points = Vec::new();
+    let mut offsets = Vec::new();
+    let mut offset = 0;
+    let mut first = true;
+    for raw in text.split_inclusive('\n') {
+        let line_start = offset;
+        offset += raw.len();
+        let line = raw
+            .trim_end_matches(['\n', '\r'])
+            .trim_start_matches('\u{feff}');
+        let trimmed = line.trim();
+        if trimmed.is_empty() || trimmed.starts_with('#') || trimmed.starts_with("//") {
+            continue;
+        }
+        let items = fields(line);
+        let is_header = first && items.iter().all(|(_, f)| f.parse::<f64>().is_err());
+        first = false;
+        if is_header {
+            continue;
+        }
+        let at = |k: usize| {
+            line_start + (raw.len() - raw.trim_start_matches('\u{feff}').len()) + items[k].0
+        };
+        let fail = |k: usize, message: String| LoadError::at_offset(path, text, at(k), message);
+        match items.len() {
+            1 if points.is_empty() => {
+                let vertex = items[0].1.parse::<u32>().map_err(|_| {
+                    fail(
+                        0,
+                        format!("`{}` is not a vertex number (0, 1, 2...)", items[0].1),
+                    )
+                })?;
+                vertices.push(vertex);
+            }
+            3 | 4 if vertices.is_empty() => {
+                // With four fields the first is a label.
+                let first = items.len() - 3;
+                let mut p = [0.0f32; 3];
+                for (k, slot) in (first..).zip(p.iter_mut()) {
+                    *slot = items[k]
+                        .1
+                        .parse::<f32>()
+                        .map_err(|_| fail(k, format!("`{}` is not a number", items[k].1)))?;
+                }
+                points.push(Vec3::from(p));
+            }
+            1 | 3 | 4 => {
+                return Err(fail(
+                    0,
+                    "every line must take one form: three numbers (x y z) or one vertex number"
+                        .into(),
+                ))
+            }
+            n => {
+                return Err(fail(
+                    0,
+                    format!(
+                        "{n} fields: a landmark is three numbers (x y z), a label and three \
+                         numbers, or one vertex number"
+                    ),
+                ))
+            }
+        }
+        offsets.push(at(0));
+    }
+    let landmarks = if points.is_empty() {
+        Landmarks::Vertices(vertices)
+    } else {
+        Landmarks::Points(points)
+    };
+    Ok(Read { landmarks, offsets })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p() -> &'static Path {
+        Path::new("t")
+    }
+
+    #[test]
+    fn forms_come_from_the_extension() {
+        assert_eq!(form_of(Path::new("a.PP")), Form::PickedPoints);
+        assert_eq!(form_of(Path::new("a.xyz")), Form::Lines);
+        assert_eq!(form_of(Path::new("a.landmarks.ron")), Form::Ron);
+        assert_eq!(form_of(Path::new("noext")), Form::Ron);
+    }
+
+    #[test]
+    fn picked_points_are_read_in_file_order() {
+        let text = "<!DOCTYPE PickedPoints>\n<PickedPoints>\n <DocumentData>\n  <DataFileName name=\"head.obj\"/>\n </DocumentData>\n <point x=\"1\" y=\"2.5\" z=\"-3\" active=\"1\" name=\"0\"/>\n <point name=\"1\" active=\"1\" z=\"6\" y='5' x=\"4e-1\"/>\n</PickedPoints>\n";
+        let read = parse(text, p(), Form::PickedPoints).unwrap();
+        assert_eq!(
+            read.landmarks,
+            Landmarks::Points(vec![Vec3::new(1.0, 2.5, -3.0), Vec3::new(0.4, 5.0, 6.0)])
+        );
+        assert_eq!(read.offsets.len(), 2);
+        assert!(text[read.offsets[1]..].starts_with("<point name=\"1\""));
+    }
+
+    #[test]
+    fn picked_points_errors_name_the_place() {
+        let unplaced = "<PickedPoints>\n<point x=\"1\" y=\"2\" z=\"3\" active=\"0\" name=\"0\"/>\n</PickedPoints>";
+        let e = parse(unplaced, p(), Form::PickedPoints)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("t:2:1") && e.contains("not placed"), "{e}");
+        let bad = "<point x=\"1\" y=\"two\" z=\"3\"/>";
+        let e = parse(bad, p(), Form::PickedPoints).unwrap_err().to_string();
+        assert!(e.contains("t:1:14") && e.contains("y=\"two\""), "{e}");
+        let missing = "<point x=\"1\" y=\"2\"/>";
+        let e = parse(missing, p(), Form::PickedPoints)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("has no `z`"), "{e}");
+        let e = parse("<html/>", p(), Form::PickedPoints)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no `<point"), "{e}");
+    }
+
+    #[test]
+    fn lines_read_points_or_vertex_numbers() {
+        let text = "x,y,z\n# the right jaw first\n1.5, 2, 3\r\n\n4\t5\t6\n7;8;9\n";
+        let read = parse(text, p(), Form::Lines).unwrap();
+        assert_eq!(
+            read.landmarks,
+            Landmarks::Points(vec![
+                Vec3::new(1.5, 2.0, 3.0),
+                Vec3::new(4.0, 5.0, 6.0),
+                Vec3::new(7.0, 8.0, 9.0)
+            ])
+        );
+        assert!(text[read.offsets[1]..].starts_with("4\t5"));
+        let labelled = parse("name,x,y,z\njaw_0,1,2,3\n1,4,5,6\n", p(), Form::Lines).unwrap();
+        assert_eq!(
+            labelled.landmarks,
+            Landmarks::Points(vec![Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0)])
+        );
+        let read = parse("12\n 7\n", p(), Form::Lines).unwrap();
+        assert_eq!(read.landmarks, Landmarks::Vertices(vec![12, 7]));
+    }
+
+    #[test]
+    fn lines_errors_name_line_and_column() {
+        let e = parse("1 2 3\n4 x 6\n", p(), Form::Lines)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("t:2:3") && e.contains("`x` is not a number"),
+            "{e}"
+        );
+        let e = parse("1 2 3\n7\n", p(), Form::Lines)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("t:2:1") && e.contains("one form"), "{e}");
+        let e = parse("1 2 3 4 5\n", p(), Form::Lines)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("5 fields"), "{e}");
+        let e = parse("1 2\n", p(), Form::Lines).unwrap_err().to_string();
+        assert!(e.contains("2 fields"), "{e}");
+        let e = parse("-4\n", p(), Form::Lines).unwrap_err().to_string();
+        assert!(e.contains("not a vertex number"), "{e}");
+    }
+}
