@@ -69,10 +69,7 @@ pub fn pick_landmarks(
     cells: CellMode,
     facing: Option<glam::Mat3>,
 ) -> anyhow::Result<bool> {
-    let (mut app, session) = prepare(mesh_path, out, cells)?;
-    if let Some(basis) = facing {
-        app.face(basis);
-    }
+    let (mut app, session) = prepare(mesh_path, out, cells, facing)?;
     pick::run(&mut app, &session)?;
     Ok(app.saved)
 }
@@ -83,6 +80,7 @@ pub fn prepare(
     mesh_path: &Path,
     out: &Path,
     cells: CellMode,
+    facing: Option<glam::Mat3>,
 ) -> anyhow::Result<(PickApp, Session)> {
     let mesh = obj::read_obj(mesh_path)?;
     check_mesh(&mesh, mesh_path)?;
@@ -116,10 +114,13 @@ pub fn prepare(
     app.out_stamp = std::fs::read(out)
         .ok()
         .map(|bytes| crate::tui::app::FileStamp::of(&bytes));
-    if let Some((landmarks, points)) = existing {
-        // A file being corrected stands the face up by its own landmarks (the mesh's shape
-        // only guesses; `--up`/`--front` still turn it after).
-        app.face(Framing::of_face(None, &app.mesh, Some(&points), None).basis);
+    // A file being corrected stands the face up and frames it by its own landmarks (the
+    // mesh's shape only guesses); `--up`/`--front` still give the axes.
+    let points = existing.as_ref().map(|(_, points)| points.as_slice());
+    if points.is_some() || facing.is_some() {
+        app.face(Framing::of_face(None, &app.mesh, points, facing));
+    }
+    if let Some((landmarks, _)) = existing {
         let vertices = landmarks.vertices(&app.mesh);
         if let Landmarks::Points(points) = &landmarks {
             app.kept_points = Some(

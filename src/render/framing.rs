@@ -9,7 +9,9 @@
 //! shape ([`Framing::of_mesh`]: the longer of its y and z extents is taken for up). The face
 //! region comes from the landmarks, with margins in the face's own proportions, else from
 //! the rig's muscle points: a fitted bust is shown upright with its face filling the view,
-//! and the view does not move when fitting moves a muscle. [`Framing::of_loaded`] looks the
+//! and the view does not move when fitting moves a muscle. A bust or a body known by its
+//! shape alone (the landmark picker's first view) is fitted at its head: what lies above the
+//! neck, found where the shoulders widen the mesh. [`Framing::of_loaded`] looks the
 //! landmarks up for a loaded rig; every front end frames through it.
 //!
 //! Axes within 20 degrees of the mesh's own are snapped to them exactly, so a face modelled
@@ -152,7 +154,8 @@ impl Framing {
     /// (68 points on the mesh, in the iBUG scheme), else the rig's sphincters, else the
     /// mesh's shape ([`Framing::of_mesh`]); all but `given` snapped to the mesh's axes within
     /// 20 degrees. Face region: from the landmarks, else from the rig's muscle points, else
-    /// the whole mesh; a region that is most of the mesh fits the whole mesh.
+    /// the head found from the mesh's shape, else the whole mesh; a region that is most of
+    /// the mesh fits the whole mesh.
     pub fn of_face(
         rig: Option<&Rig>,
         mesh: &Mesh,
@@ -169,7 +172,7 @@ impl Framing {
         let region = match (marks, rig) {
             (Some((points, _)), _) => landmark_region(points, basis),
             (None, Some(rig)) => muscle_region(rig, basis),
-            (None, None) => None,
+            (None, None) => return Framing::of_shape(mesh, Some(basis)),
         };
         let focus = region.and_then(|region| vertices_inside(region, mesh, basis));
         let mut framing = Framing::new(basis, focus, mesh);
@@ -181,15 +184,26 @@ impl Framing {
 
     /// The framing of a mesh alone: up is the longer of its y and z extents (y when equal),
     /// the face toward +z for y up and toward -y for z up (Blender's front view).
+    /// On a bust or a body the view fits its head ([`head_of`]).
     pub fn of_mesh(mesh: &Mesh) -> Framing {
+        Framing::of_shape(mesh, None)
+    }
+
+    /// [`Framing::of_mesh`] with the face's axes `given` (`--up`, `--front`), if any.
+    pub fn of_shape(mesh: &Mesh, given: Option<Mat3>) -> Framing {
         let (lo, hi) = mesh.bounds();
         let size = hi - lo;
-        let basis = if size.is_finite() && size.z > size.y * 1.05 {
+        let basis = given.unwrap_or(if size.is_finite() && size.z > size.y * 1.05 {
             Mat3::from_cols(Vec3::X, Vec3::Z, -Vec3::Y).transpose()
         } else {
             Mat3::IDENTITY
-        };
-        Framing::new(basis, None, mesh)
+        });
+        Framing::new(basis, head_of(mesh, basis), mesh)
+    }
+
+    /// The rest points a view fits: the face region, else the whole mesh.
+    pub fn frame<'a>(&'a self, mesh: &'a Mesh) -> &'a [Vec3] {
+        self.focus.as_deref().unwrap_or(&mesh.positions)
     }
 
     fn new(basis: Mat3, focus: Option<Vec<Vec3>>, mesh: &Mesh) -> Framing {
@@ -399,6 +413,73 @@ fn vertices_inside(region: Region, mesh: &Mesh, basis: Mat3) -> Option<Vec<Vec3>
     (inside.len() >= 3).then_some(inside)
 }
 
+/// Slices of a mesh's height in which [`head_of`] measures its width.
+const SLICES: usize = 64;
+/// A slice at least this many times as wide as the widest one above it is the shoulders (or
+/// the arms from them): a head is about 0.4 of the shoulders' breadth.
+const SHOULDERS: f32 = 1.8;
+/// Between the head's widest slice and the shoulders a slice this narrow (of the head's
+/// width) is a neck; the crown's slices, each wider than the one above, never are.
+const NECK: f32 = 0.9;
+
+/// The head of a bust or a body known by its shape alone (no landmarks, no rig): the drawn
+/// vertices above its neck. Measured slice by slice from the top down in the face's axes:
+/// the shoulders are a sudden step to much wider than the head above them, and the neck is
+/// the narrowest slice before that step. `None` when there is no such step (a face or a head
+/// alone, hair down to the shoulders, arms raised above the head): the whole mesh is fitted.
+fn head_of(mesh: &Mesh, basis: Mat3) -> Option<Vec<Vec3>> {
+    let drawn = crate::fit::parts::drawn_triangles(mesh);
+    let mut used = vec![false; mesh.vertex_count()];
+    for &v in drawn.as_deref().unwrap_or(&mesh.triangles).iter().flatten() {
+        used[v as usize] = true;
+    }
+    let face: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .zip(&used)
+        .filter(|(_, &u)| u)
+        .map(|(p, _)| basis * *p)
+        .collect();
+    let (lo, hi) = bounds(&face);
+    let height = hi.y - lo.y;
+    if !(height.is_finite() && height > 0.0) {
+        return None;
+    }
+    let slice_of = |y: f32| ((((hi.y - y) / height) * SLICES as f32) as usize).min(SLICES - 1);
+    let mut across = [(f32::INFINITY, f32::NEG_INFINITY); SLICES];
+    for p in &face {
+        let slice = &mut across[slice_of(p.y)];
+        *slice = (slice.0.min(p.x), slice.1.max(p.x));
+    }
+    // Empty slices (a sparse mesh) have no width and are passed over.
+    let width: Vec<f32> = across.iter().map(|(a, b)| (b - a).max(0.0)).collect();
+    let mut widest = (0.0f32, 0usize);
+    for (k, &w) in width.iter().enumerate() {
+        if w <= 0.0 {
+            continue;
+        }
+        let neck = (widest.1..k)
+            .filter(|&j| width[j] > 0.0)
+            .min_by(|&a, &b| width[a].total_cmp(&width[b]));
+        if let Some(neck) = neck.filter(|&j| w > SHOULDERS * widest.0 && width[j] < NECK * widest.0)
+        {
+            let cut = hi.y - (neck + 1) as f32 / SLICES as f32 * height;
+            let head: Vec<Vec3> = mesh
+                .positions
+                .iter()
+                .zip(&used)
+                .filter(|(p, &u)| u && (basis * **p).y >= cut)
+                .map(|(p, _)| *p)
+                .collect();
+            return (head.len() >= 3).then_some(head);
+        }
+        if w > widest.0 {
+            widest = (w, k);
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -411,6 +492,56 @@ mod tests {
         assert_eq!((framing.basis, &framing.focus), (Mat3::IDENTITY, &None));
         let (lo, hi) = mesh.bounds();
         assert_eq!(framing.height(), (hi - lo).y);
+    }
+
+    /// A column of rings, `(height, radius)` from the top down, as a mesh: each ring a band of
+    /// triangles to the next.
+    fn column(rings: &[(f32, f32)]) -> Mesh {
+        const AROUND: usize = 16;
+        let mut positions = Vec::new();
+        for &(y, r) in rings {
+            for k in 0..AROUND {
+                let a = k as f32 / AROUND as f32 * std::f32::consts::TAU;
+                positions.push(Vec3::new(r * a.cos(), y, r * a.sin()));
+            }
+        }
+        let mut triangles = Vec::new();
+        for ring in 0..rings.len() - 1 {
+            for k in 0..AROUND {
+                let (a, b) = (ring * AROUND + k, ring * AROUND + (k + 1) % AROUND);
+                let (c, d) = (a + AROUND, b + AROUND);
+                triangles.push([a as u32, c as u32, b as u32]);
+                triangles.push([b as u32, c as u32, d as u32]);
+            }
+        }
+        Mesh::new(positions, triangles).unwrap()
+    }
+
+    #[test]
+    fn a_bust_known_by_its_shape_is_framed_at_its_head() {
+        // Crown, head, neck, shoulders, chest: the view fits what is above the neck.
+        let bust = column(&[
+            (10.0, 0.3),
+            (9.5, 0.8),
+            (9.0, 1.0),
+            (8.0, 1.0),
+            (7.0, 0.9),
+            (6.5, 0.5),
+            (6.0, 0.5),
+            (5.5, 2.5),
+            (0.0, 2.5),
+        ]);
+        let framing = Framing::of_mesh(&bust);
+        let head = framing.focus.as_deref().expect("the head");
+        let lowest = head.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+        assert!((6.0..7.0).contains(&lowest), "the head ends at {lowest}");
+        assert_eq!(head.len(), 16 * 6, "the crown to the neck's top ring");
+        // A head alone (no shoulders), and a column that only widens (the crown of a head
+        // cut at the ears), are framed whole.
+        let head_alone = column(&[(10.0, 0.3), (9.0, 1.0), (7.0, 0.9), (6.5, 0.5)]);
+        assert_eq!(Framing::of_mesh(&head_alone).focus, None);
+        let widening = column(&[(10.0, 0.1), (9.9, 0.5), (9.0, 1.0), (8.0, 3.0)]);
+        assert_eq!(Framing::of_mesh(&widening).focus, None);
     }
 
     #[test]

@@ -103,3 +103,51 @@ fn assert_face_fills_the_view(framing: &Framing, points: &[Vec3]) {
     // Centred: the eyes' middle within a tenth of the picture of its middle, across.
     assert!(((right_eye.x + left_eye.x) / 2.0 - h / 2.0).abs() < 0.1 * h);
 }
+
+/// MakeHuman's whole body with no landmarks yet (the picker opens on it so): the framing
+/// found from the mesh's shape fits the head above the neck, not the body, whichever axis
+/// the body stands on. The face fills a good part of a square view and every landmark is on
+/// it.
+#[test]
+fn a_body_without_landmarks_opens_on_its_head() {
+    let Some((_, mesh, landmarks)) = crate::shared_makehuman() else {
+        return;
+    };
+    let points = landmarks.positions(&mesh).unwrap();
+    let stand_on_z = |p: Vec3| Vec3::new(p.x, -p.z, p.y);
+    let mut on_z = mesh.clone();
+    on_z.positions.iter_mut().for_each(|p| *p = stand_on_z(*p));
+    let on_z_points: Vec<Vec3> = points.iter().map(|p| stand_on_z(*p)).collect();
+    for (mesh, points) in [(&mesh, &points), (&on_z, &on_z_points)] {
+        let framing = Framing::of_mesh(mesh);
+        let head = framing.focus.as_deref().expect("the head, not the body");
+        let up = |p: &Vec3| framing.basis.row(1).dot(*p);
+        let (lo, hi) = mesh.bounds();
+        let height = framing.basis.row(1).dot(hi - lo).abs();
+        let head_height = head.iter().map(up).fold(f32::MIN, f32::max)
+            - head.iter().map(up).fold(f32::MAX, f32::min);
+        assert!(
+            head_height < 0.2 * height,
+            "the head is {head_height} of a body {height} tall"
+        );
+        let size = 200;
+        let projection = Camera::front()
+            .with_basis(framing.basis)
+            .fit_points(head, size, size, 1.0);
+        let on_view: Vec<Vec2> = points
+            .iter()
+            .map(|p| projection.project(*p).truncate())
+            .collect();
+        assert!(
+            on_view
+                .iter()
+                .all(|p| p.x >= 0.0 && p.y >= 0.0 && p.x < size as f32 && p.y < size as f32),
+            "every landmark on the view"
+        );
+        let span = on_view[CHIN].y - on_view[19].y;
+        assert!(
+            span > 0.3 * size as f32,
+            "brow to chin {span} of {size} dots"
+        );
+    }
+}

@@ -38,21 +38,22 @@ pub struct Screen {
 }
 
 impl Screen {
-    /// The mesh seen by `camera` on `cols` x `rows` cells of `mode`. `sign` is the mesh's
+    /// The mesh seen by `camera` on `cols` x `rows` cells of `mode`, the view fitted to the
+    /// points `frame` (the head of a body, or the whole mesh). `sign` is the mesh's
     /// winding (+1 when right-hand normals point out of the head, as
     /// [`crate::render::Renderer::detected_orientation`] finds).
     pub fn new(
         mesh: &Mesh,
+        frame: &[Vec3],
         sign: f32,
         camera: &Camera,
-        cols: usize,
-        rows: usize,
+        (cols, rows): (usize, usize),
         mode: CellMode,
     ) -> Screen {
         let cell = mode.dots_per_cell();
         let (width, height) = (cols * cell.0, rows * cell.1);
         let aspect = mode.dot_aspect(0.5);
-        let projection = camera.fit_points(&mesh.positions, width, height, aspect);
+        let projection = camera.fit_points(frame, width, height, aspect);
         let projected: Vec<Vec3> = mesh
             .positions
             .iter()
@@ -209,7 +210,14 @@ mod tests {
     #[test]
     fn hidden_and_back_facing_vertices_are_not_visible() {
         let mesh = two_squares();
-        let screen = Screen::new(&mesh, 1.0, &Camera::front(), 40, 20, CellMode::Braille);
+        let screen = Screen::new(
+            &mesh,
+            &mesh.positions,
+            1.0,
+            &Camera::front(),
+            (40, 20),
+            CellMode::Braille,
+        );
         assert!(
             screen.visible[0] && screen.visible[3],
             "back square's free corners"
@@ -221,7 +229,14 @@ mod tests {
             yaw: std::f32::consts::PI,
             ..Camera::front()
         };
-        let screen = Screen::new(&mesh, 1.0, &back, 40, 20, CellMode::Braille);
+        let screen = Screen::new(
+            &mesh,
+            &mesh.positions,
+            1.0,
+            &back,
+            (40, 20),
+            CellMode::Braille,
+        );
         assert!(screen.visible.iter().all(|v| !v));
         assert_eq!(screen.nearest_visible(Vec2::new(10.0, 10.0)), None);
     }
@@ -229,7 +244,14 @@ mod tests {
     #[test]
     fn the_nearest_visible_vertex_is_found_on_the_screen() {
         let mesh = two_squares();
-        let screen = Screen::new(&mesh, 1.0, &Camera::front(), 40, 20, CellMode::Braille);
+        let screen = Screen::new(
+            &mesh,
+            &mesh.positions,
+            1.0,
+            &Camera::front(),
+            (40, 20),
+            CellMode::Braille,
+        );
         // Straight onto the hidden vertex: the nearest visible one is taken instead.
         let hidden = screen.dot_of(8).unwrap();
         let got = screen.nearest_visible(hidden).unwrap();

@@ -23,7 +23,7 @@ use crate::tui::view::wrap_words;
 /// One rendered face, kept until its view changes.
 #[derive(Debug, Default)]
 struct FaceCache {
-    key: Option<(Camera, Rect, CellMode, ColorMode)>,
+    key: Option<(Camera, Rect, CellMode, ColorMode, usize)>,
     renderer: Option<Renderer>,
     canvas: Option<DotCanvas>,
     grid: CellGrid,
@@ -31,20 +31,23 @@ struct FaceCache {
 
 impl FaceCache {
     /// The face drawn for this view (drawn again only when something changed).
+    /// `frame`: the points the view fits, as the picker's screen fits them (`None`: the
+    /// whole mesh).
     fn grid(
         &mut self,
-        mesh: &crate::model::Mesh,
+        (mesh, frame): (&crate::model::Mesh, Option<&[glam::Vec3]>),
         camera: Camera,
         area: Rect,
         cells: CellMode,
         colors: ColorMode,
     ) -> &CellGrid {
-        let key = (camera, area, cells, colors);
+        let key = (camera, area, cells, colors, frame.map_or(0, <[_]>::len));
         if self.key != Some(key) {
             let renderer = self.renderer.get_or_insert_with(|| Renderer::new(mesh));
             let canvas = self.canvas.get_or_insert_with(|| DotCanvas::new(0, 0));
             cells.prepare(canvas, usize::from(area.width), usize::from(area.height));
-            let scene = Scene::new(mesh, &mesh.positions);
+            let mut scene = Scene::new(mesh, &mesh.positions);
+            scene.focus = frame;
             renderer.render(&scene, &camera, Look::Lines, canvas);
             self.grid.fill(canvas, cells, colors);
             self.key = Some(key);
@@ -122,9 +125,13 @@ fn draw_mesh(
     if inner.is_empty() {
         return;
     }
-    let grid = cache
-        .mesh
-        .grid(&app.mesh, app.camera, inner, app.cells, app.colors);
+    let grid = cache.mesh.grid(
+        (&app.mesh, app.framing.focus.as_deref()),
+        app.camera,
+        inner,
+        app.cells,
+        app.colors,
+    );
     CellGridView {
         grid,
         colors: app.colors,
@@ -240,9 +247,13 @@ fn draw_reference(
         ..Camera::front()
     };
     let reference = &app.reference;
-    let grid = cache
-        .reference
-        .grid(&reference.mesh, camera, inner, app.cells, app.colors);
+    let grid = cache.reference.grid(
+        (&reference.mesh, None),
+        camera,
+        inner,
+        app.cells,
+        app.colors,
+    );
     CellGridView {
         grid,
         colors: app.colors,

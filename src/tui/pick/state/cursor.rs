@@ -13,10 +13,10 @@ impl PickApp {
         self.screen = (!area.is_empty()).then(|| {
             Screen::new(
                 &self.mesh,
+                self.framing.frame(&self.mesh),
                 self.sign,
                 &self.camera,
-                usize::from(area.width),
-                usize::from(area.height),
+                (usize::from(area.width), usize::from(area.height)),
                 self.cells,
             )
         });
@@ -75,9 +75,11 @@ impl PickApp {
         self.rebuild_screen();
     }
 
-    /// Turns the view to the face's axes `basis` (`--up`, `--front`); `v` comes back to them.
-    pub fn face(&mut self, basis: glam::Mat3) {
-        self.camera.basis = basis;
+    /// Frames the face as `framing` says: its axes (`--up`, `--front`, or the landmarks of a
+    /// file being corrected) and the part of the mesh the view fits; `v` comes back to them.
+    pub fn face(&mut self, framing: crate::render::Framing) {
+        self.camera.basis = framing.basis;
+        self.framing = framing;
         self.view_changed();
     }
 

@@ -243,6 +243,8 @@ pub struct PickApp {
     pub kept_points: Option<Vec<(u32, Vec3)>>,
     /// Mesh vertices used by some triangle (only those can be proposed).
     used: Vec<bool>,
+    /// The face's axes and the part of the mesh the view fits.
+    pub(crate) framing: Framing,
 }
 
 impl PickApp {
@@ -261,7 +263,10 @@ impl PickApp {
             }
         }
         let sign = winding(&mesh);
-        let camera = Camera::front().with_basis(Framing::of_mesh(&mesh).basis);
+        // Stood up by the mesh's shape: a z-up bust opens facing the viewer, a body with its
+        // head filling the view.
+        let framing = Framing::of_mesh(&mesh);
+        let camera = Camera::front().with_basis(framing.basis);
         let mut app = PickApp {
             mesh,
             mesh_path,
@@ -273,8 +278,8 @@ impl PickApp {
             proposals: vec![None; COUNT],
             current: Some(order()[0]),
             history: Vec::new(),
-            // Stood up by the mesh's shape: a z-up bust opens facing the viewer.
             camera,
+            framing,
             cursor: Vec2::ZERO,
             snapped: None,
             size,
