@@ -212,6 +212,16 @@ fn edit_values(app: &mut App, action: Action, fx: &mut Vec<Effect>) {
 }
 
 /// Editing the AU table: record, load, overwrite, delete, rename, add, expressions.
+/// The name AU `key` is recorded under in the table (empty when it is not recorded).
+pub(crate) fn au_name(app: &App, key: AuKey) -> String {
+    app.doc
+        .table
+        .aus
+        .get(&key)
+        .map(|e| e.name.clone())
+        .unwrap_or_default()
+}
+
 fn edit_table(app: &mut App, action: Action, fx: &mut Vec<Effect>) {
     match action {
         Action::StartRecord => {
@@ -224,13 +234,7 @@ fn edit_table(app: &mut App, action: Action, fx: &mut Vec<Effect>) {
         Action::Activate => activate(app, fx),
         Action::OverwriteSelected => match selected_item(app) {
             Some(TableItem::Au(key)) => {
-                let name = app
-                    .doc
-                    .table
-                    .aus
-                    .get(&key)
-                    .map(|e| e.name.clone())
-                    .unwrap_or_default();
+                let name = au_name(app, key);
                 app.mode = Mode::Confirm(Question::OverwriteAu { key, name });
             }
             _ => app.error("select an AU in the table first (Tab switches to the table)"),
@@ -242,13 +246,7 @@ fn edit_table(app: &mut App, action: Action, fx: &mut Vec<Effect>) {
         },
         Action::RenameSelected => match selected_item(app) {
             Some(TableItem::Au(key)) => {
-                let name = app
-                    .doc
-                    .table
-                    .aus
-                    .get(&key)
-                    .map(|e| e.name.clone())
-                    .unwrap_or_default();
+                let name = au_name(app, key);
                 open(app, InputKind::Rename(key), name);
             }
             Some(TableItem::Expression(_)) => {

@@ -104,13 +104,7 @@ pub(crate) fn load_au(app: &mut App, key: AuKey, fx: &mut Vec<Effect>) {
     match table_ops::activations_of(&app.doc.table, key, app.rig()) {
         Ok(activations) => {
             replace_activations(app, activations, Some(key), fx);
-            let name = app
-                .doc
-                .table
-                .aus
-                .get(&key)
-                .map(|e| e.name.clone())
-                .unwrap_or_default();
+            let name = super::au_name(app, key);
             app.info(format!("loaded AU {key} {name}"));
         }
         Err(e) => app.error(e),
