@@ -316,6 +316,17 @@ mod tests {
         assert_eq!(read.landmarks, Landmarks::Vertices(vec![12, 7]));
     }
 
+    proptest::proptest! {
+        /// Any text, in either form, is read or refused with an error: never a panic.
+        #[test]
+        fn any_text_is_read_or_refused(text in "[<>=\"'a-z0-9 .,;#/\\n\\r\u{e9}\u{feff}-]{0,120}") {
+            for form in [Form::PickedPoints, Form::Lines] {
+                let _ = parse(&text, p(), form);
+                let _ = parse(&format!("<point {text}"), p(), form);
+            }
+        }
+    }
+
     #[test]
     fn lines_errors_name_line_and_column() {
         let e = parse("1 2 3\n4 x 6\n", p(), Form::Lines)
