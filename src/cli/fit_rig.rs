@@ -732,6 +732,13 @@ fn summary(args: &FitRigArgs, mesh: &Mesh, fitted: &fit::Fitted) -> String {
     if let Some(jaw) = &fitted.rig.jaw {
         let _ = writeln!(out, "  jaw: {} weighted vertices", jaw.weights.len());
     }
+    if let Some(landmarks) = &fitted.rig.landmarks {
+        let _ = writeln!(
+            out,
+            "  landmarks: {} (named in the rig, where the views find them)",
+            landmarks.display()
+        );
+    }
     for (opening, upper, lower) in &fitted.sides {
         if !upper.is_empty() || !lower.is_empty() {
             let _ = writeln!(

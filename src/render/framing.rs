@@ -480,6 +480,30 @@ fn head_of(mesh: &Mesh, basis: Mat3) -> Option<Vec<Vec3>> {
     None
 }
 
+/// For tests: a column of rings, `(height, radius)` from the top down, as a mesh, each ring
+/// a band of triangles to the next.
+#[cfg(test)]
+pub(crate) fn column(rings: &[(f32, f32)]) -> Mesh {
+    const AROUND: usize = 16;
+    let mut positions = Vec::new();
+    for &(y, r) in rings {
+        for k in 0..AROUND {
+            let a = k as f32 / AROUND as f32 * std::f32::consts::TAU;
+            positions.push(Vec3::new(r * a.cos(), y, r * a.sin()));
+        }
+    }
+    let mut triangles = Vec::new();
+    for ring in 0..rings.len() - 1 {
+        for k in 0..AROUND {
+            let (a, b) = (ring * AROUND + k, ring * AROUND + (k + 1) % AROUND);
+            let (c, d) = (a + AROUND, b + AROUND);
+            triangles.push([a as u32, c as u32, b as u32]);
+            triangles.push([b as u32, c as u32, d as u32]);
+        }
+    }
+    Mesh::new(positions, triangles).unwrap()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -494,33 +518,10 @@ mod tests {
         assert_eq!(framing.height(), (hi - lo).y);
     }
 
-    /// A column of rings, `(height, radius)` from the top down, as a mesh: each ring a band of
-    /// triangles to the next.
-    fn column(rings: &[(f32, f32)]) -> Mesh {
-        const AROUND: usize = 16;
-        let mut positions = Vec::new();
-        for &(y, r) in rings {
-            for k in 0..AROUND {
-                let a = k as f32 / AROUND as f32 * std::f32::consts::TAU;
-                positions.push(Vec3::new(r * a.cos(), y, r * a.sin()));
-            }
-        }
-        let mut triangles = Vec::new();
-        for ring in 0..rings.len() - 1 {
-            for k in 0..AROUND {
-                let (a, b) = (ring * AROUND + k, ring * AROUND + (k + 1) % AROUND);
-                let (c, d) = (a + AROUND, b + AROUND);
-                triangles.push([a as u32, c as u32, b as u32]);
-                triangles.push([b as u32, c as u32, d as u32]);
-            }
-        }
-        Mesh::new(positions, triangles).unwrap()
-    }
-
     #[test]
     fn a_bust_known_by_its_shape_is_framed_at_its_head() {
         // Crown, head, neck, shoulders, chest: the view fits what is above the neck.
-        let bust = column(&[
+        let bust = super::column(&[
             (10.0, 0.3),
             (9.5, 0.8),
             (9.0, 1.0),
@@ -538,9 +539,9 @@ mod tests {
         assert_eq!(head.len(), 16 * 6, "the crown to the neck's top ring");
         // A head alone (no shoulders), and a column that only widens (the crown of a head
         // cut at the ears), are framed whole.
-        let head_alone = column(&[(10.0, 0.3), (9.0, 1.0), (7.0, 0.9), (6.5, 0.5)]);
+        let head_alone = super::column(&[(10.0, 0.3), (9.0, 1.0), (7.0, 0.9), (6.5, 0.5)]);
         assert_eq!(Framing::of_mesh(&head_alone).focus, None);
-        let widening = column(&[(10.0, 0.1), (9.9, 0.5), (9.0, 1.0), (8.0, 3.0)]);
+        let widening = super::column(&[(10.0, 0.1), (9.9, 0.5), (9.0, 1.0), (8.0, 3.0)]);
         assert_eq!(Framing::of_mesh(&widening).focus, None);
     }
 

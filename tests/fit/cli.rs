@@ -471,10 +471,18 @@ fn landmarks_kept_apart_from_the_mesh_are_named_by_the_rig() {
             ],
         );
         assert!(out.status.success(), "{}", text(&out).1);
-        std::fs::read_to_string(dir.path().join("head.rig.ron")).unwrap()
+        let said = text(&out).0;
+        (
+            std::fs::read_to_string(dir.path().join("head.rig.ron")).unwrap(),
+            said,
+        )
     };
-    let rig = fit("marks/picked.ron");
+    let (rig, said) = fit("marks/picked.ron");
     assert!(rig.contains("landmarks: \"marks/picked.ron\""), "{rig}");
+    assert!(
+        said.contains("landmarks: marks/picked.ron (named in the rig"),
+        "{said}"
+    );
     // Loading finds them through the rig (the views frame the face and draw brows from
     // them), from another working directory too.
     let loaded = grimace::io::load_rig(&dir.path().join("head.rig.ron")).unwrap();
@@ -511,8 +519,9 @@ fn landmarks_kept_apart_from_the_mesh_are_named_by_the_rig() {
         dir.path().join("head.landmarks.ron"),
     )
     .unwrap();
-    let rig = fit("head.landmarks.ron");
+    let (rig, said) = fit("head.landmarks.ron");
     assert!(!rig.contains("landmarks:"), "{rig}");
+    assert!(!said.contains("named in the rig"), "{said}");
 }
 
 /// Landmarks picked in MeshLab (`*.pp`) or listed one a line (`*.csv`) fit as a landmark file

@@ -274,3 +274,30 @@ fn turning_keeps_the_cursor_on_its_vertex_and_zoom_keeps_it_in_place() {
     app.update(PickAction::ResetView);
     assert_eq!(app.camera, Camera::front());
 }
+
+/// A bust known by its shape alone opens with its head filling the view: the head's crown
+/// and the neck's top land near the screen's top and bottom, the shoulders off it.
+#[test]
+fn a_bust_opens_with_its_head_filling_the_view() {
+    let bust = crate::render::framing::column(&[
+        (10.0, 0.3),
+        (9.0, 1.0),
+        (8.0, 1.0),
+        (7.0, 0.9),
+        (6.5, 0.5),
+        (6.0, 0.5),
+        (5.5, 2.5),
+        (0.0, 2.5),
+    ]);
+    let app = picker(bust);
+    let screen = app.screen.as_ref().unwrap();
+    let row = |v: u32| screen.dot_of(v).unwrap().y / screen.height as f32;
+    // Rings of 16 vertices: the crown is ring 0, the neck's top ring 4, the chest ring 7.
+    assert!(row(0) < 0.2, "crown at {}", row(0));
+    assert!(row(4 * 16) > 0.8, "neck at {}", row(4 * 16));
+    assert!(
+        row(7 * 16) > 1.0,
+        "the chest is off the view: {}",
+        row(7 * 16)
+    );
+}
