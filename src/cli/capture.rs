@@ -74,8 +74,7 @@ pub const MAX_FRAMES: usize = 1_000_000;
 
 /// One tracked row of the recording.
 struct Tracked {
-    frame: u64,
-    timestamp: f64,
+    source: acts::Source,
     landmarks: Vec<Vec3>,
 }
 
@@ -130,10 +129,10 @@ pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
     let mut unusable = 0;
     let mut last_frame = None;
     for row in &rows {
-        if last_frame.is_some_and(|f: u64| row.frame > f + 1) {
+        if last_frame.is_some_and(|f: u64| row.source.frame > f + 1) {
             session.gap();
         }
-        last_frame = Some(row.frame);
+        last_frame = Some(row.source.frame);
         let Some(captured) = session.frame(&row.landmarks) else {
             unusable += 1;
             continue;
@@ -221,12 +220,7 @@ fn read_rows<R: BufRead>(reader: &mut OpenFaceReader<R>) -> anyhow::Result<(Vec<
                 let frame = row
                     .frame
                     .map_or(rows.len() as u64 + 1, |f| f.max(0.0) as u64);
-                let timestamp = row.timestamp.unwrap_or(0.0);
-                rows.push(Tracked {
-                    frame,
-                    timestamp,
-                    landmarks: row.landmarks,
-                });
+                rows.push(tracked(frame, row));
             }
         }
     }
@@ -243,7 +237,7 @@ fn file_session<'a>(
     let at = |e: crate::capture::CaptureError| anyhow!(LoadError::new(recording, e.to_string()));
     let session = match args.neutral {
         Some(n) => {
-            let row = rows.iter().find(|r| r.frame == n).ok_or_else(|| {
+            let row = rows.iter().find(|r| r.source.frame == n).ok_or_else(|| {
                 anyhow!(LoadError::new(
                     recording,
                     format!("--neutral {n}: no tracked frame {n} in the recording")
@@ -315,13 +309,7 @@ fn line(prepared: &Prepared, row: &Tracked, captured: &Captured) -> String {
         .as_ref()
         .map(|p| p.intensities(&captured.motion))
         .unwrap_or_default();
-    acts::row_line(
-        row.frame,
-        row.timestamp,
-        captured.explained,
-        &captured.activations,
-        &aus,
-    )
+    acts::row_line(row.source, captured.explained, &captured.activations, &aus)
 }
 
 /// Writes the output atomically, or to stdout for `-`.
@@ -472,10 +460,10 @@ fn live_rows<R: BufRead>(
             }
             continue;
         };
-        if session.is_none() && args.neutral.is_none_or(|n| n == row.frame) {
+        if session.is_none() && args.neutral.is_none_or(|n| n == row.source.frame) {
             let source = match args.neutral {
                 Some(n) => NeutralSource::Frame(n),
-                None => NeutralSource::FirstFrame(row.frame),
+                None => NeutralSource::FirstFrame(row.source.frame),
             };
             let regularisation = Regularisation::default();
             session = Session::from_frame(
@@ -525,6 +513,19 @@ fn check_face_column<R: BufRead>(
     }
 }
 
+/// A tracked row as frame `frame`.
+fn tracked(frame: u64, row: crate::io::openface::OpenFaceRow) -> Tracked {
+    Tracked {
+        source: acts::Source {
+            frame,
+            face: row.face.unwrap_or(0),
+            timestamp: row.timestamp.unwrap_or(0.0),
+            confidence: row.confidence,
+        },
+        landmarks: row.landmarks,
+    }
+}
+
 /// `0, 1, 2`.
 fn list(ids: &[u32]) -> String {
     ids.iter()
@@ -556,10 +557,6 @@ fn next_tracked<R: BufRead>(
             skips.untracked();
             None
         }
-        RowOutcome::Row(row) => Some(Tracked {
-            frame: row.frame.map_or(0, |f| f.max(0.0) as u64),
-            timestamp: row.timestamp.unwrap_or(0.0),
-            landmarks: row.landmarks,
-        }),
+        RowOutcome::Row(row) => Some(tracked(row.frame.map_or(0, |f| f.max(0.0) as u64), row)),
     }))
 }

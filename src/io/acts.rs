@@ -2,10 +2,13 @@
 //! `play` and `render --acts` read back onto any rig.
 //!
 //! ```text
-//! frame, timestamp, explained, L_Zygomatic_Major, ..., jaw, AU01_r, ...
-//! 1, 0.000, , 0.0000, ..., 0.0000, 0.000, ...
+//! frame, face_id, timestamp, confidence, success, explained, L_Zygomatic_Major, ..., jaw, AU01_r, ...
+//! 1, 0, 0.000, 0.98, 1, , 0.0000, ..., 0.0000, 0.000, ...
 //! ```
 //!
+//! The first five columns are OpenFace's own (the face followed, the recording's time, the
+//! tracker's confidence, empty when the recording has none, and `success`, 1: only solved
+//! frames are written), so tools that filter OpenFace output by them read the file as it is.
 //! `explained` is empty where the frame barely moved; one column per muscle (the rig's
 //! names), `jaw`, then with `capture --aus` the AU intensities in OpenFace's names and 0-5
 //! scale, so OpenFace tools read the file too. A reader takes the muscle columns by name:
@@ -25,23 +28,45 @@ pub const EXPLAINED: &str = "explained";
 
 /// The header line of an activation CSV.
 pub fn header_line(muscles: &[String], aus: &[String]) -> String {
-    let mut names = vec!["frame", "timestamp", EXPLAINED];
+    let mut names = vec![
+        "frame",
+        "face_id",
+        "timestamp",
+        "confidence",
+        "success",
+        EXPLAINED,
+    ];
     names.extend(muscles.iter().map(String::as_str));
     names.push("jaw");
     names.extend(aus.iter().map(String::as_str));
     names.join(", ")
 }
 
+/// Where a row comes from in the recording: OpenFace's bookkeeping, written before the
+/// activations.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Source {
+    /// OpenFace's `frame`.
+    pub frame: u64,
+    /// The face followed (`face_id`; 0 for a recording of one face).
+    pub face: u32,
+    /// Seconds into the recording.
+    pub timestamp: f64,
+    /// The tracker's confidence, when the recording gives it.
+    pub confidence: Option<f32>,
+}
+
 /// One data line (without its end).
-pub fn row_line(
-    frame: u64,
-    timestamp: f64,
-    explained: Option<f64>,
-    act: &Activations,
-    aus: &[f64],
-) -> String {
+pub fn row_line(source: Source, explained: Option<f64>, act: &Activations, aus: &[f64]) -> String {
     use std::fmt::Write as _;
-    let mut line = format!("{frame}, {timestamp:.3}, ");
+    let Source {
+        frame,
+        face,
+        timestamp,
+        confidence,
+    } = source;
+    let confidence = confidence.map(|c| format!("{c:.3}")).unwrap_or_default();
+    let mut line = format!("{frame}, {face}, {timestamp:.3}, {confidence}, 1, ");
     if let Some(e) = explained {
         let _ = write!(line, "{e:.4}");
     }
@@ -291,11 +316,26 @@ mod tests {
             muscles: vec![0.25, 1.5],
             jaw: 2.0,
         };
-        let text = format!(
-            "{header}\n{}\n{}\n",
-            row_line(1, 0.0, None, &act, &[2.5]),
-            row_line(2, 0.04, Some(0.9), &act, &[2.5])
+        let source = |frame: u64, confidence: Option<f32>| Source {
+            frame,
+            face: 1,
+            timestamp: frame as f64 * 0.04,
+            confidence,
+        };
+        let (first, second) = (
+            row_line(source(1, None), None, &act, &[2.5]),
+            row_line(source(2, Some(0.875)), Some(0.9), &act, &[2.5]),
         );
+        assert_eq!(
+            header,
+            "frame, face_id, timestamp, confidence, success, explained, A, B, jaw, AU12_r"
+        );
+        assert_eq!(first, "1, 1, 0.040, , 1, , 0.2500, 1.5000, 2.0000, 2.500");
+        assert!(
+            second.starts_with("2, 1, 0.080, 0.875, 1, 0.9000, "),
+            "{second}"
+        );
+        let text = format!("{header}\n{first}\n{second}\n");
         let mut reader = ActsReader::new(text.as_bytes(), Path::new("a.csv")).unwrap();
         assert!(is_header(&header));
         assert_eq!(reader.columns().muscles.len(), 2);

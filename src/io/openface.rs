@@ -60,6 +60,8 @@ pub struct OpenFaceColumns {
     pub success: Option<usize>,
     /// `face_id`, if present; without it the recording is one face.
     pub face_id: Option<usize>,
+    /// `confidence`, if present (read with the landmarks only: `capture` passes it on).
+    pub confidence: Option<usize>,
     /// The `AUxx_r` intensity columns, in header order.
     pub aus: Vec<AuColumn>,
     /// The 3D landmark columns, when read ([`OpenFaceReader::with_landmarks`]).
@@ -158,6 +160,7 @@ impl OpenFaceColumns {
             timestamp: None,
             success: None,
             face_id: None,
+            confidence: None,
             aus: Vec::new(),
             landmarks: None,
             pose: None,
@@ -169,6 +172,7 @@ impl OpenFaceColumns {
                 "timestamp" => &mut columns.timestamp,
                 "success" => &mut columns.success,
                 "face_id" => &mut columns.face_id,
+                "confidence" => &mut columns.confidence,
                 _ => {
                     if let Some(number) = au_intensity_number(name) {
                         if columns.aus.iter().any(|c| c.number == number) {
@@ -243,7 +247,11 @@ impl OpenFaceColumns {
         }
         let mut landmarks = Vec::new();
         let mut pose = None;
+        let mut confidence = None;
         if let (true, Some(columns)) = (success, &self.landmarks) {
+            if let Some(i) = self.confidence {
+                confidence = Some(number(i, "confidence")? as f32);
+            }
             landmarks.reserve(LANDMARK_COUNT);
             for (i, [x, y, z]) in columns.xyz.iter().enumerate() {
                 let axis = |index: usize, name: &str| {
@@ -265,6 +273,7 @@ impl OpenFaceColumns {
             timestamp,
             success,
             face,
+            confidence,
             intensities,
             landmarks,
             pose,
@@ -396,6 +405,8 @@ pub struct OpenFaceRow {
     pub success: bool,
     /// The `face_id` value, if the layout has one.
     pub face: Option<u32>,
+    /// The tracker's `confidence` (read with the landmarks, on tracked rows).
+    pub confidence: Option<f32>,
     /// Raw intensities, one per [`OpenFaceColumns::aus`] entry (empty when not `success`).
     pub intensities: Vec<f32>,
     /// The 68 3D landmarks in millimetres, camera coordinates (empty unless read with
@@ -695,6 +706,7 @@ mod tests {
                 timestamp: None,
                 success: false,
                 face: None,
+                confidence: None,
                 intensities: vec![],
                 landmarks: vec![],
                 pose: None,

@@ -88,6 +88,14 @@ fn capture_follows_one_face_of_several() {
         String::from_utf8_lossy(&out.stderr)
     );
     let acts = std::fs::read_to_string(dir.path().join("b.csv")).unwrap();
+    // OpenFace's bookkeeping columns name the face followed and carry the tracker's confidence.
+    assert!(
+        acts.lines()
+            .nth(1)
+            .unwrap()
+            .starts_with("1, 1, 0.000, 0.980, 1, "),
+        "{acts}"
+    );
     let (left, right) = (
         last_value(&acts, "L_Zygomatic_Major"),
         last_value(&acts, "R_Zygomatic_Major"),

@@ -414,10 +414,10 @@ fn live_reads_udp_datagrams_on_loopback() {
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(
-        lines[0].starts_with("frame, timestamp, explained, "),
+        lines[0].starts_with("frame, face_id, timestamp, confidence, success, explained, "),
         "{lines:?}"
     );
-    assert!(lines[4].starts_with("4, 0.100, "), "{lines:?}");
+    assert!(lines[4].starts_with("4, 0, 0.100, 0.980, 1, "), "{lines:?}");
     let refused = common::grimace_in(
         std::path::Path::new("."),
         &["capture", "--live", "--udp", "8.8.8.8:9000", "--out", "-"],
