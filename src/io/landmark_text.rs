@@ -8,8 +8,8 @@
 //! - Plain text: one landmark a line, in the iBUG order; a line is three numbers (x y z in the
 //!   mesh's coordinates), a label and three numbers (`17,x,y,z` or `brow_r1 x y z`: the label
 //!   is not read), or one whole number (a vertex number, from 0), separated by spaces, tabs,
-//!   commas or semicolons. Blank lines and lines starting with `#` or `//` are passed
-//!   over, and so is a first line of words (a CSV header such as `x,y,z`). Every line takes
+//!   commas or semicolons. Blank lines (separators alone too) and lines starting with `#`
+//!   or `//` are passed over, and so is a first line of words (a CSV header such as `x,y,z`). Every line takes
 //!   the same form.
 //!
 //! Errors name the file, line and column of the entry at fault; each entry's place is kept so
@@ -187,6 +187,10 @@ fn lines(text: &str, path: &Path) -> Result<Read, LoadError> {
             continue;
         }
         let items = fields(line);
+        if items.is_empty() {
+            // Separators alone (`;`, `,,`): as blank.
+            continue;
+        }
         let is_header = first && items.iter().all(|(_, f)| f.parse::<f64>().is_err());
         first = false;
         if is_header {
@@ -321,6 +325,7 @@ mod tests {
         #[test]
         fn any_text_is_read_or_refused(text in "[<>=\"'a-z0-9 .,;#/\\n\\r\u{e9}\u{feff}-]{0,120}") {
             for form in [Form::PickedPoints, Form::Lines] {
+                let _ = parse(&format!("1 2 3\n{text}"), p(), form);
                 let _ = parse(&text, p(), form);
                 let _ = parse(&format!("<point {text}"), p(), form);
             }
@@ -346,6 +351,12 @@ mod tests {
         assert!(e.contains("5 fields"), "{e}");
         let e = parse("1 2\n", p(), Form::Lines).unwrap_err().to_string();
         assert!(e.contains("2 fields"), "{e}");
+        // A line of separators alone is blank (it once indexed a field it did not have).
+        let read = parse("x y z\n;\n1 2 3\n,,\n", p(), Form::Lines).unwrap();
+        assert_eq!(
+            read.landmarks,
+            Landmarks::Points(vec![Vec3::new(1.0, 2.0, 3.0)])
+        );
         let e = parse("-4\n", p(), Form::Lines).unwrap_err().to_string();
         assert!(e.contains("not a vertex number"), "{e}");
     }
