@@ -223,6 +223,8 @@ pub struct OpenFaceSource {
     clock: RowClock,
     name: String,
     stashed: Option<Event>,
+    /// The end's count of other faces' rows has been given.
+    counted: bool,
 }
 
 impl OpenFaceSource {
@@ -244,6 +246,7 @@ impl OpenFaceSource {
             clock: RowClock::new(frame_rate),
             name,
             stashed: None,
+            counted: false,
         })
     }
 }
@@ -276,6 +279,11 @@ impl OpenFaceSource {
             return Ok(Poll::Event(event));
         }
         let Some(outcome) = self.reader.next_row()? else {
+            // At the end, once: how many rows of other faces were passed over.
+            if let (false, Some(summary)) = (self.counted, self.reader.faces().summary()) {
+                self.counted = true;
+                return Ok(Poll::Event(Event::Notice(summary)));
+            }
             return Ok(Poll::End);
         };
         let columns = self.reader.columns();

@@ -138,6 +138,10 @@ fn play_follows_one_face_of_several() {
         "{shown}"
     );
     assert!(said.contains("--face 1"), "the other face is named: {said}");
+    assert!(
+        said.contains("followed face 0; skipped 2 rows of face 1"),
+        "and counted at the end: {said}"
+    );
 
     let out = common::grimace_in(
         dir.path(),
