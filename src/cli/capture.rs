@@ -129,7 +129,9 @@ pub fn run(args: &CaptureArgs) -> anyhow::Result<()> {
     let mut unusable = 0;
     let mut last_frame = None;
     for row in &rows {
-        if last_frame.is_some_and(|f: u64| row.source.frame > f + 1) {
+        // Frames lost, repeated or run backwards (recordings joined end to end): the next
+        // is not the same face a frame later, and is solved afresh.
+        if last_frame.is_some_and(|f: u64| row.source.frame != f + 1) {
             session.gap();
         }
         last_frame = Some(row.source.frame);

@@ -157,3 +157,42 @@ fn play_follows_one_face_of_several() {
         "{shown}"
     );
 }
+
+/// Two recordings joined end to end (frames 1-12, then 1-12 again): the second run's first
+/// frame is solved afresh, not held near the first run's last, so it reads as the first
+/// run's first frame does.
+#[test]
+fn a_recording_joined_to_itself_starts_afresh() {
+    let dir = tempfile::tempdir().unwrap();
+    let face = face();
+    let poses: Vec<Option<Activations>> = (0..12)
+        .map(|k| {
+            let on = if k < 6 { 0.0 } else { 1.0 };
+            Some(act(&face, &[("L_Zygomatic_Major", on)], 0.0))
+        })
+        .collect();
+    let once = synthetic::csv(&synthetic::landmarks(
+        &face.bound,
+        &face.vertices,
+        &poses,
+        Motion::default(),
+    ));
+    let rows: Vec<&str> = once.lines().skip(1).collect();
+    let twice = format!("{once}{}\n", rows.join("\n"));
+    std::fs::write(dir.path().join("twice.csv"), twice).unwrap();
+    let out = common::grimace_in(
+        dir.path(),
+        &["capture", "twice.csv", "--out", "a.csv", "--neutral", "1"],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let acts = std::fs::read_to_string(dir.path().join("a.csv")).unwrap();
+    let lines: Vec<&str> = acts.lines().collect();
+    assert_eq!(lines.len(), 25, "{acts}");
+    // The columns after the frame's own bookkeeping (frame, face, time) agree exactly.
+    let solved = |line: &str| line.splitn(4, ", ").nth(3).unwrap().to_string();
+    assert_eq!(solved(lines[13]), solved(lines[1]));
+}
