@@ -147,7 +147,7 @@ impl Lod {
             return Lod::default();
         }
         let parts = Lod::rig_parts(rig, mesh.positions.len());
-        let frame = framing.focus.as_deref().unwrap_or(&mesh.positions);
+        let frame = framing.frame(mesh);
         Lod::build(mesh, &parts, frame)
     }
 

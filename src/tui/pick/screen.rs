@@ -207,17 +207,22 @@ mod tests {
         Mesh::new(positions, triangles).unwrap()
     }
 
+    /// The whole mesh seen by `camera` on 40 x 20 braille cells.
+    fn whole(mesh: &Mesh, camera: &Camera) -> Screen {
+        Screen::new(
+            mesh,
+            &mesh.positions,
+            1.0,
+            camera,
+            (40, 20),
+            CellMode::Braille,
+        )
+    }
+
     #[test]
     fn hidden_and_back_facing_vertices_are_not_visible() {
         let mesh = two_squares();
-        let screen = Screen::new(
-            &mesh,
-            &mesh.positions,
-            1.0,
-            &Camera::front(),
-            (40, 20),
-            CellMode::Braille,
-        );
+        let screen = whole(&mesh, &Camera::front());
         assert!(
             screen.visible[0] && screen.visible[3],
             "back square's free corners"
@@ -229,14 +234,7 @@ mod tests {
             yaw: std::f32::consts::PI,
             ..Camera::front()
         };
-        let screen = Screen::new(
-            &mesh,
-            &mesh.positions,
-            1.0,
-            &back,
-            (40, 20),
-            CellMode::Braille,
-        );
+        let screen = whole(&mesh, &back);
         assert!(screen.visible.iter().all(|v| !v));
         assert_eq!(screen.nearest_visible(Vec2::new(10.0, 10.0)), None);
     }
@@ -244,14 +242,7 @@ mod tests {
     #[test]
     fn the_nearest_visible_vertex_is_found_on_the_screen() {
         let mesh = two_squares();
-        let screen = Screen::new(
-            &mesh,
-            &mesh.positions,
-            1.0,
-            &Camera::front(),
-            (40, 20),
-            CellMode::Braille,
-        );
+        let screen = whole(&mesh, &Camera::front());
         // Straight onto the hidden vertex: the nearest visible one is taken instead.
         let hidden = screen.dot_of(8).unwrap();
         let got = screen.nearest_visible(hidden).unwrap();

@@ -14,7 +14,7 @@ use super::layout;
 use super::state::{Mode, PickApp, Question};
 use crate::landmarks::NAMES;
 use crate::render::{
-    Camera, CellGrid, CellMode, ColorMode, DotCanvas, Renderer, Scene, Style as Look,
+    Camera, CellGrid, CellMode, ColorMode, DotCanvas, Framing, Renderer, Scene, Style as Look,
 };
 use crate::tui::view::cells::CellGridView;
 use crate::tui::view::theme::Theme;
@@ -30,24 +30,27 @@ struct FaceCache {
 }
 
 impl FaceCache {
-    /// The face drawn for this view (drawn again only when something changed).
-    /// `frame`: the points the view fits, as the picker's screen fits them (`None`: the
-    /// whole mesh).
+    /// The face drawn for this view (drawn again only when something changed), fitted as
+    /// `framing` says, as the picker's screen is (`None`: the whole mesh).
     fn grid(
         &mut self,
-        (mesh, frame): (&crate::model::Mesh, Option<&[glam::Vec3]>),
+        (mesh, framing): (&crate::model::Mesh, Option<&Framing>),
         camera: Camera,
         area: Rect,
         cells: CellMode,
         colors: ColorMode,
     ) -> &CellGrid {
-        let key = (camera, area, cells, colors, frame.map_or(0, <[_]>::len));
+        let fitted = framing.map_or(mesh.positions.len(), |f| f.frame(mesh).len());
+        let key = (camera, area, cells, colors, fitted);
         if self.key != Some(key) {
             let renderer = self.renderer.get_or_insert_with(|| Renderer::new(mesh));
             let canvas = self.canvas.get_or_insert_with(|| DotCanvas::new(0, 0));
             cells.prepare(canvas, usize::from(area.width), usize::from(area.height));
-            let mut scene = Scene::new(mesh, &mesh.positions);
-            scene.focus = frame;
+            let scene = Scene::new(mesh, &mesh.positions);
+            let scene = match framing {
+                Some(framing) => scene.with_framing(framing),
+                None => scene,
+            };
             renderer.render(&scene, &camera, Look::Lines, canvas);
             self.grid.fill(canvas, cells, colors);
             self.key = Some(key);
@@ -126,7 +129,7 @@ fn draw_mesh(
         return;
     }
     let grid = cache.mesh.grid(
-        (&app.mesh, app.framing.focus.as_deref()),
+        (&app.mesh, Some(&app.framing)),
         app.camera,
         inner,
         app.cells,

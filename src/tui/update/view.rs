@@ -134,7 +134,7 @@ fn focus_pan(app: &App) -> Option<(f32, f32)> {
     let view = app.camera().view_matrix();
     // The centre the camera fits the framed points around, as it sees it.
     let (mut lo, mut hi) = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);
-    let framed = framing.focus.as_deref().unwrap_or(&mesh.positions);
+    let framed = framing.frame(mesh);
     for p in framed.iter().filter(|p| p.is_finite()) {
         let v = view * *p;
         lo = lo.min(v);
