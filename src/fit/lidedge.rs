@@ -13,7 +13,9 @@
 //! a rigid part (the eyeball) or nothing (a hole). The opening of a column is the run of
 //! samples that are not skin around the middle between the lid landmarks; its ends are the
 //! lids' free edges. Skin that is not on the face's pieces (lashes) and helper geometry that is
-//! never drawn are looked through. An eye covered by skin (no opening in most columns) has no
+//! never drawn are looked through. Skin far behind the lids (more than [`SOCKET_DEPTH`] of the
+//! eye's width behind its lid landmarks) is the socket seen through an eye that has no
+//! eyeball: it counts as the opening. An eye covered by skin (no opening in most columns) has no
 //! free edges found, and its landmarks stand for them.
 
 use glam::{DVec3, Vec3};
@@ -25,6 +27,18 @@ use crate::model::Mesh;
 const COLUMNS: usize = 24;
 /// Samples per column, over the landmarks' opening and a quarter of it beyond each lid.
 const ROWS: usize = 160;
+/// Skin this far behind the lid landmarks, as a share of the eye's width (corner to corner),
+/// is the back of the socket seen through the opening, not a lid: a lid is a few millimetres
+/// thick and an eyeball's front sits at the lids, while an empty socket is as deep as the
+/// eye is wide.
+const SOCKET_DEPTH: f64 = 0.25;
+
+/// Whether a sample whose front-most surface is `hit` shows the opening: nothing, something
+/// other than the face's skin (the eyeball), or skin deeper than `socket` (an empty socket's
+/// back).
+fn shows_opening(hit: Option<(f64, Seen)>, socket: f64) -> bool {
+    !matches!(hit, Some((z, Seen::Skin)) if z > socket)
+}
 
 /// An eye's landmarks: the upper lid (outer or inner corner, two lid points, the other corner)
 /// and the lower lid (from the second corner back), as in the iBUG scheme.
@@ -171,6 +185,7 @@ fn column_opening(
     x: f64,
     (low, high): (f64, f64),
     middle: f64,
+    socket: f64,
 ) -> Option<(DVec3, DVec3)> {
     let step = (high - low) / ROWS as f64;
     let samples: Vec<(f64, Option<(f64, Seen)>)> = (0..=ROWS)
@@ -179,7 +194,7 @@ fn column_opening(
             (y, front_at(tris, x, y))
         })
         .collect();
-    let open = |k: usize| !matches!(samples[k].1, Some((_, Seen::Skin)));
+    let open = |k: usize| shows_opening(samples[k].1, socket);
     let start = ((middle - low) / step).round().clamp(0.0, ROWS as f64) as usize;
     if !open(start) {
         return None;
@@ -241,7 +256,8 @@ pub fn lid_edges(mesh: &Mesh, parts: &Parts, marks: &[u32], eye: &EyeMarks) -> O
             .filter(|(t, _)| t.iter().any(|q| q.x >= x) && t.iter().any(|q| q.x <= x))
             .copied()
             .collect();
-        if let Some((a, b)) = column_opening(&column, x, span, (u.y + l.y) / 2.0) {
+        let socket = (u.z + l.z) / 2.0 - SOCKET_DEPTH * (x1 - x0);
+        if let Some((a, b)) = column_opening(&column, x, span, (u.y + l.y) / 2.0, socket) {
             up_edge.push(a);
             low_edge.push(b);
         }
@@ -265,9 +281,9 @@ pub fn lid_edges(mesh: &Mesh, parts: &Parts, marks: &[u32], eye: &EyeMarks) -> O
 pub struct Sight {
     view: View,
     triangles: Vec<([u32; 3], Seen)>,
-    /// Per landmark column: its place across the eye and the rest edges' heights (lower,
-    /// upper).
-    columns: Vec<(f64, f64, f64)>,
+    /// Per landmark column: its place across the eye, the rest edges' heights (lower,
+    /// upper) and the depth behind which skin is the socket ([`SOCKET_DEPTH`]).
+    columns: Vec<(f64, f64, f64, f64)>,
     /// The free edges found.
     edges: LidEdges,
 }
@@ -284,6 +300,7 @@ impl Sight {
         let local = |ps: &[Vec3]| ps.iter().map(|&p| view.local(p)).collect::<Vec<_>>();
         let (upper, lower) = (local(&edges.upper), local(&edges.lower));
         let pairs = [(eye.upper[1], eye.lower[2]), (eye.upper[2], eye.lower[1])];
+        let width = (view.local(points[eye.upper[3]]).x - view.local(points[eye.upper[0]]).x).abs();
         let mut away = false;
         let mut columns = Vec::new();
         for (u, l) in pairs {
@@ -292,7 +309,8 @@ impl Sight {
             let (eu, el) = (polyline_at(&upper, x)?, polyline_at(&lower, x)?);
             let opening = qu.y - ql.y;
             away |= (eu.y - qu.y).abs() > 0.1 * opening || (el.y - ql.y).abs() > 0.1 * opening;
-            columns.push((x, el.y, eu.y));
+            let socket = (qu.z + ql.z) / 2.0 - SOCKET_DEPTH * width;
+            columns.push((x, el.y, eu.y, socket));
         }
         away.then(|| Sight {
             view,
@@ -312,7 +330,7 @@ impl Sight {
     pub fn left_open(&self, positions: &[Vec3]) -> f64 {
         self.columns
             .iter()
-            .map(|&(x, low, high)| {
+            .map(|&(x, low, high, socket)| {
                 let column: Vec<([DVec3; 3], Seen)> = self
                     .triangles
                     .iter()
@@ -322,7 +340,7 @@ impl Sight {
                 let open = (0..ROWS)
                     .filter(|&k| {
                         let y = low + (high - low) * (k as f64 + 0.5) / ROWS as f64;
-                        !matches!(front_at(&column, x, y), Some((_, Seen::Skin)))
+                        shows_opening(front_at(&column, x, y), socket)
                     })
                     .count();
                 open as f64 / ROWS as f64

@@ -402,11 +402,18 @@ impl Pieces {
         Pieces { members, part }
     }
 
-    /// What is said of the pieces (or their parts) that no named group covers.
+    /// What is said of the pieces (or their parts) that no named group covers. Vertices no
+    /// face uses (a piece of one vertex each: exporters leave them behind when parts are
+    /// deleted) are said in one line, not one a vertex.
     fn ungrouped_choices(&self, grouped: &[bool]) -> Vec<PartChoice> {
         let mut choices = Vec::new();
+        let mut loose = 0;
         for (number, (c, members)) in self.members.iter().enumerate() {
             if members.iter().all(|&v| grouped[v as usize]) {
+                continue;
+            }
+            if members.len() == 1 && self.part[c] == Part::Still {
+                loose += 1;
                 continue;
             }
             let reason = if self.part[c] == Part::Skin {
@@ -419,6 +426,14 @@ impl Pieces {
                 vertices: members.iter().filter(|&&v| !grouped[v as usize]).count(),
                 part: self.part[c],
                 reason,
+            });
+        }
+        if loose > 0 {
+            choices.push(PartChoice {
+                name: "loose vertices (in no face)".to_string(),
+                vertices: loose,
+                part: Part::Still,
+                reason: "position",
             });
         }
         choices
@@ -662,5 +677,23 @@ mod tests {
         assert_eq!(c[0], c[3]);
         assert_ne!(c[0], c[4]);
         assert_eq!(c[4], c[6]);
+    }
+
+    #[test]
+    fn loose_vertices_are_said_in_one_line() {
+        let p = glam::Vec3::ZERO;
+        let mut points = vec![p; 3];
+        points.extend((0..500).map(|k| glam::Vec3::splat(k as f32)));
+        let mesh = Mesh::new(points, vec![[0, 1, 2]]).unwrap();
+        let parts = find_parts(&mesh, &[0], &[p], &PartOverrides::default());
+        let loose: Vec<_> = parts
+            .choices
+            .iter()
+            .filter(|c| c.name.starts_with("loose"))
+            .collect();
+        assert_eq!(loose.len(), 1, "{:?}", parts.choices);
+        assert_eq!(loose[0].vertices, 500);
+        assert_eq!(loose[0].part, Part::Still);
+        assert_eq!(parts.choices.len(), 2, "{:?}", parts.choices);
     }
 }

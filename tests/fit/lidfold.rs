@@ -69,3 +69,49 @@ fn makehuman_lid_gap_is_measured_at_the_free_edges() {
     println!("MakeHuman lid gap with only the landmarks moved: {gap}");
     assert!(gap > 0.5, "{gap}");
 }
+
+/// A head exported without its eyeballs (MakeHuman with its eye helpers deleted: open
+/// sockets, the lids around nothing) closes its lids as with them. Through the opening the
+/// front-most surface is then the socket's back, skin two centimetres behind the lids; taken
+/// for a lid, no opening was found, the lids closed by their landmarks on the lid's back and
+/// AU45 turned 14 triangles over, stretched an edge 4.5x and left 16% of the opening.
+#[test]
+fn makehuman_without_eyeballs_closes_its_lids() {
+    let Some((_, mut mesh, landmarks)) = crate::shared_makehuman() else {
+        return;
+    };
+    let mut eyeball = vec![false; mesh.vertex_count()];
+    for name in ["helper-l-eye", "helper-r-eye"] {
+        for v in mesh.groups.remove(name).expect("MakeHuman's eye helpers") {
+            eyeball[v as usize] = true;
+        }
+    }
+    mesh.triangles
+        .retain(|t| !t.iter().all(|&v| eyeball[v as usize]));
+    let fitted = crate::fit_default(&mesh, &landmarks);
+    let bound = BoundRig::bind_with(&fitted.rig, &mesh, SkinRules::DEFAULT).unwrap();
+    let gauge = Gauge::new(&mesh, &landmarks.vertices(&mesh), None).unwrap();
+    let expect = |eyes| Expect {
+        lids_close: eyes,
+        jaw_opens: false,
+    };
+    let both = expect(Some(Eyes::Both));
+    let rest = gauge.measure(&mesh.positions, both).lid_gap;
+    assert!(
+        rest.is_some_and(|g| (g - 1.0).abs() < 0.05),
+        "rest gap {rest:?}"
+    );
+    let wink = expect(None);
+    for (key, eyes) in [("43", both), ("45", both), ("L46", wink), ("R46", wink)] {
+        let q = gauge.measure(&crate::positions_at_au(&bound, key), eyes);
+        println!(
+            "MakeHuman without eyeballs AU{key}: {} turned, stretch {:.2}, gap {:?}",
+            q.turned, q.stretch, q.lid_gap
+        );
+        assert_eq!(q.turned, 0, "AU{key}: {} turned", q.turned);
+        assert!(q.stretch <= 2.5, "AU{key}: stretch {}", q.stretch);
+        if let Some(gap) = q.lid_gap {
+            assert!(gap < 0.10, "AU{key}: the lids leave {gap}");
+        }
+    }
+}
