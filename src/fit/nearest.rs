@@ -101,6 +101,83 @@ impl Nearest {
     }
 }
 
+impl Nearest {
+    /// The ids of the `k` points nearest `p` with their distances, nearest first (fewer when
+    /// the set holds fewer).
+    pub fn k_nearest(&self, p: Vec3, k: usize) -> Vec<(u32, f32)> {
+        let mut best: Vec<(u32, f32)> = Vec::with_capacity(k + 1);
+        if self.points.is_empty() || k == 0 {
+            return best;
+        }
+        let centre = key(p, self.cell);
+        let last = (0..3)
+            .map(|a| {
+                (centre[a] - self.lo[a])
+                    .abs()
+                    .max((self.hi[a] - centre[a]).abs())
+            })
+            .max()
+            .unwrap_or(0);
+        for ring in 0..=last {
+            let range =
+                |a: usize| (centre[a] - ring).max(self.lo[a])..=(centre[a] + ring).min(self.hi[a]);
+            for x in range(0) {
+                for y in range(1) {
+                    for z in range(2) {
+                        let c = [x, y, z];
+                        let shell = (0..3).map(|a| (c[a] - centre[a]).abs()).max();
+                        if shell != Some(ring) {
+                            continue;
+                        }
+                        for &i in self.cells.get(&c).map(Vec::as_slice).unwrap_or(&[]) {
+                            let d = self.points[i as usize].distance(p);
+                            if best.len() < k || d < best[k - 1].1 {
+                                let at = best.partition_point(|&(j, e)| (e, j) < (d, i));
+                                best.insert(at, (i, d));
+                                best.truncate(k);
+                            }
+                        }
+                    }
+                }
+            }
+            // Every point not yet seen lies at least `ring * cell` away.
+            if best.len() == k && best[k - 1].1 <= ring as f32 * self.cell {
+                break;
+            }
+        }
+        best.into_iter()
+            .map(|(i, d)| (self.ids[i as usize], d))
+            .collect()
+    }
+
+    /// A value known at the set's points, read at `p` between them: the `k` nearest points'
+    /// values blended with weights `((r - d) / (r d))^2`, `r` the distance of the `k`-th
+    /// (Franke and Nielson's local form of Shepard's method). Continuous in `p` (a point
+    /// entering the nearest `k` enters with weight zero) and exact at a point of the set, so
+    /// a mesh finer than the set sees the values change smoothly between the set's points
+    /// where the nearest point alone made steps. `None` for an empty set.
+    pub fn blend(&self, p: Vec3, k: usize, value: impl Fn(u32) -> f64) -> Option<f64> {
+        let near = self.k_nearest(p, k);
+        let &(first, d0) = near.first()?;
+        if d0 == 0.0 || near.len() == 1 {
+            return Some(value(first));
+        }
+        let r = f64::from(near[near.len() - 1].1);
+        let (mut sum, mut total) = (0.0, 0.0);
+        for &(id, d) in &near {
+            let d = f64::from(d);
+            let w = ((r - d) / (r * d)).max(0.0).powi(2);
+            sum += w * value(id);
+            total += w;
+        }
+        Some(if total > 0.0 {
+            sum / total
+        } else {
+            value(first)
+        })
+    }
+}
+
 fn key(p: Vec3, cell: f32) -> [i32; 3] {
     let k = (p / cell).floor();
     [k.x as i32, k.y as i32, k.z as i32]
@@ -136,6 +213,39 @@ mod tests {
             let within = index.nearest_within(p, 0.5 * brute);
             assert!(within.is_none(), "{within:?}");
             assert_eq!(index.nearest_within(p, brute * 1.01).unwrap().1, brute);
+            let mut sorted: Vec<f32> = points.iter().map(|x| x.distance(p)).collect();
+            sorted.sort_by(f32::total_cmp);
+            let k = index.k_nearest(p, 7);
+            let found: Vec<f32> = k.iter().map(|&(_, d)| d).collect();
+            assert_eq!(found, sorted[..7]);
+            for (i, d) in k {
+                assert_eq!(points[i as usize].distance(p), d);
+            }
         }
+    }
+
+    #[test]
+    fn blend_is_exact_at_the_points_and_between_their_values() {
+        let points: Vec<Vec3> = (0..64)
+            .map(|i| Vec3::new((i % 8) as f32, (i / 8) as f32, 0.0))
+            .collect();
+        let index = Nearest::new(points.clone(), (0..64).collect());
+        let value = |id: u32| f64::from(points[id as usize].x * 2.0 + points[id as usize].y);
+        for (i, p) in points.iter().enumerate() {
+            assert_eq!(index.blend(*p, 6, value), Some(value(i as u32)));
+        }
+        // along a line the blend moves without steps and stays within the values around it
+        let mut last = index.blend(Vec3::new(2.0, 3.0, 0.0), 6, value).unwrap();
+        for step in 1..=400 {
+            let p = Vec3::new(2.0 + step as f32 * 0.005, 3.0, 0.0);
+            let now = index.blend(p, 6, value).unwrap();
+            assert!((now - last).abs() < 0.05, "a step of {} at {p}", now - last);
+            assert!((4.0..=12.0).contains(&now), "{now}");
+            last = now;
+        }
+        assert!(index.blend(Vec3::ZERO, 6, value).is_some());
+        assert!(Nearest::new(vec![], vec![])
+            .blend(Vec3::ZERO, 6, value)
+            .is_none());
     }
 }

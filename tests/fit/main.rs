@@ -14,6 +14,7 @@ mod classic;
 mod cli;
 mod eyecut;
 mod eyes;
+mod finer;
 mod framing;
 mod lidcorners;
 mod lidfold;
