@@ -34,6 +34,13 @@ use super::Template;
 use crate::landmarks::FaceFrame;
 use crate::model::{Mask, Mesh, MuscleKind, Rig};
 
+/// The most the socket's cut may change along an edge, times the sheets' pull at activation 1
+/// there, per unit of the edge's length: the share of its length an edge may stretch or
+/// shrink by the cut's change alone. Measured against depth, the cut changed by half across
+/// a 1.6 mm edge of MakeHuman's lid fold cut in four (AU1 turned 6 triangles over); on the
+/// mesh itself, no edge of the fold is steeper than this.
+const SOCKET_STRAIN: f64 = 0.5;
+
 /// Weights this close to 1 are left out of the mask.
 const EPSILON: f64 = 1e-6;
 
@@ -124,9 +131,9 @@ fn cut(sockets: &[Socket; 2], p: Vec3) -> f64 {
 pub(super) fn socket_mask(
     rig: &Rig,
     template: Template<'_>,
-    mesh: &Mesh,
-    parts: &Parts,
+    (mesh, parts): (&Mesh, &Parts),
     target: &[Vec3],
+    gains: &[(String, f64)],
 ) -> Vec<Mask> {
     let sheets: Vec<String> = rig
         .muscles
@@ -139,19 +146,38 @@ pub(super) fn socket_mask(
     let Some(sockets) = Socket::both(target).filter(|_| !sheets.is_empty() && !itself) else {
         return Vec::new();
     };
-    let mut kept = vec![1.0; mesh.vertex_count()];
-    let mut weights: Vec<(u32, f32)> = Vec::new();
-    for (v, (p, part)) in mesh.positions.iter().zip(&parts.of_vertex).enumerate() {
-        let cut = if *part == Part::Skin {
-            cut(&sockets, *p)
-        } else {
-            0.0
-        };
-        if cut > EPSILON {
-            kept[v] = 1.0 - cut;
-            weights.push((v as u32, (1.0 - cut) as f32));
-        }
-    }
+    let mut kept: Vec<f32> = mesh
+        .positions
+        .iter()
+        .zip(&parts.of_vertex)
+        .map(|(p, part)| match part {
+            Part::Skin => (1.0 - cut(&sockets, *p)) as f32,
+            _ => 1.0,
+        })
+        .collect();
+    // the cut goes by depth, and a fold's rows lie millimetres apart in depth whatever the
+    // mesh's resolution: eased to the strain the sheets' pull may put on an edge
+    let pull = super::ease::pull(&rig.muscles, &sheets, &mesh.positions, &|name| {
+        gains
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or(1.0, |&(_, g)| g)
+    });
+    let strength = |v: usize| pull[v];
+    super::ease::ease(
+        mesh,
+        parts,
+        &mut kept,
+        &|_| true,
+        (SOCKET_STRAIN, &strength),
+    );
+    let weights: Vec<(u32, f32)> = kept
+        .iter()
+        .enumerate()
+        .filter(|&(_, &w)| f64::from(w) < 1.0 - EPSILON)
+        .map(|(v, &w)| (v as u32, w))
+        .collect();
+    let kept: Vec<f64> = kept.iter().map(|&w| f64::from(w)).collect();
     let eyes = super::brow_ramp::Eyes {
         width: sockets.iter().map(|s| s.half_width).sum::<f64>(),
         corners: [36, 39, 42, 45].map(|i| target[i]),

@@ -221,7 +221,7 @@ pub(super) fn ease_masks(faces: &Faces<'_>, lip_muscles: &[String], carried: &mu
 
 /// Per vertex of `positions`, the largest pull of the named `muscles` of `all` at activation 1
 /// (the bare field's length times the muscle's `gain`).
-fn pull(
+pub(super) fn pull(
     all: &[Muscle],
     muscles: &[String],
     positions: &[Vec3],

@@ -231,7 +231,11 @@ pub fn fit_rig(
     ));
     // the brow's sheets stop at the eye sockets a mesh models behind its lids
     rig.masks.extend(super::brows::socket_mask(
-        &rig, template, mesh, &parts, &target,
+        &rig,
+        template,
+        (mesh, &parts),
+        &target,
+        &gains,
     ));
     rig.masks.extend(gains.into_iter().map(|(name, gain)| Mask {
         muscles: vec![name],
