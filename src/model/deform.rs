@@ -352,9 +352,17 @@ impl BoundRig {
         if !self.skin.is_paper() && self.skin.slide > 0.0 {
             let (lo, hi) = mesh.bounds();
             let radius = (hi - lo).length() * self.skin.patch;
+            // the patches' surface goes by the face's size, not by the mesh's resolution
+            let face = spread::spread_length(&self.rig, 1.0);
+            let area = if face > 0.0 {
+                slide::PATCH_AREA * face * face
+            } else {
+                f64::INFINITY
+            };
             let adjacency = Adjacency::of(mesh);
             let normals = skin::outward_normals(mesh);
-            self.patches = slide::fit_patches(mesh, &adjacency, &normals, &self.row_vertex, radius);
+            self.patches =
+                slide::fit_patches(mesh, &adjacency, &normals, &self.row_vertex, (radius, area));
         }
         self.build_guard(mesh);
     }

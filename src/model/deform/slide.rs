@@ -76,8 +76,19 @@ impl Patch {
     }
 }
 
-/// Most rest vertices a patch fit visits (the nearest ones).
-const PATCH_VERTICES: usize = 128;
+/// Most rest vertices a patch fit visits (the nearest ones), whatever their area: a bound on
+/// the cost of a patch on a mesh many times finer than a face needs.
+const PATCH_VERTICES: usize = 1024;
+
+/// The most surface a patch gathers, as a share of the square of the face's size (the
+/// diagonal of the box round the rig's muscles, about 210 mm on an adult face): about a
+/// disc 20 mm across. A patch is gathered nearest first until it holds that much of the
+/// mesh's area (each vertex a third of its triangles'), so a mesh four times finer fits its
+/// patches over the same skin. Counted in vertices (128 before), a finer mesh's patches
+/// shrank to a fold's own width at the mouth corners, and a smile turned its triangles over
+/// there (MakeHuman cut in four: AU12 turned 2 over and stretched an edge 3.3x). 128
+/// vertices of the built-in face or MakeHuman's base mesh hold 0.027 and 0.032 of it.
+pub(super) const PATCH_AREA: f64 = 0.03;
 
 /// Fits the rest surface around each vertex of `vertices` (a patch of `radius`) in two
 /// passes: each vertex's plane normal (weighted principal axes of its patch's points), then
@@ -90,7 +101,7 @@ pub(super) fn fit_patches(
     adjacency: &Adjacency,
     normals: &[Vec3],
     vertices: &[u32],
-    radius: f32,
+    (radius, area): (f32, f64),
 ) -> Vec<Patch> {
     // Each vertex's patch depends on the rest mesh only, so chunks of vertices are fitted
     // on the rayon pool, each with its own search state: the same bits as one pass.
@@ -100,6 +111,8 @@ pub(super) fn fit_patches(
         adjacency,
         normals,
         radius,
+        area,
+        vertex_area: vertex_areas(mesh),
     };
     search.fit_in_chunks(vertices, chunk)
 }
@@ -229,6 +242,24 @@ struct Search<'a> {
     adjacency: &'a Adjacency,
     normals: &'a [Vec3],
     radius: f32,
+    /// The most surface a patch gathers ([`PATCH_AREA`]).
+    area: f64,
+    /// Each vertex's share of the surface: a third of each of its triangles.
+    vertex_area: Vec<f64>,
+}
+
+/// Each vertex's share of the mesh's surface: a third of the area of each triangle it is a
+/// corner of.
+fn vertex_areas(mesh: &Mesh) -> Vec<f64> {
+    let mut area = vec![0.0f64; mesh.vertex_count()];
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| mesh.positions[i as usize].as_dvec3());
+        let third = (b - a).cross(c - a).length() / 6.0;
+        for &v in t {
+            area[v as usize] += third;
+        }
+    }
+    area
 }
 
 /// One vertex's patch: its points (vertex, distance), fitted extent and chosen normal.
@@ -257,6 +288,7 @@ impl Search<'_> {
                 let v = v as usize;
                 let p = rest[v].as_dvec3();
                 let mut near: Vec<(usize, f64)> = Vec::new();
+                let mut gathered = 0.0;
                 queue.clear();
                 // nearest first (ties by vertex number), so that mirrored vertices of a
                 // symmetric mesh gather mirrored patches
@@ -264,7 +296,8 @@ impl Search<'_> {
                 seen[v] = stamp as u32;
                 while let Some(Reverse((Distance(d), q))) = queue.pop() {
                     near.push((q, d));
-                    if near.len() >= PATCH_VERTICES {
+                    gathered += self.vertex_area[q];
+                    if near.len() >= PATCH_VERTICES || gathered >= self.area {
                         break;
                     }
                     for &w in self.adjacency.of_vertex(q) {
@@ -508,12 +541,15 @@ mod tests {
         let normals = outward_normals(&mesh);
         let (lo, hi) = mesh.bounds();
         let radius = (hi - lo).length() * 0.05;
-        let parallel = fit_patches(&mesh, &adjacency, &normals, &vertices, radius);
+        let area = f64::from(radius * radius);
+        let parallel = fit_patches(&mesh, &adjacency, &normals, &vertices, (radius, area));
         let search = Search {
             mesh: &mesh,
             adjacency: &adjacency,
             normals: &normals,
             radius,
+            area,
+            vertex_area: vertex_areas(&mesh),
         };
         let one_pass = search.fit_in_chunks(&vertices, vertices.len());
         assert_eq!(parallel, one_pass);
