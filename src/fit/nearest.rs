@@ -157,24 +157,37 @@ impl Nearest {
     /// a mesh finer than the set sees the values change smoothly between the set's points
     /// where the nearest point alone made steps. `None` for an empty set.
     pub fn blend(&self, p: Vec3, k: usize, value: impl Fn(u32) -> f64) -> Option<f64> {
+        let shares = self.blend_shares(p, k);
+        (!shares.is_empty()).then(|| shares.iter().map(|&(id, w)| w * value(id)).sum())
+    }
+
+    /// The ids and shares (adding up to 1) that [`Nearest::blend`] reads at `p`; empty for
+    /// an empty set.
+    pub fn blend_shares(&self, p: Vec3, k: usize) -> Vec<(u32, f64)> {
         let near = self.k_nearest(p, k);
-        let &(first, d0) = near.first()?;
+        let Some(&(first, d0)) = near.first() else {
+            return Vec::new();
+        };
         if d0 == 0.0 || near.len() == 1 {
-            return Some(value(first));
+            return vec![(first, 1.0)];
         }
         let r = f64::from(near[near.len() - 1].1);
-        let (mut sum, mut total) = (0.0, 0.0);
-        for &(id, d) in &near {
-            let d = f64::from(d);
-            let w = ((r - d) / (r * d)).max(0.0).powi(2);
-            sum += w * value(id);
-            total += w;
+        let mut shares: Vec<(u32, f64)> = near
+            .iter()
+            .map(|&(id, d)| {
+                let d = f64::from(d);
+                (id, ((r - d) / (r * d)).max(0.0).powi(2))
+            })
+            .filter(|&(_, w)| w > 0.0)
+            .collect();
+        let total: f64 = shares.iter().map(|&(_, w)| w).sum();
+        if total <= 0.0 {
+            return vec![(first, 1.0)];
         }
-        Some(if total > 0.0 {
-            sum / total
-        } else {
-            value(first)
-        })
+        for (_, w) in &mut shares {
+            *w /= total;
+        }
+        shares
     }
 }
 

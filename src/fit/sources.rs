@@ -26,6 +26,11 @@ pub(super) struct Sources {
     /// Per mesh vertex: `(template vertex, share)`, `None` for parts that are not skin and
     /// skin far from the template.
     pub(super) of_vertex: Vec<Option<(u32, f64)>>,
+    /// Per mesh vertex with a source, the template vertices its carried weights are blended
+    /// from and their shares ([`Nearest::blend_shares`]; on a lip, none of the template's
+    /// other lip): the nearest alone gave a mesh finer than the template steps of weight
+    /// between neighbouring vertices, and a smile crumpled the skin round the mouth.
+    pub(super) around: Vec<Vec<(u32, f64)>>,
     /// Per mesh vertex in the mouth's zone whose nearest source is on the template's other
     /// lip, its source on its own lip ([`LipSource`]); empty when either face's lips were
     /// not found.
@@ -37,6 +42,9 @@ pub(super) struct Sources {
     /// template's midline; empty when [`Sources::with_midline`] was not run.
     pub(super) mirror_of: Vec<u32>,
 }
+
+/// Template vertices each carried weight is blended from ([`Sources::around`]).
+const BLEND: usize = 6;
 
 /// Skin this close to the face's midline (as fractions of the landmarks' spread) may read its
 /// carried weights from both sides of the template, fading to its own source alone by the
@@ -102,7 +110,7 @@ impl Sources {
         let index = Nearest::new(points, ids);
         let (near, far) = (MASK_FADE.0 * warp.spread, MASK_FADE.1 * warp.spread);
         // one nearest search per vertex, independent: on the rayon pool, in vertex order
-        let of_vertex = mesh
+        let of_vertex: Vec<Option<(u32, f64)>> = mesh
             .positions
             .par_iter()
             .enumerate()
@@ -115,8 +123,18 @@ impl Sources {
                 (share > 0.0).then_some((id, share))
             })
             .collect();
+        let around = mesh
+            .positions
+            .par_iter()
+            .zip(&of_vertex)
+            .map(|(p, source)| match source {
+                Some(_) => index.blend_shares(*p, BLEND),
+                None => Vec::new(),
+            })
+            .collect();
         Sources {
             of_vertex,
+            around,
             on_lips: Vec::new(),
             midline: Vec::new(),
             mirror_of: Vec::new(),
@@ -216,6 +234,22 @@ impl Sources {
                 })
             })
             .collect();
+        // a lip's vertex blends nothing from the template's other lip
+        for (v, around) in self.around.iter_mut().enumerate() {
+            let Some(own) = lips[1].side(v) else {
+                continue;
+            };
+            let other = |u: u32| lips[0].side(u as usize).is_some_and(|s| s != own);
+            if around.iter().any(|&(u, _)| other(u)) {
+                around.retain(|&(u, _)| !other(u));
+                let total: f64 = around.iter().map(|&(_, w)| w).sum();
+                if total > 0.0 {
+                    around.iter_mut().for_each(|(_, w)| *w /= total);
+                } else if let Some((id, _)) = self.of_vertex[v] {
+                    *around = vec![(id, 1.0)];
+                }
+            }
+        }
         self
     }
 }

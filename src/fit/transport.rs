@@ -756,7 +756,7 @@ fn carry_masks<'a>(template: Template<'a>, sources: &Sources) -> Vec<(&'a Mask, 
                             };
                             match sources.on_lips.get(v).copied().flatten() {
                                 Some(lip) => lip.blend(at(id), at),
-                                None => at(id),
+                                None => sources.around[v].iter().map(|&(u, s)| s * at(u)).sum(),
                             }
                         });
                     let w = 1.0 - share * (1.0 - carried);
