@@ -95,6 +95,16 @@ impl Socket {
             .then_some(sockets)
     }
 
+    /// Whether `p` lies within the socket's ellipse (as seen from the front, at any depth),
+    /// where its cut may be more than nothing.
+    fn around(&self, p: DVec3) -> bool {
+        let d = p - self.centre;
+        let w = self.half_width;
+        let r =
+            (d.dot(self.lateral) / (SOCKET_AXES.0 * w)).hypot(d.dot(self.up) / (SOCKET_AXES.1 * w));
+        r <= SOCKET_FADE.1
+    }
+
     /// How much of a sheet's pull the socket takes away at `p`: 1 in the lining behind the
     /// eye, 0 in front of its corners and outside its ellipse.
     fn cut(&self, p: DVec3) -> f64 {
@@ -164,13 +174,9 @@ pub(super) fn socket_mask(
             .map_or(1.0, |&(_, g)| g)
     });
     let strength = |v: usize| pull[v];
-    super::ease::ease(
-        mesh,
-        parts,
-        &mut kept,
-        &|_| true,
-        (SOCKET_STRAIN, &strength),
-    );
+    // (only round the sockets: behind the face the cut changes over centimetres)
+    let around = |p: Vec3| sockets.iter().any(|s| s.around(p.as_dvec3()));
+    super::ease::ease(mesh, parts, &mut kept, &around, (SOCKET_STRAIN, &strength));
     let weights: Vec<(u32, f32)> = kept
         .iter()
         .enumerate()

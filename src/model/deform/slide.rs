@@ -77,8 +77,10 @@ impl Patch {
 }
 
 /// Most rest vertices a patch fit visits (the nearest ones), whatever their area: a bound on
-/// the cost of a patch on a mesh many times finer than a face needs.
-const PATCH_VERTICES: usize = 1024;
+/// the cost of a patch on a mesh many times finer than a face needs (four times the 128 of
+/// MakeHuman's base mesh or the built-in face: a head four times finer keeps its patches
+/// whole; finer still, they shrink).
+const PATCH_VERTICES: usize = 512;
 
 /// The most surface a patch gathers, as a share of the square of the face's size (the
 /// diagonal of the box round the rig's muscles, about 210 mm on an adult face): about a
