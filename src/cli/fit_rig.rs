@@ -1,4 +1,4 @@
-//! `grimace fit-rig MESH.obj --landmarks FILE --out NAME.rig.ron`: carries a rig (the built-in
+//! `grimace fit-rig MESH.obj [--landmarks FILE] --out NAME.rig.ron`: carries a rig (the built-in
 //! default rig unless `--template` names another) to a mesh from its 68 landmarks, and
 //! writes it as an ordinary rig file that names the mesh. With `--pick` the landmarks are
 //! picked first in the terminal ([`super::landmarks`]) and saved (to `--landmarks FILE`, or
@@ -49,10 +49,10 @@ pub struct FitRigArgs {
     pub mesh: PathBuf,
     /// The mesh's 68 iBUG landmarks: a *.landmarks.ron file, MeshLab's picked points (*.pp),
     /// a list one a line (*.txt, *.csv, *.xyz: x y z or a vertex number), or `mediapipe` for a
-    /// MediaPipe face mesh (468 or 478 vertices, numbered like MediaPipe's landmarks). With
-    /// --pick, the file the picked landmarks are saved to (default: MESH.landmarks.ron beside
-    /// the mesh).
-    #[arg(long, value_name = "FILE|mediapipe", required_unless_present = "pick")]
+    /// MediaPipe face mesh (468 or 478 vertices, numbered like MediaPipe's landmarks).
+    /// Default: MESH.landmarks.ron beside the mesh (where `grimace landmarks` saves them).
+    /// With --pick, the file the picked landmarks are saved to (default: the same).
+    #[arg(long, value_name = "FILE|mediapipe")]
     pub landmarks: Option<String>,
     /// Pick the landmarks in the terminal first, then fit.
     #[arg(long)]
@@ -632,7 +632,20 @@ fn landmark_source(args: &FitRigArgs) -> anyhow::Result<String> {
             }
             file.to_string_lossy().into_owned()
         }
-        (None, false) => return Err(anyhow!("give --landmarks FILE or --pick")),
+        (None, false) => {
+            let file = beside(&args.mesh);
+            if !file.is_file() {
+                return Err(anyhow!(
+                    "no landmarks for {}: {} is not there; give --landmarks FILE (or \
+                     `--landmarks mediapipe` for a MediaPipe face mesh), pick them with --pick, \
+                     or first with `grimace landmarks {}`",
+                    args.mesh.display(),
+                    file.display(),
+                    args.mesh.display()
+                ));
+            }
+            file.to_string_lossy().into_owned()
+        }
     })
 }
 

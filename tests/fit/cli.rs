@@ -638,3 +638,35 @@ fn landmarks_from_other_tools_are_read_as_they_are() {
         "59",
     );
 }
+
+/// `fit-rig MESH.obj --out R` reads `MESH.landmarks.ron` beside the mesh (where `grimace
+/// landmarks` saves them) without `--landmarks`, and fits the same rig as naming it; with no
+/// such file it fails saying where it looked and what to give, and writes nothing.
+#[test]
+fn the_landmarks_beside_the_mesh_need_no_flag() {
+    let dir = temp();
+    write_face(dir.path(), "face", |p| p * 2.0);
+    let fit = |args: &[&str]| {
+        let out = grimace_in(dir.path(), args);
+        let (_, stderr) = text(&out);
+        assert!(out.status.success(), "{args:?}: {stderr}");
+    };
+    fit(&["fit-rig", "face.obj", "--out", "beside.rig.ron"]);
+    fit(&[
+        "fit-rig",
+        "face.obj",
+        "--landmarks",
+        "face.landmarks.ron",
+        "--out",
+        "named.rig.ron",
+    ]);
+    let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap();
+    assert_eq!(read("beside.rig.ron"), read("named.rig.ron"));
+    std::fs::remove_file(dir.path().join("face.landmarks.ron")).unwrap();
+    fails_naming(
+        dir.path(),
+        &["fit-rig", "face.obj", "--out", "out.rig.ron"],
+        "face.landmarks.ron",
+        "--landmarks",
+    );
+}
