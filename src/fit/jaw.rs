@@ -26,12 +26,6 @@ use crate::model::{Jaw, Mesh};
 /// template's skin takes its weight along the mesh instead (`super::jawfade`).
 const FADE: (f64, f64) = (0.08, 0.2);
 
-/// Template vertices each weight is blended from ([`Nearest::blend`]): the nearest alone
-/// gave a mesh finer than the template steps of weight between neighbours (on MediaPipe's
-/// face subdivided twice, 1.7 mm edges at the mouth against the template's 3.9, AU27
-/// turned 24 triangles over in the paper's model and stretched an edge 7.4x).
-const BLEND: usize = 6;
-
 /// The jaw's slide per degree on the fitted mesh: the template's slide carried by the warp's
 /// local linear part `j` at the pivot (so a larger head slides further), kept in the plane
 /// the jaw turns in (perpendicular to the carried axis `axis`): the condyles glide in the
@@ -104,15 +98,14 @@ pub fn weights(
                     &all
                 };
                 let from_upper = above > 0.0 && below <= 0.0 && upper.nearest(*p).is_some();
-                let index = if index.nearest(*p).is_some() {
-                    index
-                } else {
-                    &all
+                // the lip's own template vertices, or all where the lip has none
+                let (index, d) = match index.nearest(*p) {
+                    Some((_, d)) => (index, d),
+                    None => (&all, all.nearest(*p).map_or(f32::INFINITY, |(_, d)| d)),
                 };
-                let d = index.nearest(*p).map_or(f32::INFINITY, |(_, d)| d);
                 let fade = 1.0 - smoothstep(near, far, f64::from(d));
                 let carried = |id: u32| f64::from(dense.get(id as usize).copied().unwrap_or(0.0));
-                let w = index.blend(*p, BLEND, carried).unwrap_or(0.0) * fade;
+                let w = index.blend(*p, carried).unwrap_or(0.0) * fade;
                 // the template's upper lip carries its own (small, by the corners) weights;
                 // without one, the upper lip is split off the jaw
                 if from_upper {

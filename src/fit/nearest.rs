@@ -51,8 +51,54 @@ impl Nearest {
 
     /// The id of the point nearest `p` and its distance, if one lies within `limit`.
     pub fn nearest_within(&self, p: Vec3, limit: f32) -> Option<(u32, f32)> {
+        let rings = limit
+            .is_finite()
+            .then(|| (limit / self.cell).ceil() as i64 + 1);
+        let mut best: Option<(u32, f32)> = None;
+        self.walk(p, rings, |step| match step {
+            Step::Point(i, d) => {
+                if best.is_none_or(|(_, b)| d < b) {
+                    best = Some((i, d));
+                }
+                false
+            }
+            Step::Beyond(reach) => best.is_some_and(|(_, d)| d <= reach),
+        });
+        best.filter(|&(_, d)| d <= limit)
+            .map(|(i, d)| (self.ids[i as usize], d))
+    }
+
+    /// The ids of the `k` points nearest `p` with their distances, nearest first (fewer when
+    /// the set holds fewer).
+    pub fn k_nearest(&self, p: Vec3, k: usize) -> Vec<(u32, f32)> {
+        let mut best: Vec<(u32, f32)> = Vec::with_capacity(k + 1);
+        if k == 0 {
+            return best;
+        }
+        self.walk(p, None, |step| match step {
+            Step::Point(i, d) => {
+                if best.len() < k || d < best[k - 1].1 {
+                    let at = best.partition_point(|&(j, e)| (e, j) < (d, i));
+                    best.insert(at, (i, d));
+                    best.truncate(k);
+                }
+                false
+            }
+            Step::Beyond(reach) => best.len() == k && best[k - 1].1 <= reach,
+        });
+        best.into_iter()
+            .map(|(i, d)| (self.ids[i as usize], d))
+            .collect()
+    }
+
+    /// Visits the points by rings of grid cells round `p`'s cell (ring `r`: the cells `r`
+    /// cells away along the farthest axis), at most `rings` of them (all with `None`):
+    /// `visit(Step::Point(index, distance))` for each point, then `visit(Step::Beyond(d))`
+    /// after each ring, every point not yet seen lying at least `d` away; `visit` returning
+    /// true stops the walk.
+    fn walk(&self, p: Vec3, rings: Option<i64>, mut visit: impl FnMut(Step) -> bool) {
         if self.points.is_empty() {
-            return None;
+            return;
         }
         let centre = key(p, self.cell);
         // Beyond this ring every cell of the grid has been visited.
@@ -64,61 +110,9 @@ impl Nearest {
             })
             .max()
             .unwrap_or(0);
-        let max_ring = if limit.is_finite() {
-            ((limit / self.cell).ceil() as i64 + 1).min(i64::from(last)) as i32
-        } else {
-            last
-        };
-        let mut best: Option<(u32, f32)> = None;
-        for ring in 0..=max_ring {
-            // Only the cells of this ring's shell that lie inside the grid's box.
-            let range =
-                |a: usize| (centre[a] - ring).max(self.lo[a])..=(centre[a] + ring).min(self.hi[a]);
-            for x in range(0) {
-                for y in range(1) {
-                    for z in range(2) {
-                        let k = [x, y, z];
-                        let shell = (0..3).map(|a| (k[a] - centre[a]).abs()).max();
-                        if shell != Some(ring) {
-                            continue;
-                        }
-                        for &i in self.cells.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
-                            let d = self.points[i as usize].distance(p);
-                            if best.is_none_or(|(_, b)| d < b) {
-                                best = Some((i, d));
-                            }
-                        }
-                    }
-                }
-            }
-            // Every point not yet seen lies at least `ring * cell` away.
-            if best.is_some_and(|(_, d)| d <= ring as f32 * self.cell) {
-                break;
-            }
-        }
-        best.filter(|&(_, d)| d <= limit)
-            .map(|(i, d)| (self.ids[i as usize], d))
-    }
-}
-
-impl Nearest {
-    /// The ids of the `k` points nearest `p` with their distances, nearest first (fewer when
-    /// the set holds fewer).
-    pub fn k_nearest(&self, p: Vec3, k: usize) -> Vec<(u32, f32)> {
-        let mut best: Vec<(u32, f32)> = Vec::with_capacity(k + 1);
-        if self.points.is_empty() || k == 0 {
-            return best;
-        }
-        let centre = key(p, self.cell);
-        let last = (0..3)
-            .map(|a| {
-                (centre[a] - self.lo[a])
-                    .abs()
-                    .max((self.hi[a] - centre[a]).abs())
-            })
-            .max()
-            .unwrap_or(0);
+        let last = rings.map_or(last, |r| r.min(i64::from(last)) as i32);
         for ring in 0..=last {
+            // Only the cells of this ring's shell that lie inside the grid's box.
             let range =
                 |a: usize| (centre[a] - ring).max(self.lo[a])..=(centre[a] + ring).min(self.hi[a]);
             for x in range(0) {
@@ -130,47 +124,37 @@ impl Nearest {
                             continue;
                         }
                         for &i in self.cells.get(&c).map(Vec::as_slice).unwrap_or(&[]) {
-                            let d = self.points[i as usize].distance(p);
-                            if best.len() < k || d < best[k - 1].1 {
-                                let at = best.partition_point(|&(j, e)| (e, j) < (d, i));
-                                best.insert(at, (i, d));
-                                best.truncate(k);
+                            if visit(Step::Point(i, self.points[i as usize].distance(p))) {
+                                return;
                             }
                         }
                     }
                 }
             }
-            // Every point not yet seen lies at least `ring * cell` away.
-            if best.len() == k && best[k - 1].1 <= ring as f32 * self.cell {
-                break;
+            if visit(Step::Beyond(ring as f32 * self.cell)) {
+                return;
             }
         }
-        best.into_iter()
-            .map(|(i, d)| (self.ids[i as usize], d))
-            .collect()
     }
 
-    /// A value known at the set's points, read at `p` between them: the `k` nearest points'
-    /// values blended with weights `((r - d) / (r d))^2`, `r` the distance of the `k`-th
-    /// (Franke and Nielson's local form of Shepard's method). Continuous in `p` (a point
-    /// entering the nearest `k` enters with weight zero) and exact at a point of the set, so
-    /// a mesh finer than the set sees the values change smoothly between the set's points
-    /// where the nearest point alone made steps. `None` for an empty set.
-    pub fn blend(&self, p: Vec3, k: usize, value: impl Fn(u32) -> f64) -> Option<f64> {
-        let shares = self.blend_shares(p, k);
+    /// A value known at the set's points, read at `p` between them: the [`BLEND`] nearest
+    /// points' values blended with weights `((r - d) / (r d))^2`, `r` the distance of the
+    /// farthest of them (Franke and Nielson's local form of Shepard's method). Continuous in
+    /// `p` (a point entering the nearest enters with weight zero) and exact at a point of the
+    /// set, so a mesh finer than the set sees the values change smoothly between the set's
+    /// points where the nearest point alone made steps. `None` for an empty set.
+    pub fn blend(&self, p: Vec3, value: impl Fn(u32) -> f64) -> Option<f64> {
+        let shares = self.blend_shares(p);
         (!shares.is_empty()).then(|| shares.iter().map(|&(id, w)| w * value(id)).sum())
     }
 
     /// The ids and shares (adding up to 1) that [`Nearest::blend`] reads at `p`; empty for
     /// an empty set.
-    pub fn blend_shares(&self, p: Vec3, k: usize) -> Vec<(u32, f64)> {
-        let near = self.k_nearest(p, k);
+    pub fn blend_shares(&self, p: Vec3) -> Vec<(u32, f64)> {
+        let near = self.k_nearest(p, BLEND);
         let Some(&(first, d0)) = near.first() else {
             return Vec::new();
         };
-        if d0 == 0.0 || near.len() == 1 {
-            return vec![(first, 1.0)];
-        }
         let r = f64::from(near[near.len() - 1].1);
         let mut shares: Vec<(u32, f64)> = near
             .iter()
@@ -181,7 +165,8 @@ impl Nearest {
             .filter(|&(_, w)| w > 0.0)
             .collect();
         let total: f64 = shares.iter().map(|&(_, w)| w).sum();
-        if total <= 0.0 {
+        // on a point of the set (d0 = 0), or with every point at one distance, the nearest
+        if d0 == 0.0 || total <= 0.0 || !total.is_finite() {
             return vec![(first, 1.0)];
         }
         for (_, w) in &mut shares {
@@ -189,6 +174,20 @@ impl Nearest {
         }
         shares
     }
+}
+
+/// Template vertices (points of the set) a value is blended from ([`Nearest::blend`]): the
+/// nearest alone gave a mesh finer than the set steps of value between neighbouring vertices
+/// (MediaPipe's face cut in sixteen, 1.7 mm edges at the mouth against the template's 3.9:
+/// AU27 turned 24 triangles over in the paper's model and stretched an edge 7.4x).
+pub const BLEND: usize = 6;
+
+/// One step of [`Nearest::walk`].
+enum Step {
+    /// A point (its index in the set) and its distance.
+    Point(u32, f32),
+    /// A ring done: every point not yet seen lies at least this far away.
+    Beyond(f32),
 }
 
 fn key(p: Vec3, cell: f32) -> [i32; 3] {
@@ -245,20 +244,20 @@ mod tests {
         let index = Nearest::new(points.clone(), (0..64).collect());
         let value = |id: u32| f64::from(points[id as usize].x * 2.0 + points[id as usize].y);
         for (i, p) in points.iter().enumerate() {
-            assert_eq!(index.blend(*p, 6, value), Some(value(i as u32)));
+            assert_eq!(index.blend(*p, value), Some(value(i as u32)));
         }
         // along a line the blend moves without steps and stays within the values around it
-        let mut last = index.blend(Vec3::new(2.0, 3.0, 0.0), 6, value).unwrap();
+        let mut last = index.blend(Vec3::new(2.0, 3.0, 0.0), value).unwrap();
         for step in 1..=400 {
             let p = Vec3::new(2.0 + step as f32 * 0.005, 3.0, 0.0);
-            let now = index.blend(p, 6, value).unwrap();
+            let now = index.blend(p, value).unwrap();
             assert!((now - last).abs() < 0.05, "a step of {} at {p}", now - last);
             assert!((4.0..=12.0).contains(&now), "{now}");
             last = now;
         }
-        assert!(index.blend(Vec3::ZERO, 6, value).is_some());
+        assert!(index.blend(Vec3::ZERO, value).is_some());
         assert!(Nearest::new(vec![], vec![])
-            .blend(Vec3::ZERO, 6, value)
+            .blend(Vec3::ZERO, value)
             .is_none());
     }
 }

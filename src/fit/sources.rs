@@ -43,9 +43,6 @@ pub(super) struct Sources {
     pub(super) mirror_of: Vec<u32>,
 }
 
-/// Template vertices each carried weight is blended from ([`Sources::around`]).
-const BLEND: usize = 6;
-
 /// Skin this close to the face's midline (as fractions of the landmarks' spread) may read its
 /// carried weights from both sides of the template, fading to its own source alone by the
 /// second distance.
@@ -128,7 +125,7 @@ impl Sources {
             .par_iter()
             .zip(&of_vertex)
             .map(|(p, source)| match source {
-                Some(_) => index.blend_shares(*p, BLEND),
+                Some(_) => index.blend_shares(*p),
                 None => Vec::new(),
             })
             .collect();
