@@ -624,7 +624,7 @@ fn limit_travel_slope(mesh: &Mesh, travel: &mut [Option<f64>], slope: f64) {
     crate::model::envelope::lower_envelope(
         &mut values,
         sources,
-        |v| neighbours[v].clone(),
+        |v| neighbours[v].iter().copied(),
         |value, len| value + slope * len,
     );
     for (t, v) in travel.iter_mut().zip(values) {
