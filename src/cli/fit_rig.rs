@@ -26,6 +26,7 @@ use clap::Args;
 
 use crate::fit::eyecut::{self, Lids};
 use crate::fit::lipcut::{self, LipCut, Lips};
+use crate::fit::weld;
 use crate::fit::{self, Part, PartOverrides, Template};
 use crate::io::inputs::Inputs;
 use crate::io::landmarks::{
@@ -86,6 +87,10 @@ pub struct FitRigArgs {
     /// by squeezing that skin, and no dark eye is added.
     #[arg(long)]
     pub keep_eyes: bool,
+    /// Keep the mesh's skin split where it is split at its seams (vertices written once per
+    /// texture island): the split sides then move apart as the face moves.
+    #[arg(long)]
+    pub keep_seams: bool,
 }
 
 /// Runs `grimace fit-rig`.
@@ -106,13 +111,27 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     }
     inputs.check_output(&args.out)?;
     let marks = source_landmarks.vertices(&source);
+    let weld = match args.keep_seams {
+        true => None,
+        false => weld::weld(&source, &marks),
+    };
+    let (source, marks) = match &weld {
+        Some(w) => (w.mesh.clone(), w.landmarks.clone()),
+        None => (source, marks),
+    };
     let lips = lipcut::find(&source, &marks);
     let apart = match lips {
         Lips::Separate if !args.keep_lips => lipcut::pocket_behind_apart_lips(&source, &marks),
         _ => None,
     };
     let eyes = eyecut::find(&source, &marks);
-    let opened = to_open(args, &inputs, &lips, apart, (&source, &marks, &eyes))?;
+    let welded = weld.is_some();
+    let opened = to_open(
+        args,
+        &inputs,
+        (&lips, apart, welded),
+        (&source, &marks, &eyes),
+    )?;
     let (mesh, landmarks) = match &opened {
         Some((cut, _)) => (&cut.mesh, Landmarks::Vertices(cut.landmarks.clone())),
         None => (&source, source_landmarks),
@@ -154,7 +173,10 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         .bind(&fitted.rig, mesh)
         .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
     match &opened {
-        Some((cut, files)) => fitted.rig.mesh = write_opened(args, cut, files)?,
+        Some((cut, files)) => {
+            let seams = weld.as_ref().map_or(0, |w| w.copies);
+            fitted.rig.mesh = write_opened(args, (cut, seams), files)?
+        }
         None => fitted.rig.landmarks = named_landmarks(args, &landmark_arg, &landmark_file),
     }
     rig_file::save_rig(&args.out, &fitted.rig)?;
@@ -170,6 +192,15 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     let lips_cut = written.filter(|(cut, _)| !cut.copies.is_empty() || cut.pocket.is_some());
     text.push_str(&lips_summary(args, &lips, lips_cut));
     text.push_str(&eyes_summary(args, &eyes, written));
+    if let (Some(w), Some((_, obj_file))) = (&weld, written) {
+        text.push_str(&format!(
+            "  seams: the skin was split at its seams; joined in {}: its faces name the first \
+             of coincident vertices, and the {} other copies stay at their numbers in no face, \
+             moving with the vertex each lies on (--keep-seams leaves them split)\n",
+            obj_file.display(),
+            w.copies
+        ));
+    }
     super::print(&text)
 }
 
@@ -185,12 +216,12 @@ fn named_landmarks(args: &FitRigArgs, given: &str, file: &Path) -> Option<PathBu
 
 /// The opened mesh to write, with the files it goes to: joined lips unless `--keep-lips`,
 /// else the pocket behind lips that are `apart` already, and the covered eyes of
-/// `source` unless `--keep-eyes`; the files must not be inputs.
+/// `source` unless `--keep-eyes`, and a mesh whose seams were joined (`welded`) even with
+/// nothing cut; the files must not be inputs.
 fn to_open(
     args: &FitRigArgs,
     inputs: &Inputs,
-    lips: &Lips,
-    apart: Option<LipCut>,
+    (lips, apart, welded): (&Lips, Option<LipCut>, bool),
     (source, marks, eyes): (&Mesh, &[u32], &[Lids; 2]),
 ) -> anyhow::Result<Option<(LipCut, (PathBuf, PathBuf))>> {
     let cut = match lips {
@@ -201,7 +232,8 @@ fn to_open(
         true => cut,
         false => lipcut::open_eyes(cut, source, marks, eyes.clone()),
     };
-    let Some(cut) = cut else {
+    let uncut = || welded.then(|| LipCut::uncut(source.clone(), marks.to_vec()));
+    let Some(cut) = cut.or_else(uncut) else {
         return Ok(None);
     };
     let files = opened_files(&args.out);
@@ -213,11 +245,11 @@ fn to_open(
 /// Writes the opened mesh and its landmarks; returns the mesh as the rig names it.
 fn write_opened(
     args: &FitRigArgs,
-    cut: &LipCut,
+    (cut, seams): (&LipCut, usize),
     (obj_file, landmark_file): &(PathBuf, PathBuf),
 ) -> anyhow::Result<PathBuf> {
     let text = read_text(&args.mesh, MAX_FILE_BYTES)?;
-    let written = opened_obj(&text, cut, &args.mesh);
+    let written = opened_obj(&text, (cut, seams), &args.mesh);
     atomic::write_atomic(obj_file, written.as_bytes()).map_err(|e| SaveError::io(obj_file, &e))?;
     save_landmarks(landmark_file, &Landmarks::Vertices(cut.landmarks.clone()))?;
     Ok(reference::written_reference(&args.out, obj_file))
@@ -381,7 +413,7 @@ fn band_words(cut: &LipCut) -> String {
 /// `v` lines after the last original `v` line, and a `# copy K of V` comment for each (OBJ
 /// numbers, from 1). Negative vertex indices are written as absolute ones, since the copies
 /// shift what they count back from.
-fn opened_obj(text: &str, cut: &LipCut, source: &Path) -> String {
+fn opened_obj(text: &str, (cut, seams): (&LipCut, usize), source: &Path) -> String {
     let n = cut.original_count();
     let is_v = |line: &str| {
         line.split('#')
@@ -416,6 +448,14 @@ fn opened_obj(text: &str, cut: &LipCut, source: &Path) -> String {
             source.display()
         )
     };
+    if seams > 0 {
+        let _ = writeln!(
+            out,
+            "# Its skin, split at its seams, is joined: faces name the first of coincident \
+             vertices; the {seams} copies stay at their numbers in no face and move with the \
+             vertex each lies on."
+        );
+    }
     if let Some(eyes) = &cut.eyes {
         let _ = writeln!(
             out,
@@ -723,6 +763,14 @@ fn summary(args: &FitRigArgs, mesh: &Mesh, fitted: &fit::Fitted) -> String {
         100.0 * fitted.bend
     );
     for choice in &fitted.parts.choices {
+        if choice.reason == "seam" {
+            let _ = writeln!(
+                out,
+                "  {}: move with the vertex each lies on ({} vertices)",
+                choice.name, choice.vertices
+            );
+            continue;
+        }
         let what = match choice.part {
             Part::Skin => "skin",
             Part::Still => "kept still",
@@ -789,7 +837,7 @@ mod tests {
             pocket: None,
             eyes: None,
         };
-        let written = opened_obj(text, &cut, Path::new("q.obj"));
+        let written = opened_obj(text, (&cut, 0), Path::new("q.obj"));
         assert!(
             written.contains("v 0 1 0\nv 1 1 0\n# copy 5 of 3\nvt 0 0\nusemtl skin\nf 1/1 2/1 3/1\nf 1/1 5/1 4/1\n"),
             "{written}"

@@ -81,6 +81,20 @@ pub struct LipCut {
 }
 
 impl LipCut {
+    /// `mesh` with nothing cut (landmarks `landmarks`): a mesh written beside the rig for
+    /// another reason (its seams joined, [`super::weld`]).
+    pub fn uncut(mesh: Mesh, landmarks: Vec<u32>) -> LipCut {
+        LipCut {
+            mesh,
+            copies: Vec::new(),
+            line: Vec::new(),
+            band: 0,
+            landmarks,
+            pocket: None,
+            eyes: None,
+        }
+    }
+
     /// The original vertex count.
     pub fn original_count(&self) -> usize {
         let appended = self.pocket.as_ref().map(|p| p.first);

@@ -21,7 +21,8 @@
 //! - [`transport`]: the whole fit ([`fit_rig`]);
 //! - [`lsq`]: the one bounded least-squares solver (`fit-au`, `capture`);
 //! - [`solve`]: activations that best reproduce a target shape ([`fit_au`]);
-//! - [`quality`]: tears, lids and jaw of a deformed face (`grimace check`).
+//! - [`quality`]: tears, lids and jaw of a deformed face (`grimace check`);
+//! - [`weld`]: skin split at texture seams joined again.
 //!
 //! Nothing here reads files or knows about terminals.
 
@@ -51,6 +52,7 @@ pub mod solve;
 mod sources;
 pub mod transport;
 pub mod warp;
+pub mod weld;
 
 pub use parts::{Part, PartOverrides, Parts};
 pub use solve::{fit_au, AuFit, SolveError};

@@ -127,7 +127,8 @@ impl Fitted {
 const GAIN_EPSILON: f64 = 1e-6;
 
 /// Fits `template`'s rig onto `mesh` from the mesh's landmarks; `mesh_path` is what the new
-/// rig's `mesh` field names.
+/// rig's `mesh` field names. Copies of split vertices in no face ([`Mesh::followers`]) are
+/// weighted as the vertex each moves with.
 pub fn fit_rig(
     template: Template<'_>,
     mesh: &Mesh,
@@ -135,6 +136,12 @@ pub fn fit_rig(
     mesh_path: PathBuf,
     overrides: &PartOverrides,
 ) -> Result<Fitted, FitError> {
+    if let Some(compact) = super::weld::Compact::of(mesh) {
+        let landmarks = compact.landmarks(landmarks);
+        let mut fitted = fit_rig(template, &compact.mesh, &landmarks, mesh_path, overrides)?;
+        compact.expand(&mut fitted.rig, &mut fitted.parts);
+        return Ok(fitted);
+    }
     let (target, [from, to], warp) = place(template, mesh, landmarks)?;
     let parts = find_parts(mesh, &landmarks.vertices(mesh), &target, overrides);
     if !parts.of_vertex.contains(&Part::Skin) {

@@ -258,6 +258,8 @@ pub struct BoundRig {
     surface: Option<Arc<Surface>>,
     /// The spread length the fields were spread by (0 when they are not).
     spread_length: f64,
+    /// Copies of split vertices, in no triangle, each moved with its lead ([`Mesh::followers`]).
+    followers: Vec<[u32; 2]>,
 }
 
 thread_local! {
@@ -343,6 +345,7 @@ impl BoundRig {
             skin_mesh: None,
             surface,
             spread_length: spread::spread_length(rig, skin.spread),
+            followers: Vec::new(),
         }
     }
 
@@ -370,6 +373,7 @@ impl BoundRig {
     /// Finds the triangles the area bound checks (the part of the skin rules a bind cache
     /// does not keep: it is quick to find again).
     fn build_guard(&mut self, mesh: &Mesh) {
+        self.followers = mesh.followers();
         self.guard = Guard::default();
         self.vertex_row.clear();
         self.vertex_jaw.clear();
@@ -569,7 +573,23 @@ impl BoundRig {
         if !self.guard.is_empty() {
             self.bound_areas(&act.muscles, turn.is_some(), out);
         }
+        self.follow(out);
         Ok(())
+    }
+
+    /// Moves each split vertex's copy to where its lead went.
+    fn follow(&self, out: &mut [Vec3]) {
+        for &[copy, lead] in &self.followers {
+            out[copy as usize] = out[lead as usize];
+        }
+    }
+
+    /// The vertex whose position `v` takes: its lead when `v` is a copy, else itself.
+    pub(super) fn lead(&self, v: u32) -> u32 {
+        match self.followers.binary_search_by_key(&v, |f| f[0]) {
+            Ok(i) => self.followers[i][1],
+            Err(_) => v,
+        }
     }
 
     /// The vertex `v` at `p` before the area bound, its displacement scaled by `scale`
@@ -695,6 +715,7 @@ impl BoundRig {
         if guarded {
             self.settle(muscle, &act.muscles, average, turn, out);
         }
+        self.follow(out);
         Ok(())
     }
 
@@ -736,6 +757,7 @@ impl BoundRig {
         if guarded {
             self.settle(self.fields.len(), &act.muscles, average, turn, out);
         }
+        self.follow(out);
         Ok(())
     }
 

@@ -187,10 +187,45 @@ impl Mesh {
         normals
     }
 
+    /// The vertices in no triangle that lie exactly where a vertex of a triangle lies, each
+    /// with that vertex (the lowest-numbered): `[follower, lead]`, by follower.
+    ///
+    /// A mesh split at its texture seams (as many exporters write one) keeps each split
+    /// vertex once per side; `grimace fit-rig` joins the sides for the skin and leaves the
+    /// copies in no face, and a deformation moves each copy with its lead, so the user's
+    /// numbering still holds every vertex.
+    pub fn followers(&self) -> Vec<[u32; 2]> {
+        let mut in_face = vec![false; self.positions.len()];
+        for &v in self.triangles.iter().flatten() {
+            in_face[v as usize] = true;
+        }
+        if in_face.iter().all(|&f| f) {
+            return Vec::new();
+        }
+        let mut leads = std::collections::HashMap::new();
+        for (v, p) in self.positions.iter().enumerate() {
+            if in_face[v] {
+                leads.entry(position_key(*p)).or_insert(v as u32);
+            }
+        }
+        (0..self.positions.len())
+            .filter(|&v| !in_face[v])
+            .filter_map(|v| {
+                let lead = leads.get(&position_key(self.positions[v]))?;
+                Some([v as u32, *lead])
+            })
+            .collect()
+    }
+
     /// The axis-aligned bounding box of the rest positions, as `(min, max)`.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         bounds_of(&self.positions)
     }
+}
+
+/// A position as a key for exact coincidence (`-0.0` and `0.0` alike).
+pub fn position_key(p: Vec3) -> [u32; 3] {
+    (p + Vec3::ZERO).to_array().map(f32::to_bits)
 }
 
 /// The axis-aligned bounding box of the finite points of a set, as `(min, max)`; zero when

@@ -27,6 +27,7 @@ mod real;
 mod rig;
 mod rings;
 mod scheme;
+mod seams;
 
 use std::path::{Path, PathBuf};
 

@@ -102,6 +102,9 @@ impl BoundRig {
                 expected: n,
             });
         }
+        // a split vertex's copy takes its lead's position
+        let leads: Vec<u32> = vertices.iter().map(|&v| self.lead(v)).collect();
+        let vertices = &leads[..];
         let guarded = |v: u32| {
             let g = self.guard.index_of(v as usize);
             (g != NO_ROW).then(|| self.guard.triangles_of(g as usize))

@@ -430,3 +430,46 @@ fn layout_matches_the_fields() {
     assert_eq!(bound.rest(), &mesh().positions[..]);
     assert_eq!(bound.rig(), &r);
 }
+
+/// A vertex in no triangle that lies on one of a triangle (a copy at a joined seam) moves
+/// with it in every way of deforming: whole, muscle by muscle, the jaw, and sampled. A
+/// loose vertex on no vertex is deformed as any other (here out of every reach).
+#[test]
+fn a_copy_in_no_face_moves_with_the_vertex_it_lies_on() {
+    let mut mesh = mesh();
+    mesh.positions.push(mesh.positions[1]); // 4: a copy of 1
+    mesh.positions.push(mesh.positions[2]); // 5: a copy of the jaw's vertex 2
+    mesh.positions.push(Vec3::new(20.0, 0.0, 0.0)); // 6: loose, on no vertex, out of reach
+    assert_eq!(mesh.followers(), vec![[4, 1], [5, 2]]);
+    let r = rig(vec![linear("a"), linear("b")], Some(jaw(0.7)));
+    for skin in [SkinRules::PAPER, SkinRules::DEFAULT] {
+        let bound = BoundRig::bind_with(&r, &mesh, skin).unwrap();
+        let act = Activations {
+            muscles: vec![1.0, 0.5],
+            jaw: 2.0,
+        };
+        let mut out = Vec::new();
+        bound.deform(&act, &mut out).unwrap();
+        assert_ne!(out[1], mesh.positions[1], "the muscle moves vertex 1");
+        assert_eq!(out[4], out[1]);
+        assert_eq!(out[5], out[2]);
+        assert_eq!(out[6], mesh.positions[6]);
+        let mut sampled = Vec::new();
+        bound.deform_at(&act, &[4, 5, 6], &mut sampled).unwrap();
+        assert_eq!(sampled, vec![out[1], out[2], out[6]]);
+        // one muscle, then the jaw, changed on a pose of other activations
+        let mut partial = Vec::new();
+        let before = Activations {
+            muscles: vec![0.0, 0.5],
+            jaw: 0.0,
+        };
+        bound.deform(&before, &mut partial).unwrap();
+        let middle = Activations {
+            muscles: vec![1.0, 0.5],
+            jaw: 0.0,
+        };
+        bound.update_muscle(&middle, 0, &mut partial).unwrap();
+        bound.update_jaw(&act, &mut partial).unwrap();
+        assert_eq!(partial, out);
+    }
+}
