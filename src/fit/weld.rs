@@ -18,7 +18,8 @@
 //! vertices at one place). Lips or lids cut apart on purpose touch there at rest (a mesh
 //! `fit-rig` opened, a scan cut by hand) and must part when the face moves; where the
 //! landmarks name one vertex for both, the line is joined like the rest of the seam, and the
-//! fit cuts it as it cuts any joined lips.
+//! fit cuts it as it cuts any joined lips. Nor are the mouth pocket and the eyes' insides a
+//! fit added (a mesh `fit-rig` opened, fitted again) joined to the skin they touch.
 
 use glam::Vec3;
 
@@ -210,7 +211,9 @@ impl Compact {
 }
 
 /// Each pair of boundary edges `a -> b` and `c -> d` with `c` at `b` and `d` at `a`, its
-/// triangles facing the same way, once (`a -> b` from the lower-numbered triangle).
+/// triangles facing the same way, once (`a -> b` from the lower-numbered triangle). Edges of
+/// the mouth pocket and the eyes' insides a fit added (groups `mouth_interior`,
+/// `eye_interior`) are no seam: they lie on the lips' and lids' edges on purpose.
 fn seam_pairs(mesh: &Mesh) -> Vec<(u32, u32, u32, u32)> {
     let mut uses = std::collections::HashMap::new();
     for t in &mesh.triangles {
@@ -220,12 +223,20 @@ fn seam_pairs(mesh: &Mesh) -> Vec<(u32, u32, u32, u32)> {
         }
     }
     let at = |v: u32| position_key(mesh.positions[v as usize]);
+    // the insides the fit adds behind opened lips and eyes are apart from the skin by design
+    let mut inside = vec![false; mesh.vertex_count()];
+    for group in [super::pocket::GROUP, super::eyecut::GROUP] {
+        for &v in mesh.groups.get(group).map_or(&[][..], |g| &g[..]) {
+            inside[v as usize] = true;
+        }
+    }
     // boundary edges by where their ends lie: (triangle, from, to)
     let mut boundary = std::collections::HashMap::<_, Vec<(usize, u32, u32)>>::new();
     for (i, t) in mesh.triangles.iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
-            if uses[&(a.min(b), a.max(b))] == 1 && at(a) != at(b) {
+            let outside = !(inside[a as usize] && inside[b as usize]);
+            if uses[&(a.min(b), a.max(b))] == 1 && at(a) != at(b) && outside {
                 boundary.entry((at(a), at(b))).or_default().push((i, a, b));
             }
         }

@@ -205,3 +205,66 @@ fn makehuman_split_at_its_midline_moves_as_one_piece() {
         assert!(apart <= 1e-4, "{label}: the seam opened by {apart}");
     }
 }
+
+/// MediaPipe's face written as separate triangles (every face its own three vertices, as a
+/// triangle soup) is joined back into its own surface: its joined lips are found and cut, its
+/// covered eyes opened, and it passes `check`. The mesh `fit-rig` opened (lips cut along a
+/// line of coincident vertices, a mouth pocket and eyes' insides on the lips' and lids'
+/// edges) is joined nowhere when fitted again.
+#[test]
+fn mediapipe_as_separate_triangles_is_joined_and_an_opened_mesh_is_not() {
+    let Some((path, mesh, landmarks)) = crate::shared_mediapipe() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut soup = String::new();
+    for p in &mesh.positions {
+        soup.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+    }
+    for t in &mesh.triangles {
+        for v in t {
+            let p = mesh.positions[*v as usize];
+            soup.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+        }
+    }
+    let n = mesh.vertex_count();
+    for k in 0..mesh.triangles.len() {
+        let first = n + 3 * k + 1;
+        soup.push_str(&format!("f {} {} {}\n", first, first + 1, first + 2));
+    }
+    write_head(dir.path(), "soup", &soup, &landmarks.vertices(&mesh));
+    let said = fit(dir.path(), "soup", &[]);
+    assert!(said.contains("seams: the skin was split"), "{said}");
+    assert!(
+        said.contains("lips: joined along the inner lip line"),
+        "{said}"
+    );
+    let check = common::grimace_in(dir.path(), &["check", "--rig", "soup.rig.ron"]);
+    let report = String::from_utf8_lossy(&check.stdout);
+    assert!(check.status.success(), "{report}");
+
+    let out = common::grimace_in(
+        dir.path(),
+        &[
+            "fit-rig",
+            path.to_str().unwrap(),
+            "--landmarks",
+            "mediapipe",
+            "--out",
+            "mp.rig.ron",
+        ],
+    );
+    assert!(out.status.success());
+    std::fs::copy(
+        dir.path().join("mp.opened.obj"),
+        dir.path().join("again.obj"),
+    )
+    .unwrap();
+    std::fs::copy(
+        dir.path().join("mp.opened.landmarks.ron"),
+        dir.path().join("again.landmarks.ron"),
+    )
+    .unwrap();
+    let said = fit(dir.path(), "again", &[]);
+    assert!(!said.contains("seam"), "{said}");
+}
