@@ -45,6 +45,10 @@ const GUIDE: f32 = 0.04;
 /// Slack of the slit test, in eye widths: a band vertex's distances to the upper and lower
 /// lid polylines add up to at most 1.5 times the widest lid gap plus this.
 const SLIT_SLACK: f32 = 0.05;
+/// How much lower (nearer the lower lid's polyline and further from the upper one, as a
+/// share of the edge's length) one triangle's third corner lies than the other's for an
+/// edge of the upper margin to tell which triangle is inside it.
+const DECISIVE: f32 = 0.5;
 /// How far behind the opening the band is set, in eye widths: the closing lids pass in front
 /// of it.
 const INSET: f32 = 0.06;
@@ -224,7 +228,8 @@ impl Eye {
 
 /// The triangles just inside the upper margin: on each of its edges with two triangles (and
 /// not on the lower margin too), the one whose third corner lies further toward the lower
-/// lid (nearer its polyline and further from the upper one).
+/// lid (nearer its polyline and further from the upper one), where it clearly does
+/// ([`DECISIVE`]).
 fn inside(mesh: &Mesh, graph: &Graph, eye: &Eye, upper: &[u32], lower: &[u32]) -> Vec<usize> {
     let lower_edges: HashSet<[u32; 2]> = lower.windows(2).map(|p| key(p[0], p[1])).collect();
     let lowness =
@@ -249,7 +254,11 @@ fn inside(mesh: &Mesh, graph: &Graph, eye: &Eye, upper: &[u32], lower: &[u32]) -
                 lowness(mesh.positions[v as usize])
             };
             let (s0, s1) = (third(t0), third(t1));
-            if s0 != s1 {
+            // an edge of the margin running up or down (a margin found on a fine mesh
+            // steps) has its two triangles side by side, not one inside the other
+            let length =
+                mesh.positions[pair[0] as usize].distance(mesh.positions[pair[1] as usize]);
+            if (s0 - s1).abs() >= DECISIVE * length {
                 seeds.push(if s0 > s1 { t0 } else { t1 });
             }
         }
