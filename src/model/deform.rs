@@ -399,18 +399,9 @@ impl BoundRig {
         reach
             .iter_mut()
             .for_each(|r| *r *= 1.0 + 2.0 * self.skin.slide);
-        let mut jaw_moved: Vec<u32> = Vec::new();
-        if let Some(jaw) = &self.jaw {
-            let angle = (4.0 * jaw.radians_per_unit.abs()).min(std::f64::consts::PI);
-            let chord = 2.0 * (angle / 2.0).sin();
-            let slide = 4.0 * jaw.slide_per_unit.length();
-            for (&v, &w) in jaw.vertices.iter().zip(&jaw.weights) {
-                let r = &mut reach[v as usize];
-                let far = (self.rest[v as usize] - jaw.pivot).length() + *r;
-                *r += w * ((chord as f32) * far + slide);
-            }
-            jaw_moved = jaw.vertices.clone();
-        }
+        // the jaw turns after the bound (it holds the muscles back, not the jaw), but a turn
+        // moves its guarded vertices, so they are settled again when it changes
+        let jaw_moved: Vec<u32> = self.jaw.as_ref().map_or(Vec::new(), |j| j.vertices.clone());
         let mut moved: Vec<&[u32]> = self.fields.iter().map(|f| &f.vertices[..]).collect();
         moved.push(&jaw_moved);
         self.guard = Guard::new(mesh, self.skin.min_area, &reach, &moved);
@@ -569,9 +560,13 @@ impl BoundRig {
         }
         // Only the active muscles' fields are read, the jaw turned in the same pass.
         let turn = self.jaw.as_ref().and(self.jaw_turn(act.jaw));
-        self.deform_whole(&act.muscles, turn, out);
-        if !self.guard.is_empty() {
-            self.bound_areas(&act.muscles, turn.is_some(), out);
+        if self.guard.is_empty() {
+            self.deform_whole(&act.muscles, turn, out);
+        } else {
+            // the area bound holds the muscles back; the jaw turns what they made
+            self.deform_whole(&act.muscles, None, out);
+            self.bound_areas(&act.muscles, out);
+            self.turn_whole(turn, out);
         }
         self.follow(out);
         Ok(())
@@ -604,12 +599,21 @@ impl BoundRig {
         }
     }
 
-    /// The position of vertex `v` before the area bound, from rest: the muscles, the slide,
-    /// the jaw (the same arithmetic as [`BoundRig::deform`]).
+    /// The position of vertex `v` before the area bound, from rest: the muscles and the
+    /// slide (the same arithmetic as [`BoundRig::deform`]; the jaw turns after the bound).
     #[inline]
-    fn unbounded(&self, v: usize, muscles: &[f32], average: bool, turn: Option<JawTurn>) -> Vec3 {
+    fn unbounded(&self, v: usize, muscles: &[f32], average: bool) -> Vec3 {
         let (row, w) = (self.vertex_row[v], self.vertex_jaw[v]);
-        self.moved(v, row, w, muscles, average, turn)
+        self.moved(v, row, w, muscles, average, None)
+    }
+
+    /// `p` turned by the jaw at weight `w` (the last step of [`Self::moved`]).
+    #[inline]
+    fn turned(p: Vec3, w: f32, turn: Option<JawTurn>) -> Vec3 {
+        match turn.filter(|_| w > 0.0) {
+            Some(turn) => turn.apply(p, w),
+            None => p,
+        }
     }
 
     /// Vertex `v` moved from rest by its CSR row `row` (or [`NO_ROW`]) and its jaw weight
@@ -624,17 +628,14 @@ impl BoundRig {
         average: bool,
         turn: Option<JawTurn>,
     ) -> Vec3 {
-        let mut p = if row == NO_ROW {
+        let p = if row == NO_ROW {
             self.rest[v]
         } else if average {
             self.row_position::<true>(row as usize, v, muscles)
         } else {
             self.row_position::<false>(row as usize, v, muscles)
         };
-        if let Some(turn) = turn.filter(|_| w > 0.0) {
-            p = turn.apply(p, w);
-        }
-        p
+        Self::turned(p, w, turn)
     }
 
     /// Rewrites the vertices whose area-bound scale may have changed with a change of
@@ -655,7 +656,7 @@ impl BoundRig {
                 scales.resize(self.guard.triangles.len(), 1.0);
             }
             for &v in &self.guard.recompute[which] {
-                before[v as usize] = self.unbounded(v as usize, muscles, average, turn);
+                before[v as usize] = self.unbounded(v as usize, muscles, average);
             }
             let rescale = &self.guard.rescale[which];
             self.guard
@@ -664,7 +665,7 @@ impl BoundRig {
                 let v = v as usize;
                 let g = self.guard.index_of(v) as usize;
                 let scale = self.guard.vertex_scale(g, scales);
-                out[v] = self.scaled(v, before[v], scale);
+                out[v] = Self::turned(self.scaled(v, before[v], scale), self.vertex_jaw[v], turn);
             }
         });
     }

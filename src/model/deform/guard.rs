@@ -1,10 +1,10 @@
 //! The skin's area bound (a rule of [`super::SkinRules`], beyond the paper; `docs/model.md`).
 //!
-//! After the jaw, each triangle whose area projected on its rest normal falls below a
-//! fraction of its rest area gets the scale of its displacements that would keep that
-//! fraction, and each vertex's displacement is scaled by the mean of its triangles' scales
-//! (one pass, no promise). Only triangles that could shrink that far are checked (found at
-//! bind time).
+//! After the muscles and the slide, before the jaw, each triangle whose area projected on its
+//! rest normal falls below a fraction of its rest area gets the scale of its displacements
+//! that would keep that fraction, and each vertex's displacement is scaled by the mean of its
+//! triangles' scales (one pass, no promise); the jaw then turns the result, so its travel is
+//! never scaled. Only triangles that could shrink that far are checked (found at bind time).
 //!
 //! The bound is a per-triangle function of the positions before it, so a partial update
 //! (`update_muscle`, `update_jaw`) recomputes the same numbers in the same order as a full

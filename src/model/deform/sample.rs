@@ -10,7 +10,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{BoundRig, NO_ROW, PARALLEL_CHUNK};
+use super::{BoundRig, JawTurn, NO_ROW, PARALLEL_CHUNK};
 use crate::model::activations::{ActivationError, Activations};
 use crate::model::rig::Combine;
 
@@ -218,7 +218,7 @@ impl BoundRig {
         let muscles = &act.muscles[..];
         let before_one = |i: usize| {
             let v = sampler.needed[i] as usize;
-            self.moved(v, sampler.rows[i], sampler.jaw[i], muscles, average, turn)
+            self.moved(v, sampler.rows[i], sampler.jaw[i], muscles, average, None)
         };
         let SampledPose { before, positions } = pose;
         before.clear();
@@ -230,7 +230,7 @@ impl BoundRig {
         });
         positions.clear();
         positions.resize(sampler.len(), Vec3::ZERO);
-        let after_one = |k: usize| self.bounded(sampler, before, k);
+        let after_one = |k: usize| self.bounded(sampler, before, k, turn);
         chunked(positions, |start, chunk| {
             for (k, p) in chunk.iter_mut().enumerate() {
                 *p = after_one(start + k);
@@ -267,26 +267,27 @@ impl BoundRig {
                 let i = i as usize;
                 let v = sampler.needed[i] as usize;
                 pose.before[i] =
-                    self.moved(v, sampler.rows[i], sampler.jaw[i], muscles, average, turn);
+                    self.moved(v, sampler.rows[i], sampler.jaw[i], muscles, average, None);
             }
         }
         for &k in changed {
             for &l in &sampler.changes[k] {
-                pose.positions[l as usize] = self.bounded(sampler, &pose.before, l as usize);
+                pose.positions[l as usize] = self.bounded(sampler, &pose.before, l as usize, turn);
             }
         }
         Ok(())
     }
 
-    /// Listed vertex `k` after the area bound, from the positions `before` it.
+    /// Listed vertex `k` after the area bound, from the positions `before` it (muscles and
+    /// slide), then turned by the jaw.
     #[inline]
-    fn bounded(&self, sampler: &Sampler, before: &[Vec3], k: usize) -> Vec3 {
+    fn bounded(&self, sampler: &Sampler, before: &[Vec3], k: usize, turn: Option<JawTurn>) -> Vec3 {
         let i = sampler.at[k] as usize;
         let v = sampler.needed[i] as usize;
         let p = before[i];
         let tris = &sampler.tris[sampler.tri_start[k] as usize..sampler.tri_start[k + 1] as usize];
         if tris.is_empty() {
-            return p;
+            return Self::turned(p, sampler.jaw[i], turn);
         }
         let moved = |j: u32| before[j as usize] - self.rest[sampler.needed[j as usize] as usize];
         let mut sum = 0.0f32;
@@ -296,7 +297,11 @@ impl BoundRig {
             let d2 = moved(c) - p0;
             sum += self.guard.triangle_scale(t as usize, d1, d2);
         }
-        self.scaled(v, p, sum / tris.len() as f32)
+        Self::turned(
+            self.scaled(v, p, sum / tris.len() as f32),
+            sampler.jaw[i],
+            turn,
+        )
     }
 }
 

@@ -156,19 +156,22 @@ impl BoundRig {
     /// Only the triangles an active muscle (or the turned jaw) may have moved are computed
     /// (`Guard::rescale`, what a partial update recomputes): every other one has its
     /// vertices at rest, bit for bit, and so the scale 1 exactly.
-    pub(super) fn bound_areas(&self, muscles: &[f32], turned: bool, out: &mut [Vec3]) {
+    /// Turns every jaw vertex of `out` by `turn` (after the area bound).
+    pub(super) fn turn_whole(&self, turn: Option<JawTurn>, out: &mut [Vec3]) {
+        let chunk = (out.len() >= PARALLEL_MIN_VERTICES).then_some(VERTEX_CHUNK);
+        in_ranges(out, chunk, |start, range| {
+            self.turn_range(start, range, turn)
+        });
+    }
+
+    pub(super) fn bound_areas(&self, muscles: &[f32], out: &mut [Vec3]) {
         let big = out.len() >= PARALLEL_MIN_VERTICES;
         let chunks = big.then_some((TRIANGLE_CHUNK, VERTEX_CHUNK));
         let jaw = self.fields.len();
         ACTIVE.with_borrow_mut(|active| {
             active.clear();
-            active.extend((0..self.guard.rescale.len()).filter(|&k| {
-                if k == jaw {
-                    turned
-                } else {
-                    muscles[k] != 0.0
-                }
-            }));
+            // the jaw turns after the bound: its triangles keep their scale for it
+            active.extend((0..self.guard.rescale.len()).filter(|&k| k != jaw && muscles[k] != 0.0));
             self.bound_ranges(out, active, chunks);
         });
     }
