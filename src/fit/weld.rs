@@ -11,7 +11,8 @@
 //! does) and whose triangles face the same way. Each pair is joined: every triangle takes the
 //! lowest-numbered vertex of the coincident ones it names, and the copies are left in no
 //! face, where a deformation moves each with its vertex ([`crate::model::Mesh::followers`]),
-//! so the user's numbering still holds every vertex.
+//! so the user's numbering still holds every vertex. A triangle with two corners at one place
+//! (a degenerate sliver) keeps its own vertices.
 //!
 //! Not joined: pairs running along the inner lip line or a lid line (from the landmarks) where
 //! the landmarks say it is cut (an upper and the lower landmark across from it are two
@@ -65,18 +66,19 @@ pub fn weld(mesh: &Mesh, landmarks: &[u32]) -> Option<Weld> {
     if !joined {
         return None;
     }
+    // a triangle with two corners at one place (a degenerate sliver, as scans have) keeps
+    // its own vertices: joined, it would name one vertex twice
     let triangles: Vec<[u32; 3]> = mesh
         .triangles
         .iter()
-        .map(|t| t.map(|v| join.find(v)))
+        .map(|t| {
+            let j = t.map(|v| join.find(v));
+            match j[0] == j[1] || j[1] == j[2] || j[2] == j[0] {
+                true => *t,
+                false => j,
+            }
+        })
         .collect();
-    // a seam that would fold a triangle onto itself is not a seam of one surface
-    if triangles
-        .iter()
-        .any(|t| t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
-    {
-        return None;
-    }
     let mut welded = mesh.clone();
     welded.triangles = triangles;
     // a landmark on a vertex now in no face names the vertex it lies on
@@ -395,6 +397,17 @@ mod tests {
             .filter(|t| t.contains(&2) && t.contains(&7))
             .count();
         assert_eq!(uses, 2);
+    }
+
+    #[test]
+    fn a_sliver_with_two_corners_at_one_place_keeps_its_vertices() {
+        // a zero-area triangle across the seam, from vertex 2 to its copy 10 and on to 3
+        let mut mesh = split_strip();
+        mesh.triangles.push([2, 10, 3]);
+        let weld = weld(&mesh, &[]).expect("the seam is joined all the same");
+        assert_eq!(weld.mesh.triangles.last(), Some(&[2, 10, 3]));
+        assert!(weld.mesh.triangles[..8].iter().flatten().all(|&v| v < 10));
+        assert_eq!(weld.mesh.followers(), vec![[11, 7]]);
     }
 
     #[test]
