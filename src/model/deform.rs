@@ -313,6 +313,7 @@ impl BoundRig {
         let mut bound = BoundRig::unbuilt(rig, rest, fields, jaw, skin, surface);
         bound.build_rows()?;
         bound.build_skin(mesh);
+        bound.followers = mesh.followers();
         Ok(bound)
     }
 
@@ -373,7 +374,6 @@ impl BoundRig {
     /// Finds the triangles the area bound checks (the part of the skin rules a bind cache
     /// does not keep: it is quick to find again).
     fn build_guard(&mut self, mesh: &Mesh) {
-        self.followers = mesh.followers();
         self.guard = Guard::default();
         self.vertex_row.clear();
         self.vertex_jaw.clear();
@@ -401,9 +401,8 @@ impl BoundRig {
             .for_each(|r| *r *= 1.0 + 2.0 * self.skin.slide);
         // the jaw turns after the bound (it holds the muscles back, not the jaw), but a turn
         // moves its guarded vertices, so they are settled again when it changes
-        let jaw_moved: Vec<u32> = self.jaw.as_ref().map_or(Vec::new(), |j| j.vertices.clone());
         let mut moved: Vec<&[u32]> = self.fields.iter().map(|f| &f.vertices[..]).collect();
-        moved.push(&jaw_moved);
+        moved.push(self.jaw.as_ref().map_or(&[], |j| &j.vertices[..]));
         self.guard = Guard::new(mesh, self.skin.min_area, &reach, &moved);
         if self.guard.is_empty() {
             return;
@@ -558,7 +557,8 @@ impl BoundRig {
             out.clear();
             out.resize(n, Vec3::ZERO);
         }
-        // Only the active muscles' fields are read, the jaw turned in the same pass.
+        // Only the active muscles' fields are read; without the area bound the jaw turns in
+        // the same pass.
         let turn = self.jaw.as_ref().and(self.jaw_turn(act.jaw));
         if self.guard.is_empty() {
             self.deform_whole(&act.muscles, turn, out);
@@ -581,10 +581,7 @@ impl BoundRig {
 
     /// The vertex whose position `v` takes: its lead when `v` is a copy, else itself.
     pub(super) fn lead(&self, v: u32) -> u32 {
-        match self.followers.binary_search_by_key(&v, |f| f[0]) {
-            Ok(i) => self.followers[i][1],
-            Err(_) => v,
-        }
+        crate::model::mesh::lead_of(&self.followers, v)
     }
 
     /// The vertex `v` at `p` before the area bound, its displacement scaled by `scale`

@@ -202,17 +202,23 @@ impl Mesh {
         if in_face.iter().all(|&f| f) {
             return Vec::new();
         }
-        let mut leads = std::collections::HashMap::new();
+        // the loose vertices by place (usually few), then the first vertex of a face at each
+        let mut loose: std::collections::HashMap<[u32; 3], Option<u32>> = (0..self.positions.len())
+            .filter(|&v| !in_face[v])
+            .map(|v| (position_key(self.positions[v]), None))
+            .collect();
         for (v, p) in self.positions.iter().enumerate() {
             if in_face[v] {
-                leads.entry(position_key(*p)).or_insert(v as u32);
+                if let Some(lead @ None) = loose.get_mut(&position_key(*p)) {
+                    *lead = Some(v as u32);
+                }
             }
         }
         (0..self.positions.len())
             .filter(|&v| !in_face[v])
             .filter_map(|v| {
-                let lead = leads.get(&position_key(self.positions[v]))?;
-                Some([v as u32, *lead])
+                let lead = loose[&position_key(self.positions[v])]?;
+                Some([v as u32, lead])
             })
             .collect()
     }
@@ -220,6 +226,15 @@ impl Mesh {
     /// The axis-aligned bounding box of the rest positions, as `(min, max)`.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         bounds_of(&self.positions)
+    }
+}
+
+/// The vertex `v` takes its position from: its lead in `followers` ([`Mesh::followers`],
+/// sorted by follower) when it is a copy, else itself.
+pub fn lead_of(followers: &[[u32; 2]], v: u32) -> u32 {
+    match followers.binary_search_by_key(&v, |f| f[0]) {
+        Ok(i) => followers[i][1],
+        Err(_) => v,
     }
 }
 

@@ -104,6 +104,7 @@ impl BoundRig {
         }
         bound.patches = patches.into_iter().map(Patch::from_floats).collect();
         bound.build_guard(mesh);
+        bound.followers = mesh.followers();
         Ok(bound)
     }
 }

@@ -148,14 +148,6 @@ impl BoundRig {
         }
     }
 
-    /// The area bound over a whole deformation: every checked triangle's scale from the
-    /// positions before the bound (`out`), then each guarded vertex's displacement scaled
-    /// by the mean of its triangles' (what `Guard::triangle_scales` and
-    /// `Guard::vertex_scale` give), in parallel ranges on big meshes.
-    ///
-    /// Only the triangles an active muscle (or the turned jaw) may have moved are computed
-    /// (`Guard::rescale`, what a partial update recomputes): every other one has its
-    /// vertices at rest, bit for bit, and so the scale 1 exactly.
     /// Turns every jaw vertex of `out` by `turn` (after the area bound).
     pub(super) fn turn_whole(&self, turn: Option<JawTurn>, out: &mut [Vec3]) {
         let chunk = (out.len() >= PARALLEL_MIN_VERTICES).then_some(VERTEX_CHUNK);
@@ -164,6 +156,15 @@ impl BoundRig {
         });
     }
 
+    /// The area bound over a whole deformation: every checked triangle's scale from the
+    /// positions before the bound (`out`: the muscles and the slide, not the jaw), then each
+    /// guarded vertex's displacement scaled by the mean of its triangles' (what
+    /// `Guard::triangle_scales` and `Guard::vertex_scale` give), in parallel ranges on big
+    /// meshes.
+    ///
+    /// Only the triangles an active muscle may have moved are computed (`Guard::rescale`,
+    /// what a partial update recomputes): every other one has its vertices at rest, bit for
+    /// bit, and so the scale 1 exactly.
     pub(super) fn bound_areas(&self, muscles: &[f32], out: &mut [Vec3]) {
         let big = out.len() >= PARALLEL_MIN_VERTICES;
         let chunks = big.then_some((TRIANGLE_CHUNK, VERTEX_CHUNK));
