@@ -115,8 +115,9 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         true => None,
         false => weld::weld(&source, &marks),
     };
-    let (source, marks) = match &weld {
-        Some(w) => (w.mesh.clone(), w.landmarks.clone()),
+    let welded = weld.is_some();
+    let (source, marks) = match weld {
+        Some(w) => (w.mesh, w.landmarks),
         None => (source, marks),
     };
     let lips = lipcut::find(&source, &marks);
@@ -125,7 +126,6 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         _ => None,
     };
     let eyes = eyecut::find(&source, &marks);
-    let welded = weld.is_some();
     let opened = to_open(
         args,
         &inputs,
@@ -173,10 +173,7 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
         .bind(&fitted.rig, mesh)
         .with_context(|| format!("the fitted rig does not bind to {}", args.mesh.display()))?;
     match &opened {
-        Some((cut, files)) => {
-            let seams = weld.as_ref().map_or(0, |w| w.copies);
-            fitted.rig.mesh = write_opened(args, (cut, seams), files)?
-        }
+        Some((cut, files)) => fitted.rig.mesh = write_opened(args, (cut, welded), files)?,
         None => fitted.rig.landmarks = named_landmarks(args, &landmark_arg, &landmark_file),
     }
     rig_file::save_rig(&args.out, &fitted.rig)?;
@@ -192,13 +189,11 @@ pub fn run(args: &FitRigArgs) -> anyhow::Result<()> {
     let lips_cut = written.filter(|(cut, _)| !cut.copies.is_empty() || cut.pocket.is_some());
     text.push_str(&lips_summary(args, &lips, lips_cut));
     text.push_str(&eyes_summary(args, &eyes, written));
-    if let (Some(w), Some((_, obj_file))) = (&weld, written) {
+    if let (true, Some((_, obj_file))) = (welded, written) {
         text.push_str(&format!(
             "  seams: the skin was split at its seams; joined in {}: its faces name the first \
-             of coincident vertices, and the {} other copies stay at their numbers in no face, \
-             moving with the vertex each lies on (--keep-seams leaves them split)\n",
+             of coincident vertices (--keep-seams leaves them split)\n",
             obj_file.display(),
-            w.copies
         ));
     }
     super::print(&text)
@@ -245,11 +240,11 @@ fn to_open(
 /// Writes the opened mesh and its landmarks; returns the mesh as the rig names it.
 fn write_opened(
     args: &FitRigArgs,
-    (cut, seams): (&LipCut, usize),
+    (cut, welded): (&LipCut, bool),
     (obj_file, landmark_file): &(PathBuf, PathBuf),
 ) -> anyhow::Result<PathBuf> {
     let text = read_text(&args.mesh, MAX_FILE_BYTES)?;
-    let written = opened_obj(&text, (cut, seams), &args.mesh);
+    let written = opened_obj(&text, (cut, welded), &args.mesh);
     atomic::write_atomic(obj_file, written.as_bytes()).map_err(|e| SaveError::io(obj_file, &e))?;
     save_landmarks(landmark_file, &Landmarks::Vertices(cut.landmarks.clone()))?;
     Ok(reference::written_reference(&args.out, obj_file))
@@ -413,7 +408,7 @@ fn band_words(cut: &LipCut) -> String {
 /// `v` lines after the last original `v` line, and a `# copy K of V` comment for each (OBJ
 /// numbers, from 1). Negative vertex indices are written as absolute ones, since the copies
 /// shift what they count back from.
-fn opened_obj(text: &str, (cut, seams): (&LipCut, usize), source: &Path) -> String {
+fn opened_obj(text: &str, (cut, welded): (&LipCut, bool), source: &Path) -> String {
     let n = cut.original_count();
     let is_v = |line: &str| {
         line.split('#')
@@ -448,11 +443,11 @@ fn opened_obj(text: &str, (cut, seams): (&LipCut, usize), source: &Path) -> Stri
             source.display()
         )
     };
-    if seams > 0 {
+    if welded {
         let _ = writeln!(
             out,
             "# Its skin, split at its seams, is joined: faces name the first of coincident \
-             vertices; the {seams} copies stay at their numbers in no face and move with the \
+             vertices; the other copies stay at their numbers in no face and move with the \
              vertex each lies on."
         );
     }
@@ -763,14 +758,6 @@ fn summary(args: &FitRigArgs, mesh: &Mesh, fitted: &fit::Fitted) -> String {
         100.0 * fitted.bend
     );
     for choice in &fitted.parts.choices {
-        if choice.reason == "seam" {
-            let _ = writeln!(
-                out,
-                "  {}: move with the vertex each lies on ({} vertices)",
-                choice.name, choice.vertices
-            );
-            continue;
-        }
         let what = match choice.part {
             Part::Skin => "skin",
             Part::Still => "kept still",
@@ -790,6 +777,13 @@ fn summary(args: &FitRigArgs, mesh: &Mesh, fitted: &fit::Fitted) -> String {
         count(Part::Still),
         count(Part::Jaw)
     );
+    let copies = mesh.followers().len();
+    if copies > 0 {
+        let _ = writeln!(
+            out,
+            "  seam copies (in no face): {copies} vertices, each moving with the vertex it lies on"
+        );
+    }
     if let Some(jaw) = &fitted.rig.jaw {
         let _ = writeln!(out, "  jaw: {} weighted vertices", jaw.weights.len());
     }
@@ -837,7 +831,7 @@ mod tests {
             pocket: None,
             eyes: None,
         };
-        let written = opened_obj(text, (&cut, 0), Path::new("q.obj"));
+        let written = opened_obj(text, (&cut, false), Path::new("q.obj"));
         assert!(
             written.contains("v 0 1 0\nv 1 1 0\n# copy 5 of 3\nvt 0 0\nusemtl skin\nf 1/1 2/1 3/1\nf 1/1 5/1 4/1\n"),
             "{written}"

@@ -13,6 +13,12 @@ use crate::model::Mesh;
 
 /// The distance from `p` to a polyline.
 pub(super) fn distance_to_polyline(p: Vec3, line: &[Vec3]) -> f32 {
+    nearest_segment(p, line).0
+}
+
+/// The distance from `p` to a polyline and the unit direction of its nearest segment (zero
+/// for a line of no segment or a segment of no length).
+pub(super) fn nearest_segment(p: Vec3, line: &[Vec3]) -> (f32, Vec3) {
     line.windows(2)
         .map(|s| {
             let d = s[1] - s[0];
@@ -21,9 +27,15 @@ pub(super) fn distance_to_polyline(p: Vec3, line: &[Vec3]) -> f32 {
             } else {
                 0.0
             };
-            p.distance(s[0] + d * t)
+            (p.distance(s[0] + d * t), d.normalize_or_zero())
         })
-        .fold(f32::INFINITY, f32::min)
+        .fold((f32::INFINITY, Vec3::ZERO), |best, s| {
+            if s.0 < best.0 {
+                s
+            } else {
+                best
+            }
+        })
 }
 
 /// The mesh around an opening (the mouth, an eye): neighbours and the triangles on each edge

@@ -24,9 +24,10 @@
 
 use glam::Vec3;
 
-use super::parts::{Part, PartChoice, Parts};
+use super::parts::Parts;
+use super::seam::{key, nearest_segment};
 use crate::landmarks::{Landmarks, EYES, INNER_UPPER};
-use crate::model::mesh::position_key;
+use crate::model::mesh::{lead_of, position_key};
 use crate::model::{Mesh, Rig};
 
 /// How near the landmarks' opening line (times the opening's width) both ends of a seam edge
@@ -44,8 +45,6 @@ pub struct Weld {
     pub mesh: Mesh,
     /// The landmarks as vertices of the joined mesh.
     pub landmarks: Vec<u32>,
-    /// Number of vertices in no face that lie on a vertex of one (copies at a seam).
-    pub copies: usize,
 }
 
 /// Joins the seams of `mesh` ([module docs](self)), keeping the lip and lid lines of its 68
@@ -83,14 +82,12 @@ pub fn weld(mesh: &Mesh, landmarks: &[u32]) -> Option<Weld> {
     welded.triangles = triangles;
     // a landmark on a vertex now in no face names the vertex it lies on
     let followers = welded.followers();
-    let lead = |v: u32| match followers.binary_search_by_key(&v, |f| f[0]) {
-        Ok(i) => followers[i][1],
-        Err(_) => v,
-    };
     Some(Weld {
-        landmarks: landmarks.iter().map(|&v| lead(join.find(v))).collect(),
+        landmarks: landmarks
+            .iter()
+            .map(|&v| lead_of(&followers, join.find(v)))
+            .collect(),
         mesh: welded,
-        copies: followers.len(),
     })
 }
 
@@ -134,12 +131,11 @@ impl Compact {
             .groups
             .iter()
             .map(|(name, members)| {
-                let mut kept: Vec<u32> = members
+                let kept = members
                     .iter()
                     .filter(|&&v| !is_copy[v as usize])
                     .map(|&v| number[v as usize])
                     .collect();
-                kept.dedup();
                 (name.clone(), kept)
             })
             .collect();
@@ -186,12 +182,6 @@ impl Compact {
             .iter()
             .map(|&n| parts.of_vertex[n as usize])
             .collect();
-        parts.choices.push(PartChoice {
-            name: "seam copies (in no face)".to_string(),
-            vertices: self.followers.len(),
-            part: Part::Still,
-            reason: "seam",
-        });
     }
 
     /// Per-vertex `(vertex, weight)` pairs of the compact mesh at the whole mesh's numbers,
@@ -221,7 +211,7 @@ fn seam_pairs(mesh: &Mesh) -> Vec<(u32, u32, u32, u32)> {
     for t in &mesh.triangles {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
-            *uses.entry((a.min(b), a.max(b))).or_insert(0u32) += 1;
+            *uses.entry(key(a, b)).or_insert(0u32) += 1;
         }
     }
     let at = |v: u32| position_key(mesh.positions[v as usize]);
@@ -238,7 +228,7 @@ fn seam_pairs(mesh: &Mesh) -> Vec<(u32, u32, u32, u32)> {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
             let outside = !(inside[a as usize] && inside[b as usize]);
-            if uses[&(a.min(b), a.max(b))] == 1 && at(a) != at(b) && outside {
+            if uses[&key(a, b)] == 1 && at(a) != at(b) && outside {
                 boundary.entry((at(a), at(b))).or_default().push((i, a, b));
             }
         }
@@ -306,30 +296,12 @@ impl Openings {
     fn along(&self, p: Vec3, q: Vec3) -> bool {
         self.lines.iter().any(|(line, width)| {
             let near = ALONG_OPENING * width;
-            let (dp, sp) = nearest_segment(line, p);
-            let (dq, _) = nearest_segment(line, q);
+            let (dp, sp) = nearest_segment(p, line);
+            let (dq, _) = nearest_segment(q, line);
             let direction = (q - p).normalize_or_zero();
             dp <= near && dq <= near && direction.dot(sp).abs() >= ALONG_COSINE
         })
     }
-}
-
-/// The distance from `p` to the polyline `line` and the unit direction of its nearest segment.
-fn nearest_segment(line: &[Vec3], p: Vec3) -> (f32, Vec3) {
-    line.windows(2)
-        .map(|s| {
-            let (a, b) = (s[0], s[1]);
-            let ab = b - a;
-            let t = ((p - a).dot(ab) / ab.length_squared().max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-            (p.distance(a + ab * t), ab.normalize_or_zero())
-        })
-        .fold((f32::INFINITY, Vec3::ZERO), |best, s| {
-            if s.0 < best.0 {
-                s
-            } else {
-                best
-            }
-        })
 }
 
 /// Disjoint sets of vertices, each named by its lowest-numbered vertex.
@@ -386,7 +358,6 @@ mod tests {
     fn a_split_strip_is_joined_and_its_copies_follow() {
         let mesh = split_strip();
         let weld = weld(&mesh, &[]).expect("a seam");
-        assert_eq!(weld.copies, 2);
         assert!(weld.mesh.triangles.iter().flatten().all(|&v| v < 10));
         assert_eq!(weld.mesh.followers(), vec![[10, 2], [11, 7]]);
         // the joined strip is one piece: its edge at x = 2 is used twice
