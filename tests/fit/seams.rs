@@ -243,18 +243,7 @@ fn mediapipe_as_separate_triangles_is_joined_and_an_opened_mesh_is_not() {
     let report = String::from_utf8_lossy(&check.stdout);
     assert!(check.status.success(), "{report}");
 
-    let out = common::grimace_in(
-        dir.path(),
-        &[
-            "fit-rig",
-            path.to_str().unwrap(),
-            "--landmarks",
-            "mediapipe",
-            "--out",
-            "mp.rig.ron",
-        ],
-    );
-    assert!(out.status.success());
+    crate::fit_mediapipe_in(dir.path(), &path, &[]);
     std::fs::copy(
         dir.path().join("mp.opened.obj"),
         dir.path().join("again.obj"),
