@@ -47,7 +47,10 @@ const GUIDE: f32 = 0.04;
 const SLIT_SLACK: f32 = 0.05;
 /// How much lower (nearer the lower lid's polyline and further from the upper one, as a
 /// share of the edge's length) one triangle's third corner lies than the other's for an
-/// edge of the upper margin to tell which triangle is inside it.
+/// edge of the upper margin to seed the band. A margin found on a fine mesh steps up and
+/// down between rows of vertices, and on a steep step its two triangles lie side by side:
+/// taking one there seeded the band on the lid (MediaPipe's face cut in sixteen), the band
+/// spread over the face and the eye was taken for open.
 const DECISIVE: f32 = 0.5;
 /// How far behind the opening the band is set, in eye widths: the closing lids pass in front
 /// of it.
@@ -172,7 +175,12 @@ fn find_one(mesh: &Mesh, landmarks: &[u32], upper_ids: &[usize], lower_ids: &[us
     if upper == lower {
         return Lids::OneRow;
     }
-    let seeds = inside(mesh, &graph, &eye, &upper, &lower);
+    // the triangles just inside the upper margin (not on the lower one too), the lower lid's
+    // side of it
+    let lower_edges: HashSet<[u32; 2]> = lower.windows(2).map(|p| key(p[0], p[1])).collect();
+    let lowness =
+        |p: Vec3| distance_to_polyline(p, &eye.upper) - distance_to_polyline(p, &eye.lower);
+    let seeds = graph.below(mesh, (&upper, &lower_edges), lowness, DECISIVE);
     if seeds.is_empty() {
         return Lids::Open;
     }
@@ -224,46 +232,6 @@ impl Eye {
         let d = distance_to_polyline(p, &self.upper) + distance_to_polyline(p, &self.lower);
         d <= 1.5 * self.gap + SLIT_SLACK * self.width
     }
-}
-
-/// The triangles just inside the upper margin: on each of its edges with two triangles (and
-/// not on the lower margin too), the one whose third corner lies further toward the lower
-/// lid (nearer its polyline and further from the upper one), where it clearly does
-/// ([`DECISIVE`]).
-fn inside(mesh: &Mesh, graph: &Graph, eye: &Eye, upper: &[u32], lower: &[u32]) -> Vec<usize> {
-    let lower_edges: HashSet<[u32; 2]> = lower.windows(2).map(|p| key(p[0], p[1])).collect();
-    let lowness =
-        |p: Vec3| distance_to_polyline(p, &eye.upper) - distance_to_polyline(p, &eye.lower);
-    let mut seeds = vec![];
-    for pair in upper.windows(2) {
-        let edge = key(pair[0], pair[1]);
-        if lower_edges.contains(&edge) {
-            continue;
-        }
-        let tris = graph
-            .edge_triangles
-            .get(&edge)
-            .map_or(&[][..], Vec::as_slice);
-        if let [t0, t1] = tris[..] {
-            let third = |t: usize| {
-                let v = mesh.triangles[t]
-                    .iter()
-                    .find(|&&v| v != pair[0] && v != pair[1])
-                    .copied()
-                    .unwrap_or(pair[0]);
-                lowness(mesh.positions[v as usize])
-            };
-            let (s0, s1) = (third(t0), third(t1));
-            // an edge of the margin running up or down (a margin found on a fine mesh
-            // steps) has its two triangles side by side, not one inside the other
-            let length =
-                mesh.positions[pair[0] as usize].distance(mesh.positions[pair[1] as usize]);
-            if (s0 - s1).abs() >= DECISIVE * length {
-                seeds.push(if s0 > s1 { t0 } else { t1 });
-            }
-        }
-    }
-    seeds
 }
 
 /// The band grown from `seeds` without crossing either margin; `None` when it leaves the

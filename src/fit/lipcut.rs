@@ -132,7 +132,14 @@ pub fn find(mesh: &Mesh, landmarks: &[u32]) -> Lips {
     let Some(lower) = graph.line(mesh, sigma, landmarks, &INNER_LOWER, &mouth.lower) else {
         return Lips::NotFound;
     };
-    let below = graph.below(mesh, &mouth, &upper);
+    // the lower lip's side of the line: nearer the lower outer lip line and further from the
+    // upper one (the lips' own curl makes "down the face" an unreliable guide this close)
+    let lowness = |p: Vec3| {
+        distance_to_polyline(p, &mouth.outer_upper) - distance_to_polyline(p, &mouth.outer_lower)
+    };
+    // every edge with a lower side takes part: the cut splits each line vertex's triangles
+    // by them, and leaving a steep edge out left vertices of MediaPipe's lip line joined
+    let below = graph.below(mesh, (&upper, &HashSet::new()), lowness, 0.0);
     if below.is_empty() {
         return Lips::Open;
     }
@@ -388,39 +395,6 @@ impl Mouth {
 }
 
 impl Graph {
-    /// The triangles just below the line: on each edge of the line with two triangles, the
-    /// one whose third corner lies further toward the lower lip (nearer the lower outer lip
-    /// line and further from the upper one). The lips' own curl makes "down the face" an
-    /// unreliable guide this close to the line.
-    fn below(&self, mesh: &Mesh, mouth: &Mouth, line: &[u32]) -> Vec<usize> {
-        let lowness = |p: Vec3| {
-            distance_to_polyline(p, &mouth.outer_upper)
-                - distance_to_polyline(p, &mouth.outer_lower)
-        };
-        let mut below = vec![];
-        for pair in line.windows(2) {
-            let tris = self.edge_triangles.get(&key(pair[0], pair[1]));
-            let sides: Vec<(usize, f32)> = tris
-                .map_or(&[][..], Vec::as_slice)
-                .iter()
-                .map(|&t| {
-                    let third = mesh.triangles[t]
-                        .iter()
-                        .find(|&&v| v != pair[0] && v != pair[1])
-                        .copied()
-                        .unwrap_or(pair[0]);
-                    (t, lowness(mesh.positions[third as usize]))
-                })
-                .collect();
-            if let [(t0, s0), (t1, s1)] = sides[..] {
-                if s0 != s1 {
-                    below.push(if s0 > s1 { t0 } else { t1 });
-                }
-            }
-        }
-        below
-    }
-
     /// The band of triangles between the upper and lower chains, grown from the triangles
     /// just below the upper one without crossing either chain; `None` when it leaves the
     /// slit between the inner lip landmarks (the skin below is not a band across the lips).

@@ -54,6 +54,46 @@ pub(super) fn key(a: u32, b: u32) -> [u32; 2] {
 }
 
 impl Graph {
+    /// The triangles just below `line` (a lip line, a lid margin): on each of its edges with
+    /// two triangles (less the edges in `skip`), the one whose third corner is lower by
+    /// `lowness`, where it is lower by more than `decisive` times the edge's length.
+    pub(super) fn below(
+        &self,
+        mesh: &Mesh,
+        (line, skip): (&[u32], &HashSet<[u32; 2]>),
+        lowness: impl Fn(Vec3) -> f32,
+        decisive: f32,
+    ) -> Vec<usize> {
+        let mut below = vec![];
+        for pair in line.windows(2) {
+            let edge = key(pair[0], pair[1]);
+            if skip.contains(&edge) {
+                continue;
+            }
+            let tris = self
+                .edge_triangles
+                .get(&edge)
+                .map_or(&[][..], Vec::as_slice);
+            if let [t0, t1] = tris[..] {
+                let third = |t: usize| {
+                    let v = mesh.triangles[t]
+                        .iter()
+                        .find(|&&v| v != pair[0] && v != pair[1])
+                        .copied()
+                        .unwrap_or(pair[0]);
+                    lowness(mesh.positions[v as usize])
+                };
+                let (s0, s1) = (third(t0), third(t1));
+                let length =
+                    mesh.positions[pair[0] as usize].distance(mesh.positions[pair[1] as usize]);
+                if (s0 - s1).abs() > decisive * length {
+                    below.push(if s0 > s1 { t0 } else { t1 });
+                }
+            }
+        }
+        below
+    }
+
     /// The mesh within `reach` of `centre`.
     pub(super) fn new(mesh: &Mesh, centre: Vec3, reach: f32) -> Graph {
         let near: Vec<bool> = mesh
