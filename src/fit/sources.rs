@@ -80,24 +80,39 @@ impl Mirrored {
 /// template's lower lip; a lip mask carried from there stepped from full pull to none
 /// across the one edge between two rows of the same lip (the levator labii's, 6.6 times
 /// its rest length at AU10). Such a vertex reads its carried weights on its own lip.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub(super) struct LipSource {
-    /// The nearest template vertex on the vertex's own lip.
-    pub(super) own: u32,
+    /// The template vertices of the vertex's own lip its weights are read from, and their
+    /// shares ([`Nearest::blend_shares`]: the nearest one alone stepped between the rows of
+    /// a mesh finer than the template).
+    pub(super) own: Vec<(u32, f64)>,
     /// The mouth's zone weight at the vertex (0 away from the lips, up to 1 between the
-    /// corners): how much the own lip's source replaces the nearest one.
+    /// corners): how much the own lip's sources replace the ones around it.
     pub(super) zone: f64,
 }
 
 impl LipSource {
-    /// A template weight (per template vertex) read at this vertex: the nearest source's,
-    /// blended by the zone toward the own lip's.
-    pub(super) fn blend(&self, nearest: f64, weight: impl Fn(u32) -> f64) -> f64 {
-        (1.0 - self.zone) * nearest + self.zone * weight(self.own)
+    /// A template weight (per template vertex) read at this vertex: `around`, the value
+    /// blended from the sources around it, blended by the zone toward its own lip's.
+    pub(super) fn blend(&self, around: f64, weight: impl Fn(u32) -> f64) -> f64 {
+        let own: f64 = self.own.iter().map(|&(u, s)| s * weight(u)).sum();
+        (1.0 - self.zone) * around + self.zone * own
     }
 }
 
 impl Sources {
+    /// A template value (per template vertex) read at mesh vertex `v`, which has a source:
+    /// blended from the template vertices [`Sources::around`] it, and toward its own lip's
+    /// where it has a [`LipSource`]. The nearest source alone steps between
+    /// neighbouring vertices of a mesh finer than the template.
+    pub(super) fn read(&self, v: usize, at: impl Fn(u32) -> f64) -> f64 {
+        let around = self.around[v].iter().map(|&(u, s)| s * at(u)).sum();
+        match self.on_lips.get(v).and_then(Option::as_ref) {
+            Some(lip) => lip.blend(around, at),
+            None => around,
+        }
+    }
+
     pub(super) fn find(template: Template<'_>, warp: &Warp, mesh: &Mesh, parts: &Parts) -> Sources {
         let ids = template_skin(template);
         let points = ids
@@ -226,7 +241,7 @@ impl Sources {
                 let zone = zone(mouths[1], *p).min(1.0);
                 let index = if own == Side::Upper { &upper } else { &lower };
                 (zone > 0.0).then_some(LipSource {
-                    own: index.nearest(*p)?.0,
+                    own: Some(index.blend_shares(*p)).filter(|own| !own.is_empty())?,
                     zone,
                 })
             })

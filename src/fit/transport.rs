@@ -640,10 +640,13 @@ fn side_masks(
                 .iter()
                 .enumerate()
                 .filter_map(|(v, p)| {
-                    let (id, share) = sources.of_vertex[v]?;
+                    let (_, share) = sources.of_vertex[v]?;
                     let w = super::lipsides::side_weight(lips[1], to, v, *p, other);
-                    let (id, at) = (id as usize, template.mesh.positions[id as usize]);
-                    let was = share * super::lipsides::side_weight(lips[0], from, id, at, other);
+                    let was = share
+                        * sources.read(v, |u| {
+                            let at = template.mesh.positions[u as usize];
+                            super::lipsides::side_weight(lips[0], from, u as usize, at, other)
+                        });
                     let cut = w - was;
                     (cut > GAIN_EPSILON).then_some((v as u32, (1.0 - cut) as f32))
                 })
@@ -705,9 +708,12 @@ fn depth_masks(
             .vertices
             .iter()
             .filter_map(|&v| {
-                let (id, share) = sources.of_vertex[v as usize].unwrap_or((0, 0.0));
+                let share = sources.of_vertex[v as usize].map_or(0.0, |(_, share)| share);
                 let was = if share > 0.0 {
-                    share * cut(ts, from, template.mesh.positions[id as usize])
+                    share
+                        * sources.read(v as usize, |u| {
+                            cut(ts, from, template.mesh.positions[u as usize])
+                        })
                 } else {
                     0.0
                 };
@@ -750,7 +756,7 @@ fn carry_masks<'a>(template: Template<'a>, sources: &Sources) -> Vec<(&'a Mask, 
                 .iter()
                 .enumerate()
                 .filter_map(|(v, source)| {
-                    let (id, share) = (*source)?;
+                    let (_, share) = (*source)?;
                     let carried =
                         Mirrored::blend(sources.midline.get(v).and_then(|m| m.as_ref()), |image| {
                             // read at the sources, or at their mirror images
@@ -761,10 +767,7 @@ fn carry_masks<'a>(template: Template<'a>, sources: &Sources) -> Vec<(&'a Mask, 
                                 }
                                 false => f64::from(dense[u as usize]),
                             };
-                            match sources.on_lips.get(v).copied().flatten() {
-                                Some(lip) => lip.blend(at(id), at),
-                                None => sources.around[v].iter().map(|&(u, s)| s * at(u)).sum(),
-                            }
+                            sources.read(v, at)
                         });
                     let w = 1.0 - share * (1.0 - carried);
                     (w < 1.0 - GAIN_EPSILON).then_some((v as u32, w as f32))
