@@ -69,8 +69,9 @@ pub(super) fn near_corner(lips: &LipSides, p: Vec3) -> bool {
 /// `limit` (per mesh unit, each change weighted by `strength` as in [`steepest`]): each
 /// vertex takes the mean of the largest weights under `w` and the least above it that
 /// change no faster than [`RAMP_SHARE`] of it (the slope-limited lower and upper envelopes,
-/// `model::envelope`), so a step becomes a ramp centred on it. Weights no steeper than the
-/// limit anywhere are kept exactly. Found nearest first along the edges, it reaches as far as
+/// `model::envelope`), so a step becomes a ramp centred on it (of half that slope: each
+/// envelope takes the whole step on its side). Weights no steeper than the limit anywhere
+/// are kept exactly. Found nearest first along the edges, it reaches as far as
 /// the step asks whatever the mesh's resolution: relaxing toward the mean of the neighbours,
 /// round after round, spread a step over a fixed number of edges, and a mesh four times
 /// finer than MediaPipe's (0.85 mm edges) kept the levator labii's mask stepping 0.4 to 0.8
@@ -224,4 +225,89 @@ pub(super) fn pull(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat strip one unit long, `n` columns of squares cut in two, two rows high.
+    fn strip(n: usize) -> Mesh {
+        let h = 1.0 / n as f32;
+        let mut positions = Vec::new();
+        for i in 0..=n {
+            for j in 0..3 {
+                positions.push(Vec3::new(i as f32 * h, j as f32 * h, 0.0));
+            }
+        }
+        let at = |i: usize, j: usize| (i * 3 + j) as u32;
+        let mut triangles = Vec::new();
+        for i in 0..n {
+            for j in 0..2 {
+                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        Mesh::new(positions, triangles).unwrap()
+    }
+
+    /// A step from 0 to 1 at the strip's middle, eased with slope limit 4 at unit strength.
+    fn eased(n: usize) -> (Mesh, Vec<f32>) {
+        let mesh = strip(n);
+        let parts = Parts {
+            of_vertex: vec![Part::Skin; mesh.vertex_count()],
+            choices: Vec::new(),
+        };
+        let mut w: Vec<f32> = mesh
+            .positions
+            .iter()
+            .map(|p| if p.x < 0.5 { 0.0 } else { 1.0 })
+            .collect();
+        ease(&mesh, &parts, &mut w, &|_| true, (4.0, &|_| 1.0));
+        (mesh, w)
+    }
+
+    /// A step becomes a ramp over the same length of surface whatever the mesh's resolution
+    /// (the relaxation it replaced spread a step over a number of edges, and on a fine mesh
+    /// ran out of rounds first), no steeper than the ramp's share of the limit, centred on
+    /// the step; a mesh already no steeper than the limit is kept as it is.
+    #[test]
+    fn a_step_becomes_a_ramp_of_one_length_at_any_resolution() {
+        let slope = 4.0 * RAMP_SHARE;
+        for n in [40, 400, 2000] {
+            let (mesh, w) = eased(n);
+            let one = |_: usize| 1.0;
+            let steepest = steepest(&mesh, &w, &one, &|_, _| true);
+            assert!(steepest <= slope * (1.0 + 1e-3) + 1e-4, "{n}: {steepest}");
+            // the ramp: where the weight is strictly between 0 and 1; each envelope takes the
+            // whole step over 1 / slope on its side, so their mean spans 2 / slope
+            let inside: Vec<f32> = mesh
+                .positions
+                .iter()
+                .zip(&w)
+                .filter(|(_, &x)| x > 1e-3 && x < 1.0 - 1e-3)
+                .map(|(p, _)| p.x)
+                .collect();
+            let (lo, hi) = inside
+                .iter()
+                .fold((f32::MAX, f32::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+            let length = f64::from(hi - lo);
+            let expected = 2.0 / slope;
+            assert!(
+                (length - expected).abs() <= 2.0 / n as f64 + 0.01,
+                "{n} columns: a ramp {length} long, not {expected}"
+            );
+            assert!((f64::from(lo + hi) * 0.5 - 0.5).abs() <= 1.0 / n as f64);
+        }
+        // already gentle: kept bit for bit
+        let mesh = strip(40);
+        let parts = Parts {
+            of_vertex: vec![Part::Skin; mesh.vertex_count()],
+            choices: Vec::new(),
+        };
+        let gentle: Vec<f32> = mesh.positions.iter().map(|p| 0.5 * p.x).collect();
+        let mut w = gentle.clone();
+        ease(&mesh, &parts, &mut w, &|_| true, (4.0, &|_| 1.0));
+        assert_eq!(w, gentle);
+    }
 }
