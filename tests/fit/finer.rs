@@ -153,7 +153,11 @@ fn mediapipe_cut_in_sixty_four_moves_its_eyes_without_a_tear() {
         dir.path(),
         &["fit-rig", "finer.obj", "--out", "finer.rig.ron"],
     );
-    assert!(fit.status.success(), "{}", String::from_utf8_lossy(&fit.stdout));
+    assert!(
+        fit.status.success(),
+        "{}",
+        String::from_utf8_lossy(&fit.stdout)
+    );
     let check = common::grimace_in(dir.path(), &["check", "--rig", "finer.rig.ron"]);
     let report = String::from_utf8_lossy(&check.stdout);
     for au in ["AU 5 ", "AU 7 ", "AU 43 ", "AU 45 "] {
