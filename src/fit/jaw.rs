@@ -80,6 +80,24 @@ pub fn weights(
         Nearest::new(ids.iter().map(|&v| carried[v as usize]).collect(), ids)
     };
     let (lower, upper) = (side_index(Side::Lower), side_index(Side::Upper));
+    let margin = LowerMargin::find(
+        template,
+        &carried,
+        mesh,
+        parts,
+        [lips_from, lips],
+        [
+            &|u: u32| {
+                let at = template.mesh.positions[u as usize];
+                mouth_from
+                    .is_some_and(|m| side_weight(lips_from, m, u as usize, at, Side::Lower) > 0.0)
+            },
+            &|v: u32| {
+                let at = mesh.positions[v as usize];
+                mouth_to.is_some_and(|m| side_weight(lips, m, v as usize, at, Side::Lower) > 0.0)
+            },
+        ],
+    );
     let (near, far) = (FADE.0 * warp.spread, FADE.1 * warp.spread);
     // each vertex's weight depends on the template and its own position only: found on
     // the rayon pool, listed in vertex order as one pass would
@@ -105,7 +123,11 @@ pub fn weights(
                 };
                 let fade = 1.0 - smoothstep(near, far, f64::from(d));
                 let carried = |id: u32| f64::from(dense.get(id as usize).copied().unwrap_or(0.0));
-                let w = index.blend(*p, carried).unwrap_or(0.0) * fade;
+                let read = match &margin {
+                    Some(margin) if std::ptr::eq(index, &lower) => margin.read(v, *p, carried),
+                    _ => index.blend(*p, carried),
+                };
+                let w = read.unwrap_or(0.0) * fade;
                 // the template's upper lip carries its own (small, by the corners) weights;
                 // without one, the upper lip is split off the jaw
                 if from_upper {
@@ -158,6 +180,143 @@ pub fn weights(
         .filter(|&(_, w)| w > 0.0)
         .map(|(v, w)| (v as u32, w))
         .collect()
+}
+
+/// The lower lip's margin along the slit, on the template and on the mesh. The template
+/// holds its lower lip's margin back from the jaw (`face::jaw_skin`: the weights along the
+/// slit are lower than the lip's body), a step over one template edge; carried by place,
+/// that row lands a few rows onto a finer lip's front instead of on the lip's own margin, and
+/// the jaw's weight dipped there (MediaPipe's face cut in sixty-four: 0.905, 0.854, 0.904
+/// within a millimetre; AU27 turned 16 triangles over). So a vertex of the lower lip reads the
+/// template's margin and the template's body apart, and blends them by its distance along the
+/// surface from the mesh's own margin, over the template's distance from its margin to its
+/// body at that place along the slit.
+struct LowerMargin {
+    margin: Nearest,
+    body: Nearest,
+    /// Per template margin vertex, the distance (after the warp) to the nearest body vertex.
+    reach: Vec<f64>,
+    /// Per mesh vertex, the distance along the skin from the mesh's lower-lip margin.
+    distance: Vec<f64>,
+}
+
+impl LowerMargin {
+    /// `None` when either face's lower lip has no margin (an open slit's boundary) or no
+    /// body. `lower` says which template vertices, then which mesh vertices, are the lower
+    /// lip's (as the weights' lower-lip index takes them).
+    fn find(
+        template: Template<'_>,
+        carried: &[Vec3],
+        mesh: &Mesh,
+        parts: &Parts,
+        [lips_from, lips]: [Option<&LipSides>; 2],
+        lower: [&dyn Fn(u32) -> bool; 2],
+    ) -> Option<LowerMargin> {
+        let (lips_from, lips) = (lips_from?, lips?);
+        // a lower lip's vertex on an edge of one triangle only: the slit's boundary
+        let on_margin = |lips: &LipSides, m: &Mesh| {
+            let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
+            for t in &m.triangles {
+                for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                    *count.entry((a.min(b), a.max(b))).or_default() += 1;
+                }
+            }
+            let mut on = vec![false; m.vertex_count()];
+            for (&(a, b), _) in count.iter().filter(|(_, &c)| c == 1) {
+                for v in [a, b] {
+                    on[v as usize] |= lips.side(v as usize) == Some(Side::Lower);
+                }
+            }
+            on
+        };
+        let from_margin = on_margin(lips_from, template.mesh);
+        let ids = |margin: bool| -> Vec<u32> {
+            (0..carried.len() as u32)
+                .filter(|&u| lower[0](u) && from_margin[u as usize] == margin)
+                .collect()
+        };
+        let (margin_ids, body_ids) = (ids(true), ids(false));
+        let to_margin: Vec<u32> = on_margin(lips, mesh)
+            .iter()
+            .enumerate()
+            .filter(|&(v, &m)| m && parts.of_vertex[v] == Part::Skin && lower[1](v as u32))
+            .map(|(v, _)| v as u32)
+            .collect();
+        if margin_ids.is_empty() || body_ids.is_empty() || to_margin.is_empty() {
+            return None;
+        }
+        let index = |ids: &[u32]| {
+            Nearest::new(
+                ids.iter().map(|&u| carried[u as usize]).collect(),
+                ids.to_vec(),
+            )
+        };
+        let body = index(&body_ids);
+        let mut reach = vec![0.0; carried.len()];
+        for &u in &margin_ids {
+            let d = body
+                .nearest(carried[u as usize])
+                .map_or(0.0, |(_, d)| f64::from(d));
+            reach[u as usize] = d;
+        }
+        Some(LowerMargin {
+            margin: index(&margin_ids),
+            body,
+            reach,
+            distance: along_skin(mesh, parts, &to_margin),
+        })
+    }
+
+    /// The weight of lower-lip vertex `v` at `p`: the template margin's on the mesh's margin,
+    /// its body's from the template's margin-to-body distance there on, smoothly between; a
+    /// vertex on a template body vertex reads it exactly (the template fitted to itself).
+    fn read(&self, v: usize, p: Vec3, value: impl Fn(u32) -> f64 + Copy) -> Option<f64> {
+        let body = self.body.blend(p, value)?;
+        let reach = self.margin.blend(p, |u| self.reach[u as usize])?;
+        let on_body = self.body.nearest(p).is_some_and(|(_, d)| d == 0.0);
+        if on_body || reach <= 0.0 || self.distance[v] >= reach {
+            return Some(body);
+        }
+        let t = smoothstep(0.0, reach, self.distance[v]);
+        Some((1.0 - t) * self.margin.blend(p, value)? + t * body)
+    }
+}
+
+/// Each vertex's distance along the skin's edges from the nearest of `from` (infinite where
+/// none is reached).
+fn along_skin(mesh: &Mesh, parts: &Parts, from: &[u32]) -> Vec<f64> {
+    use crate::model::mesh::Distance;
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let skin = |v: u32| parts.of_vertex[v as usize] == Part::Skin;
+    let mut neighbours: Vec<Vec<(u32, f64)>> = vec![Vec::new(); mesh.vertex_count()];
+    for [a, b] in mesh
+        .edges()
+        .into_iter()
+        .filter(|&[a, b]| skin(a) && skin(b))
+    {
+        let len = f64::from(mesh.positions[a as usize].distance(mesh.positions[b as usize]));
+        neighbours[a as usize].push((b, len));
+        neighbours[b as usize].push((a, len));
+    }
+    let mut distance = vec![f64::INFINITY; mesh.vertex_count()];
+    let mut queue = BinaryHeap::new();
+    for &v in from {
+        distance[v as usize] = 0.0;
+        queue.push(Reverse((Distance(0.0), v)));
+    }
+    while let Some(Reverse((Distance(d), v))) = queue.pop() {
+        if d > distance[v as usize] {
+            continue;
+        }
+        for &(w, len) in &neighbours[v as usize] {
+            if d + len < distance[w as usize] {
+                distance[w as usize] = d + len;
+                queue.push(Reverse((Distance(d + len), w)));
+            }
+        }
+    }
+    distance
 }
 
 /// The template's skin at its `carried` places, as a nearest-point index: the connected pieces

@@ -121,13 +121,14 @@ fn mediapipe_cut_in_sixteen_has_its_covered_eyes_cut_and_closes_them() {
         let line = report.lines().find(|l| l.starts_with(au)).unwrap();
         assert!(line.ends_with("ok"), "{line}");
     }
-    // Every other entry but the jaw's wide openings passes too (docs/fitting.md, "Heads finer
-    // than the template"): AU5 turned 4 triangles over and AU10 stretched an edge 2.6x
-    // before every read of the template was blended and the lips' masks eased to a ramp.
+    // Every other entry but the jaw's widest opening passes too (docs/fitting.md, "Heads
+    // finer than the template"): AU5 turned 4 triangles over and AU10 stretched an edge 2.6x
+    // before every read of the template was blended and the lips' masks eased to a ramp;
+    // AU26 stretched one 2.62x before the lower lip read the template's margin from its own.
     let failing: Vec<&str> = report
         .lines()
         .filter(|l| l.contains("FAIL"))
-        .filter(|l| !l.starts_with("AU 26 ") && !l.starts_with("AU 27 "))
+        .filter(|l| !l.starts_with("AU 27 "))
         .collect();
     assert!(failing.is_empty(), "{failing:#?}");
 }
