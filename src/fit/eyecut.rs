@@ -266,10 +266,7 @@ fn band(
             if walls.contains(&edge) {
                 continue;
             }
-            let across = graph
-                .edge_triangles
-                .get(&edge)
-                .map_or(&[][..], Vec::as_slice);
+            let across = graph.across(&edge);
             if across.len() != 2 {
                 return None;
             }

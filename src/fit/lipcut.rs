@@ -428,11 +428,7 @@ impl Graph {
                 if walls.contains(&edge) {
                     continue;
                 }
-                for &u in self
-                    .edge_triangles
-                    .get(&edge)
-                    .map_or(&[][..], Vec::as_slice)
-                {
+                for &u in self.across(&edge) {
                     if seen.insert(u) {
                         stack.push(u);
                     }
@@ -461,7 +457,7 @@ impl Graph {
             // The other side of each line edge at v: the fan must not wrap round to it.
             let line_tris = [key(prev, v), key(v, next)]
                 .iter()
-                .flat_map(|e| self.edge_triangles.get(e).cloned().unwrap_or_default())
+                .flat_map(|e| self.across(e).iter().copied())
                 .collect::<Vec<_>>();
             let wraps = fan
                 .iter()

@@ -44,7 +44,7 @@ pub(super) struct Graph {
     pub(super) near: Vec<bool>,
     pub(super) neighbours: HashMap<u32, Vec<u32>>,
     /// The triangles on each edge (its ends in [`key`] order).
-    pub(super) edge_triangles: HashMap<[u32; 2], Vec<usize>>,
+    edge_triangles: HashMap<[u32; 2], Vec<usize>>,
     pub(super) vertex_triangles: HashMap<u32, Vec<usize>>,
 }
 
@@ -54,6 +54,11 @@ pub(super) fn key(a: u32, b: u32) -> [u32; 2] {
 }
 
 impl Graph {
+    /// The triangles on `edge` (a [`key`]), none for an edge outside the graph.
+    pub(super) fn across(&self, edge: &[u32; 2]) -> &[usize] {
+        self.edge_triangles.get(edge).map_or(&[][..], Vec::as_slice)
+    }
+
     /// The triangles just below `line` (a lip line, a lid margin): on each of its edges with
     /// two triangles (less the edges in `skip`), the one whose third corner is lower by
     /// `lowness`, where it is lower by more than `decisive` times the edge's length.
@@ -70,10 +75,7 @@ impl Graph {
             if skip.contains(&edge) {
                 continue;
             }
-            let tris = self
-                .edge_triangles
-                .get(&edge)
-                .map_or(&[][..], Vec::as_slice);
+            let tris = self.across(&edge);
             if let [t0, t1] = tris[..] {
                 let third = |t: usize| {
                     let v = mesh.triangles[t]
