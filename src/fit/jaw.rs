@@ -215,14 +215,8 @@ impl LowerMargin {
         let (lips_from, lips) = (lips_from?, lips?);
         // a lower lip's vertex on an edge of one triangle only: the slit's boundary
         let on_margin = |lips: &LipSides, m: &Mesh| {
-            let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
-            for t in &m.triangles {
-                for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-                    *count.entry((a.min(b), a.max(b))).or_default() += 1;
-                }
-            }
             let mut on = vec![false; m.vertex_count()];
-            for (&(a, b), _) in count.iter().filter(|(_, &c)| c == 1) {
+            for (a, b) in m.boundary_edges() {
                 for v in [a, b] {
                     on[v as usize] |= lips.side(v as usize) == Some(Side::Lower);
                 }

@@ -145,7 +145,7 @@ impl Nearest {
     /// points where the nearest point alone made steps. `None` for an empty set.
     pub fn blend(&self, p: Vec3, value: impl Fn(u32) -> f64) -> Option<f64> {
         let shares = self.blend_shares(p);
-        (!shares.is_empty()).then(|| shares.iter().map(|&(id, w)| w * value(id)).sum())
+        (!shares.is_empty()).then(|| weighted(&shares, value))
     }
 
     /// The ids and shares (adding up to 1) that [`Nearest::blend`] reads at `p`; empty for
@@ -174,6 +174,12 @@ impl Nearest {
         }
         shares
     }
+}
+
+/// A value read from `shares` of points ([`Nearest::blend_shares`]): the sum of each point's
+/// `value` times its share.
+pub fn weighted(shares: &[(u32, f64)], value: impl Fn(u32) -> f64) -> f64 {
+    shares.iter().map(|&(id, w)| w * value(id)).sum()
 }
 
 /// Template vertices (points of the set) a value is blended from ([`Nearest::blend`]): the

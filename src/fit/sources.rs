@@ -5,7 +5,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::lipsides::LipSides;
-use super::nearest::Nearest;
+use super::nearest::{weighted, Nearest};
 use super::parts::{Part, Parts};
 use super::regions::{Opening, Side};
 use super::warp::Warp;
@@ -95,8 +95,7 @@ impl LipSource {
     /// A template weight (per template vertex) read at this vertex: `around`, the value
     /// blended from the sources around it, blended by the zone toward its own lip's.
     pub(super) fn blend(&self, around: f64, weight: impl Fn(u32) -> f64) -> f64 {
-        let own: f64 = self.own.iter().map(|&(u, s)| s * weight(u)).sum();
-        (1.0 - self.zone) * around + self.zone * own
+        (1.0 - self.zone) * around + self.zone * weighted(&self.own, weight)
     }
 }
 
@@ -106,7 +105,7 @@ impl Sources {
     /// where it has a [`LipSource`]. The nearest source alone steps between
     /// neighbouring vertices of a mesh finer than the template.
     pub(super) fn read(&self, v: usize, at: impl Fn(u32) -> f64) -> f64 {
-        let around = self.around[v].iter().map(|&(u, s)| s * at(u)).sum();
+        let around = weighted(&self.around[v], &at);
         match self.on_lips.get(v).and_then(Option::as_ref) {
             Some(lip) => lip.blend(around, at),
             None => around,

@@ -145,6 +145,35 @@ impl Mesh {
         self.positions.len()
     }
 
+    /// For each undirected edge `[low, high]`, how many triangles use it in each direction:
+    /// `(low -> high, high -> low)`.
+    pub fn edge_uses(&self) -> std::collections::BTreeMap<[u32; 2], (u32, u32)> {
+        let mut uses = std::collections::BTreeMap::<[u32; 2], (u32, u32)>::new();
+        for t in &self.triangles {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                let entry = uses.entry([a.min(b), a.max(b)]).or_default();
+                if a < b {
+                    entry.0 += 1;
+                } else {
+                    entry.1 += 1;
+                }
+            }
+        }
+        uses
+    }
+
+    /// The boundary edges (used by exactly one triangle), directed as that triangle uses them.
+    pub fn boundary_edges(&self) -> Vec<(u32, u32)> {
+        self.edge_uses()
+            .into_iter()
+            .filter_map(|([a, b], (ab, ba))| match (ab, ba) {
+                (1, 0) => Some((a, b)),
+                (0, 1) => Some((b, a)),
+                _ => None,
+            })
+            .collect()
+    }
+
     /// The unique undirected edges, each as `[low, high]`, sorted.
     pub fn edges(&self) -> Vec<[u32; 2]> {
         let mut edges: Vec<[u32; 2]> = self

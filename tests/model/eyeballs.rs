@@ -6,7 +6,6 @@ use std::collections::BTreeSet;
 use glam::{Vec2, Vec3};
 use grimace::face::anthropometry::{units, y_units, MM_PER_UNIT};
 use grimace::face::generator::EYEBALL;
-use grimace::face::topology::boundary_edges;
 use grimace::face::{generate, groups};
 use grimace::facs::combo::parse_combo;
 use grimace::fit::parts::{find_parts, Part, PartOverrides};
@@ -69,7 +68,7 @@ fn eyeballs_are_closed_spheres_of_an_adult_size() {
     let mesh = generate();
     let eyes: BTreeSet<u32> = eyeball_vertices(&mesh).into_iter().collect();
     // closed: no boundary edge touches an eyeball
-    for (a, b) in boundary_edges(&mesh) {
+    for (a, b) in mesh.boundary_edges() {
         assert!(
             !eyes.contains(&a) && !eyes.contains(&b),
             "open edge {a}-{b} on an eyeball"

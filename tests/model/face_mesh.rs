@@ -4,7 +4,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use glam::Vec3;
 use grimace::face::anthropometry::{units, MM_PER_UNIT};
-use grimace::face::topology::{boundary_loops, edge_uses};
+use grimace::face::topology::boundary_loops;
 use grimace::face::{generate, groups};
 use grimace::io::presets;
 use grimace::model::Mesh;
@@ -41,7 +41,7 @@ fn size_is_within_the_brief() {
 #[test]
 fn every_edge_is_used_at_most_twice_and_winding_is_consistent() {
     let mesh = face();
-    for (edge, (forward, backward)) in edge_uses(&mesh) {
+    for (edge, (forward, backward)) in mesh.edge_uses() {
         assert!(
             forward <= 1 && backward <= 1,
             "edge {edge:?} used {forward}+{backward} times"

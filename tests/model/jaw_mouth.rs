@@ -7,7 +7,6 @@ use glam::Vec3;
 use grimace::face::anthropometry::MM_PER_UNIT;
 use grimace::face::groups;
 use grimace::face::mouth::MouthPart;
-use grimace::face::topology::boundary_edges;
 use grimace::facs::combo::parse_combo;
 use grimace::io::builtin;
 use grimace::model::{Activations, BoundRig, Mesh, Rig, SkinRules};
@@ -195,7 +194,7 @@ fn lower_mouth_parts_turn_with_the_jaw_and_upper_ones_stay() {
 #[test]
 fn mouth_parts_are_closed_and_behind_the_lips() {
     let mesh = builtin::default_mesh();
-    let boundary: Vec<(u32, u32)> = boundary_edges(&mesh);
+    let boundary: Vec<(u32, u32)> = mesh.boundary_edges();
     let skin = groups::skin_len(&mesh);
     let (up, _) = stomion_pair(&mesh);
     let lips_z = mesh.positions[up as usize].z;
