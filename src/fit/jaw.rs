@@ -123,8 +123,10 @@ pub fn weights(
                 };
                 let fade = 1.0 - smoothstep(near, far, f64::from(d));
                 let carried = |id: u32| f64::from(dense.get(id as usize).copied().unwrap_or(0.0));
+                // (a margin was found only where the template's lower lip has vertices, so
+                // the lower lip's index above was not left for all)
                 let read = match &margin {
-                    Some(margin) if std::ptr::eq(index, &lower) => margin.read(v, *p, carried),
+                    Some(margin) if below > 0.0 => margin.read(v, *p, carried),
                     _ => index.blend(*p, carried),
                 };
                 let w = read.unwrap_or(0.0) * fade;
