@@ -106,6 +106,49 @@ fn a_rebind_equals_a_fresh_bind() {
     }
 }
 
+/// A copy of a vertex in no triangle (a split seam's copy, moved with its lead) changes no
+/// spread field: it is not on the surface. (Its empty row in the system once made every
+/// field it lay in come out empty: a mesh split at its seams lost those muscles.)
+#[test]
+fn a_copy_in_no_triangle_changes_no_spread_field() {
+    let mesh = builtin::default_mesh();
+    let rig = builtin::default_rig();
+    let whole = bound();
+    let mut split = mesh.clone();
+    // a copy of every tenth vertex, appended: each lies in some muscle's zone or none
+    let copies: Vec<Vec3> = mesh.positions.iter().step_by(10).copied().collect();
+    split.positions.extend(copies);
+    let with_copies = BoundRig::bind_with(&rig, &split, SkinRules::TISSUE).expect("binds");
+    let n = mesh.positions.len() as u32;
+    for m in 0..rig.muscles.len() {
+        let (a, b) = (whole.field(m).unwrap(), with_copies.field(m).unwrap());
+        let kept: Vec<(u32, Vec3)> = b
+            .vertices
+            .iter()
+            .zip(&b.displacements)
+            .filter(|(&v, _)| v < n)
+            .map(|(&v, &d)| (v, d))
+            .collect();
+        let own: Vec<(u32, Vec3)> = a
+            .vertices
+            .iter()
+            .copied()
+            .zip(a.displacements.iter().copied())
+            .collect();
+        assert!(!own.is_empty(), "{}: an empty field", rig.muscles[m].name);
+        assert_eq!(kept, own, "{}", rig.muscles[m].name);
+    }
+    // and the copies move with their vertices
+    let act = builtin::default_table()
+        .expression_activations("happiness", &rig)
+        .expect("happiness evaluates");
+    let (x, y) = (deformed(&whole, &act), deformed(&with_copies, &act));
+    assert_eq!(&y[..x.len()], &x[..]);
+    for (k, v) in (0..mesh.positions.len()).step_by(10).enumerate() {
+        assert_eq!(y[x.len() + k], x[v]);
+    }
+}
+
 #[test]
 fn the_pull_reaches_past_the_zone_and_dies_out() {
     let mesh = builtin::default_mesh();

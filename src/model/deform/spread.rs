@@ -135,6 +135,11 @@ impl Surface {
                 continue;
             }
             done[vi] = true;
+            // a vertex in no triangle (a seam's copy, moved with its lead) is not on the
+            // surface: its row of the system would be empty
+            if self.around(vi).is_empty() {
+                continue;
+            }
             region.push(v);
             for slot in self.around(vi) {
                 let w = self.neighbour[slot] as usize;
@@ -163,7 +168,9 @@ impl Surface {
         }
         let mut rhs = vec![DVec3::ZERO; region.len()];
         for (&v, d) in field.vertices.iter().zip(&field.displacements) {
-            rhs[local[v as usize] as usize] = d.as_dvec3() * self.mass[v as usize];
+            if let Some(slot) = rhs.get_mut(local[v as usize] as usize) {
+                *slot = d.as_dvec3() * self.mass[v as usize];
+            }
         }
         let system = System {
             surface: self,
@@ -172,10 +179,13 @@ impl Surface {
             t: length * length,
         };
         let solved = system.solve(&rhs);
+        // over the surface's vertices only, as the spread field's
         let largest = field
-            .displacements
+            .vertices
             .iter()
-            .map(|d| d.as_dvec3().length())
+            .zip(&field.displacements)
+            .filter(|(&v, _)| !self.around(v as usize).is_empty())
+            .map(|(_, d)| d.as_dvec3().length())
             .fold(0.0, f64::max);
         // the muscle keeps its strength: the spread field's largest travel is the muscle's own
         let spread_largest = solved.iter().map(|g| g.length()).fold(0.0, f64::max);
