@@ -176,7 +176,13 @@ pub(super) fn socket_mask(
     let strength = |v: usize| pull[v];
     // (only round the sockets: behind the face the cut changes over centimetres)
     let around = |p: Vec3| sockets.iter().any(|s| s.around(p.as_dvec3()));
-    super::ease::ease(mesh, parts, &mut kept, &around, (SOCKET_STRAIN, &strength));
+    super::ease::ease(
+        mesh,
+        parts,
+        &mut kept,
+        (&around, &|_, _| false),
+        (SOCKET_STRAIN, &strength),
+    );
     let weights: Vec<(u32, f32)> = kept
         .iter()
         .enumerate()

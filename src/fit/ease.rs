@@ -21,8 +21,13 @@ use super::parts::{Part, Parts};
 use super::Template;
 use crate::model::{Field, Mask, Mesh, Muscle};
 
-/// How far round each mouth corner the jaw's weights are eased, in outer mouth widths.
-const CORNER_REACH: f32 = 0.25;
+/// How far round each mouth corner the jaw's weights are eased, in outer mouth widths: as far
+/// as the template's own corners ease the mandible's weights in (`face::jaw_skin`, 30 mm of
+/// a 52 mm mouth). The ease keeps what lies beyond as it is, so its border is a step where
+/// the eased weights and the carried ones differ; at a quarter of the mouth's width that
+/// border crossed the lips beside the corners, and MediaPipe's face cut in sixteen stretched
+/// an edge there 3.31x at AU27 (its weights 0.13 against 0.01 across 1.4 mm).
+const CORNER_REACH: f32 = 0.6;
 /// A mask whose change strains the template's skin less than this anywhere (its change
 /// per unit length times its muscles' pull, a fraction of the edge's length) changes only
 /// where its muscles do not pull: the template says nothing of how fast it may change under
@@ -60,12 +65,25 @@ pub(super) fn steepest(
         .fold(0.0, f64::max)
 }
 
+/// How far from each mouth corner the jaw's ease crosses from one lip to the other, in
+/// outer mouth widths: where the lips are joined (a mesh fitted without its lips cut) the
+/// lips part between the corners, and easing across the joined lips there gave the upper
+/// lip the jaw (MediaPipe's face: its inner upper lip moved with the chin at AU26).
+const JOINED_REACH: f32 = 0.25;
+
+/// Whether vertex `p` lies within [`JOINED_REACH`] of a mouth corner of `lips`, where the
+/// jaw's ease may cross from one lip to the other.
+pub(super) fn by_corner(lips: &LipSides, p: Vec3) -> bool {
+    lips.corner_distance(p) <= JOINED_REACH * lips.width()
+}
+
 /// Whether vertex `p` lies within [`CORNER_REACH`] of a mouth corner of `lips`.
 pub(super) fn near_corner(lips: &LipSides, p: Vec3) -> bool {
     lips.corner_distance(p) <= CORNER_REACH * lips.width()
 }
 
-/// Eases `w` on the skin of `mesh` `within` a region where an edge there is steeper than
+/// Eases `w` on the skin of `mesh` `within` a region (along its edges but those `apart`
+/// says the weights may jump across) where an edge there is steeper than
 /// `limit` (per mesh unit, each change weighted by `strength` as in [`steepest`]): each
 /// vertex takes the mean of the largest weights under `w` and the least above it that
 /// change no faster than [`RAMP_SHARE`] of it (the slope-limited lower and upper envelopes,
@@ -80,7 +98,7 @@ pub(super) fn ease(
     mesh: &Mesh,
     parts: &Parts,
     w: &mut [f32],
-    within: &dyn Fn(Vec3) -> bool,
+    (within, apart): (&dyn Fn(Vec3) -> bool, &dyn Fn(usize, usize) -> bool),
     (limit, strength): (f64, &dyn Fn(usize) -> f64),
 ) {
     let skin = |v: usize| parts.of_vertex[v] == Part::Skin;
@@ -95,7 +113,7 @@ pub(super) fn ease(
     let mut neighbours: Vec<Vec<(usize, f64)>> = vec![Vec::new(); mesh.vertex_count()];
     for [a, b] in mesh.edges() {
         let (a, b) = (a as usize, b as usize);
-        if !(near[a] || near[b]) || !skin(a) || !skin(b) {
+        if !(near[a] || near[b]) || !skin(a) || !skin(b) || apart(a, b) {
             continue;
         }
         let len = f64::from(mesh.positions[a].distance(mesh.positions[b]));
@@ -195,7 +213,13 @@ pub(super) fn ease_masks(faces: &Faces<'_>, lip_muscles: &[String], carried: &mu
             w[v as usize] = x;
         }
         let at_mesh = |v: usize| mesh_pull.get(v).copied().unwrap_or(0.0);
-        ease(mesh, parts, &mut w, &|_| true, (limit, &at_mesh));
+        ease(
+            mesh,
+            parts,
+            &mut w,
+            (&|_| true, &|_, _| false),
+            (limit, &at_mesh),
+        );
         to.weights = w
             .iter()
             .enumerate()
@@ -263,7 +287,13 @@ mod tests {
             .iter()
             .map(|p| if p.x < 0.5 { 0.0 } else { 1.0 })
             .collect();
-        ease(&mesh, &parts, &mut w, &|_| true, (4.0, &|_| 1.0));
+        ease(
+            &mesh,
+            &parts,
+            &mut w,
+            (&|_| true, &|_, _| false),
+            (4.0, &|_| 1.0),
+        );
         (mesh, w)
     }
 
@@ -307,7 +337,13 @@ mod tests {
         };
         let gentle: Vec<f32> = mesh.positions.iter().map(|p| 0.5 * p.x).collect();
         let mut w = gentle.clone();
-        ease(&mesh, &parts, &mut w, &|_| true, (4.0, &|_| 1.0));
+        ease(
+            &mesh,
+            &parts,
+            &mut w,
+            (&|_| true, &|_, _| false),
+            (4.0, &|_| 1.0),
+        );
         assert_eq!(w, gentle);
     }
 }

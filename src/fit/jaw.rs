@@ -168,11 +168,22 @@ pub fn weights(
         let one = |_: usize| 1.0;
         let limit = super::ease::steepest(template.mesh, &dense, &one, &|_, _| true)
             / warp.similarity.scale;
+        // the lips part between the corners: where they are joined (a mesh fitted without
+        // its lips cut), the edges from one lip to the other there are not eased across
+        let between = |v: usize, side: Side| {
+            mouth_to.is_some_and(|m| side_weight(Some(lips), m, v, mesh.positions[v], side) > 0.0)
+        };
+        let apart = |a: usize, b: usize| {
+            let across = (between(a, Side::Upper) && between(b, Side::Lower))
+                || (between(a, Side::Lower) && between(b, Side::Upper));
+            let by_corner = |v: usize| super::ease::by_corner(lips, mesh.positions[v]);
+            across && !(by_corner(a) && by_corner(b))
+        };
         super::ease::ease(
             mesh,
             parts,
             &mut all_weights,
-            &|p| super::ease::near_corner(lips, p),
+            (&|p| super::ease::near_corner(lips, p), &apart),
             (limit, &one),
         );
     }
