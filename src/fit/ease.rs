@@ -82,6 +82,10 @@ pub(super) fn near_corner(lips: &LipSides, p: Vec3) -> bool {
     lips.corner_distance(p) <= CORNER_REACH * lips.width()
 }
 
+/// Where [`ease`] works: the vertices `within` it (by place), and the edges `apart` (given
+/// both ends) across which the weights may jump.
+pub(super) type Region<'a> = (&'a dyn Fn(Vec3) -> bool, &'a dyn Fn(usize, usize) -> bool);
+
 /// Eases `w` on the skin of `mesh` `within` a region (along its edges but those `apart`
 /// says the weights may jump across) where an edge there is steeper than
 /// `limit` (per mesh unit, each change weighted by `strength` as in [`steepest`]): each
@@ -98,7 +102,7 @@ pub(super) fn ease(
     mesh: &Mesh,
     parts: &Parts,
     w: &mut [f32],
-    (within, apart): (&dyn Fn(Vec3) -> bool, &dyn Fn(usize, usize) -> bool),
+    (within, apart): Region<'_>,
     (limit, strength): (f64, &dyn Fn(usize) -> f64),
 ) {
     let skin = |v: usize| parts.of_vertex[v] == Part::Skin;
