@@ -592,6 +592,11 @@ impl BoundRig {
             p
         } else {
             let rest = self.rest[v];
+            let g = self.guard.index_of(v) as usize;
+            let scale = scale.max(self.guard.least_scale(g, (p - rest).length()));
+            if scale >= 1.0 {
+                return p;
+            }
             rest + (p - rest) * scale
         }
     }
