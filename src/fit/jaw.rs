@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 use super::lipsides::{side_weight, LipSides};
 use super::nearest::Nearest;
-use super::parts::{Part, Parts};
+use super::parts::{Part, Parts, SkinGraph};
 use super::regions::{smoothstep, Opening, Side};
 use super::warp::Warp;
 use super::Template;
@@ -67,16 +67,19 @@ pub fn weights(
     let all = Nearest::new(carried.clone(), (0..carried.len() as u32).collect());
     // each lip takes its weights from the same lip of the template (where the mesh's lips
     // are joined, a vertex of one lip may lie nearest the other lip of the template)
+    // whether a vertex of the template, or of the mesh, lies on `side` of its mouth
+    let template_side = |v: u32, side: Side| {
+        let p = template.mesh.positions[v as usize];
+        mouth_from.is_some_and(|m| side_weight(lips_from, m, v as usize, p, side) > 0.0)
+    };
+    let mesh_side = |v: u32, side: Side| {
+        let p = mesh.positions[v as usize];
+        mouth_to.is_some_and(|m| side_weight(lips, m, v as usize, p, side) > 0.0)
+    };
     let side_index = |side: Side| {
-        let ids: Vec<u32> = match mouth_from {
-            Some(m) => (0..carried.len() as u32)
-                .filter(|&v| {
-                    let p = template.mesh.positions[v as usize];
-                    side_weight(lips_from, m, v as usize, p, side) > 0.0
-                })
-                .collect(),
-            None => Vec::new(),
-        };
+        let ids: Vec<u32> = (0..carried.len() as u32)
+            .filter(|&v| template_side(v, side))
+            .collect();
         Nearest::new(ids.iter().map(|&v| carried[v as usize]).collect(), ids)
     };
     let (lower, upper) = (side_index(Side::Lower), side_index(Side::Upper));
@@ -86,17 +89,9 @@ pub fn weights(
         mesh,
         parts,
         [lips_from, lips],
-        [
-            &|u: u32| {
-                let at = template.mesh.positions[u as usize];
-                mouth_from
-                    .is_some_and(|m| side_weight(lips_from, m, u as usize, at, Side::Lower) > 0.0)
-            },
-            &|v: u32| {
-                let at = mesh.positions[v as usize];
-                mouth_to.is_some_and(|m| side_weight(lips, m, v as usize, at, Side::Lower) > 0.0)
-            },
-        ],
+        [&|u| template_side(u, Side::Lower), &|v| {
+            mesh_side(v, Side::Lower)
+        }],
     );
     let (near, far) = (FADE.0 * warp.spread, FADE.1 * warp.spread);
     // each vertex's weight depends on the template and its own position only: found on
@@ -170,12 +165,10 @@ pub fn weights(
             / warp.similarity.scale;
         // the lips part between the corners: where they are joined (a mesh fitted without
         // its lips cut), the edges from one lip to the other there are not eased across
-        let between = |v: usize, side: Side| {
-            mouth_to.is_some_and(|m| side_weight(Some(lips), m, v, mesh.positions[v], side) > 0.0)
-        };
         let apart = |a: usize, b: usize| {
-            let across = (between(a, Side::Upper) && between(b, Side::Lower))
-                || (between(a, Side::Lower) && between(b, Side::Upper));
+            let (a32, b32) = (a as u32, b as u32);
+            let across = (mesh_side(a32, Side::Upper) && mesh_side(b32, Side::Lower))
+                || (mesh_side(a32, Side::Lower) && mesh_side(b32, Side::Upper));
             let by_corner = |v: usize| super::ease::by_corner(lips, mesh.positions[v]);
             across && !(by_corner(a) && by_corner(b))
         };
@@ -270,7 +263,7 @@ impl LowerMargin {
             margin: index(&margin_ids),
             body,
             reach,
-            distance: along_skin(mesh, parts, &to_margin),
+            distance: SkinGraph::new(mesh, parts).distances(&to_margin, f64::INFINITY),
         })
     }
 
@@ -287,43 +280,6 @@ impl LowerMargin {
         let t = smoothstep(0.0, reach, self.distance[v]);
         Some((1.0 - t) * self.margin.blend(p, value)? + t * body)
     }
-}
-
-/// Each vertex's distance along the skin's edges from the nearest of `from` (infinite where
-/// none is reached).
-fn along_skin(mesh: &Mesh, parts: &Parts, from: &[u32]) -> Vec<f64> {
-    use crate::model::mesh::Distance;
-    use std::cmp::Reverse;
-    use std::collections::BinaryHeap;
-    let skin = |v: u32| parts.of_vertex[v as usize] == Part::Skin;
-    let mut neighbours: Vec<Vec<(u32, f64)>> = vec![Vec::new(); mesh.vertex_count()];
-    for [a, b] in mesh
-        .edges()
-        .into_iter()
-        .filter(|&[a, b]| skin(a) && skin(b))
-    {
-        let len = f64::from(mesh.positions[a as usize].distance(mesh.positions[b as usize]));
-        neighbours[a as usize].push((b, len));
-        neighbours[b as usize].push((a, len));
-    }
-    let mut distance = vec![f64::INFINITY; mesh.vertex_count()];
-    let mut queue = BinaryHeap::new();
-    for &v in from {
-        distance[v as usize] = 0.0;
-        queue.push(Reverse((Distance(0.0), v)));
-    }
-    while let Some(Reverse((Distance(d), v))) = queue.pop() {
-        if d > distance[v as usize] {
-            continue;
-        }
-        for &(w, len) in &neighbours[v as usize] {
-            if d + len < distance[w as usize] {
-                distance[w as usize] = d + len;
-                queue.push(Reverse((Distance(d + len), w)));
-            }
-        }
-    }
-    distance
 }
 
 /// The template's skin at its `carried` places, as a nearest-point index: the connected pieces
