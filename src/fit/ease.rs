@@ -86,6 +86,9 @@ pub(super) fn near_corner(lips: &LipSides, p: Vec3) -> bool {
 /// both ends) across which the weights may jump.
 pub(super) type Region<'a> = (&'a dyn Fn(Vec3) -> bool, &'a dyn Fn(usize, usize) -> bool);
 
+/// The whole skin, with no edge the weights may jump across.
+pub(super) const EVERYWHERE: Region<'static> = (&|_| true, &|_, _| false);
+
 /// Eases `w` on the skin of `mesh` `within` a region (along its edges but those `apart`
 /// says the weights may jump across) where an edge there is steeper than
 /// `limit` (per mesh unit, each change weighted by `strength` as in [`steepest`]): each
@@ -217,13 +220,7 @@ pub(super) fn ease_masks(faces: &Faces<'_>, lip_muscles: &[String], carried: &mu
             w[v as usize] = x;
         }
         let at_mesh = |v: usize| mesh_pull.get(v).copied().unwrap_or(0.0);
-        ease(
-            mesh,
-            parts,
-            &mut w,
-            (&|_| true, &|_, _| false),
-            (limit, &at_mesh),
-        );
+        ease(mesh, parts, &mut w, EVERYWHERE, (limit, &at_mesh));
         to.weights = w
             .iter()
             .enumerate()
@@ -279,25 +276,24 @@ mod tests {
         Mesh::new(positions, triangles).unwrap()
     }
 
-    /// A step from 0 to 1 at the strip's middle, eased with slope limit 4 at unit strength.
-    fn eased(n: usize) -> (Mesh, Vec<f32>) {
-        let mesh = strip(n);
+    /// `w` eased over the whole of `mesh`, all skin, with slope limit 4 at unit strength.
+    fn ease_all_skin(mesh: &Mesh, w: &mut [f32]) {
         let parts = Parts {
             of_vertex: vec![Part::Skin; mesh.vertex_count()],
             choices: Vec::new(),
         };
+        ease(mesh, &parts, w, EVERYWHERE, (4.0, &|_| 1.0));
+    }
+
+    /// A step from 0 to 1 at the strip's middle, eased ([`ease_all_skin`]).
+    fn eased(n: usize) -> (Mesh, Vec<f32>) {
+        let mesh = strip(n);
         let mut w: Vec<f32> = mesh
             .positions
             .iter()
             .map(|p| if p.x < 0.5 { 0.0 } else { 1.0 })
             .collect();
-        ease(
-            &mesh,
-            &parts,
-            &mut w,
-            (&|_| true, &|_, _| false),
-            (4.0, &|_| 1.0),
-        );
+        ease_all_skin(&mesh, &mut w);
         (mesh, w)
     }
 
@@ -335,19 +331,9 @@ mod tests {
         }
         // already gentle: kept bit for bit
         let mesh = strip(40);
-        let parts = Parts {
-            of_vertex: vec![Part::Skin; mesh.vertex_count()],
-            choices: Vec::new(),
-        };
         let gentle: Vec<f32> = mesh.positions.iter().map(|p| 0.5 * p.x).collect();
         let mut w = gentle.clone();
-        ease(
-            &mesh,
-            &parts,
-            &mut w,
-            (&|_| true, &|_, _| false),
-            (4.0, &|_| 1.0),
-        );
+        ease_all_skin(&mesh, &mut w);
         assert_eq!(w, gentle);
     }
 }
