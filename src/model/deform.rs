@@ -584,8 +584,9 @@ impl BoundRig {
         crate::model::mesh::lead_of(&self.followers, v)
     }
 
-    /// The vertex `v` at `p` before the area bound, its displacement scaled by `scale`
-    /// (kept bit for bit when the scale is 1).
+    /// The vertex `v` at `p` before the area bound, its displacement scaled by `scale`, no
+    /// lower than the guard allows for so long a travel ([`Guard::least_scale`]; `scale` is
+    /// below 1 only for guarded vertices); kept bit for bit when the scale is 1.
     #[inline]
     fn scaled(&self, v: usize, p: Vec3, scale: f32) -> Vec3 {
         if scale >= 1.0 {

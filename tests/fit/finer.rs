@@ -48,15 +48,18 @@ fn subdivided(mesh: &Mesh) -> Mesh {
     finer
 }
 
-/// What `fit-rig` said on MediaPipe's face cut in four `times` times over (its landmarks
-/// kept at their vertex numbers) and `check`'s report on the fitted rig, both run through the
-/// binary as a user would; `None` where the shared meshes are missing (outside CI).
+/// A head fitted and checked through the binary, as a user would.
 struct Checked {
+    /// What `fit-rig` said.
     said: String,
+    /// `check`'s report on the fitted rig.
     report: String,
+    /// Whether `check` passed.
     passed: bool,
 }
 
+/// MediaPipe's face cut in four `times` times over (its landmarks kept at their vertex
+/// numbers), fitted and checked; `None` where the shared meshes are missing (outside CI).
 fn mediapipe_cut_fitted_and_checked(times: usize) -> Option<Checked> {
     let (_, mesh, landmarks) = crate::shared_mediapipe()?;
     let dir = tempfile::tempdir().unwrap();

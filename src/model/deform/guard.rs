@@ -5,7 +5,8 @@
 //! that would keep that fraction, and each vertex's displacement is scaled by the mean of its
 //! triangles' scales (one pass, no promise), lowered no further than keeps the vertex within
 //! a third of its shortest edge of where it would be unscaled ([`SCALE_SHARE`]); the jaw then
-//! turns the result, so its travel is never scaled. Only triangles that could shrink that far are checked (found at bind time).
+//! turns the result, so its travel is never scaled. Only triangles that could shrink that far
+//! are checked (found at bind time).
 //!
 //! The bound is a per-triangle function of the positions before it, so a partial update
 //! (`update_muscle`, `update_jaw`) recomputes the same numbers in the same order as a full

@@ -117,6 +117,12 @@ impl Surface {
         self.start[v] as usize..self.start[v + 1] as usize
     }
 
+    /// Whether vertex `v` has an edge: a vertex in no triangle (a seam's copy, moved with
+    /// its lead) is not on the surface, and its row of the system would be empty.
+    fn on_surface(&self, v: usize) -> bool {
+        !self.around(v).is_empty()
+    }
+
     /// The vertices within `reach` of the field's vertices along the surface (never through
     /// a vertex where `open` is false), nearest first.
     fn region(&self, field: &Field, open: &dyn Fn(usize) -> bool, reach: f64) -> Vec<u32> {
@@ -135,9 +141,7 @@ impl Surface {
                 continue;
             }
             done[vi] = true;
-            // a vertex in no triangle (a seam's copy, moved with its lead) is not on the
-            // surface: its row of the system would be empty
-            if self.around(vi).is_empty() {
+            if !self.on_surface(vi) {
                 continue;
             }
             region.push(v);
@@ -168,6 +172,7 @@ impl Surface {
         }
         let mut rhs = vec![DVec3::ZERO; region.len()];
         for (&v, d) in field.vertices.iter().zip(&field.displacements) {
+            // (a field vertex off the surface is in no row)
             if let Some(slot) = rhs.get_mut(local[v as usize] as usize) {
                 *slot = d.as_dvec3() * self.mass[v as usize];
             }
@@ -184,7 +189,7 @@ impl Surface {
             .vertices
             .iter()
             .zip(&field.displacements)
-            .filter(|(&v, _)| !self.around(v as usize).is_empty())
+            .filter(|(&v, _)| self.on_surface(v as usize))
             .map(|(_, d)| d.as_dvec3().length())
             .fold(0.0, f64::max);
         // the muscle keeps its strength: the spread field's largest travel is the muscle's own
