@@ -60,7 +60,10 @@ fn check_aus(mesh: &Mesh, fitted: &Fitted, v: &[u32]) {
     // The mouth opens: the inner lip points part.
     let gap = up(at(&open, 62) - at(&open, 66));
     assert!(gap > 0.03, "AU 26: lips part by {gap:.3}");
-    // AU 45: upper lids come down, lower lids do not, and the eyes at least half close.
+    // AU 45: upper lids come down, lower lids do not, and the lid landmarks come at least
+    // 0.35 of their opening together. The lids meet at their free edges (the lid gap there
+    // is `tests/fit/lids.rs`'s); MakeHuman's lid landmarks lie on the lid's back, 4 to 5 mm
+    // beyond them, and come 0.39 to 0.47 of their opening together when the lids meet.
     let blink = au(&bound, "45");
     for (upper, lower) in [(37, 41), (38, 40), (43, 47), (44, 46)] {
         let (u, l) = (up(at(&blink, upper)), up(at(&blink, lower)));
@@ -68,7 +71,7 @@ fn check_aus(mesh: &Mesh, fitted: &Fitted, v: &[u32]) {
         assert!(u < -0.02, "AU 45: upper lid {upper} moves {u:.3}");
         assert!(l > -0.01, "AU 45: lower lid {lower} moves {l:.3}");
         assert!(
-            u - l < -0.4 * opening,
+            u - l < -0.35 * opening,
             "AU 45: lids {upper}, {lower} close by {:.3} of {opening:.3}",
             l - u
         );
