@@ -166,9 +166,10 @@ fn find_one(mesh: &Mesh, landmarks: &[u32], upper_ids: &[usize], lower_ids: &[us
     };
     let graph = Graph::new(mesh, eye.centre, REACH * eye.width);
     let sigma = GUIDE * eye.width;
+    let none = HashSet::new();
     let (Some(upper), Some(lower)) = (
-        graph.line(mesh, sigma, landmarks, upper_ids, &eye.upper),
-        graph.line(mesh, sigma, landmarks, lower_ids, &eye.lower),
+        graph.line(mesh, sigma, landmarks, (upper_ids, &eye.upper), &none),
+        graph.line(mesh, sigma, landmarks, (lower_ids, &eye.lower), &none),
     ) else {
         return Lids::NotFound;
     };

@@ -125,18 +125,10 @@ pub fn find(mesh: &Mesh, landmarks: &[u32]) -> Lips {
         return Lips::NotFound;
     };
     let graph = Graph::new(mesh, mouth.centre, REACH * mouth.width);
-    let sigma = GUIDE * mouth.width;
-    let Some(upper) = graph.line(mesh, sigma, landmarks, &INNER_UPPER, &mouth.upper) else {
+    let Some((upper, lower)) = mouth.lines(&graph, mesh, landmarks) else {
         return Lips::NotFound;
     };
-    let Some(lower) = graph.line(mesh, sigma, landmarks, &INNER_LOWER, &mouth.lower) else {
-        return Lips::NotFound;
-    };
-    // the lower lip's side of the line: nearer the lower outer lip line and further from the
-    // upper one (the lips' own curl makes "down the face" an unreliable guide this close)
-    let lowness = |p: Vec3| {
-        distance_to_polyline(p, &mouth.outer_upper) - distance_to_polyline(p, &mouth.outer_lower)
-    };
+    let lowness = |p: Vec3| mouth.lowness(p);
     // every edge with a lower side takes part: the cut splits each line vertex's triangles
     // by them, and leaving a steep edge out left vertices of MediaPipe's lip line joined
     let below = graph.below(mesh, (&upper, &HashSet::new()), lowness, 0.0);
@@ -194,9 +186,7 @@ pub fn pocket_behind_apart_lips(mesh: &Mesh, landmarks: &[u32]) -> Option<LipCut
     }
     let mouth = Mouth::of(mesh, landmarks)?;
     let graph = Graph::new(mesh, mouth.centre, REACH * mouth.width);
-    let sigma = GUIDE * mouth.width;
-    let upper = graph.line(mesh, sigma, landmarks, &INNER_UPPER, &mouth.upper)?;
-    let lower = graph.line(mesh, sigma, landmarks, &INNER_LOWER, &mouth.lower)?;
+    let (upper, lower) = mouth.lines(&graph, mesh, landmarks)?;
     if upper == lower {
         return None;
     }
@@ -384,6 +374,24 @@ impl Mouth {
             centre,
             width,
             gap,
+        })
+    }
+
+    /// How far `p` lies on the lower lip's side: nearer the lower outer lip line and further
+    /// from the upper one (the lips' own curl makes "down the face" an unreliable guide this
+    /// close).
+    fn lowness(&self, p: Vec3) -> f32 {
+        distance_to_polyline(p, &self.outer_upper) - distance_to_polyline(p, &self.outer_lower)
+    }
+
+    /// The upper and lower inner lip chains of edges, kept apart ([`Graph::two_lines`]).
+    fn lines(&self, graph: &Graph, mesh: &Mesh, landmarks: &[u32]) -> Option<(Vec<u32>, Vec<u32>)> {
+        let contours = [
+            (&INNER_UPPER[..], &self.upper[..]),
+            (&INNER_LOWER[..], &self.lower[..]),
+        ];
+        graph.two_lines(mesh, GUIDE * self.width, landmarks, contours, |p| {
+            self.lowness(p)
         })
     }
 

@@ -10,9 +10,10 @@
 //! - **Stretch**: the largest ratio of a skin edge's deformed length to its rest length.
 //! - **Lid gap** (AU43 and AU45): the opening left between the upper and lower lid
 //!   landmarks (37/41, 38/40 on the subject's right eye, 43/47, 44/46 on the left), across
-//!   the eye (the part of their separation off the line through the eye's corners, so lids
-//!   that meet with their landmarks a little apart along the lid count as closed), as a
-//!   fraction of the rest opening; the largest pair counts. Where the lids' free edges seen
+//!   the eye as seen from the front (the part of their separation off the line through the
+//!   eye's corners and off the face's forward axis, so lids that meet with their landmarks
+//!   a little apart along the lid, or one lid a little in front of the other, count as
+//!   closed), as a fraction of the rest opening; the largest pair counts. Where the lids' free edges seen
 //!   from the front lie away from those landmarks (landmarks on the lid's back,
 //!   `super::lidedge`), the gap is what still shows between the lids in the landmarks'
 //!   columns instead: the share of the rest opening between the free edges where, looking
@@ -171,6 +172,9 @@ pub struct Gauge {
     mm_per_unit: f32,
     /// The face's down direction (from the nose bridge toward the chin), unit.
     down: Vec3,
+    /// The face's forward axis (across the eyes and down, crossed), unit: lids are looked at
+    /// along it.
+    forward: Vec3,
 }
 
 /// Why a mesh cannot be measured.
@@ -242,6 +246,7 @@ impl Gauge {
             sights,
             mm_per_unit,
             down,
+            forward: across.cross(down).normalize_or_zero(),
         })
     }
 
@@ -305,10 +310,14 @@ impl Gauge {
                 worst = worst.max(sight.left_open(positions) as f32);
                 continue;
             }
+            // Seen from the front: lids that meet with one a little in front of the other
+            // (an uneven mesh's lid landmarks lie up to a millimetre apart in depth) are
+            // closed to a viewer, as the free edges' sight measures them.
             let across = |p: &[Vec3], upper: usize, lower: usize| {
                 let along = (self.landmark(p, outer) - self.landmark(p, inner)).normalize_or_zero();
+                let forward = (self.forward - along * self.forward.dot(along)).normalize_or_zero();
                 let d = self.landmark(p, upper) - self.landmark(p, lower);
-                (d - along * d.dot(along)).length()
+                (d - along * d.dot(along) - forward * d.dot(forward)).length()
             };
             for &(upper, lower) in &LID_PAIRS[eye] {
                 let rest = across(&self.rest, upper, lower);
@@ -443,6 +452,36 @@ mod tests {
             },
         );
         assert!((open.jaw_drop_mm.unwrap() - 20.0).abs() < 1e-3, "{open:?}");
+    }
+
+    /// Lids looked at from the front: an upper lid landmark that comes down onto the lower
+    /// one's height but stays in front of it (an uneven mesh's lids lie up to a millimetre
+    /// apart in depth) is closed; one that stops halfway down leaves half the opening,
+    /// wherever it lies in depth.
+    #[test]
+    fn lids_that_meet_one_in_front_of_the_other_count_as_closed() {
+        let (mesh, landmarks) = grid(10);
+        let gauge = Gauge::new(&mesh, &landmarks, Some(10.0)).unwrap();
+        let expect = Expect {
+            lids_close: Some(Eyes::Both),
+            jaw_opens: false,
+        };
+        let at = |i: usize| mesh.positions[landmarks[i] as usize];
+        let moved = |share: f32| {
+            let mut p = mesh.positions.clone();
+            for pairs in &LID_PAIRS {
+                for &(upper, lower) in pairs {
+                    let down = at(lower) - at(upper);
+                    // a unit in front of the face (the grid lies in z = 0)
+                    p[landmarks[upper] as usize] = at(upper) + down * share + Vec3::Z;
+                }
+            }
+            p
+        };
+        let closed = gauge.measure(&moved(1.0), expect).lid_gap.unwrap();
+        assert!(closed < 1e-5, "{closed}");
+        let half = gauge.measure(&moved(0.5), expect).lid_gap.unwrap();
+        assert!((half - 0.5).abs() < 1e-5, "{half}");
     }
 
     #[test]

@@ -129,22 +129,23 @@ impl Graph {
     }
 
     /// The chain of edges through the landmarks `ids` (corner to corner), guided by their
-    /// polyline (a step `sigma` off it costs twice its length); `None` when a landmark cannot
-    /// be reached or the chain crosses itself.
+    /// polyline (a step `sigma` off it costs twice its length), through none of `avoid` but
+    /// its own landmarks; `None` when a landmark cannot be reached or the chain crosses
+    /// itself.
     pub(super) fn line(
         &self,
         mesh: &Mesh,
         sigma: f32,
         landmarks: &[u32],
-        ids: &[usize],
-        guide: &[Vec3],
+        (ids, guide): (&[usize], &[Vec3]),
+        avoid: &HashSet<u32>,
     ) -> Option<Vec<u32>> {
         let mut line = vec![landmarks[ids[0]]];
         for &i in &ids[1..] {
             let from = *line.last()?;
             let to = landmarks[i];
             if from != to {
-                let step = self.guided_path(mesh, sigma, from, to, guide)?;
+                let step = self.guided_path(mesh, sigma, (from, to), guide, avoid)?;
                 line.extend_from_slice(&step[1..]);
             }
         }
@@ -152,15 +153,67 @@ impl Graph {
         (unique.len() == line.len() && line.len() >= 3).then_some(line)
     }
 
+    /// The upper and lower chains of an opening (`contours`: each one's landmarks and
+    /// guide, corner to corner) kept apart: on an uneven mesh the shortest chain along one
+    /// lip may step onto a vertex of the other at a corner, and the two chains then share an
+    /// edge there (MediaPipe's face moved 0.3 mm: the upper chain took a lower lip vertex
+    /// beside the corner, the band between the chains leaked through the shared edge into
+    /// the lower lip, and the joined lips were not cut). A vertex on both chains but not a
+    /// landmark of both goes to the side `lowness` puts it on (above the opening where
+    /// negative), and the other chain is found again without it. Chains that are one row
+    /// (the same vertices) are kept as they are.
+    pub(super) fn two_lines(
+        &self,
+        mesh: &Mesh,
+        sigma: f32,
+        landmarks: &[u32],
+        contours: [(&[usize], &[Vec3]); 2],
+        lowness: impl Fn(Vec3) -> f32,
+    ) -> Option<(Vec<u32>, Vec<u32>)> {
+        let none = HashSet::new();
+        let upper = self.line(mesh, sigma, landmarks, contours[0], &none)?;
+        let lower = self.line(mesh, sigma, landmarks, contours[1], &none)?;
+        if upper == lower {
+            return Some((upper, lower));
+        }
+        let own = |ids: &[usize]| -> HashSet<u32> { ids.iter().map(|&i| landmarks[i]).collect() };
+        let (own_upper, own_lower) = (own(contours[0].0), own(contours[1].0));
+        let on_lower: HashSet<u32> = lower.iter().copied().collect();
+        let shared: Vec<u32> = upper
+            .iter()
+            .copied()
+            .filter(|v| on_lower.contains(v))
+            .filter(|v| !(own_upper.contains(v) && own_lower.contains(v)))
+            .collect();
+        if shared.is_empty() {
+            return Some((upper, lower));
+        }
+        let (lower_side, upper_side): (HashSet<u32>, HashSet<u32>) = shared
+            .iter()
+            .partition(|&&v| lowness(mesh.positions[v as usize]) > 0.0);
+        let upper = if lower_side.is_empty() {
+            upper
+        } else {
+            self.line(mesh, sigma, landmarks, contours[0], &lower_side)?
+        };
+        let lower = if upper_side.is_empty() {
+            lower
+        } else {
+            self.line(mesh, sigma, landmarks, contours[1], &upper_side)?
+        };
+        Some((upper, lower))
+    }
+
     /// Dijkstra's shortest path from `from` to `to` near the opening, each edge costing its
-    /// length times `1 + (d / sigma)^2`, `d` its middle's distance from `guide`.
+    /// length times `1 + (d / sigma)^2`, `d` its middle's distance from `guide`, through
+    /// none of `avoid` but `to`.
     fn guided_path(
         &self,
         mesh: &Mesh,
         sigma: f32,
-        from: u32,
-        to: u32,
+        (from, to): (u32, u32),
         guide: &[Vec3],
+        avoid: &HashSet<u32>,
     ) -> Option<Vec<u32>> {
         let mut best: HashMap<u32, (f64, u32)> = HashMap::from([(from, (0.0, from))]);
         let mut queue = BinaryHeap::from([(Reverse(Distance(0.0)), from)]);
@@ -172,7 +225,7 @@ impl Graph {
                 continue;
             }
             for &w in self.neighbours.get(&v).map_or(&[][..], Vec::as_slice) {
-                if !self.near[w as usize] {
+                if !self.near[w as usize] || (w != to && avoid.contains(&w)) {
                     continue;
                 }
                 let (a, b) = (mesh.positions[v as usize], mesh.positions[w as usize]);

@@ -98,26 +98,6 @@ fn makehuman_lashes_move_with_their_lid_edge() {
     );
 }
 
-/// `mesh` with every vertex moved by a seeded, roughly normal random offset of `sigma` in
-/// each coordinate: the unevenness of a scanned surface (the same every run).
-fn uneven(mesh: &Mesh, sigma: f32, seed: u64) -> Mesh {
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    let mut uniform = || {
-        // xorshift64*: enough for a test's noise
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f32 / (1u64 << 53) as f32
-    };
-    // the sum of four uniforms, scaled to unit variance: near enough to a normal's shape
-    let mut normal = || ((0..4).map(|_| uniform()).sum::<f32>() - 2.0) * 3.0f32.sqrt();
-    let mut out = mesh.clone();
-    for p in &mut out.positions {
-        *p += glam::Vec3::new(normal(), normal(), normal()) * sigma;
-    }
-    out
-}
-
 /// MakeHuman's base mesh made uneven by 0.1 and 0.2 mm (each coordinate, at an outer canthal
 /// distance of 90 mm; a scan's surface is never smooth to the lids' own rows, 0.5 mm
 /// apart) still closes its lids at AU45. The free edges the lids close to are found column
@@ -134,7 +114,7 @@ fn makehuman_with_uneven_skin_closes_its_lids() {
     let canthal = mesh.positions[marks[36] as usize].distance(mesh.positions[marks[45] as usize]);
     let mm = canthal / grimace::landmarks::CANTHAL_MM;
     for (sigma, seed) in [(0.1, 7), (0.2, 7), (0.2, 11), (0.3, 13)] {
-        let rough = uneven(&mesh, sigma * mm, seed);
+        let rough = crate::uneven(&mesh, sigma * mm, seed);
         let fitted = crate::fit_default(&rough, &landmarks);
         let bound = BoundRig::bind_with(&fitted.rig, &rough, SkinRules::DEFAULT).unwrap();
         let gauge = Gauge::new(&rough, &marks, None).unwrap();

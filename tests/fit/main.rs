@@ -151,3 +151,23 @@ fn positions_at_au(bound: &BoundRig, key: &str) -> Vec<Vec3> {
     bound.deform(&act, &mut out).unwrap();
     out
 }
+
+/// `mesh` with every vertex moved by a seeded, roughly normal random offset of `sigma` in
+/// each coordinate: the unevenness of a scanned surface (the same every run).
+fn uneven(mesh: &Mesh, sigma: f32, seed: u64) -> Mesh {
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut uniform = || {
+        // xorshift64*: enough for a test's noise
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f32 / (1u64 << 53) as f32
+    };
+    // the sum of four uniforms, scaled to unit variance: near enough to a normal's shape
+    let mut normal = || ((0..4).map(|_| uniform()).sum::<f32>() - 2.0) * 3.0f32.sqrt();
+    let mut out = mesh.clone();
+    for p in &mut out.positions {
+        *p += glam::Vec3::new(normal(), normal(), normal()) * sigma;
+    }
+    out
+}
