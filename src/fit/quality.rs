@@ -407,6 +407,15 @@ mod tests {
         (mesh, landmarks)
     }
 
+    /// The lid gap of `positions` measured by `gauge` with both eyes asked to close.
+    fn closing_gap(gauge: &Gauge, positions: &[Vec3]) -> f32 {
+        let expect = Expect {
+            lids_close: Some(Eyes::Both),
+            jaw_opens: false,
+        };
+        gauge.measure(positions, expect).lid_gap.unwrap()
+    }
+
     #[test]
     fn rest_is_whole_and_a_fold_and_a_stretch_are_seen() {
         let (mesh, landmarks) = grid(10);
@@ -462,10 +471,6 @@ mod tests {
     fn lids_that_meet_one_in_front_of_the_other_count_as_closed() {
         let (mesh, landmarks) = grid(10);
         let gauge = Gauge::new(&mesh, &landmarks, Some(10.0)).unwrap();
-        let expect = Expect {
-            lids_close: Some(Eyes::Both),
-            jaw_opens: false,
-        };
         let at = |i: usize| mesh.positions[landmarks[i] as usize];
         let moved = |share: f32| {
             let mut p = mesh.positions.clone();
@@ -478,9 +483,9 @@ mod tests {
             }
             p
         };
-        let closed = gauge.measure(&moved(1.0), expect).lid_gap.unwrap();
+        let closed = closing_gap(&gauge, &moved(1.0));
         assert!(closed < 1e-5, "{closed}");
-        let half = gauge.measure(&moved(0.5), expect).lid_gap.unwrap();
+        let half = closing_gap(&gauge, &moved(0.5));
         assert!((half - 0.5).abs() < 1e-5, "{half}");
     }
 
@@ -498,11 +503,7 @@ mod tests {
                 closed[landmarks[upper] as usize] = at(lower) + along * 0.5;
             }
         }
-        let expect = Expect {
-            lids_close: Some(Eyes::Both),
-            jaw_opens: false,
-        };
-        let gap = gauge.measure(&closed, expect).lid_gap.unwrap();
+        let gap = closing_gap(&gauge, &closed);
         assert!(gap < 1e-5, "{gap}");
     }
 }

@@ -111,10 +111,8 @@ fn makehuman_with_uneven_skin_closes_its_lids() {
         return;
     };
     let marks = landmarks.vertices(&mesh);
-    let canthal = mesh.positions[marks[36] as usize].distance(mesh.positions[marks[45] as usize]);
-    let mm = canthal / grimace::landmarks::CANTHAL_MM;
     for (sigma, seed) in [(0.1, 7), (0.2, 7), (0.2, 11), (0.3, 13)] {
-        let rough = crate::uneven(&mesh, sigma * mm, seed);
+        let rough = crate::uneven(&mesh, &marks, sigma, seed);
         let fitted = crate::fit_default(&rough, &landmarks);
         let bound = BoundRig::bind_with(&fitted.rig, &rough, SkinRules::DEFAULT).unwrap();
         let gauge = Gauge::new(&rough, &marks, None).unwrap();

@@ -329,12 +329,10 @@ fn uneven_mediapipe_lips_are_still_cut() {
         return;
     };
     let marks = landmarks.vertices(&mesh);
-    let canthal = mesh.positions[marks[36] as usize].distance(mesh.positions[marks[45] as usize]);
-    let mm = canthal / CANTHAL_MM;
     let smooth = joined(lipcut::find(&mesh, &marks));
     for seed in 1..=12 {
         for sigma in [0.2, 0.3] {
-            let rough = crate::uneven(&mesh, sigma * mm, seed);
+            let rough = crate::uneven(&mesh, &marks, sigma, seed);
             let cut = match lipcut::find(&rough, &marks) {
                 Lips::Joined(cut) => cut,
                 other => panic!("{sigma} mm, seed {seed}: {other:?}"),

@@ -152,9 +152,13 @@ fn positions_at_au(bound: &BoundRig, key: &str) -> Vec<Vec3> {
     out
 }
 
-/// `mesh` with every vertex moved by a seeded, roughly normal random offset of `sigma` in
-/// each coordinate: the unevenness of a scanned surface (the same every run).
-fn uneven(mesh: &Mesh, sigma: f32, seed: u64) -> Mesh {
+/// `mesh` with every vertex moved by a seeded, roughly normal random offset of `sigma_mm`
+/// in each coordinate (millimetres at the scale its 68 landmark vertices `marks` give,
+/// [`grimace::landmarks::mm_per_unit`]): the unevenness of a scanned surface (the same
+/// every run).
+fn uneven(mesh: &Mesh, marks: &[u32], sigma_mm: f32, seed: u64) -> Mesh {
+    let points: Vec<Vec3> = marks.iter().map(|&v| mesh.positions[v as usize]).collect();
+    let sigma = sigma_mm / grimace::landmarks::mm_per_unit(&points).unwrap();
     let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
     let mut uniform = || {
         // xorshift64*: enough for a test's noise
@@ -167,7 +171,7 @@ fn uneven(mesh: &Mesh, sigma: f32, seed: u64) -> Mesh {
     let mut normal = || ((0..4).map(|_| uniform()).sum::<f32>() - 2.0) * 3.0f32.sqrt();
     let mut out = mesh.clone();
     for p in &mut out.positions {
-        *p += glam::Vec3::new(normal(), normal(), normal()) * sigma;
+        *p += Vec3::new(normal(), normal(), normal()) * sigma;
     }
     out
 }
