@@ -165,12 +165,12 @@ fn find_one(mesh: &Mesh, landmarks: &[u32], upper_ids: &[usize], lower_ids: &[us
         return Lids::NotFound;
     };
     let graph = Graph::new(mesh, eye.centre, REACH * eye.width);
-    let sigma = GUIDE * eye.width;
-    let none = HashSet::new();
-    let (Some(upper), Some(lower)) = (
-        graph.line(mesh, sigma, landmarks, (upper_ids, &eye.upper), &none),
-        graph.line(mesh, sigma, landmarks, (lower_ids, &eye.lower), &none),
-    ) else {
+    let lowness =
+        |p: Vec3| distance_to_polyline(p, &eye.upper) - distance_to_polyline(p, &eye.lower);
+    let contours = [(upper_ids, &eye.upper[..]), (lower_ids, &eye.lower[..])];
+    let Some((upper, lower)) =
+        graph.two_lines(mesh, GUIDE * eye.width, landmarks, contours, lowness)
+    else {
         return Lids::NotFound;
     };
     if upper == lower {
@@ -179,8 +179,6 @@ fn find_one(mesh: &Mesh, landmarks: &[u32], upper_ids: &[usize], lower_ids: &[us
     // the triangles just inside the upper margin (not on the lower one too), the lower lid's
     // side of it
     let lower_edges: HashSet<[u32; 2]> = lower.windows(2).map(|p| key(p[0], p[1])).collect();
-    let lowness =
-        |p: Vec3| distance_to_polyline(p, &eye.upper) - distance_to_polyline(p, &eye.lower);
     let seeds = graph.below(mesh, (&upper, &lower_edges), lowness, DECISIVE);
     if seeds.is_empty() {
         return Lids::Open;
