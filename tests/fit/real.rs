@@ -10,6 +10,7 @@ use std::f32::consts::FRAC_PI_2;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
+use grimace::fit::quality::{Expect, Eyes, Gauge};
 use grimace::fit::{Fitted, Part};
 use grimace::io::obj;
 use grimace::landmarks::{FaceFrame, Landmarks};
@@ -61,10 +62,21 @@ fn check_aus(mesh: &Mesh, fitted: &Fitted, v: &[u32]) {
     let gap = up(at(&open, 62) - at(&open, 66));
     assert!(gap > 0.03, "AU 26: lips part by {gap:.3}");
     // AU 45: upper lids come down, lower lids do not, and the lid landmarks come at least
-    // 0.35 of their opening together. The lids meet at their free edges (the lid gap there
-    // is `tests/fit/lids.rs`'s); MakeHuman's lid landmarks lie on the lid's back, 4 to 5 mm
-    // beyond them, and come 0.39 to 0.47 of their opening together when the lids meet.
+    // 0.35 of their opening together, and the lids close: under 10% of the opening shows
+    // between them as `grimace check` measures it (at the free edges where the landmarks are
+    // not on them). MakeHuman's lid landmarks lie on the lid's back, 4 to 5 mm beyond the
+    // free edges, and come 0.39 to 0.47 of their opening together when the lids meet.
     let blink = au(&bound, "45");
+    let gauge = Gauge::new(mesh, v, None).unwrap();
+    let closing = Expect {
+        lids_close: Some(Eyes::Both),
+        jaw_opens: false,
+    };
+    let gap = gauge
+        .measure(&crate::positions_at_au(&bound, "45"), closing)
+        .lid_gap
+        .unwrap();
+    assert!(gap < 0.10, "AU 45: the lids leave {gap:.3} of the opening");
     for (upper, lower) in [(37, 41), (38, 40), (43, 47), (44, 46)] {
         let (u, l) = (up(at(&blink, upper)), up(at(&blink, lower)));
         let opening = up(points[upper].as_dvec3() - points[lower].as_dvec3());
