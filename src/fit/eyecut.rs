@@ -26,7 +26,7 @@ use std::f32::consts::FRAC_PI_2;
 
 use glam::Vec3;
 
-use super::seam::{distance_to_polyline, key, Graph};
+use super::seam::{distance_to_polyline, grown_from_each, key, Graph};
 use crate::landmarks::{
     FaceFrame, COUNT, LEFT_EYE_LOWER, LEFT_EYE_UPPER, RIGHT_EYE_LOWER, RIGHT_EYE_UPPER,
 };
@@ -183,37 +183,12 @@ fn find_one(mesh: &Mesh, landmarks: &[u32], upper_ids: &[usize], lower_ids: &[us
     if seeds.is_empty() {
         return Lids::Open;
     }
-    match covering_band(mesh, &graph, &eye, &seeds, (&upper, &lower)) {
+    match grown_from_each(&seeds, |seed| {
+        band(mesh, &graph, &eye, seed, &upper, &lower)
+    }) {
         Some(band) => Lids::Covered(Cover { upper, lower, band }),
         None => Lids::Apart,
     }
-}
-
-/// The band across the opening: the triangles grown from each of `seeds` whose growth stays
-/// in the slit and off the mesh's edges (where the margins touch between the corners, one
-/// piece on each side), or `None` when no seed's does. Seeds are grown one by one because on
-/// an uneven lid a margin edge can tilt enough that its lower-looking triangle lies on the
-/// lid itself: grown together with the right seeds, that one spread the band over the face
-/// and a covered eye was taken for a fold (MediaPipe's face cut in sixteen, moved 0.1 mm).
-fn covering_band(
-    mesh: &Mesh,
-    graph: &Graph,
-    eye: &Eye,
-    seeds: &[usize],
-    (upper, lower): (&[u32], &[u32]),
-) -> Option<Vec<usize>> {
-    let mut covering: Vec<usize> = vec![];
-    for &seed in seeds {
-        if covering.binary_search(&seed).is_ok() {
-            continue;
-        }
-        if let Some(piece) = band(mesh, graph, eye, &[seed], upper, lower) {
-            covering.extend(piece);
-            covering.sort_unstable();
-            covering.dedup();
-        }
-    }
-    (!covering.is_empty()).then_some(covering)
 }
 
 /// The eye as its lid landmarks place it.
@@ -260,14 +235,14 @@ impl Eye {
     }
 }
 
-/// The band grown from `seeds` without crossing either margin; `None` when it leaves the
-/// slit between the lid landmarks or reaches an edge of the mesh (a hole: the skin is a lid's
-/// own fold, not a cover).
+/// The band grown from `seed` (a triangle just inside the upper margin) without crossing
+/// either margin, sorted; `None` when it leaves the slit between the lid landmarks or reaches
+/// an edge of the mesh (a hole: the skin is a lid's own fold, not a cover).
 fn band(
     mesh: &Mesh,
     graph: &Graph,
     eye: &Eye,
-    seeds: &[usize],
+    seed: usize,
     upper: &[u32],
     lower: &[u32],
 ) -> Option<Vec<usize>> {
@@ -277,8 +252,8 @@ fn band(
         .map(|p| key(p[0], p[1]))
         .collect();
     let on_margin: HashSet<u32> = upper.iter().chain(lower).copied().collect();
-    let mut seen: HashSet<usize> = seeds.iter().copied().collect();
-    let mut stack = seeds.to_vec();
+    let mut seen: HashSet<usize> = HashSet::from([seed]);
+    let mut stack = vec![seed];
     while let Some(t) = stack.pop() {
         let tri = mesh.triangles[t];
         let in_slit = tri

@@ -24,7 +24,7 @@ use glam::Vec3;
 
 use super::eyecut::{EyeCut, Lids};
 use super::pocket::Pocket;
-use super::seam::{distance_to_polyline, key, Graph};
+use super::seam::{distance_to_polyline, grown_from_each, key, Graph};
 use crate::landmarks::{COUNT, INNER_LOWER, INNER_UPPER};
 use crate::model::{Mesh, Rig};
 
@@ -135,13 +135,33 @@ pub fn find(mesh: &Mesh, landmarks: &[u32]) -> Lips {
     if below.is_empty() {
         return Lips::Open;
     }
-    let band = if upper == lower {
-        0
+    let (band, below) = if upper == lower {
+        (0, below)
     } else {
-        match graph.band(mesh, &mouth, &below, &upper, &lower) {
-            Some(band) => band,
-            None => return Lips::Separate,
-        }
+        let grown = grown_from_each(&below, |seed| {
+            graph.band(mesh, &mouth, seed, &upper, &lower)
+        });
+        let Some(band) = grown else {
+            return Lips::Separate;
+        };
+        // the cut takes, on each edge of the line, its triangle in the band (the
+        // lower-looking one if both are): an edge tilted so that its lower-looking triangle
+        // lies on the upper lip would cut that lip
+        let in_band: Vec<usize> = upper
+            .windows(2)
+            .filter_map(|p| {
+                let mut tris = graph
+                    .across(&key(p[0], p[1]))
+                    .iter()
+                    .filter(|t| band.binary_search(t).is_ok());
+                match (tris.next(), tris.next()) {
+                    (Some(&t), None) => Some(t),
+                    (Some(&t), Some(&u)) => Some(if below.contains(&u) { u } else { t }),
+                    _ => None,
+                }
+            })
+            .collect();
+        (band.len(), in_band)
     };
     let cut = graph.cut(mesh, &upper, &below);
     if cut.copies.is_empty() {
@@ -403,25 +423,26 @@ impl Mouth {
 }
 
 impl Graph {
-    /// The band of triangles between the upper and lower chains, grown from the triangles
-    /// just below the upper one without crossing either chain; `None` when it leaves the
-    /// slit between the inner lip landmarks (the skin below is not a band across the lips).
+    /// The band of triangles between the upper and lower chains, grown from `seed` (a
+    /// triangle just below the upper one) without crossing either chain, sorted; `None` when
+    /// it leaves the slit between the inner lip landmarks (the skin below is not a band
+    /// across the lips).
     fn band(
         &self,
         mesh: &Mesh,
         mouth: &Mouth,
-        seeds: &[usize],
+        seed: usize,
         upper: &[u32],
         lower: &[u32],
-    ) -> Option<usize> {
+    ) -> Option<Vec<usize>> {
         let walls: HashSet<[u32; 2]> = upper
             .windows(2)
             .chain(lower.windows(2))
             .map(|p| key(p[0], p[1]))
             .collect();
         let on_chain: HashSet<u32> = upper.iter().chain(lower).copied().collect();
-        let mut seen: HashSet<usize> = seeds.iter().copied().collect();
-        let mut stack = seeds.to_vec();
+        let mut seen: HashSet<usize> = HashSet::from([seed]);
+        let mut stack = vec![seed];
         while let Some(t) = stack.pop() {
             let tri = mesh.triangles[t];
             let inside = tri.iter().all(|&v| {
@@ -443,7 +464,9 @@ impl Graph {
                 }
             }
         }
-        Some(seen.len())
+        let mut band: Vec<usize> = seen.into_iter().collect();
+        band.sort_unstable();
+        Some(band)
     }
 
     /// Duplicates each inner vertex of the line whose triangles split into a part above the

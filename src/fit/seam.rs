@@ -38,6 +38,32 @@ pub(super) fn nearest_segment(p: Vec3, line: &[Vec3]) -> (f32, Vec3) {
         })
 }
 
+/// The skin between an opening's two lines: the union of what `grow` grows from each of
+/// `seeds` (the triangles just inside the upper line, [`Graph::below`]) where it succeeds,
+/// sorted; `None` when it succeeds from none. Seeds are grown one at a time because on an
+/// uneven surface a line's edge can tilt enough that its lower-looking triangle lies on the
+/// upper lip or lid itself: grown together with the right seeds, that one spread the skin
+/// over the face and a covered eye or joined lips were taken for an opening (`docs/fitting.md`,
+/// "Uneven lips"). Every right seed grows the same skin on a smooth opening; where the lines
+/// touch between the corners, the pieces on either side are each grown from their own seeds.
+pub(super) fn grown_from_each(
+    seeds: &[usize],
+    mut grow: impl FnMut(usize) -> Option<Vec<usize>>,
+) -> Option<Vec<usize>> {
+    let mut skin: Vec<usize> = vec![];
+    for &seed in seeds {
+        if skin.binary_search(&seed).is_ok() {
+            continue;
+        }
+        if let Some(piece) = grow(seed) {
+            skin.extend(piece);
+            skin.sort_unstable();
+            skin.dedup();
+        }
+    }
+    (!skin.is_empty()).then_some(skin)
+}
+
 /// The mesh around an opening (the mouth, an eye): neighbours and the triangles on each edge
 /// and vertex, of the triangles with a corner near it.
 pub(super) struct Graph {

@@ -322,7 +322,10 @@ fn fit_rig_writes_the_opened_mesh_beside_the_rig_and_names_it() {
 /// chains along the two lips were kept apart, on 12 of these 24 draws the upper chain
 /// stepped onto a lower lip vertex beside a corner, the band leaked through the edge the
 /// chains then shared, and the lips were taken for separate surfaces: not cut, so AU27
-/// stretched the skin between them 6.6x.
+/// stretched the skin between them 6.6x. Moved 0.5 mm the lips are still cut on every draw:
+/// before the band was grown from one triangle just below the line at a time, on 2 of these
+/// 12 a tilted edge's lower-looking triangle lay on the upper lip and spread the band out of
+/// the slit.
 #[test]
 fn uneven_mediapipe_lips_are_still_cut() {
     let Some((_, mesh, landmarks)) = crate::shared_mediapipe() else {
@@ -331,15 +334,19 @@ fn uneven_mediapipe_lips_are_still_cut() {
     let marks = landmarks.vertices(&mesh);
     let smooth = joined(lipcut::find(&mesh, &marks));
     for seed in 1..=12 {
-        for sigma in [0.2, 0.3] {
+        for sigma in [0.2, 0.3, 0.5] {
             let rough = crate::uneven(&mesh, &marks, sigma, seed);
             let cut = match lipcut::find(&rough, &marks) {
                 Lips::Joined(cut) => cut,
                 other => panic!("{sigma} mm, seed {seed}: {other:?}"),
             };
             // the same line and band as on the smooth face: the mesh's edges did not change
-            assert_eq!(cut.line, smooth.line, "{sigma} mm, seed {seed}");
-            assert_eq!(cut.band, smooth.band, "{sigma} mm, seed {seed}");
+            // (at 0.5 mm, half a millimetre against 6.6 mm edges, one draw's line takes
+            // another vertex beside a corner)
+            if sigma < 0.5 {
+                assert_eq!(cut.line, smooth.line, "{sigma} mm, seed {seed}");
+                assert_eq!(cut.band, smooth.band, "{sigma} mm, seed {seed}");
+            }
         }
     }
 }
