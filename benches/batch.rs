@@ -21,6 +21,7 @@ use glam::Vec3;
 use grimace::batch::items::sha256_hex;
 use grimace::batch::{Batch, Face, Plan};
 use grimace::fit::{fit_rig, PartOverrides, Template};
+use grimace::io::obj::MovedObj;
 use grimace::io::{builtin, LoadedRig};
 use grimace::landmarks::Landmarks;
 use grimace::model::{BoundRig, Mesh, Rig};
@@ -89,6 +90,7 @@ fn face(rig: Rig, mesh: Mesh) -> Face {
         table: builtin::default_table(),
         rig: LoadedRig::new(rig, mesh, PathBuf::from("bench"), None),
         metres_per_unit: 0.001,
+        obj: MovedObj::default(),
     }
 }
 

@@ -20,7 +20,7 @@ use super::BatchError;
 use crate::facs::AuTable;
 use crate::io::atomic::{replace_unsynced, write_atomic_no_backup};
 use crate::io::gltf::{write_glb, Placement};
-use crate::io::obj::write_obj;
+use crate::io::obj::MovedObj;
 use crate::io::LoadedRig;
 use crate::model::BoundRig;
 use crate::render::{
@@ -40,6 +40,8 @@ pub struct Face {
     pub framing: Framing,
     /// Metres per mesh unit for glTF output.
     pub metres_per_unit: f32,
+    /// How its OBJ output is written (over the mesh file's own text).
+    pub obj: MovedObj,
 }
 
 /// A plan with its faces, expanded into items.
@@ -196,7 +198,7 @@ impl Batch {
                 grid.fill(&canvas, CellMode::Braille, ColorMode::None);
                 to_text(&grid).into_bytes()
             }
-            Output::Obj => write_obj(mesh, positions).into_bytes(),
+            Output::Obj => face.obj.write(mesh, positions).into_bytes(),
             Output::Glb => {
                 let mut posed = mesh.clone();
                 posed.positions = positions.to_vec();

@@ -15,6 +15,7 @@ use clap::{Args, Subcommand};
 
 use super::export::{self, SourceArgs};
 use crate::batch::{Batch, Face, Plan, Progress, RunOptions, Shard};
+use crate::io::obj::MovedObj;
 use crate::io::LoadError;
 use crate::model::Deformation;
 
@@ -167,6 +168,7 @@ fn load_faces(plan: &Plan, deformation: Deformation) -> Result<Vec<Face>, LoadEr
         // a millimetre per unit.
         let mm = crate::io::builtin::mm_per_unit(&sources.rig.mesh).unwrap_or(1.0);
         faces.push(Face {
+            obj: MovedObj::new(sources.rig.mesh_path.as_deref(), &sources.rig.mesh),
             framing: super::framing(&sources.rig, None),
             rig: sources.rig,
             table,

@@ -300,7 +300,8 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
         .as_ref()
         .ok_or_else(|| anyhow!("give --out FILE.obj or --gltf FILE.glb"))?;
     sources.inputs().check_output(out)?;
-    obj::save_obj(out, &sources.rig.mesh, &positions)?;
+    let mesh = &sources.rig.mesh;
+    obj::MovedObj::new(sources.rig.mesh_path.as_deref(), mesh).save(out, mesh, &positions)?;
     Ok(())
 }
 

@@ -306,6 +306,99 @@ pub fn write_obj(mesh: &Mesh, positions: &[Vec3]) -> String {
     out
 }
 
+/// `text`, an OBJ file's own text, with its vertices moved to `positions` (the `n`th `v`
+/// line to `positions[n]`) and everything else the file holds kept: texture coordinates,
+/// groups, objects, materials, comments, face order. Vertex normals (`vn` lines and the
+/// normal index of each face corner) are left out, as they describe the rest surface and a
+/// viewer computes them from the moved one. A `v` line keeps what follows its three
+/// coordinates (a `w`, vertex colours). `None` when the file has another number of `v` lines
+/// than `positions` (it is not the mesh they move).
+pub fn with_positions(text: &str, positions: &[Vec3]) -> Option<String> {
+    let mut out = String::with_capacity(text.len() + text.len() / 4);
+    let mut next = positions.iter();
+    for piece in text.split_inclusive('\n') {
+        let body = piece.trim_end_matches(['\n', '\r']);
+        let ending = &piece[body.len()..];
+        let (content, comment) = match body.find('#') {
+            Some(i) => body.split_at(i),
+            None => (body, ""),
+        };
+        let mut words = content.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let p = next.next()?;
+                let rest: Vec<&str> = words.skip(3).collect();
+                out.push_str(&format!("v {} {} {}", p.x, p.y, p.z));
+                for word in rest {
+                    out.push(' ');
+                    out.push_str(word);
+                }
+                if !comment.is_empty() {
+                    out.push(' ');
+                    out.push_str(comment);
+                }
+                out.push_str(ending);
+            }
+            Some("vn") => {}
+            Some("f") => {
+                out.push('f');
+                for corner in words {
+                    // `v/t/n` -> `v/t`, `v//n` -> `v`: the normal index goes with the `vn` lines
+                    let mut parts = corner.splitn(3, '/');
+                    let vertex = parts.next().unwrap_or("");
+                    out.push(' ');
+                    out.push_str(vertex);
+                    if let Some(texture) = parts.next().filter(|t| !t.is_empty()) {
+                        out.push('/');
+                        out.push_str(texture);
+                    }
+                }
+                if !comment.is_empty() {
+                    out.push(' ');
+                    out.push_str(comment);
+                }
+                out.push_str(ending);
+            }
+            _ => out.push_str(piece),
+        }
+    }
+    next.next().is_none().then_some(out)
+}
+
+/// Writes moved copies of one mesh as OBJ text (`export`, `batch`): over the text of the
+/// file the mesh was read from when there is one, so its texture coordinates, groups and
+/// materials stay ([`with_positions`]); plain ([`write_obj`]) for a built-in mesh, or when
+/// that file can no longer be read or no longer holds the mesh's vertices.
+#[derive(Debug, Clone, Default)]
+pub struct MovedObj {
+    /// The mesh file's text, kept when it holds one `v` line per vertex.
+    source: Option<String>,
+}
+
+impl MovedObj {
+    /// The writer for `mesh`, read from `path` (`None`: a built-in mesh).
+    pub fn new(path: Option<&Path>, mesh: &Mesh) -> MovedObj {
+        let source = path
+            .and_then(|p| read_text(p, MAX_FILE_BYTES).ok())
+            .filter(|text| with_positions(text, &mesh.positions).is_some());
+        MovedObj { source }
+    }
+
+    /// The OBJ text of `mesh` with its vertices at `positions` (one per vertex).
+    pub fn write(&self, mesh: &Mesh, positions: &[Vec3]) -> String {
+        self.source
+            .as_deref()
+            .and_then(|text| with_positions(text, positions))
+            .unwrap_or_else(|| write_obj(mesh, positions))
+    }
+
+    /// [`MovedObj::write`] to `path`, atomically as [`save_obj`].
+    pub fn save(&self, path: &Path, mesh: &Mesh, positions: &[Vec3]) -> Result<(), SaveError> {
+        atomic::write_atomic(path, self.write(mesh, positions).as_bytes())
+            .map_err(|e| SaveError::io(path, &e))
+    }
+}
+
 /// Writes an OBJ file atomically, keeping a replaced file as `FILE~` (it may be a mesh the
 /// user cannot make again; see [`atomic::write_atomic`]).
 pub fn save_obj(path: &Path, mesh: &Mesh, positions: &[Vec3]) -> Result<(), SaveError> {
@@ -422,6 +515,31 @@ mod tests {
     fn forward_references_are_allowed() {
         let mesh = parse("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
         assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+    }
+
+    #[test]
+    fn with_positions_moves_the_vertices_and_keeps_the_rest_of_the_file() {
+        let text = "# head\r\nmtllib h.mtl\r\no head\r\nv 0 0 0 # first\r\nv 1 0 0 0.5 0.5 0.5\r\nv 0 1 0\r\nv 1 1 0\r\nvt 0 0\r\nvn 0 0 1\r\ng skin\r\nusemtl face\r\ns 1\r\nf 1/1/1 2/1/1 3/1/1\r\ng teeth\r\nf 2//1 4//1 3//1\r\nf -3 -1 -2\r\n";
+        let source = parse(text).unwrap();
+        let moved: Vec<Vec3> = source
+            .positions
+            .iter()
+            .map(|p| *p + Vec3::new(0.25, -0.5, 2.0))
+            .collect();
+        let written = with_positions(text, &moved).unwrap();
+        assert_eq!(
+            written,
+            "# head\r\nmtllib h.mtl\r\no head\r\nv 0.25 -0.5 2 # first\r\nv 1.25 -0.5 2 0.5 0.5 0.5\r\nv 0.25 0.5 2\r\nv 1.25 0.5 2\r\nvt 0 0\r\ng skin\r\nusemtl face\r\ns 1\r\nf 1/1 2/1 3/1\r\ng teeth\r\nf 2 4 3\r\nf -3 -1 -2\r\n"
+        );
+        let back = parse(&written).unwrap();
+        assert_eq!(back.positions, moved);
+        assert_eq!(back.triangles, source.triangles);
+        assert_eq!(back.groups, source.groups);
+        // not the file of these positions
+        assert_eq!(with_positions(text, &moved[..3]), None);
+        let mut more = moved.clone();
+        more.push(Vec3::ZERO);
+        assert_eq!(with_positions(text, &more), None);
     }
 
     #[test]

@@ -107,3 +107,74 @@ fn assert_same_batch(a: &Path, b: &Path) {
     }
     assert!(fa.iter().any(|f| f == Path::new("labels.csv")));
 }
+
+/// A face whose rig names a mesh file writes its OBJ stimuli over that file (its groups,
+/// materials and texture coordinates kept, `io::obj::MovedObj`), as `export` does: a
+/// textured head's stimuli stay textured.
+#[test]
+fn obj_stimuli_of_a_mesh_file_keep_its_groups_and_materials() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let root = dir.path();
+    let ok = |out: Output| assert!(out.status.success(), "{}", stderr(&out));
+    ok(common::grimace_in(root, &["export", "--out", "plain.obj"]));
+    let plain = std::fs::read_to_string(root.join("plain.obj")).expect("plain.obj");
+    let first_face = plain.find("\nf ").expect("faces") + 1;
+    // every corner `v/1/1`: a texture coordinate and a normal
+    let faces: String = plain[first_face..]
+        .lines()
+        .map(|l| {
+            l.split_whitespace()
+                .skip(1)
+                .map(|v| format!(" {v}/1/1"))
+                .collect::<String>()
+        })
+        .map(|corners| format!("f{corners}\n"))
+        .collect();
+    let head = format!(
+        "{}vt 0 0\nvn 0 0 1\ng face\nusemtl skin\n{faces}",
+        &plain[..first_face]
+    );
+    std::fs::write(root.join("head.obj"), head).expect("head.obj");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/default.landmarks.ron"),
+        root.join("head.landmarks.ron"),
+    )
+    .expect("landmarks");
+    let fit = [
+        "fit-rig",
+        "head.obj",
+        "--landmarks",
+        "head.landmarks.ron",
+        "--out",
+        "head.rig.ron",
+    ];
+    ok(common::grimace_in(root, &fit));
+    let plan = plan(
+        root,
+        r#"(
+    version: 1,
+    faces: [(name: "head", rig: "head.rig.ron", table: "builtin:default")],
+    show: [Aus(["12"])],
+    intensities: ["E"],
+    outputs: [Obj],
+)"#,
+    );
+    let out = root.join("out");
+    ok(run(&[plan.as_os_str(), "--out".as_ref(), out.as_os_str()]));
+    let objs: Vec<PathBuf> = files_under(&out)
+        .into_iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    assert!(!objs.is_empty(), "{:?}", files_under(&out));
+    for path in objs {
+        let text = std::fs::read_to_string(out.join(&path)).expect("stimulus");
+        assert!(text.lines().any(|l| l == "usemtl skin"), "{path:?}");
+        assert!(text.lines().any(|l| l == "vt 0 0"), "{path:?}");
+        assert!(!text.lines().any(|l| l.starts_with("vn ")), "{path:?}");
+        assert!(
+            text.lines()
+                .any(|l| l.starts_with("f ") && l.ends_with("/1")),
+            "{path:?}"
+        );
+    }
+}
