@@ -463,6 +463,7 @@ fn opened_obj(text: &str, (cut, welded): (&LipCut, bool), source: &Path) -> Stri
         );
     }
     let (mut defined, mut triangle) = (0usize, 0usize);
+    let mut naming = EyeNaming::default();
     for (number, piece) in text.split_inclusive('\n').enumerate() {
         let line = piece.trim_end_matches(['\n', '\r']);
         let mut words = line.split('#').next().unwrap_or("").split_whitespace();
@@ -473,9 +474,15 @@ fn opened_obj(text: &str, (cut, welded): (&LipCut, bool), source: &Path) -> Stri
             }
             Some("f") => {
                 let corners: Vec<&str> = words.collect();
+                let count = corners.len().saturating_sub(2);
+                naming.before_face(&mut out, in_eye(cut, triangle..triangle + count));
                 out.push_str(&opened_face(&corners, defined, cut, triangle));
                 out.push_str(&piece[line.len()..]);
-                triangle += corners.len().saturating_sub(2);
+                triangle += count;
+            }
+            Some(keyword @ ("o" | "g" | "usemtl")) => {
+                naming.before_name(&mut out, keyword, piece);
+                out.push_str(piece);
             }
             _ => out.push_str(piece),
         }
@@ -489,6 +496,68 @@ fn opened_obj(text: &str, (cut, welded): (&LipCut, bool), source: &Path) -> Stri
     push_pocket(&mut out, cut);
     push_eyes(&mut out, cut);
     out
+}
+
+/// Whether the triangles `range` of the opened mesh are a covered eye's band, set back onto
+/// the eye's copies (every corner one of the eyes' vertices).
+fn in_eye(cut: &LipCut, range: std::ops::Range<usize>) -> bool {
+    let Some(eyes) = &cut.eyes else {
+        return false;
+    };
+    !range.is_empty()
+        && cut.mesh.triangles[range]
+            .iter()
+            .all(|t| t.iter().all(|&v| v >= eyes.first))
+}
+
+/// Puts a covered eye's band faces, written where they were in the file, in the object, group
+/// and material `eye_interior` with the domes, and gives the faces after them the names the
+/// file had given them. A group of an OBJ is the vertices of its faces: named only on the
+/// domes, the band's inner copies (on any mesh finer than the lids' two margins) read back
+/// as no part of the eye, were drawn as skin over it and hid its painted iris.
+#[derive(Default)]
+struct EyeNaming {
+    /// The file's last `o`, `g` and `usemtl` lines (the whole line), in that order.
+    names: [Option<String>; 3],
+    /// Whether the faces written last were a band's, under `eye_interior`.
+    in_eye: bool,
+}
+
+impl EyeNaming {
+    const KEYWORDS: [&'static str; 3] = ["o", "g", "usemtl"];
+
+    /// Before a face: switches to `eye_interior` for a band face, back to the file's names
+    /// after one.
+    fn before_face(&mut self, out: &mut String, band: bool) {
+        if band == self.in_eye {
+            return;
+        }
+        if !out.ends_with('\n') {
+            out.push('\n');
+        }
+        if band {
+            let name = eyecut::GROUP;
+            let _ = writeln!(out, "o {name}\ng {name}\nusemtl {name}");
+        } else {
+            for (keyword, line) in Self::KEYWORDS.iter().zip(&self.names) {
+                match line {
+                    Some(line) => out.push_str(line.trim_end_matches(['\n', '\r'])),
+                    None => out.push_str(keyword),
+                }
+                out.push('\n');
+            }
+        }
+        self.in_eye = band;
+    }
+
+    /// Before an `o`, `g` or `usemtl` line of the file (`piece`): the file's names come back
+    /// first if a band's faces were written last, then this line is the file's own.
+    fn before_name(&mut self, out: &mut String, keyword: &str, piece: &str) {
+        self.before_face(out, false);
+        if let Some(k) = Self::KEYWORDS.iter().position(|&w| w == keyword) {
+            self.names[k] = Some(piece.to_string());
+        }
+    }
 }
 
 /// The mouth pocket's vertices (after the copies) and triangles (at the end of the file, in
@@ -815,6 +884,44 @@ mod tests {
     /// A quad whose diagonal is the cut: its two triangles lie on both sides, so the face is
     /// written as its triangles; the copy goes after the last vertex, texture coordinates
     /// stay, and a negative index becomes absolute.
+    #[test]
+    fn opened_obj_names_a_covered_eyes_band_and_gives_the_faces_after_it_their_names() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\ng skin\nusemtl face\nf 1 2 3\nf 1 3 4\nf 2 5 3\n";
+        let source = obj::parse_obj(text, Path::new("e.obj")).unwrap();
+        let mut mesh = source.clone();
+        // the second face is the band: set back onto copies of its corners
+        for v in [0, 2, 3] {
+            mesh.positions.push(source.positions[v] - Vec3::Z);
+        }
+        mesh.triangles[1] = [5, 6, 7];
+        let cut = LipCut {
+            mesh,
+            copies: vec![],
+            line: vec![],
+            band: 0,
+            landmarks: vec![],
+            pocket: None,
+            eyes: Some(Box::new(eyecut::EyeCut {
+                found: [Lids::NotFound, Lids::NotFound],
+                first: 5,
+                triangles: 0,
+                copies: vec![0, 2, 3],
+            })),
+        };
+        let written = opened_obj(text, (&cut, false), Path::new("e.obj"));
+        assert!(
+            written.contains("f 1 2 3\no eye_interior\ng eye_interior\nusemtl eye_interior\nf 6 7 8\no\ng skin\nusemtl face\nf 2 5 3\n"),
+            "{written}"
+        );
+        let back = obj::parse_obj(&written, Path::new("o.obj")).unwrap();
+        assert_eq!(back.triangles, cut.mesh.triangles);
+        // every copy is the eye's, none of the skin's
+        assert_eq!(back.groups[eyecut::GROUP], vec![5, 6, 7]);
+        assert_eq!(back.groups["material:eye_interior"], vec![5, 6, 7]);
+        assert_eq!(back.groups["skin"], vec![0, 1, 2, 4]);
+        assert_eq!(back.groups["material:face"], vec![0, 1, 2, 4]);
+    }
+
     #[test]
     fn opened_obj_keeps_the_file_and_splits_a_face_across_the_cut() {
         let text = "# a quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nusemtl skin\nf 1/1 2/1 3/1 -1/1\n";
