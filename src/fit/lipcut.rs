@@ -144,24 +144,7 @@ pub fn find(mesh: &Mesh, landmarks: &[u32]) -> Lips {
         let Some(band) = grown else {
             return Lips::Separate;
         };
-        // the cut takes, on each edge of the line, its triangle in the band (the
-        // lower-looking one if both are): an edge tilted so that its lower-looking triangle
-        // lies on the upper lip would cut that lip
-        let in_band: Vec<usize> = upper
-            .windows(2)
-            .filter_map(|p| {
-                let mut tris = graph
-                    .across(&key(p[0], p[1]))
-                    .iter()
-                    .filter(|t| band.binary_search(t).is_ok());
-                match (tris.next(), tris.next()) {
-                    (Some(&t), None) => Some(t),
-                    (Some(&t), Some(&u)) => Some(if below.contains(&u) { u } else { t }),
-                    _ => None,
-                }
-            })
-            .collect();
-        (band.len(), in_band)
+        (band.len(), graph.below_in_band(&upper, &band, &below))
     };
     let cut = graph.cut(mesh, &upper, &below);
     if cut.copies.is_empty() {
@@ -423,6 +406,25 @@ impl Mouth {
 }
 
 impl Graph {
+    /// On each edge of `line`, its triangle in `band` (sorted), the one of `below` where both
+    /// are: what the cut splits the line's vertices by. An edge tilted so that its
+    /// lower-looking triangle (in `below`) lies on the upper lip would otherwise cut that lip.
+    fn below_in_band(&self, line: &[u32], band: &[usize], below: &[usize]) -> Vec<usize> {
+        line.windows(2)
+            .filter_map(|p| {
+                let mut tris = self
+                    .across(&key(p[0], p[1]))
+                    .iter()
+                    .filter(|t| band.binary_search(t).is_ok());
+                match (tris.next(), tris.next()) {
+                    (Some(&t), None) => Some(t),
+                    (Some(&t), Some(&u)) => Some(if below.contains(&u) { u } else { t }),
+                    _ => None,
+                }
+            })
+            .collect()
+    }
+
     /// The band of triangles between the upper and lower chains, grown from `seed` (a
     /// triangle just below the upper one) without crossing either chain, sorted; `None` when
     /// it leaves the slit between the inner lip landmarks (the skin below is not a band
