@@ -166,3 +166,43 @@ pub fn render_every_view(
         }
     }
 }
+
+/// The built-in face written in `dir` as a textured OBJ a user might bring (`head.obj`: a
+/// `mtllib`, an object, three texture coordinates and a normal, every face corner
+/// `v/vt/vn` under `g face` and `usemtl skin`), with its landmarks beside it, and fitted by
+/// `grimace fit-rig` into `head.rig.ron`. Panics with `fit-rig`'s output when it fails.
+pub fn fit_textured_head(dir: &Path) {
+    let mesh = grimace::io::builtin::default_mesh();
+    let mut text = String::from("mtllib head.mtl\no head\n");
+    for p in &mesh.positions {
+        text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+    }
+    text.push_str("vt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\ng face\nusemtl skin\n");
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| v + 1);
+        text.push_str(&format!("f {a}/1/1 {b}/2/1 {c}/3/1\n"));
+    }
+    std::fs::write(dir.join("head.obj"), text).unwrap();
+    std::fs::write(
+        dir.join("head.landmarks.ron"),
+        grimace::io::builtin::DEFAULT_LANDMARKS,
+    )
+    .unwrap();
+    let fit = grimace_in(
+        dir,
+        &[
+            "fit-rig",
+            "head.obj",
+            "--landmarks",
+            "head.landmarks.ron",
+            "--out",
+            "head.rig.ron",
+        ],
+    );
+    assert!(
+        fit.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&fit.stdout),
+        String::from_utf8_lossy(&fit.stderr)
+    );
+}

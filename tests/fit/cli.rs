@@ -680,60 +680,21 @@ fn the_landmarks_beside_the_mesh_need_no_flag() {
 #[test]
 fn export_keeps_the_mesh_files_texture_coordinates_groups_and_materials() {
     let dir = temp();
-    write_face(dir.path(), "plain", |p| p);
-    let plain = std::fs::read_to_string(dir.path().join("plain.obj")).unwrap();
-    let first_face = plain.find("\nf ").unwrap() + 1;
-    let faces: String = plain[first_face..]
-        .lines()
-        .map(|l| {
-            let corners: Vec<String> = l
-                .split_whitespace()
-                .skip(1)
-                .enumerate()
-                .map(|(k, v)| format!("{v}/{}/1", k + 1))
-                .collect();
-            format!("f {}\n", corners.join(" "))
-        })
-        .collect();
-    let textured = format!(
-        "mtllib head.mtl\no head\n{}vt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\ng face\nusemtl skin\n{faces}",
-        &plain[..first_face]
-    );
-    std::fs::write(dir.path().join("head.obj"), &textured).unwrap();
-    std::fs::copy(
-        dir.path().join("plain.landmarks.ron"),
-        dir.path().join("head.landmarks.ron"),
-    )
-    .unwrap();
-    let fit = grimace_in(
-        dir.path(),
-        &[
-            "fit-rig",
-            "head.obj",
-            "--landmarks",
-            "head.landmarks.ron",
-            "--out",
-            "head.rig.ron",
-        ],
-    );
-    assert!(fit.status.success(), "{:?}", text(&fit));
-    let export = |out: &str| {
-        let args = [
-            "export",
-            "--rig",
-            "head.rig.ron",
-            "--table",
-            "builtin:default",
-            "--au",
-            "12",
-            "--out",
-            out,
-        ];
-        let done = grimace_in(dir.path(), &args);
-        assert!(done.status.success(), "{:?}", text(&done));
-        std::fs::read_to_string(dir.path().join(out)).unwrap()
-    };
-    let smile = export("smile.obj");
+    common::fit_textured_head(dir.path());
+    let args = [
+        "export",
+        "--rig",
+        "head.rig.ron",
+        "--table",
+        "builtin:default",
+        "--au",
+        "12",
+        "--out",
+        "smile.obj",
+    ];
+    let done = grimace_in(dir.path(), &args);
+    assert!(done.status.success(), "{:?}", text(&done));
+    let smile = std::fs::read_to_string(dir.path().join("smile.obj")).unwrap();
     for line in [
         "mtllib head.mtl",
         "o head",
@@ -747,15 +708,9 @@ fn export_keeps_the_mesh_files_texture_coordinates_groups_and_materials() {
     assert!(smile
         .lines()
         .any(|l| l.starts_with("f ") && l.ends_with("/3")));
-    let rig_text = std::fs::read_to_string(dir.path().join("head.rig.ron")).unwrap();
-    let mesh_name = rig_text
-        .split("mesh: \"")
-        .nth(1)
-        .unwrap()
-        .split('"')
-        .next()
-        .unwrap();
-    let rest = obj::read_obj(&dir.path().join(mesh_name)).unwrap();
+    // the mesh file the rig names (the fit may have written it opened)
+    let loaded = grimace::io::load::load_rig(&dir.path().join("head.rig.ron")).unwrap();
+    let rest = obj::read_obj(loaded.mesh_path.as_deref().unwrap()).unwrap();
     let moved = obj::read_obj(&dir.path().join("smile.obj")).unwrap();
     assert_eq!(moved.triangles, rest.triangles);
     assert_eq!(moved.groups, rest.groups);
