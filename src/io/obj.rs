@@ -365,6 +365,16 @@ pub fn with_positions(text: &str, positions: &[Vec3]) -> Option<String> {
     next.next().is_none().then_some(out)
 }
 
+/// The number of `v` lines of an OBJ file's text (as [`with_positions`] finds them).
+fn vertex_lines(text: &str) -> usize {
+    text.lines()
+        .filter(|line| {
+            let content = line.split('#').next().unwrap_or("");
+            content.split_whitespace().next() == Some("v")
+        })
+        .count()
+}
+
 /// Writes moved copies of one mesh as OBJ text (`export`, `batch`): over the text of the
 /// file the mesh was read from when there is one, so its texture coordinates, groups and
 /// materials stay ([`with_positions`]); plain ([`write_obj`]) for a built-in mesh, or when
@@ -380,7 +390,7 @@ impl MovedObj {
     pub fn new(path: Option<&Path>, mesh: &Mesh) -> MovedObj {
         let source = path
             .and_then(|p| read_text(p, MAX_FILE_BYTES).ok())
-            .filter(|text| with_positions(text, &mesh.positions).is_some());
+            .filter(|text| vertex_lines(text) == mesh.vertex_count());
         MovedObj { source }
     }
 
