@@ -168,23 +168,7 @@ fn fitted_head(dir: &Path) -> PathBuf {
     obj::save_obj(&dir.join("head.obj"), &mesh, &moved).unwrap();
     let marks = builtin::landmarks("face").unwrap();
     landmarks::save_landmarks(&dir.join("head.landmarks.ron"), &marks).unwrap();
-    let out = grimace_in(
-        dir,
-        &[
-            "fit-rig",
-            "head.obj",
-            "--landmarks",
-            "head.landmarks.ron",
-            "--out",
-            "head.rig.ron",
-        ],
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    dir.join("head.rig.ron")
+    crate::common::fit_head(dir)
 }
 
 #[test]

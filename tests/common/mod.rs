@@ -188,6 +188,12 @@ pub fn fit_textured_head(dir: &Path) {
         grimace::io::builtin::DEFAULT_LANDMARKS,
     )
     .unwrap();
+    fit_head(dir);
+}
+
+/// Runs `grimace fit-rig head.obj --landmarks head.landmarks.ron --out head.rig.ron` in
+/// `dir` and returns the rig's path. Panics with `fit-rig`'s output when it fails.
+pub fn fit_head(dir: &Path) -> PathBuf {
     let fit = grimace_in(
         dir,
         &[
@@ -205,4 +211,5 @@ pub fn fit_textured_head(dir: &Path) {
         String::from_utf8_lossy(&fit.stdout),
         String::from_utf8_lossy(&fit.stderr)
     );
+    dir.join("head.rig.ron")
 }
