@@ -80,7 +80,8 @@ const AUS: &[AuSpec] = &[
         ],
         0.0,
     ),
-    au(5, &[("Levator_Palpebrae", 1.0)], 0.0),
+    // 1.6 at the levator palpebrae's range of 0.625: its bare field at 1.0
+    au(5, &[("Levator_Palpebrae", 1.6)], 0.0),
     sided(
         6,
         &[

@@ -345,14 +345,17 @@ pub fn default_rig(mesh: &Mesh) -> Result<Rig, PlacementError> {
 /// 2.7x and the risorius 2.6x; the orbital orbicularis's upper fibres (a sheet lowering the
 /// brow its whole activation in mesh units) bring the brow 11.5 mm down at 1.0. The gains leave each muscle's 2.0 within what it does
 /// without a tear (no triangle turned, no edge over 2.5x) with a margin: the levator lifts
-/// the upper lip about 8 mm, the most it rises over the teeth.
-const MUSCLE_RANGES: [(&str, f32); 7] = [
+/// the upper lip about 8 mm, the most it rises over the teeth. The levator palpebrae's 2.0
+/// drew the upper lid back under the brow's fold until its small triangles turned over (one
+/// at 1.6, six at 2.0); its range keeps 2.0 at 1.25 of the lid's AU5 E.
+const MUSCLE_RANGES: [(&str, f32); 8] = [
     ("Labii_Nasi", 0.4),
     ("Frontalis_Sheet", 0.25),
     ("Frontalis_Medial", 0.5),
     ("Mentalis", 0.5),
     ("Orbicularis_Oculi_Orbital", 0.8),
     ("Risorius", 0.8),
+    ("Levator_Palpebrae", 0.625),
     (brow_lowering::NAME, 0.4),
 ];
 

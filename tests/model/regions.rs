@@ -119,7 +119,11 @@ fn a_brow_raise_moves_the_forehead_and_brows_more_than_the_lids() {
             forehead.iter().all(|&h| h > 0.3 * brow),
             "the forehead rises {forehead:?} for brows {brow}"
         );
-        assert!(lid < 0.5 * brow, "the lids move {lid} for brows {brow}");
+        // The spread carries the frontalis into the upper lid (`docs/model.md`, "The skin
+        // spread"): the lids go half as far as the brows there (0.49 of them before the slide's
+        // patches were weighed along the surface, 0.50 after), against 0.13 by default.
+        let share = if skin.spread > 0.0 { 0.55 } else { 0.2 };
+        assert!(lid < share * brow, "the lids move {lid} for brows {brow}");
     }
 }
 

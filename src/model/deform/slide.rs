@@ -77,10 +77,26 @@ impl Patch {
 }
 
 /// Most rest vertices a patch fit visits (the nearest ones), whatever their area: a bound on
-/// the cost of a patch on a mesh many times finer than a face needs (four times the 128 of
-/// MakeHuman's base mesh or the built-in face: a head four times finer keeps its patches
-/// whole; finer still, they shrink).
-const PATCH_VERTICES: usize = 512;
+/// the cost of a patch on a mesh many times finer than a face needs (32 times the 128 of
+/// MakeHuman's base mesh or the built-in face). At 512 the patches of MediaPipe's face cut
+/// in sixty-four (0.85 mm edges, finer still at the lips) shrank to 3 mm at the mouth
+/// corners, where a smile then turned triangles over.
+const PATCH_VERTICES: usize = 4096;
+
+/// Fewest vertices a patch may be cut to by [`PATCH_VISITS`].
+const PATCH_VERTICES_LEAST: usize = 512;
+
+/// Most vertex visits of all the patches of one bind together: a mesh with more moved
+/// vertices than this over [`PATCH_VERTICES`] (32 768, a head like MediaPipe's face cut in
+/// sixty-four) has its patches cut to this over its moved vertices, but to no fewer than
+/// [`PATCH_VERTICES_LEAST`], so the bind's cost grows with the mesh and not with its square
+/// (at 512 vertices, as all patches were before, on the finest heads).
+const PATCH_VISITS: usize = PATCH_VERTICES * 32_768;
+
+/// The most vertices each patch of a bind fitting `moved` vertices visits.
+fn patch_vertices(moved: usize) -> usize {
+    (PATCH_VISITS / moved.max(1)).clamp(PATCH_VERTICES_LEAST, PATCH_VERTICES)
+}
 
 /// The most surface a patch gathers, as a share of the square of the face's size (the
 /// diagonal of the box round the rig's muscles, about 210 mm on an adult face): about a
@@ -115,6 +131,7 @@ pub(super) fn fit_patches(
         radius,
         area,
         vertex_area: vertex_areas(mesh),
+        most: patch_vertices(vertices.len()),
     };
     search.fit_in_chunks(vertices, chunk)
 }
@@ -246,6 +263,8 @@ struct Search<'a> {
     radius: f32,
     /// The most surface a patch gathers ([`PATCH_AREA`]).
     area: f64,
+    /// The most vertices a patch gathers ([`patch_vertices`]).
+    most: usize,
     /// Each vertex's share of the surface: a third of each of its triangles.
     vertex_area: Vec<f64>,
 }
@@ -271,6 +290,25 @@ struct Gathered {
     normal: DVec3,
 }
 
+/// Where, as a share of the patch radius, a patch point's distance along the mesh's edges
+/// starts to lower its weight (see [`weighed_distance`]).
+const FADE_ALONG: f64 = 0.75;
+
+/// The distance a patch point is weighed by: its straight distance `d` from the patch's
+/// vertex, raised toward the radius `r` as its distance along the mesh's edges `path`
+/// goes from [`FADE_ALONG`] of the radius to the radius itself, where a point no longer
+/// joins the patch. Skin that is near in space but far along the surface (the other side
+/// of a fold, the skin round an eye's opening) reached through a rim of the patch then
+/// joins it with no weight instead of a large one: weighed by the straight distance alone,
+/// the patches of neighbouring vertices a few tenths of a millimetre apart on a fine mesh's
+/// upper lid differed by a region of 400 vertices below the eye and their normals by 11
+/// degrees, and the lids' slide turned their triangles over. On open skin the path is
+/// within a few percent of the straight distance, and nearer than that share of the radius
+/// nothing changes.
+fn weighed_distance(d: f64, path: f64, r: f64) -> f64 {
+    d.max((path - FADE_ALONG * r) / (1.0 - FADE_ALONG))
+}
+
 impl Search<'_> {
     /// Gathers the patch of each vertex of `vertices` in order and gives each the normal
     /// `choose(points, weight, outward)` picks.
@@ -281,6 +319,8 @@ impl Search<'_> {
     ) -> Vec<(usize, Gathered)> {
         let rest = &self.mesh.positions;
         let mut seen = vec![u32::MAX; rest.len()];
+        // each seen vertex's distance from the patch's vertex along the mesh's edges
+        let mut along = vec![0.0f64; rest.len()];
         let mut queue = BinaryHeap::new();
         let r = self.radius as f64;
         vertices
@@ -296,23 +336,33 @@ impl Search<'_> {
                 // symmetric mesh gather mirrored patches
                 queue.push(Reverse((Distance(0.0), v)));
                 seen[v] = stamp as u32;
+                along[v] = 0.0;
+                let mut farthest = 0.0f64;
                 while let Some(Reverse((Distance(d), q))) = queue.pop() {
-                    near.push((q, d));
+                    near.push((q, weighed_distance(d, along[q], r)));
+                    farthest = d;
                     gathered += self.vertex_area[q];
-                    if near.len() >= PATCH_VERTICES || gathered >= self.area {
+                    if near.len() >= self.most || gathered >= self.area {
                         break;
                     }
+                    let at = rest[q].as_dvec3();
                     for &w in self.adjacency.of_vertex(q) {
                         let w = w as usize;
+                        let path = along[q] + (rest[w].as_dvec3() - at).length();
+                        if seen[w] == stamp as u32 {
+                            along[w] = along[w].min(path);
+                            continue;
+                        }
                         let d = (rest[w].as_dvec3() - p).length();
-                        if seen[w] != stamp as u32 && d <= r {
+                        if d <= r && path <= r {
                             seen[w] = stamp as u32;
+                            along[w] = path;
                             queue.push(Reverse((Distance(d), w)));
                         }
                     }
                 }
                 // the fitted extent: the patch radius, or less where the nearest vertices end
-                let reach = near.last().map_or(0.0, |&(_, d)| d).min(r).max(r * 0.25);
+                let reach = farthest.min(r).max(r * 0.25);
                 let weight = |d: f64| (1.0 - d / (reach * 1.01)).max(0.0);
                 let outward = near
                     .iter()
@@ -552,6 +602,7 @@ mod tests {
             radius,
             area,
             vertex_area: vertex_areas(&mesh),
+            most: patch_vertices(vertices.len()),
         };
         let one_pass = search.fit_in_chunks(&vertices, vertices.len());
         assert_eq!(parallel, one_pass);
