@@ -192,9 +192,9 @@ pub fn fit_textured_head(dir: &Path) {
 }
 
 /// Runs `grimace fit-rig head.obj --landmarks head.landmarks.ron --out head.rig.ron` in
-/// `dir` and returns the rig's path. Panics with `fit-rig`'s output when it fails.
-pub fn fit_head(dir: &Path) -> PathBuf {
-    let fit = grimace_in(
+/// `dir` and returns what it did (for tests that read what it printed).
+pub fn fit_head_output(dir: &Path) -> std::process::Output {
+    grimace_in(
         dir,
         &[
             "fit-rig",
@@ -204,7 +204,13 @@ pub fn fit_head(dir: &Path) -> PathBuf {
             "--out",
             "head.rig.ron",
         ],
-    );
+    )
+}
+
+/// [`fit_head_output`], and returns the rig's path. Panics with `fit-rig`'s output when it
+/// fails.
+pub fn fit_head(dir: &Path) -> PathBuf {
+    let fit = fit_head_output(dir);
     assert!(
         fit.status.success(),
         "{}{}",

@@ -46,17 +46,7 @@ fn from_an_obj_to_a_rig_the_other_commands_accept() {
     write_face(dir.path(), "head", |p| {
         turn * p * 11.5 + Vec3::new(5.0, -20.0, 1600.0)
     });
-    let out = grimace_in(
-        dir.path(),
-        &[
-            "fit-rig",
-            "head.obj",
-            "--landmarks",
-            "head.landmarks.ron",
-            "--out",
-            "head.rig.ron",
-        ],
-    );
+    let out = common::fit_head_output(dir.path());
     let (stdout, stderr) = text(&out);
     assert!(out.status.success(), "{stderr}");
     assert!(!stderr.contains("warning"), "{stderr}");
@@ -127,17 +117,7 @@ fn landmarks_out_of_order_are_warned_about() {
         &grimace::landmarks::Landmarks::Vertices(v),
     )
     .unwrap();
-    let out = grimace_in(
-        dir.path(),
-        &[
-            "fit-rig",
-            "head.obj",
-            "--landmarks",
-            "head.landmarks.ron",
-            "--out",
-            "head.rig.ron",
-        ],
-    );
+    let out = common::fit_head_output(dir.path());
     let (_, stderr) = text(&out);
     assert!(out.status.success(), "{stderr}");
     assert!(
@@ -166,17 +146,7 @@ fn muscles_far_off_the_template_are_warned_about() {
         &grimace::landmarks::Landmarks::Points(points),
     )
     .unwrap();
-    let out = grimace_in(
-        dir.path(),
-        &[
-            "fit-rig",
-            "head.obj",
-            "--landmarks",
-            "head.landmarks.ron",
-            "--out",
-            "head.rig.ron",
-        ],
-    );
+    let out = common::fit_head_output(dir.path());
     let (_, stderr) = text(&out);
     assert!(out.status.success(), "{stderr}");
     assert!(
