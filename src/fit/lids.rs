@@ -139,9 +139,6 @@ struct Profile {
     /// polylines where none were found: where the lids meet.
     upper_edge: Margin,
     lower_edge: Margin,
-    /// Where the lids meet, as a share of the opening above the lower margin: the axis's
-    /// place in the middle column, so the line where they meet runs into both corners.
-    share: f64,
     /// The opening in the middle column: skin more than 0.4 of it behind its margin's
     /// depth (the socket's lining behind the globe) fades out by 0.9 of it.
     opening: f64,
@@ -149,6 +146,20 @@ struct Profile {
     seen: f64,
     /// The height of the upper lid's skin's end (the brow) above the axis.
     reach: f64,
+}
+
+/// One column of a closing eye ([`Profile::column`]).
+struct Column {
+    /// The landmarks' margins.
+    up: DVec3,
+    low: DVec3,
+    /// The free edges.
+    eu: DVec3,
+    el: DVec3,
+    /// The share of the way to the meeting line the lids travel.
+    keep: f64,
+    /// The meeting line's height.
+    meet: f64,
 }
 
 impl Profile {
@@ -161,8 +172,7 @@ impl Profile {
         let (eu, el) = (upper_edge.at(0.0)?, lower_edge.at(0.0)?);
         let opening = up.y - low.y;
         let seen = eu.y - el.y;
-        (opening > 0.0 && seen > 0.0).then(|| Profile {
-            share: (-el.y / seen).clamp(0.0, 1.0),
+        (opening > 0.0 && seen > 0.0).then_some(Profile {
             opening,
             seen,
             upper,
@@ -173,25 +183,78 @@ impl Profile {
         })
     }
 
-    /// 0 at or beyond the axis, rising smoothly to 1 a fifth of the opening away from it.
-    fn off_axis(&self, height: f64) -> f64 {
-        super::regions::smoothstep(0.0, 0.2 * self.opening, height)
-    }
-
-    fn travel(&self, p: DVec3) -> f64 {
-        let (Some(up), Some(low)) = (self.upper.at(p.x), self.lower.at(p.x)) else {
-            return 0.0;
-        };
-        let eu = self.upper_edge.at(p.x).unwrap_or(up);
-        let el = self.lower_edge.at(p.x).unwrap_or(low);
+    /// The column at `x`: the landmarks' margins, the free edges, the share of the way to
+    /// the meeting line the lids travel ([`STOP_SHORT`], more toward the corners) and the
+    /// meeting line's height; `None` beyond the corners.
+    fn column(&self, x: f64) -> Option<Column> {
+        let (up, low) = (self.upper.at(x)?, self.lower.at(x)?);
+        let eu = self.upper_edge.at(x).unwrap_or(up);
+        let el = self.lower_edge.at(x).unwrap_or(low);
         // toward the corners, where the opening narrows to a fold of the canthus whose rows
         // lie closer together than the lids travel, the lids stop further short (up to
         // [`CORNER_SLACK`] of the way at the corner): collapsing those rows fully turned
         // them over; the opening in the middle columns still closes to [`STOP_SHORT`]
         let narrow = 1.0 - super::regions::smoothstep(0.0, 0.5, (eu.y - el.y) / self.seen);
         let keep = (1.0 - STOP_SHORT) * (1.0 - CORNER_SLACK * narrow);
-        let meet = el.y + self.share * (eu.y - el.y);
-        // the ring pulls toward its axis: neither lid crosses it
+        // the ring pulls each point toward its axis and no further, so the lids meet on the
+        // axis; where the axis runs outside the opening (toward a corner that lies above or
+        // below it) the far lid comes to the near one's edge. Meeting anywhere else leaves
+        // the gap between there and the axis open: one lid stops at the axis, the other at
+        // the meeting line (a scanned head whose corners' line is turned 6 degrees from
+        // the axis kept 31% of its opening at AU45)
+        let meet = 0.0f64.clamp(el.y.min(eu.y), eu.y.max(el.y));
+        Some(Column {
+            up,
+            low,
+            eu,
+            el,
+            keep,
+            meet,
+        })
+    }
+
+    /// How far a vertex on the opening's own border (a lid's margin row on the mesh) travels
+    /// at 2.0: to the meeting line in its column, whatever the found edges say. The edges
+    /// are sampled in columns and smoothed, so on a coarse lid a margin vertex, a corner of
+    /// the margin's polyline, lies up to a millimetre beyond them; taken as skin beyond the
+    /// band, it stopped that far short. Never less than [`Profile::travel`].
+    fn margin_travel(&self, p: DVec3) -> f64 {
+        let travel = self.travel(p);
+        let Some(c) = self.column(p.x) else {
+            return travel;
+        };
+        // only the lids' own margins: within a quarter of the opening of the bands (as the
+        // edges were looked for), not the face's outer border or the socket's lining
+        let pad = 0.25 * self.opening;
+        if p.y > c.up.y.max(c.eu.y) + pad || p.y < c.low.y.min(c.el.y) - pad {
+            return travel;
+        }
+        let to_meet = if p.y > 0.0 {
+            c.keep * (p.y - c.meet.max(0.0)).max(0.0)
+        } else {
+            c.keep * (c.meet.min(0.0) - p.y).max(0.0)
+        };
+        let depth = if p.y >= 0.0 {
+            c.up.z.min(c.eu.z)
+        } else {
+            c.low.z.min(c.el.z)
+        };
+        let behind = (depth - p.z) / self.opening;
+        travel.max(to_meet * (1.0 - super::regions::smoothstep(0.4, 0.9, behind)))
+    }
+
+    fn travel(&self, p: DVec3) -> f64 {
+        let Some(Column {
+            up,
+            low,
+            eu,
+            el,
+            keep,
+            meet,
+        }) = self.column(p.x)
+        else {
+            return 0.0;
+        };
         let upper_travel = keep * (eu.y - meet.max(0.0)).max(0.0);
         let lower_travel = keep * (meet.min(0.0) - el.y).max(0.0);
         // each lid from its free edge to its landmarks (its front, edge and back where the
@@ -218,12 +281,14 @@ impl Profile {
             // (the fold's rows at one height move as one band); linear in height, so the
             // rows close up without passing each other (the opening closes to 1.5% of its
             // height, the rows' order kept). The ring cannot pull a point across the axis
-            // from the other side, so the travel fades out toward the axis
+            // from the other side, so a point goes no further than the meeting line (a
+            // fade toward the axis instead held back a lid's margin vertices lying just
+            // inside the found edge, which then stopped short of the lids' meeting)
             let s = ((p.y - el.y) / (eu.y - el.y).max(f64::EPSILON)).clamp(0.0, 1.0);
             let travel = if p.y > 0.0 {
-                s * upper_travel * self.off_axis(p.y)
+                (s * upper_travel).min(keep * (p.y - meet.max(0.0)).max(0.0))
             } else {
-                (1.0 - s) * lower_travel * self.off_axis(-p.y)
+                ((1.0 - s) * lower_travel).min(keep * (meet.min(0.0) - p.y).max(0.0))
             };
             (s * up_z + (1.0 - s) * low_z, travel)
         };
@@ -443,10 +508,17 @@ fn wanted_travel(
         })
         .collect();
     let on_face = |v: usize| face.contains(&piece[v]);
+    let margin = opening_border(mesh, parts);
     let mut travel: Vec<Option<f64>> = inside
         .iter()
         .enumerate()
-        .map(|(v, q)| on_face(v).then(|| q.map(|q| profile.travel(q))).flatten())
+        .map(|(v, q)| {
+            let q = (*q)?;
+            on_face(v).then(|| match margin[v] {
+                true => profile.margin_travel(q),
+                false => profile.travel(q),
+            })
+        })
         .collect();
     keep_triangles_facing(mesh, &inside, &mut travel);
     limit_travel_slope(mesh, &mut travel, TRAVEL_SLOPE);
@@ -472,6 +544,28 @@ fn wanted_travel(
         .zip(&travel)
         .map(|(q, t)| Some(((*q)?, (*t)?)))
         .collect()
+}
+
+/// Per vertex: whether it lies on the border of the face's skin, on an edge with skin on one
+/// side only (a lid's margin where the eye's opening begins: a hole, the eyeball, or the
+/// dark eye a covered eye was cut open into).
+fn opening_border(mesh: &Mesh, parts: &Parts) -> Vec<bool> {
+    let skin = |v: u32| parts.of_vertex[v as usize] == Part::Skin;
+    let mut sides: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
+    for t in mesh.triangles.iter().filter(|t| t.iter().all(|&v| skin(v))) {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *sides.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut border = vec![false; mesh.vertex_count()];
+    for ((a, b), n) in sides {
+        if n == 1 {
+            border[a as usize] = true;
+            border[b as usize] = true;
+        }
+    }
+    border
 }
 
 /// Lowers the travel toward the axis (`travel`, for the points `inside` at their place in
