@@ -105,11 +105,11 @@ fn check(args: &CheckArgs) -> anyhow::Result<(String, usize)> {
     }
     let _ = write!(
         report,
-        "{} with {} ({} deformation, {:.2} mm per unit)\n{:<16} {:>6} {:>7} {:>7} {:>8} {:>9}  {:<6} verdict\n",
+        "{} with {} ({} deformation, {} mm per unit)\n{:<16} {:>6} {:>7} {:>7} {:>8} {:>9}  {:<6} verdict\n",
         rig.path.display(),
         table_path.display(),
         args.model.deformation,
-        gauge.mm_per_unit(),
+        scale_text(gauge.mm_per_unit()),
         "entry",
         "turned",
         "stretch",
@@ -181,6 +181,18 @@ fn entries(table: &AuTable, rig: &Rig, mapper: &AuMapper) -> anyhow::Result<Vec<
 }
 
 /// One entry's row.
+/// A mesh's scale to three significant digits and at least two decimals: a head in
+/// micrometres has a thousandth of a millimetre per unit, which two decimals print as 0.
+fn scale_text(mm_per_unit: f32) -> String {
+    let magnitude = f64::from(mm_per_unit).abs().log10().floor();
+    let decimals = if magnitude.is_finite() {
+        (2.0 - magnitude).clamp(2.0, 12.0) as usize
+    } else {
+        2
+    };
+    format!("{mm_per_unit:.decimals$}")
+}
+
 fn line(label: &str, q: &Quality, failures: &[String]) -> String {
     let gap = q
         .lid_gap
@@ -244,4 +256,18 @@ fn landmarks(args: &CheckArgs, rig: &LoadedRig) -> anyhow::Result<Landmarks> {
     check_against(&landmarks, &rig.mesh, &path, None)
         .with_context(|| format!("the landmarks do not fit {}", rig.path.display()))?;
     Ok(landmarks)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_scale_keeps_three_significant_digits() {
+        assert_eq!(scale_text(11.5), "11.50");
+        assert_eq!(scale_text(10.123), "10.12");
+        assert_eq!(scale_text(0.97), "0.970");
+        assert_eq!(scale_text(0.000_834_8), "0.000835");
+        assert_eq!(scale_text(1000.0), "1000.00");
+    }
 }
