@@ -49,7 +49,8 @@ pub struct FitRigArgs {
     #[arg(value_name = "MESH.obj")]
     pub mesh: PathBuf,
     /// The mesh's 68 iBUG landmarks: a *.landmarks.ron file, MeshLab's picked points (*.pp),
-    /// a list one a line (*.txt, *.csv, *.xyz: x y z or a vertex number), or `mediapipe` for a
+    /// menpo's or landmarker.io's LJSON (*.ljson), a list one a line (*.txt, *.csv, *.xyz: x
+    /// y z or a vertex number), or `mediapipe` for a
     /// MediaPipe face mesh (468 or 478 vertices, numbered like MediaPipe's landmarks).
     /// Default: MESH.landmarks.ron beside the mesh (where `grimace landmarks` saves them).
     /// With --pick, the file the picked landmarks are saved to (default: the same).

@@ -1,10 +1,19 @@
 //! Landmark files written by other tools, read as they are: MeshLab's picked points
-//! (`*.pp`, from its PickPoints editor) and plain text (`*.txt`, `*.csv`, `*.xyz`), so
-//! landmarks picked elsewhere need no conversion before `fit-rig`.
+//! (`*.pp`, from its PickPoints editor), menpo's and landmarker.io's LJSON (`*.ljson`) and
+//! plain text (`*.txt`, `*.csv`, `*.xyz`), so landmarks picked elsewhere need no conversion
+//! before `fit-rig`.
 //!
 //! - Picked points: the `<point x=".." y=".." z=".." .../>` elements, in file order (their
 //!   `name`s are not read: MeshLab numbers from 0 or 1 as its user chose). A point with
 //!   `active="0"` was never placed and is refused.
+//! - LJSON: the 3D points of its landmark group (`landmarks: {points: [[x, y, z], ...]}`, or
+//!   `landmarks: [{point: [x, y, z]}, ...]`), at the top level (version 2) or in `groups` (a
+//!   file with several groups must have one of 68 points). When the group's labels are the
+//!   iBUG 68 scheme's parts under menpo's names (`jaw` or `chin`, `left_eyebrow` or
+//!   `leyebrow`, ..., `mouth`; left is the picture's left, the subject's right), their
+//!   masks put the points in the iBUG order, whatever order the file lists them in; else
+//!   the file's order is the iBUG order. A point that is `null` (never placed) or has two
+//!   coordinates (an image's landmarks) is refused.
 //! - Plain text: one landmark a line, in the iBUG order; a line is three numbers (x y z in the
 //!   mesh's coordinates), a label and three numbers (`17,x,y,z` or `brow_r1 x y z`: the label
 //!   is not read), or one whole number (a vertex number, from 0), separated by spaces, tabs,
@@ -31,6 +40,8 @@ pub enum Form {
     PickedPoints,
     /// One landmark a line, `*.txt`, `*.csv`, `*.xyz`.
     Lines,
+    /// menpo's and landmarker.io's LJSON, `*.ljson`.
+    Ljson,
 }
 
 /// The form of the landmark file at `path`, from its extension.
@@ -42,6 +53,7 @@ pub fn form_of(path: &Path) -> Form {
     match extension.as_deref() {
         Some("pp") => Form::PickedPoints,
         Some("txt" | "csv" | "xyz") => Form::Lines,
+        Some("ljson") => Form::Ljson,
         _ => Form::Ron,
     }
 }
@@ -59,6 +71,7 @@ pub struct Read {
 pub fn parse(text: &str, path: &Path, form: Form) -> Result<Read, LoadError> {
     match form {
         Form::PickedPoints => picked_points(text, path),
+        Form::Ljson => ljson(text, path),
         Form::Lines | Form::Ron => lines(text, path),
     }
 }
@@ -127,6 +140,223 @@ fn picked_points(text: &str, path: &Path) -> Result<Read, LoadError> {
         landmarks: Landmarks::Points(points),
         offsets,
     })
+}
+
+/// The parts of the iBUG 68 scheme under menpo's label names (its `face_ibug_68` labeller
+/// and the older short names), with their first landmark and size.
+const IBUG_PARTS: [(&[&str], usize, usize); 7] = [
+    (&["jaw", "chin"], 0, 17),
+    (&["left_eyebrow", "leyebrow"], 17, 5),
+    (&["right_eyebrow", "reyebrow"], 22, 5),
+    (&["nose"], 27, 9),
+    (&["left_eye", "leye"], 36, 6),
+    (&["right_eye", "reye"], 42, 6),
+    (&["mouth"], 48, 20),
+];
+
+/// An LJSON file's top level: version 2 holds one group's `landmarks` and `labels` there,
+/// version 3 (and menpo's exports) hold named `groups`.
+#[derive(serde::Deserialize)]
+struct LjsonFile<'a> {
+    #[serde(borrow, default)]
+    groups: Option<std::collections::BTreeMap<String, &'a serde_json::value::RawValue>>,
+    #[serde(borrow, default)]
+    landmarks: Option<&'a serde_json::value::RawValue>,
+    #[serde(borrow, default)]
+    labels: Option<&'a serde_json::value::RawValue>,
+}
+
+/// One LJSON group.
+#[derive(serde::Deserialize)]
+struct LjsonGroup<'a> {
+    #[serde(borrow)]
+    landmarks: &'a serde_json::value::RawValue,
+    #[serde(borrow, default)]
+    labels: Option<&'a serde_json::value::RawValue>,
+}
+
+/// A group's points as a list (`{points: [...]}`).
+#[derive(serde::Deserialize)]
+struct LjsonPoints<'a> {
+    #[serde(borrow)]
+    points: Vec<&'a serde_json::value::RawValue>,
+}
+
+/// A group's point as an entry of a list of entries (`[{point: [...]}, ...]`).
+#[derive(serde::Deserialize)]
+struct LjsonEntry<'a> {
+    #[serde(borrow)]
+    point: &'a serde_json::value::RawValue,
+}
+
+/// A label: its name and the indices of its points.
+#[derive(serde::Deserialize)]
+struct LjsonLabel {
+    label: String,
+    mask: Vec<usize>,
+}
+
+/// menpo's and landmarker.io's LJSON (module docs).
+fn ljson(text: &str, path: &Path) -> Result<Read, LoadError> {
+    // where a piece of `text` (a raw JSON value borrowed from it) begins
+    let offset =
+        |raw: &serde_json::value::RawValue| raw.get().as_ptr() as usize - text.as_ptr() as usize;
+    let json_error = |e: serde_json::Error, what: &str| {
+        LoadError::at(path, e.line(), e.column(), format!("{what}: {e}"))
+    };
+    let file: LjsonFile =
+        serde_json::from_str(text).map_err(|e| json_error(e, "not an LJSON file"))?;
+    let (landmarks, labels) = match (file.landmarks, file.groups) {
+        (Some(landmarks), _) => (landmarks, file.labels),
+        (None, Some(groups)) => {
+            let group = ljson_group(&groups, path)?;
+            let group: LjsonGroup = serde_json::from_str(group.get()).map_err(|_| {
+                LoadError::at_offset(path, text, offset(group), "the group has no `landmarks`")
+            })?;
+            (group.landmarks, group.labels)
+        }
+        (None, None) => {
+            return Err(LoadError::new(
+                path,
+                "no `landmarks` and no `groups`: is this an LJSON file?",
+            ))
+        }
+    };
+    let raw_points = ljson_points(landmarks).ok_or_else(|| {
+        LoadError::at_offset(
+            path,
+            text,
+            offset(landmarks),
+            "`landmarks` is neither `{\"points\": [...]}` nor a list of `{\"point\": [...]}`",
+        )
+    })?;
+    let mut points = Vec::with_capacity(raw_points.len());
+    for (i, raw) in raw_points.iter().enumerate() {
+        let fail = |message: String| LoadError::at_offset(path, text, offset(raw), message);
+        let p: Option<Vec<f64>> = serde_json::from_str(raw.get())
+            .map_err(|_| fail(format!("landmark {i}: `{}` is not a point", raw.get())))?;
+        match p.as_deref() {
+            None => return Err(fail(format!("landmark {i} is not placed (null): place every landmark before saving"))),
+            Some([x, y, z]) => points.push(Vec3::new(*x as f32, *y as f32, *z as f32)),
+            Some([_, _]) => return Err(fail(format!("landmark {i} has two coordinates: these are an image's landmarks, and grimace needs the mesh's 3D points"))),
+            Some(_) => return Err(fail(format!("landmark {i}: a point has three coordinates"))),
+        }
+    }
+    let mut offsets: Vec<usize> = raw_points.iter().map(|r| offset(r)).collect();
+    if let Some(order) = labels
+        .map(|l| ibug_order(l, text, path, points.len()))
+        .transpose()?
+        .flatten()
+    {
+        points = order.iter().map(|&i| points[i]).collect();
+        offsets = order.iter().map(|&i| offsets[i]).collect();
+    }
+    Ok(Read {
+        landmarks: Landmarks::Points(points),
+        offsets,
+    })
+}
+
+/// The group of `groups` to read: the only one, else the only one of 68 points.
+fn ljson_group<'a>(
+    groups: &std::collections::BTreeMap<String, &'a serde_json::value::RawValue>,
+    path: &Path,
+) -> Result<&'a serde_json::value::RawValue, LoadError> {
+    if groups.len() == 1 {
+        return Ok(*groups.values().next().expect("one group"));
+    }
+    let of_68: Vec<(&String, &&serde_json::value::RawValue)> = groups
+        .iter()
+        .filter(|(_, g)| {
+            serde_json::from_str::<LjsonGroup>(g.get())
+                .ok()
+                .and_then(|g| ljson_points(g.landmarks))
+                .is_some_and(|p| p.len() == 68)
+        })
+        .collect();
+    match of_68.as_slice() {
+        [(_, group)] => Ok(**group),
+        _ => {
+            let names: Vec<&str> = groups.keys().map(String::as_str).collect();
+            Err(LoadError::new(
+                path,
+                format!(
+                    "{} landmark groups ({}) and not one alone of 68 points: keep the iBUG 68 group",
+                    names.len(),
+                    names.join(", ")
+                ),
+            ))
+        }
+    }
+}
+
+/// A group's points, in either of LJSON's layouts.
+fn ljson_points(
+    landmarks: &serde_json::value::RawValue,
+) -> Option<Vec<&serde_json::value::RawValue>> {
+    if let Ok(list) = serde_json::from_str::<LjsonPoints>(landmarks.get()) {
+        return Some(list.points);
+    }
+    let entries: Vec<LjsonEntry> = serde_json::from_str(landmarks.get()).ok()?;
+    Some(entries.into_iter().map(|e| e.point).collect())
+}
+
+/// The iBUG order of `count` points from their labels: for each iBUG landmark, the index
+/// of the file's point. `None` when the labels are not the iBUG parts under menpo's names
+/// (the file's order is then taken as it is); an error when they are but a part's size is
+/// not the scheme's.
+fn ibug_order(
+    labels: &serde_json::value::RawValue,
+    text: &str,
+    path: &Path,
+    count: usize,
+) -> Result<Option<Vec<usize>>, LoadError> {
+    let at = labels.get().as_ptr() as usize - text.as_ptr() as usize;
+    let Ok(labels) = serde_json::from_str::<Vec<LjsonLabel>>(labels.get()) else {
+        return Ok(None);
+    };
+    let part = |name: &str| {
+        IBUG_PARTS
+            .iter()
+            .find(|(names, _, _)| names.contains(&name.to_ascii_lowercase().as_str()))
+    };
+    if count != 68
+        || labels.len() != IBUG_PARTS.len()
+        || labels.iter().any(|l| part(&l.label).is_none())
+    {
+        return Ok(None);
+    }
+    let mut order = vec![usize::MAX; 68];
+    for label in &labels {
+        let (_, first, size) = part(&label.label).expect("checked above");
+        if label.mask.len() != *size || label.mask.iter().any(|&i| i >= count) {
+            return Err(LoadError::at_offset(
+                path,
+                text,
+                at,
+                format!(
+                    "label `{}` has {} points where the iBUG 68 scheme has {size}",
+                    label.label,
+                    label.mask.len()
+                ),
+            ));
+        }
+        for (k, &i) in label.mask.iter().enumerate() {
+            order[first + k] = i;
+        }
+    }
+    let mut seen = order.clone();
+    seen.sort_unstable();
+    seen.dedup();
+    if seen.len() != 68 || seen.contains(&usize::MAX) {
+        return Err(LoadError::at_offset(
+            path,
+            text,
+            at,
+            "the labels' masks do not name each of the 68 points once",
+        ));
+    }
+    Ok(Some(order))
 }
 
 /// The value of attribute `name` in an element's text, with its byte offset there.
@@ -263,6 +493,104 @@ mod tests {
         assert_eq!(form_of(Path::new("a.xyz")), Form::Lines);
         assert_eq!(form_of(Path::new("a.landmarks.ron")), Form::Ron);
         assert_eq!(form_of(Path::new("noext")), Form::Ron);
+    }
+
+    /// 68 points `[i, 2i, -i]` listed part by part in the order of menpo's older
+    /// labeller (chin, eyes, left brow, nose, right brow, mouth), with its labels.
+    fn menpo_order_ljson() -> String {
+        let parts = [
+            ("chin", 0, 17),
+            ("leye", 36, 6),
+            ("reye", 42, 6),
+            ("leyebrow", 17, 5),
+            ("nose", 27, 9),
+            ("reyebrow", 22, 5),
+            ("mouth", 48, 20),
+        ];
+        let mut points = Vec::new();
+        let mut labels = Vec::new();
+        for (name, first, size) in parts {
+            let mask: Vec<String> = (points.len()..points.len() + size)
+                .map(|i| i.to_string())
+                .collect();
+            labels.push(format!(
+                "{{\"label\": \"{name}\", \"mask\": [{}]}}",
+                mask.join(", ")
+            ));
+            for i in first..first + size {
+                points.push(format!("[{i}, {}, {}]", 2 * i, -(i as i32)));
+            }
+        }
+        format!(
+            "{{\"groups\": {{\"LJSON\": {{\"labels\": [{}],\n\"landmarks\": {{\"connectivity\": [],\n\"points\": [\n{}]}}}}}}, \"version\": 2}}",
+            labels.join(", "),
+            points.join(",\n")
+        )
+    }
+
+    #[test]
+    fn ljson_points_come_in_the_ibug_order_its_labels_give() {
+        let text = menpo_order_ljson();
+        let read = parse(&text, p(), Form::Ljson).unwrap();
+        let Landmarks::Points(points) = &read.landmarks else {
+            panic!("points expected");
+        };
+        assert_eq!(points.len(), 68);
+        for (i, q) in points.iter().enumerate() {
+            assert_eq!(
+                *q,
+                Vec3::new(i as f32, 2.0 * i as f32, -(i as f32)),
+                "landmark {i}"
+            );
+        }
+        // each landmark's place is its own point's in the file
+        assert!(text[read.offsets[17]..].starts_with("[17, 34, -17]"));
+    }
+
+    #[test]
+    fn ljson_without_the_ibug_labels_is_read_in_file_order() {
+        // version 3's list of entries, under a group of its own naming
+        let text = r#"{"version": 3, "groups": {"face": {"landmarks": [{"point": [1, 2, 3]}, {"point": [4.5, 5, -6e-1]}], "labels": [{"label": "all", "mask": [0, 1]}]}}}"#;
+        let read = parse(text, p(), Form::Ljson).unwrap();
+        assert_eq!(
+            read.landmarks,
+            Landmarks::Points(vec![Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.5, 5.0, -0.6)])
+        );
+        // version 2's top level
+        let text = r#"{"version": 2, "landmarks": {"points": [[1, 2, 3]]}, "labels": []}"#;
+        let read = parse(text, p(), Form::Ljson).unwrap();
+        assert_eq!(
+            read.landmarks,
+            Landmarks::Points(vec![Vec3::new(1.0, 2.0, 3.0)])
+        );
+        assert_eq!(form_of(Path::new("head.LJSON")), Form::Ljson);
+    }
+
+    #[test]
+    fn ljson_errors_name_the_place() {
+        let unplaced = "{\"landmarks\": {\"points\": [[1, 2, 3],\n  null]}}";
+        let e = parse(unplaced, p(), Form::Ljson).unwrap_err().to_string();
+        assert!(
+            e.contains("t:2:3") && e.contains("landmark 1 is not placed"),
+            "{e}"
+        );
+        let flat = r#"{"landmarks": {"points": [[10, 20]]}}"#;
+        let e = parse(flat, p(), Form::Ljson).unwrap_err().to_string();
+        assert!(e.contains("two coordinates"), "{e}");
+        let e = parse("{\"landmarks\": [1, 2", p(), Form::Ljson)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("not an LJSON file"), "{e}");
+        let e = parse(r#"{"version": 2}"#, p(), Form::Ljson)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no `landmarks`"), "{e}");
+        let two = r#"{"groups": {"a": {"landmarks": {"points": [[1, 2, 3]]}}, "b": {"landmarks": {"points": []}}}}"#;
+        let e = parse(two, p(), Form::Ljson).unwrap_err().to_string();
+        assert!(e.contains("2 landmark groups (a, b)"), "{e}");
+        let short = menpo_order_ljson().replacen("\"mask\": [0, ", "\"mask\": [", 1);
+        let e = parse(&short, p(), Form::Ljson).unwrap_err().to_string();
+        assert!(e.contains("label `chin` has 16 points"), "{e}");
     }
 
     #[test]

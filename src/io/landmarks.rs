@@ -125,12 +125,14 @@ pub fn locate(path: &Path, text: &str, error: &LandmarkError) -> LoadError {
     };
     let offset = match landmark_text::form_of(path) {
         // The entry's own line in another tool's file, else its first.
-        Form::PickedPoints | Form::Lines => landmark_text::parse(text, path, form_of(path))
-            .ok()
-            .and_then(|read| {
-                let first = read.offsets.first().copied();
-                entry.and_then(|n| read.offsets.get(n).copied()).or(first)
-            }),
+        Form::PickedPoints | Form::Lines | Form::Ljson => {
+            landmark_text::parse(text, path, form_of(path))
+                .ok()
+                .and_then(|read| {
+                    let first = read.offsets.first().copied();
+                    entry.and_then(|n| read.offsets.get(n).copied()).or(first)
+                })
+        }
         Form::Ron => {
             let list = ron_text::find_field(text, 0, "vertices")
                 .or_else(|| ron_text::find_field(text, 0, "points"));
