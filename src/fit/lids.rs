@@ -148,6 +148,18 @@ struct Profile {
     reach: f64,
 }
 
+impl Column {
+    /// The travel that brings a point at height `y` to the meeting line (short by `keep`),
+    /// from its own side of the axis; 0 for a point already past it.
+    fn to_meet(&self, y: f64) -> f64 {
+        if y > 0.0 {
+            self.keep * (y - self.meet.max(0.0)).max(0.0)
+        } else {
+            self.keep * (self.meet.min(0.0) - y).max(0.0)
+        }
+    }
+}
+
 /// One column of a closing eye ([`Profile::column`]).
 struct Column {
     /// The landmarks' margins.
@@ -213,6 +225,13 @@ impl Profile {
         })
     }
 
+    /// The share of a point's travel it keeps at `depth` (its lid's front there) given its
+    /// own `z`: the socket's lining far behind the margin stays (the globe lies between).
+    fn before_the_socket(&self, depth: f64, z: f64) -> f64 {
+        let behind = (depth - z) / self.opening;
+        1.0 - super::regions::smoothstep(0.4, 0.9, behind)
+    }
+
     /// How far a vertex on the opening's own border (a lid's margin row on the mesh) travels
     /// at 2.0: to the meeting line in its column, whatever the found edges say. The edges
     /// are sampled in columns and smoothed, so on a coarse lid a margin vertex, a corner of
@@ -229,32 +248,26 @@ impl Profile {
         if p.y > c.up.y.max(c.eu.y) + pad || p.y < c.low.y.min(c.el.y) - pad {
             return travel;
         }
-        let to_meet = if p.y > 0.0 {
-            c.keep * (p.y - c.meet.max(0.0)).max(0.0)
-        } else {
-            c.keep * (c.meet.min(0.0) - p.y).max(0.0)
-        };
         let depth = if p.y >= 0.0 {
             c.up.z.min(c.eu.z)
         } else {
             c.low.z.min(c.el.z)
         };
-        let behind = (depth - p.z) / self.opening;
-        travel.max(to_meet * (1.0 - super::regions::smoothstep(0.4, 0.9, behind)))
+        travel.max(c.to_meet(p.y) * self.before_the_socket(depth, p.z))
     }
 
     fn travel(&self, p: DVec3) -> f64 {
-        let Some(Column {
+        let Some(c) = self.column(p.x) else {
+            return 0.0;
+        };
+        let Column {
             up,
             low,
             eu,
             el,
             keep,
             meet,
-        }) = self.column(p.x)
-        else {
-            return 0.0;
-        };
+        } = c;
         let upper_travel = keep * (eu.y - meet.max(0.0)).max(0.0);
         let lower_travel = keep * (meet.min(0.0) - el.y).max(0.0);
         // each lid from its free edge to its landmarks (its front, edge and back where the
@@ -286,15 +299,13 @@ impl Profile {
             // inside the found edge, which then stopped short of the lids' meeting)
             let s = ((p.y - el.y) / (eu.y - el.y).max(f64::EPSILON)).clamp(0.0, 1.0);
             let travel = if p.y > 0.0 {
-                (s * upper_travel).min(keep * (p.y - meet.max(0.0)).max(0.0))
+                (s * upper_travel).min(c.to_meet(p.y))
             } else {
-                ((1.0 - s) * lower_travel).min(keep * (meet.min(0.0) - p.y).max(0.0))
+                ((1.0 - s) * lower_travel).min(c.to_meet(p.y))
             };
             (s * up_z + (1.0 - s) * low_z, travel)
         };
-        // the socket's lining far behind the margin stays (the globe lies between)
-        let behind = (depth - p.z) / self.opening;
-        travel * (1.0 - super::regions::smoothstep(0.4, 0.9, behind))
+        travel * self.before_the_socket(depth, p.z)
     }
 }
 
