@@ -158,6 +158,18 @@ impl Column {
             self.keep * (self.meet.min(0.0) - y).max(0.0)
         }
     }
+
+    /// The top and bottom of the lids' bands: each lid from its free edge to its landmarks
+    /// (its front, edge and back where the landmarks sit on the lid's back) moves as one.
+    fn band(&self) -> (f64, f64) {
+        (self.up.y.max(self.eu.y), self.low.y.min(self.el.y))
+    }
+
+    /// The depths of the upper and lower lids' fronts: the deeper of the landmark and the
+    /// edge's front.
+    fn fronts(&self) -> (f64, f64) {
+        (self.up.z.min(self.eu.z), self.low.z.min(self.el.z))
+    }
 }
 
 /// One column of a closing eye ([`Profile::column`]).
@@ -245,14 +257,12 @@ impl Profile {
         // only the lids' own margins: within a quarter of the opening of the bands (as the
         // edges were looked for), not the face's outer border or the socket's lining
         let pad = 0.25 * self.opening;
-        if p.y > c.up.y.max(c.eu.y) + pad || p.y < c.low.y.min(c.el.y) - pad {
+        let (top, bottom) = c.band();
+        if p.y > top + pad || p.y < bottom - pad {
             return travel;
         }
-        let depth = if p.y >= 0.0 {
-            c.up.z.min(c.eu.z)
-        } else {
-            c.low.z.min(c.el.z)
-        };
+        let (up_z, low_z) = c.fronts();
+        let depth = if p.y >= 0.0 { up_z } else { low_z };
         travel.max(c.to_meet(p.y) * self.before_the_socket(depth, p.z))
     }
 
@@ -260,19 +270,11 @@ impl Profile {
         let Some(c) = self.column(p.x) else {
             return 0.0;
         };
-        let Column {
-            up,
-            low,
-            eu,
-            el,
-            keep,
-            meet,
-        } = c;
-        let upper_travel = keep * (eu.y - meet.max(0.0)).max(0.0);
-        let lower_travel = keep * (meet.min(0.0) - el.y).max(0.0);
-        // each lid from its free edge to its landmarks (its front, edge and back where the
-        // landmarks sit on the lid's back) moves as one band; beyond, the skin follows less
-        let (top, bottom) = (up.y.max(eu.y), low.y.min(el.y));
+        let (eu, el) = (c.eu, c.el);
+        let upper_travel = c.keep * (eu.y - c.meet.max(0.0)).max(0.0);
+        let lower_travel = c.keep * (c.meet.min(0.0) - el.y).max(0.0);
+        // each lid's band moves as one; beyond, the skin follows less
+        let (top, bottom) = c.band();
         let ramp = |travel: f64, from_band: f64, to_rim: f64| {
             if from_band <= 0.0 {
                 travel
@@ -282,8 +284,7 @@ impl Profile {
                 travel * (1.0 - from_band / to_rim)
             }
         };
-        // depths are taken from the deeper of the landmark and the edge's front
-        let (up_z, low_z) = (up.z.min(eu.z), low.z.min(el.z));
+        let (up_z, low_z) = c.fronts();
         let (depth, travel) = if p.y >= eu.y {
             (up_z, ramp(upper_travel, p.y - top, self.reach - top))
         } else if p.y <= el.y {
@@ -562,19 +563,11 @@ fn wanted_travel(
 /// dark eye a covered eye was cut open into).
 fn opening_border(mesh: &Mesh, parts: &Parts) -> Vec<bool> {
     let skin = |v: u32| parts.of_vertex[v as usize] == Part::Skin;
-    let mut sides: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
-    for t in mesh.triangles.iter().filter(|t| t.iter().all(|&v| skin(v))) {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            *sides.entry((a.min(b), a.max(b))).or_default() += 1;
-        }
-    }
+    let skin_triangles = mesh.triangles.iter().filter(|t| t.iter().all(|&v| skin(v)));
     let mut border = vec![false; mesh.vertex_count()];
-    for ((a, b), n) in sides {
-        if n == 1 {
-            border[a as usize] = true;
-            border[b as usize] = true;
-        }
+    for (a, b) in Mesh::boundary_edges_of(skin_triangles) {
+        border[a as usize] = true;
+        border[b as usize] = true;
     }
     border
 }

@@ -148,8 +148,15 @@ impl Mesh {
     /// For each undirected edge `[low, high]`, how many triangles use it in each direction:
     /// `(low -> high, high -> low)`.
     pub fn edge_uses(&self) -> std::collections::BTreeMap<[u32; 2], (u32, u32)> {
+        Mesh::edge_uses_of(&self.triangles)
+    }
+
+    /// [`Mesh::edge_uses`] of some triangles (a part of a mesh).
+    pub fn edge_uses_of<'a>(
+        triangles: impl IntoIterator<Item = &'a [u32; 3]>,
+    ) -> std::collections::BTreeMap<[u32; 2], (u32, u32)> {
         let mut uses = std::collections::BTreeMap::<[u32; 2], (u32, u32)>::new();
-        for t in &self.triangles {
+        for t in triangles {
             for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
                 let entry = uses.entry([a.min(b), a.max(b)]).or_default();
                 if a < b {
@@ -164,7 +171,14 @@ impl Mesh {
 
     /// The boundary edges (used by exactly one triangle), directed as that triangle uses them.
     pub fn boundary_edges(&self) -> Vec<(u32, u32)> {
-        self.edge_uses()
+        Mesh::boundary_edges_of(&self.triangles)
+    }
+
+    /// [`Mesh::boundary_edges`] of some triangles (a part of a mesh): the edges of its border.
+    pub fn boundary_edges_of<'a>(
+        triangles: impl IntoIterator<Item = &'a [u32; 3]>,
+    ) -> Vec<(u32, u32)> {
+        Mesh::edge_uses_of(triangles)
             .into_iter()
             .filter_map(|([a, b], (ab, ba))| match (ab, ba) {
                 (1, 0) => Some((a, b)),
