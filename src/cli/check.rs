@@ -180,7 +180,6 @@ fn entries(table: &AuTable, rig: &Rig, mapper: &AuMapper) -> anyhow::Result<Vec<
     Ok(entries)
 }
 
-/// One entry's row.
 /// A mesh's scale to three significant digits and at least two decimals: a head in
 /// micrometres has a thousandth of a millimetre per unit, which two decimals print as 0.
 fn scale_text(mm_per_unit: f32) -> String {
@@ -193,6 +192,7 @@ fn scale_text(mm_per_unit: f32) -> String {
     format!("{mm_per_unit:.decimals$}")
 }
 
+/// One entry's row.
 fn line(label: &str, q: &Quality, failures: &[String]) -> String {
     let gap = q
         .lid_gap
