@@ -196,16 +196,24 @@ struct LjsonLabel {
     mask: Vec<usize>,
 }
 
+/// Where a raw JSON value borrowed from `text` begins in it.
+fn offset_in(text: &str, raw: &serde_json::value::RawValue) -> usize {
+    raw.get().as_ptr() as usize - text.as_ptr() as usize
+}
+
 /// menpo's and landmarker.io's LJSON (module docs).
 fn ljson(text: &str, path: &Path) -> Result<Read, LoadError> {
-    // where a piece of `text` (a raw JSON value borrowed from it) begins
-    let offset =
-        |raw: &serde_json::value::RawValue| raw.get().as_ptr() as usize - text.as_ptr() as usize;
-    let json_error = |e: serde_json::Error, what: &str| {
-        LoadError::at(path, e.line(), e.column(), format!("{what}: {e}"))
-    };
-    let file: LjsonFile =
-        serde_json::from_str(text).map_err(|e| json_error(e, "not an LJSON file"))?;
+    let offset = |raw: &serde_json::value::RawValue| offset_in(text, raw);
+    // a byte-order mark (JSON saved on Windows) is passed over; serde_json refuses it
+    let body = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let file: LjsonFile = serde_json::from_str(body).map_err(|e| {
+        LoadError::at(
+            path,
+            e.line(),
+            e.column(),
+            format!("not an LJSON file: {e}"),
+        )
+    })?;
     let (landmarks, labels) = match (file.landmarks, file.groups) {
         (Some(landmarks), _) => (landmarks, file.labels),
         (None, Some(groups)) => {
@@ -239,7 +247,7 @@ fn ljson(text: &str, path: &Path) -> Result<Read, LoadError> {
             None => return Err(fail(format!("landmark {i} is not placed (null): place every landmark before saving"))),
             Some([x, y, z]) => points.push(Vec3::new(*x as f32, *y as f32, *z as f32)),
             Some([_, _]) => return Err(fail(format!("landmark {i} has two coordinates: these are an image's landmarks, and grimace needs the mesh's 3D points"))),
-            Some(_) => return Err(fail(format!("landmark {i}: a point has three coordinates"))),
+            Some(other) => return Err(fail(format!("landmark {i} has {} coordinates; a point has three", other.len()))),
         }
     }
     let mut offsets: Vec<usize> = raw_points.iter().map(|r| offset(r)).collect();
@@ -311,7 +319,7 @@ fn ibug_order(
     path: &Path,
     count: usize,
 ) -> Result<Option<Vec<usize>>, LoadError> {
-    let at = labels.get().as_ptr() as usize - text.as_ptr() as usize;
+    let at = offset_in(text, labels);
     let Ok(labels) = serde_json::from_str::<Vec<LjsonLabel>>(labels.get()) else {
         return Ok(None);
     };
@@ -564,6 +572,10 @@ mod tests {
             Landmarks::Points(vec![Vec3::new(1.0, 2.0, 3.0)])
         );
         assert_eq!(form_of(Path::new("head.LJSON")), Form::Ljson);
+        // after a byte-order mark, offsets still count from the file's start
+        let text = "\u{feff}{\"landmarks\": {\"points\": [[1, 2, 3]]}}";
+        let read = parse(text, p(), Form::Ljson).unwrap();
+        assert!(text[read.offsets[0]..].starts_with("[1, 2, 3]"));
     }
 
     #[test]
@@ -577,6 +589,9 @@ mod tests {
         let flat = r#"{"landmarks": {"points": [[10, 20]]}}"#;
         let e = parse(flat, p(), Form::Ljson).unwrap_err().to_string();
         assert!(e.contains("two coordinates"), "{e}");
+        let long = r#"{"landmarks": {"points": [[1, 2, 3, 4]]}}"#;
+        let e = parse(long, p(), Form::Ljson).unwrap_err().to_string();
+        assert!(e.contains("landmark 0 has 4 coordinates"), "{e}");
         let e = parse("{\"landmarks\": [1, 2", p(), Form::Ljson)
             .unwrap_err()
             .to_string();
