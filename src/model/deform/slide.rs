@@ -581,6 +581,26 @@ mod tests {
 
     use crate::model::deform::skin::outward_normals;
 
+    /// A point reached along a path no longer than three quarters of the radius is weighed
+    /// by its straight distance; beyond, its weight's distance rises to the radius (no
+    /// weight) as the path reaches the radius, continuously and never below the straight
+    /// distance.
+    #[test]
+    fn a_point_far_along_the_surface_is_weighed_as_far() {
+        let r = 4.0;
+        assert_eq!(weighed_distance(1.0, 2.9, r), 1.0);
+        assert_eq!(weighed_distance(1.0, 3.0, r), 1.0);
+        assert_eq!(weighed_distance(1.0, 4.0, r), r);
+        assert!((weighed_distance(1.0, 3.5, r) - 2.0).abs() < 1e-12);
+        assert_eq!(weighed_distance(3.0, 3.2, r), 3.0);
+        let mut last = 0.5;
+        for k in 0..=100 {
+            let w = weighed_distance(0.5, 3.0 + k as f64 * 0.01, r);
+            assert!(w >= last && w - last < 0.05, "{w} after {last}");
+            last = w;
+        }
+    }
+
     #[test]
     fn patches_fitted_in_parallel_chunks_are_those_of_one_pass() {
         let mesh = crate::io::builtin::default_mesh();
