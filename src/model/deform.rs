@@ -28,6 +28,7 @@ mod sample;
 mod skin;
 mod slide;
 mod spread;
+mod stretch;
 mod whole;
 
 pub use cache::{CacheParts, BIND_CODE, CACHE_PATCH_FLOATS};
@@ -306,6 +307,16 @@ impl BoundRig {
             Some(surface) => {
                 let length = spread::spread_length(rig, skin.spread);
                 spread::spread_all(surface, rig, fields, &scales, length)
+            }
+            None => fields,
+        };
+        let fields = match stretch::Limit::of(skin.stretch) {
+            Some(limit) => {
+                let adjacency = Adjacency::of(mesh);
+                (0..fields.len())
+                    .into_par_iter()
+                    .map(|i| stretch::limit(rig, i, &fields, &adjacency, &rest, limit))
+                    .collect()
             }
             None => fields,
         };

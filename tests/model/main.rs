@@ -33,4 +33,5 @@ mod properties;
 mod regions;
 mod skin;
 mod spread;
+mod stretch;
 mod tears;

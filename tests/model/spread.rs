@@ -194,7 +194,7 @@ fn the_pull_reaches_past_the_zone_and_dies_out() {
 }
 
 /// One level of 1-to-4 midpoint subdivision; the old vertices keep their numbers.
-fn subdivide(mesh: &grimace::model::Mesh) -> (grimace::model::Mesh, Vec<[u32; 3]>) {
+pub(crate) fn subdivide(mesh: &grimace::model::Mesh) -> (grimace::model::Mesh, Vec<[u32; 3]>) {
     let mut positions = mesh.positions.clone();
     let mut midpoints = std::collections::HashMap::new();
     let mut parents = Vec::new();
@@ -219,7 +219,7 @@ fn subdivide(mesh: &grimace::model::Mesh) -> (grimace::model::Mesh, Vec<[u32; 3]
 
 /// `rig` with each mask carried to the midpoints `subdivide` added (`[midpoint, a, b]`): the
 /// mean of the ends' weights (1 where a mask does not list a vertex), as a fit carries them.
-fn carry_masks(rig: &grimace::model::Rig, parents: &[[u32; 3]]) -> grimace::model::Rig {
+pub(crate) fn carry_masks(rig: &grimace::model::Rig, parents: &[[u32; 3]]) -> grimace::model::Rig {
     let mut rig = rig.clone();
     for mask in &mut rig.masks {
         let listed: std::collections::HashMap<u32, f32> = mask.weights.iter().copied().collect();

@@ -7,7 +7,10 @@
 
 use glam::Vec3;
 
-use super::{bind_jaw, check_budget, check_reach, spread, BindError, BoundRig, MAX_INFLUENCES};
+use super::skin::Adjacency;
+use super::{
+    bind_jaw, check_budget, check_reach, spread, stretch, BindError, BoundRig, MAX_INFLUENCES,
+};
 use crate::model::field::{validate_muscle, Field};
 use crate::model::muscle::{Muscle, MuscleKind};
 use crate::model::Rig;
@@ -59,7 +62,14 @@ impl BoundRig {
         let changed: Vec<usize> = if self.surface.is_some() && length != self.spread_length {
             (0..rig.muscles.len()).collect()
         } else {
-            sorted.iter().map(|(index, _)| *index).collect()
+            // the stretch limit caps a mirror pair by its sum: a partner's field changes too
+            let mut changed: Vec<usize> = sorted.iter().map(|(index, _)| *index).collect();
+            if self.skin.stretch > 0.0 {
+                changed.extend(changed.clone().iter().filter_map(|&i| rig.mirror_of(i)));
+                changed.sort_unstable();
+                changed.dedup();
+            }
+            changed
         };
         let mut old = Vec::with_capacity(changed.len());
         for &index in &changed {
@@ -78,8 +88,26 @@ impl BoundRig {
     }
 
     /// Muscle `index`'s field on the rest mesh as `bind` computes it: the muscle's own,
-    /// masked, then spread by `length` when the fields are spread.
+    /// masked, spread by `length` when the fields are spread, then capped with its mirror
+    /// partner's by the stretch limit.
     fn field_of(&self, rig: &Rig, index: usize, length: f64) -> Field {
+        let own = |i: usize| self.own_field(rig, i, length);
+        match (stretch::Limit::of(self.skin.stretch), &self.skin_mesh) {
+            (Some(limit), Some(mesh)) => {
+                let mut fields = vec![Field::default(); rig.muscles.len()];
+                fields[index] = own(index);
+                if let Some(partner) = rig.mirror_of(index) {
+                    fields[partner] = own(partner);
+                }
+                stretch::limit(rig, index, &fields, &Adjacency::of(mesh), &self.rest, limit)
+            }
+            _ => own(index),
+        }
+    }
+
+    /// Muscle `index`'s field before the stretch limit: its own, masked, then spread by
+    /// `length` when the fields are spread.
+    fn own_field(&self, rig: &Rig, index: usize, length: f64) -> Field {
         let count = self.rest.len();
         let scale = mask_scale(rig, index, count);
         let field = Field::of(&rig.muscles[index].kind, &self.rest);

@@ -30,25 +30,33 @@ pub struct SkinRules {
     /// fraction of the diagonal of the box around the rig's muscles (`spread.rs`); 0 keeps
     /// each muscle's own field.
     pub spread: f32,
+    /// Largest stretch of a skin edge a single linear or sheet muscle makes at activation
+    /// 2.0, where the edge's ends move alike in direction (`stretch.rs`): each field's size
+    /// changes along the skin by at most `(stretch - 1) / 2` per unit of length. 0 leaves
+    /// the fields as the muscles make them.
+    pub stretch: f32,
 }
 
 impl SkinRules {
-    /// The paper's deformation: no slide, no area bound.
+    /// The paper's deformation: no slide, no area bound, no stretch limit.
     pub const PAPER: SkinRules = SkinRules {
         slide: 0.0,
         min_area: 0.0,
         patch: 0.05,
         spread: 0.0,
+        stretch: 0.0,
     };
 
-    /// What the editor, `grimace play` and `grimace render` bind with: 85 % of the sink removed, every triangle keeps at
-    /// least 20 % of its rest area, patches of 5 % of the face's diagonal (about 14 mm on
-    /// the default face).
+    /// What the editor, `grimace play`, `grimace render`, `export` and `check` bind with:
+    /// 85 % of the sink removed, every triangle keeps at least 20 % of its rest area,
+    /// patches of 5 % of the face's diagonal (about 14 mm on the default face), and no
+    /// linear or sheet muscle stretching an edge beyond twice its length at 2.0.
     pub const DEFAULT: SkinRules = SkinRules {
         slide: 0.85,
         min_area: 0.2,
         patch: 0.05,
         spread: 0.0,
+        stretch: 2.0,
     };
 
     /// [`SkinRules::DEFAULT`] with each linear and sheet muscle's pull spread into the skin around
@@ -63,10 +71,11 @@ impl SkinRules {
 
     /// True when every rule is off.
     pub fn is_paper(&self) -> bool {
-        self.slide == 0.0 && self.min_area == 0.0 && self.spread == 0.0
+        self.slide == 0.0 && self.min_area == 0.0 && self.spread == 0.0 && self.stretch == 0.0
     }
 
-    /// Checks the values: slide and min_area in 0..1 (min_area below 1), patch above 0.
+    /// Checks the values: slide and min_area in 0..1 (min_area below 1), patch above 0,
+    /// stretch 0 or above 1.
     pub fn check(&self) -> Result<(), String> {
         if !(self.slide.is_finite() && (0.0..=1.0).contains(&self.slide)) {
             return Err(format!("skin slide {} is outside 0.0 to 1.0", self.slide));
@@ -79,6 +88,12 @@ impl SkinRules {
         }
         if !(self.spread.is_finite() && (0.0..=0.5).contains(&self.spread)) {
             return Err(format!("skin spread {} is outside 0.0 to 0.5", self.spread));
+        }
+        if !(self.stretch == 0.0 || (self.stretch.is_finite() && self.stretch > 1.0)) {
+            return Err(format!(
+                "skin stretch {} must be 0.0 (no limit) or above 1.0",
+                self.stretch
+            ));
         }
         if !(self.patch.is_finite() && self.patch > 0.0 && self.patch <= 1.0) {
             return Err(format!(

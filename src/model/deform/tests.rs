@@ -413,6 +413,14 @@ fn bind_refuses_skin_rules_out_of_range() {
             spread: f32::INFINITY,
             ..SkinRules::DEFAULT
         },
+        SkinRules {
+            stretch: 0.5,
+            ..SkinRules::DEFAULT
+        },
+        SkinRules {
+            stretch: f32::NAN,
+            ..SkinRules::DEFAULT
+        },
     ] {
         let err = BoundRig::bind_with(&r, &mesh(), skin).unwrap_err();
         assert!(matches!(err, BindError::Skin(_)), "{err}");
