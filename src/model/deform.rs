@@ -287,7 +287,10 @@ impl BoundRig {
         }
         let rest = mesh.positions.clone();
         check_budget(rig, &rest)?;
-        let jaw = bind_jaw(rig, rest.len())?;
+        let mut jaw = bind_jaw(rig, rest.len())?;
+        if let Some(jaw) = &mut jaw {
+            stretch::limit_jaw(jaw, mesh, skin.stretch);
+        }
         let scales = mask_scales(rig, rest.len())?;
         // each muscle's field reads the rest mesh only: one muscle per task, in rig order
         let fields: Vec<Field> = rig
@@ -844,15 +847,21 @@ impl BoundRig {
 
     /// The jaw rotation for jaw activation `k`, or `None` when nothing turns.
     fn jaw_turn(&self, k: f32) -> Option<JawTurn> {
-        let jaw = self.jaw.as_ref()?;
-        let angle = k as f64 * jaw.radians_per_unit;
+        self.jaw.as_ref()?.turn(k)
+    }
+}
+
+impl BoundJaw {
+    /// The jaw's turn at activation `k` (`None` when it does not turn).
+    fn turn(&self, k: f32) -> Option<JawTurn> {
+        let angle = k as f64 * self.radians_per_unit;
         (angle != 0.0).then(|| JawTurn {
-            pivot: jaw.pivot,
+            pivot: self.pivot,
             cos: angle.cos() as f32,
             sin: angle.sin() as f32,
-            general: (jaw.axis != Vec3::X)
-                .then(|| glam::Mat3::from_axis_angle(jaw.axis, angle as f32)),
-            shift: (jaw.slide_per_unit != Vec3::ZERO).then(|| jaw.slide_per_unit * k),
+            general: (self.axis != Vec3::X)
+                .then(|| glam::Mat3::from_axis_angle(self.axis, angle as f32)),
+            shift: (self.slide_per_unit != Vec3::ZERO).then(|| self.slide_per_unit * k),
         })
     }
 }

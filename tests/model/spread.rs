@@ -217,8 +217,9 @@ pub(crate) fn subdivide(mesh: &grimace::model::Mesh) -> (grimace::model::Mesh, V
     (mesh, parents)
 }
 
-/// `rig` with each mask carried to the midpoints `subdivide` added (`[midpoint, a, b]`): the
-/// mean of the ends' weights (1 where a mask does not list a vertex), as a fit carries them.
+/// `rig` with each mask and the jaw's weights carried to the midpoints `subdivide` added
+/// (`[midpoint, a, b]`): the mean of the ends' weights (1 where a mask does not list a
+/// vertex, 0 where the jaw does not), as a fit carries them.
 pub(crate) fn carry_masks(rig: &grimace::model::Rig, parents: &[[u32; 3]]) -> grimace::model::Rig {
     let mut rig = rig.clone();
     for mask in &mut rig.masks {
@@ -231,6 +232,17 @@ pub(crate) fn carry_masks(rig: &grimace::model::Rig, parents: &[[u32; 3]]) -> gr
             }
         }
         mask.weights.sort_by_key(|&(v, _)| v);
+    }
+    if let Some(jaw) = &mut rig.jaw {
+        let listed: std::collections::HashMap<u32, f32> = jaw.weights.iter().copied().collect();
+        let weight = |v: u32| listed.get(&v).copied().unwrap_or(0.0);
+        for &[m, a, b] in parents {
+            let w = 0.5 * (weight(a) + weight(b));
+            if w > 0.0 {
+                jaw.weights.push((m, w));
+            }
+        }
+        jaw.weights.sort_by_key(|&(v, _)| v);
     }
     rig
 }

@@ -81,3 +81,46 @@ fn no_muscle_alone_stretches_the_skin_beyond_the_limit_at_any_resolution() {
         }
     }
 }
+
+/// The largest stretch of an edge of `mesh` with the jaw alone at 4.0, bound with `skin`.
+fn jaw_stretch(rig: &Rig, mesh: &Mesh, skin: SkinRules) -> f32 {
+    let bound = BoundRig::bind_with(rig, mesh, skin).expect("binds");
+    let mut act = grimace::model::Activations::zero(rig);
+    act.jaw = 4.0;
+    let mut moved = Vec::new();
+    bound.deform(&act, &mut moved).expect("in range");
+    mesh.edges()
+        .iter()
+        .map(|&[a, b]| {
+            let (a, b) = (a as usize, b as usize);
+            moved[a].distance(moved[b]) / mesh.positions[a].distance(mesh.positions[b])
+        })
+        .fold(1.0f32, f32::max)
+}
+
+/// The jaw's weights are capped the same way, at 2.25 (`stretch.rs`, `JAW_OVER_MUSCLES`):
+/// its turn at 4.0 stretches no edge beyond that on the built-in face or on it cut in
+/// sixteen, where its own weights stretch one further.
+#[test]
+fn the_jaw_alone_stretches_the_skin_no_further_than_its_limit() {
+    let coarse = builtin::default_mesh();
+    let (once, parents) = subdivide(&coarse);
+    let rig = carry_masks(&builtin::default_rig(), &parents);
+    let (fine, parents) = subdivide(&once);
+    let fine_rig = carry_masks(&rig, &parents);
+    let limited = SkinRules {
+        stretch: 2.0,
+        ..SkinRules::PAPER
+    };
+    let own = jaw_stretch(&fine_rig, &fine, SkinRules::PAPER);
+    println!("the jaw's own weights on the fine face: {own:.2}x");
+    for (name, rig, mesh) in [
+        ("coarse", builtin::default_rig(), coarse),
+        ("fine", fine_rig, fine),
+    ] {
+        let stretch = jaw_stretch(&rig, &mesh, limited);
+        println!("limited on the {name} face: {stretch:.3}x");
+        assert!(stretch < 2.3, "{name} face: {stretch}");
+    }
+    assert!(own > 2.3, "the jaw's own weights: {own}");
+}

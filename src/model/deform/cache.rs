@@ -84,7 +84,10 @@ impl BoundRig {
         check_fields(rig, mesh, &fields)?;
         let rest = mesh.positions.clone();
         check_reach(rig, &rest, &fields).map_err(|e| e.to_string())?;
-        let jaw = bind_jaw(rig, rest.len()).map_err(|e| e.to_string())?;
+        let mut jaw = bind_jaw(rig, rest.len()).map_err(|e| e.to_string())?;
+        if let Some(jaw) = &mut jaw {
+            super::stretch::limit_jaw(jaw, mesh, skin.stretch);
+        }
         let surface = (skin.spread > 0.0).then(|| Arc::new(Surface::of(mesh)));
         let mut bound = BoundRig::unbuilt(rig, rest, fields, jaw, skin, surface);
         bound.build_rows().map_err(|e| e.to_string())?;

@@ -146,7 +146,11 @@ impl BoundRig {
         (jaw.pivot, jaw.axis, jaw.degrees_per_unit) = (pivot, axis, degrees_per_unit);
         match bind_jaw(&self.rig, self.rest.len()) {
             Ok(Some(mut bound)) => {
-                // The weights did not change, so neither did the rows of their vertices.
+                if let Some(mesh) = &self.skin_mesh {
+                    stretch::limit_jaw(&mut bound, mesh, self.skin.stretch);
+                }
+                // The jaw's vertices did not change (the stretch limit lowers weights but
+                // keeps every vertex), so neither did their rows.
                 if let Some(old) = &mut self.jaw {
                     bound.rows = std::mem::take(&mut old.rows);
                 }

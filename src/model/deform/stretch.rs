@@ -21,8 +21,10 @@ use std::collections::BinaryHeap;
 use glam::{DVec3, Vec3};
 
 use super::skin::Adjacency;
-use crate::model::activations::MUSCLE_RANGE;
+use super::BoundJaw;
+use crate::model::activations::{JAW_RANGE, MUSCLE_RANGE};
 use crate::model::field::Field;
+use crate::model::mesh::Mesh;
 use crate::model::muscle::MuscleKind;
 use crate::model::Rig;
 
@@ -57,6 +59,46 @@ impl Limit {
     fn slope(&self, cos: f64) -> f64 {
         let s = self.stretch;
         (-cos + (cos * cos + s * s - 1.0).sqrt()) / self.activation
+    }
+}
+
+/// The jaw's limit over the muscles': at the muscles' 2.0 the built-in face's mouth corners
+/// sank less than a third of the lower lip's drop at AU26 (7.6 of 22.9 mm; the oval opening
+/// that keeps AU26 from reading as a smile), at 2.25 they sink as before.
+const JAW_OVER_MUSCLES: f32 = 1.125;
+
+/// Lowers the jaw's weights so that its turn at the largest activation (4.0) stretches no
+/// edge beyond `stretch` (the muscles' limit) times [`JAW_OVER_MUSCLES`] its rest length
+/// where neighbours move alike in direction: the
+/// jaw's displacement of a vertex is its weight times the full turn's (`JawTurn::apply`
+/// blends linearly), so the weights times the turn are capped as a muscle's field is. The
+/// jaw keeps every vertex (a weight may fall to 0), so a rebind keeps its rows.
+pub(super) fn limit_jaw(jaw: &mut BoundJaw, mesh: &Mesh, stretch: f32) {
+    let Some(turn) = jaw.turn(*JAW_RANGE.end()) else {
+        return;
+    };
+    if stretch <= 0.0 {
+        return;
+    }
+    let limit = Limit {
+        stretch: f64::from(stretch * JAW_OVER_MUSCLES),
+        activation: 1.0,
+    };
+    let rest = &mesh.positions;
+    let field = Field {
+        vertices: jaw.vertices.clone(),
+        displacements: jaw
+            .vertices
+            .iter()
+            .zip(&jaw.weights)
+            .map(|(&v, &w)| turn.apply(rest[v as usize], w) - rest[v as usize])
+            .collect(),
+    };
+    let scale = scales(&[&field], &Adjacency::of(mesh), rest, limit);
+    for (w, (_, c)) in jaw.weights.iter_mut().zip(&scale) {
+        if *c < 1.0 {
+            *w = (f64::from(*w) * c) as f32;
+        }
     }
 }
 
