@@ -6,6 +6,37 @@ use grimace::model::{BoundRig, Mesh, MuscleKind, Rig, SkinRules};
 
 use crate::spread::{carry_masks, subdivide};
 
+/// Largest stretch of an edge of `mesh` moved to `moved`.
+fn worst_edge(mesh: &Mesh, moved: &[glam::Vec3]) -> f32 {
+    mesh.edges()
+        .iter()
+        .map(|&[a, b]| {
+            let (a, b) = (a as usize, b as usize);
+            moved[a].distance(moved[b]) / mesh.positions[a].distance(mesh.positions[b])
+        })
+        .fold(1.0f32, f32::max)
+}
+
+/// The built-in face and its rig, coarse and cut in sixteen (a quarter of the edge length;
+/// masks and the jaw's weights carried to the new vertices).
+fn faces() -> [(&'static str, Rig, Mesh); 2] {
+    let coarse = builtin::default_mesh();
+    let (once, parents) = subdivide(&coarse);
+    let rig = carry_masks(&builtin::default_rig(), &parents);
+    let (fine, parents) = subdivide(&once);
+    let fine_rig = carry_masks(&rig, &parents);
+    [
+        ("coarse", builtin::default_rig(), coarse),
+        ("fine", fine_rig, fine),
+    ]
+}
+
+/// The paper's deformation with the skin's stretch limit and nothing else.
+const LIMITED: SkinRules = SkinRules {
+    stretch: 2.0,
+    ..SkinRules::PAPER
+};
+
 /// Largest stretch of an edge of `mesh` when muscles `group`'s fields move it at 2.0.
 fn largest_stretch(bound: &BoundRig, mesh: &Mesh, group: &[usize]) -> f32 {
     let mut moved = mesh.positions.clone();
@@ -15,13 +46,7 @@ fn largest_stretch(bound: &BoundRig, mesh: &Mesh, group: &[usize]) -> f32 {
             moved[v as usize] += 2.0 * d;
         }
     }
-    mesh.edges()
-        .iter()
-        .map(|&[a, b]| {
-            let (a, b) = (a as usize, b as usize);
-            moved[a].distance(moved[b]) / mesh.positions[a].distance(mesh.positions[b])
-        })
-        .fold(1.0f32, f32::max)
+    worst_edge(mesh, &moved)
 }
 
 /// The largest stretch at 2.0 with `skin` of each linear and sheet muscle: alone, and
@@ -51,24 +76,13 @@ fn stretches(rig: &Rig, mesh: &Mesh, skin: SkinRules) -> Vec<(String, f32)> {
 /// the first assertion holds and the last fails (the medial frontalis 3.12x).
 #[test]
 fn no_muscle_alone_stretches_the_skin_beyond_the_limit_at_any_resolution() {
-    let coarse = builtin::default_mesh();
-    let (once, parents) = subdivide(&coarse);
-    let rig = carry_masks(&builtin::default_rig(), &parents);
-    let (fine, parents) = subdivide(&once);
-    let fine_rig = carry_masks(&rig, &parents);
-    let limited = SkinRules {
-        stretch: 2.0,
-        ..SkinRules::PAPER
-    };
+    let [coarse, (_, fine_rig, fine)] = faces();
     let own = stretches(&fine_rig, &fine, SkinRules::PAPER);
     let worst = own.iter().map(|s| s.1).fold(1.0f32, f32::max);
     println!("own fields on the fine face: up to {worst:.2}x {own:?}");
     assert!(worst > 2.5, "the fine face resolves the falloff: {worst}");
-    for (name, rig, mesh) in [
-        ("coarse", builtin::default_rig(), coarse),
-        ("fine", fine_rig, fine),
-    ] {
-        let limited = stretches(&rig, &mesh, limited);
+    for (name, rig, mesh) in [coarse, ("fine", fine_rig, fine)] {
+        let limited = stretches(&rig, &mesh, LIMITED);
         println!("limited on the {name} face: {limited:?}");
         for (muscle, stretch) in limited {
             // the levator labii's midline fade into its partner is kept (its pair's sum is
@@ -89,13 +103,7 @@ fn jaw_stretch(rig: &Rig, mesh: &Mesh, skin: SkinRules) -> f32 {
     act.jaw = 4.0;
     let mut moved = Vec::new();
     bound.deform(&act, &mut moved).expect("in range");
-    mesh.edges()
-        .iter()
-        .map(|&[a, b]| {
-            let (a, b) = (a as usize, b as usize);
-            moved[a].distance(moved[b]) / mesh.positions[a].distance(mesh.positions[b])
-        })
-        .fold(1.0f32, f32::max)
+    worst_edge(mesh, &moved)
 }
 
 /// The jaw's weights are capped the same way, at 2.25 (`stretch.rs`, `JAW_OVER_MUSCLES`):
@@ -103,22 +111,11 @@ fn jaw_stretch(rig: &Rig, mesh: &Mesh, skin: SkinRules) -> f32 {
 /// sixteen, where its own weights stretch one further.
 #[test]
 fn the_jaw_alone_stretches_the_skin_no_further_than_its_limit() {
-    let coarse = builtin::default_mesh();
-    let (once, parents) = subdivide(&coarse);
-    let rig = carry_masks(&builtin::default_rig(), &parents);
-    let (fine, parents) = subdivide(&once);
-    let fine_rig = carry_masks(&rig, &parents);
-    let limited = SkinRules {
-        stretch: 2.0,
-        ..SkinRules::PAPER
-    };
+    let [coarse, (_, fine_rig, fine)] = faces();
     let own = jaw_stretch(&fine_rig, &fine, SkinRules::PAPER);
     println!("the jaw's own weights on the fine face: {own:.2}x");
-    for (name, rig, mesh) in [
-        ("coarse", builtin::default_rig(), coarse),
-        ("fine", fine_rig, fine),
-    ] {
-        let stretch = jaw_stretch(&rig, &mesh, limited);
+    for (name, rig, mesh) in [coarse, ("fine", fine_rig, fine)] {
+        let stretch = jaw_stretch(&rig, &mesh, LIMITED);
         println!("limited on the {name} face: {stretch:.3}x");
         assert!(stretch < 2.3, "{name} face: {stretch}");
     }

@@ -331,18 +331,23 @@ mod tests {
         }
     }
 
+    /// `field` capped alone on `mesh`.
+    fn alone(field: &Field, mesh: &Mesh) -> Field {
+        capped(
+            field,
+            &[field],
+            &Adjacency::of(mesh),
+            &mesh.positions,
+            LIMIT,
+        )
+    }
+
     #[test]
     fn a_step_becomes_a_ramp_of_the_slope_from_the_still_skin() {
         let mesh = strip(10);
         // moving along the strip, away from the still skin
         let field = step(&mesh, 5.0, Vec3::new(3.0, 0.0, 0.0));
-        let limited = capped(
-            &field,
-            &[&field],
-            &Adjacency::of(&mesh),
-            &mesh.positions,
-            LIMIT,
-        );
+        let limited = alone(&field, &mesh);
         assert_eq!(limited.vertices, field.vertices);
         for (&v, d) in limited.vertices.iter().zip(&limited.displacements) {
             let x = mesh.positions[v as usize].x;
@@ -356,7 +361,6 @@ mod tests {
     #[test]
     fn a_field_within_the_slope_is_kept_bit_for_bit() {
         let mesh = strip(10);
-        let adjacency = Adjacency::of(&mesh);
         let gentle = Field {
             vertices: (0..mesh.positions.len() as u32).collect(),
             displacements: mesh
@@ -365,8 +369,7 @@ mod tests {
                 .map(|p| Vec3::new(0.1 * (p.x + 1.0), 0.0, 0.0))
                 .collect(),
         };
-        let limited = capped(&gentle, &[&gentle], &adjacency, &mesh.positions, LIMIT);
-        assert_eq!(limited, gentle);
+        assert_eq!(alone(&gentle, &mesh), gentle);
     }
 
     #[test]
@@ -377,13 +380,7 @@ mod tests {
             vertices: vec![4],
             displacements: vec![Vec3::new(5.0, 0.0, 0.0)],
         };
-        let limited = capped(
-            &field,
-            &[&field],
-            &Adjacency::of(&mesh),
-            &mesh.positions,
-            LIMIT,
-        );
+        let limited = alone(&field, &mesh);
         // its still neighbour one unit behind it along its motion bounds it most
         assert_eq!(limited.vertices, vec![4]);
         assert!((limited.displacements[0].x - 0.5).abs() < 1e-6);
