@@ -400,6 +400,12 @@ fn lip_side_weight(outward: f64, beyond: f64, fade: f64, corner: f64) -> f64 {
     0.5 + (turned - 0.5) * surface::smoothstep(0.0, corner, r)
 }
 
+/// How far beyond a muscle's falloff end (as a multiple of it) its lip mask lists vertices.
+/// The mask is carried to fitted heads, whose zones can reach further on their face than on
+/// this one: a vertex the mask does not list carries 1, and on a scanned head the levator
+/// labii moved the skin 14 mm below the lower lip (AU10 turned triangles there).
+const LIP_MASK_REACH: f32 = 1.5;
+
 /// A lip mask fades from 0 to 1 between this distance (mm) on the other side of the midline
 /// and the same distance on the muscle's own side.
 const LIP_MASK_MIDLINE_MM: f64 = 4.0;
@@ -699,8 +705,8 @@ impl Placer<'_> {
     /// side: weight 0 on the other lip, across the slit, and round each mouth corner a weight
     /// that turns with the angle about the corner ([`lip_side_weight`]), so the one-piece
     /// skin beside and below (or above) the corner is not torn; across the midline the weight
-    /// fades out over [`LIP_MASK_MIDLINE_MM`] if `own_half`. Only vertices within the
-    /// muscle's reach are listed.
+    /// fades out over [`LIP_MASK_MIDLINE_MM`] if `own_half`. Only vertices within
+    /// [`LIP_MASK_REACH`] times the muscle's reach are listed.
     fn lip_mask(
         &self,
         rig: &Rig,
@@ -728,7 +734,7 @@ impl Placer<'_> {
             .positions
             .iter()
             .enumerate()
-            .filter(|(_, p)| muscle.attachment.distance(**p) <= muscle.falloff_end)
+            .filter(|(_, p)| muscle.attachment.distance(**p) <= LIP_MASK_REACH * muscle.falloff_end)
             .filter_map(|(i, p)| {
                 let beyond = f64::from(if upper { mouth_y - p.y } else { p.y - mouth_y });
                 let outward = f64::from(p.x.abs() - corner.x);
