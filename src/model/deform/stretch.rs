@@ -7,13 +7,16 @@
 //! a coarse mesh hides it. Skin does not stretch so: it stiffens sharply beyond a moderate
 //! strain and drags its neighbours along (the strain limiting of cloth models, Provot 1995).
 //!
-//! At bind time each field's size is capped by the largest function of the vertices whose
-//! change along any edge is at most `slope` times the edge's length, is 0 on the vertices the
-//! muscle does not move, and stays below the field's own size (the lower Lipschitz envelope,
-//! found by Dijkstra's algorithm along the edges). Each displacement keeps its direction and
-//! is shortened to that size where it is larger. The muscle's largest travel is kept where
-//! its zone is wide enough to reach it at that slope. The result is again a field, so a frame
-//! stays a linear blend; the limit costs nothing per frame.
+//! At bind time each field's size is capped by the largest function of the vertices that
+//! grows along each edge by no more than keeps the edge within the limit at the largest
+//! activation (given the angle between the motion and the edge, [`Limit::slope`]), is 0 on
+//! the vertices the muscle does not move, and stays below the field's own size (a lower
+//! Lipschitz envelope, found by Dijkstra's algorithm along the edges). Each displacement
+//! keeps its direction and is shortened to that size where it is larger. The muscle's
+//! largest travel is kept where its zone is wide enough to reach it. A mirror pair is also
+//! capped by its sum ([`limit`]), and the jaw's weights the same way ([`limit_jaw`]). The
+//! result is again a field, so a frame stays a linear blend; the limit costs nothing per
+//! frame.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -69,10 +72,10 @@ const JAW_OVER_MUSCLES: f32 = 1.125;
 
 /// Lowers the jaw's weights so that its turn at the largest activation (4.0) stretches no
 /// edge beyond `stretch` (the muscles' limit) times [`JAW_OVER_MUSCLES`] its rest length
-/// where neighbours move alike in direction: the
-/// jaw's displacement of a vertex is its weight times the full turn's (`JawTurn::apply`
-/// blends linearly), so the weights times the turn are capped as a muscle's field is. The
-/// jaw keeps every vertex (a weight may fall to 0), so a rebind keeps its rows.
+/// where neighbours move alike in direction: the jaw's displacement of a vertex is its
+/// weight times the full turn's (`JawTurn::apply` blends linearly), so the weights times the
+/// turn are capped as a muscle's field is. The jaw keeps every vertex (a weight may fall to
+/// 0), so a rebind keeps its rows.
 pub(super) fn limit_jaw(jaw: &mut BoundJaw, mesh: &Mesh, stretch: f32) {
     let Some(turn) = jaw.turn(*JAW_RANGE.end()) else {
         return;
