@@ -315,11 +315,8 @@ impl BoundRig {
         };
         let fields = match stretch::Limit::of(skin.stretch) {
             Some(limit) => {
-                let adjacency = Adjacency::of(mesh);
-                (0..fields.len())
-                    .into_par_iter()
-                    .map(|i| stretch::limit(rig, i, &fields, &adjacency, &rest, limit))
-                    .collect()
+                let all: Vec<usize> = (0..fields.len()).collect();
+                stretch::limit_all(rig, &fields, &all, mesh, limit)
             }
             None => fields,
         };

@@ -14,7 +14,7 @@
 //! Lipschitz envelope, found by Dijkstra's algorithm along the edges). Each displacement
 //! keeps its direction and is shortened to that size where it is larger. The muscle's
 //! largest travel is kept where its zone is wide enough to reach it. A mirror pair is also
-//! capped by its sum ([`limit`]), and the jaw's weights the same way ([`limit_jaw`]). The
+//! capped by its sum ([`limit_all`]), and the jaw's weights the same way ([`limit_jaw`]). The
 //! result is again a field, so a frame stays a linear blend; the limit costs nothing per
 //! frame.
 
@@ -22,6 +22,7 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use super::skin::Adjacency;
 use super::BoundJaw;
@@ -123,43 +124,73 @@ impl Ord for Waiting {
     }
 }
 
-/// Muscle `index`'s field (`fields[index]`, as masked and spread) with its size capped so
-/// that it changes by no more than the limit allows along every edge. A muscle with a mirror
-/// partner is capped at a vertex only as far as both the muscle alone and the pair's sum need
-/// there: where the two sides' fields fade into each other at the midline (the levator
-/// labii's lip) the sum is smooth and the bilateral AU keeps its pull, and where the two
-/// overlap (the mentalis's chin) each alone is within the limit. A sphincter's field is
-/// kept as it is: a ring closes the lids and purses the lips across openings, where the skin
-/// around has to follow it.
-pub(super) fn limit(
+/// The fields of the muscles `indices` (in that order) with their sizes capped so that each
+/// changes by no more than the limit allows along every edge of `mesh`. `own` holds, by
+/// muscle, the fields as masked and spread: at least those of `indices` and of their mirror
+/// partners. A muscle with a mirror partner is capped at a vertex only as far as both the
+/// muscle alone and the pair's sum need there: where the two sides' fields fade into each
+/// other at the midline (the levator labii's lip) the sum is smooth and the bilateral AU
+/// keeps its pull, and where the two overlap (the mentalis's chin) each alone is within the
+/// limit. Each pair's sum is capped once. A sphincter's field is kept as it is: a ring closes
+/// the lids and purses the lips across openings, where the skin around has to follow it.
+pub(super) fn limit_all(
     rig: &Rig,
-    index: usize,
-    fields: &[Field],
-    adjacency: &Adjacency,
-    rest: &[Vec3],
+    own: &[Field],
+    indices: &[usize],
+    mesh: &Mesh,
     limit: Limit,
-) -> Field {
-    let field = &fields[index];
+) -> Vec<Field> {
+    let adjacency = Adjacency::of(mesh);
+    let rest = &mesh.positions;
     let ring = |i: usize| matches!(rig.muscles[i].kind, MuscleKind::Sphincter(_));
-    if ring(index) || field.is_empty() {
-        return field.clone();
-    }
-    let pair = rig
-        .mirror_of(index)
-        .filter(|&j| j != index && !ring(j) && rig.mirror_of(j) == Some(index));
-    let alone = scales(&[field], adjacency, rest, limit);
-    let scale: Vec<(u32, f64)> = match pair {
-        Some(j) => {
-            let both = scales(&[field, &fields[j]], adjacency, rest, limit);
-            let both: std::collections::HashMap<u32, f64> = both.into_iter().collect();
-            alone
-                .into_iter()
-                .map(|(v, c)| (v, c.max(both[&v])))
-                .collect()
-        }
-        None => alone,
+    let partner = |i: usize| {
+        rig.mirror_of(i)
+            .filter(|&j| j != i && !ring(i) && !ring(j) && rig.mirror_of(j) == Some(i))
     };
-    scaled(field, &scale)
+    let mut pairs: Vec<[usize; 2]> = indices
+        .iter()
+        .filter_map(|&i| partner(i).map(|j| [i.min(j), i.max(j)]))
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let both: Vec<Vec<(u32, f64)>> = pairs
+        .par_iter()
+        .map(|&[a, b]| scales(&[&own[a], &own[b]], &adjacency, rest, limit))
+        .collect();
+    indices
+        .par_iter()
+        .map(|&i| {
+            let field = &own[i];
+            if ring(i) || field.is_empty() {
+                return field.clone();
+            }
+            let alone = scales(&[field], &adjacency, rest, limit);
+            let scale = match partner(i) {
+                Some(j) => {
+                    let pair = pairs.binary_search(&[i.min(j), i.max(j)]);
+                    the_larger(alone, &both[pair.expect("every pair is capped")])
+                }
+                None => alone,
+            };
+            scaled(field, &scale)
+        })
+        .collect()
+}
+
+/// Each of `alone`'s scales, or the pair's at the same vertex where it is larger (`both`
+/// lists, sorted, every vertex `alone` lists, and others).
+fn the_larger(alone: Vec<(u32, f64)>, both: &[(u32, f64)]) -> Vec<(u32, f64)> {
+    let mut at = both.iter().peekable();
+    alone
+        .into_iter()
+        .map(|(v, c)| {
+            while at.peek().is_some_and(|(u, _)| *u < v) {
+                at.next();
+            }
+            let pair = at.peek().filter(|(u, _)| *u == v).map_or(c, |&&(_, p)| p);
+            (v, c.max(pair))
+        })
+        .collect()
 }
 
 /// `field` with each displacement multiplied by its vertex's scale (`scale` lists the
