@@ -287,9 +287,11 @@ impl BoundRig {
         }
         let rest = mesh.positions.clone();
         check_budget(rig, &rest)?;
+        // the mesh's edges, found once for both of the stretch limit's caps
+        let adjacency = (skin.stretch > 0.0).then(|| Adjacency::of(mesh));
         let mut jaw = bind_jaw(rig, rest.len())?;
-        if let Some(jaw) = &mut jaw {
-            stretch::limit_jaw(jaw, mesh, skin.stretch);
+        if let (Some(jaw), Some(adjacency)) = (&mut jaw, &adjacency) {
+            stretch::limit_jaw(jaw, &rest, adjacency, skin.stretch);
         }
         let scales = mask_scales(rig, rest.len())?;
         // each muscle's field reads the rest mesh only: one muscle per task, in rig order
@@ -313,12 +315,12 @@ impl BoundRig {
             }
             None => fields,
         };
-        let fields = match stretch::Limit::of(skin.stretch) {
-            Some(limit) => {
+        let fields = match (stretch::Limit::of(skin.stretch), &adjacency) {
+            (Some(limit), Some(adjacency)) => {
                 let all: Vec<usize> = (0..fields.len()).collect();
-                stretch::limit_all(rig, &fields, &all, mesh, limit)
+                stretch::limit_all(rig, &fields, &all, &rest, adjacency, limit)
             }
-            None => fields,
+            _ => fields,
         };
         check_reach(rig, &rest, &fields)?;
         let mut bound = BoundRig::unbuilt(rig, rest, fields, jaw, skin, surface);

@@ -85,8 +85,9 @@ impl BoundRig {
         let rest = mesh.positions.clone();
         check_reach(rig, &rest, &fields).map_err(|e| e.to_string())?;
         let mut jaw = bind_jaw(rig, rest.len()).map_err(|e| e.to_string())?;
-        if let Some(jaw) = &mut jaw {
-            super::stretch::limit_jaw(jaw, mesh, skin.stretch);
+        if let Some(jaw) = jaw.as_mut().filter(|_| skin.stretch > 0.0) {
+            let adjacency = super::skin::Adjacency::of(mesh);
+            super::stretch::limit_jaw(jaw, &rest, &adjacency, skin.stretch);
         }
         let surface = (skin.spread > 0.0).then(|| Arc::new(Surface::of(mesh)));
         let mut bound = BoundRig::unbuilt(rig, rest, fields, jaw, skin, surface);

@@ -7,6 +7,7 @@
 
 use glam::Vec3;
 
+use super::skin::Adjacency;
 use super::{
     bind_jaw, check_budget, check_reach, spread, stretch, BindError, BoundRig, MAX_INFLUENCES,
 };
@@ -97,7 +98,8 @@ impl BoundRig {
                 for &i in indices {
                     own[i] = self.own_field(rig, i, length);
                 }
-                stretch::limit_all(rig, &own, indices, mesh, limit)
+                let adjacency = Adjacency::of(mesh);
+                stretch::limit_all(rig, &own, indices, &mesh.positions, &adjacency, limit)
             }
             _ => indices
                 .iter()
@@ -147,8 +149,9 @@ impl BoundRig {
         (jaw.pivot, jaw.axis, jaw.degrees_per_unit) = (pivot, axis, degrees_per_unit);
         match bind_jaw(&self.rig, self.rest.len()) {
             Ok(Some(mut bound)) => {
-                if let Some(mesh) = &self.skin_mesh {
-                    stretch::limit_jaw(&mut bound, mesh, self.skin.stretch);
+                if let Some(mesh) = self.skin_mesh.as_ref().filter(|_| self.skin.stretch > 0.0) {
+                    let adjacency = Adjacency::of(mesh);
+                    stretch::limit_jaw(&mut bound, &mesh.positions, &adjacency, self.skin.stretch);
                 }
                 // The jaw's vertices did not change (the stretch limit lowers weights but
                 // keeps every vertex), so neither did their rows.

@@ -28,7 +28,6 @@ use super::skin::Adjacency;
 use super::BoundJaw;
 use crate::model::activations::{JAW_RANGE, MUSCLE_RANGE};
 use crate::model::field::Field;
-use crate::model::mesh::Mesh;
 use crate::model::muscle::MuscleKind;
 use crate::model::Rig;
 
@@ -77,7 +76,7 @@ const JAW_OVER_MUSCLES: f32 = 1.125;
 /// weight times the full turn's (`JawTurn::apply` blends linearly), so the weights times the
 /// turn are capped as a muscle's field is. The jaw keeps every vertex (a weight may fall to
 /// 0), so a rebind keeps its rows.
-pub(super) fn limit_jaw(jaw: &mut BoundJaw, mesh: &Mesh, stretch: f32) {
+pub(super) fn limit_jaw(jaw: &mut BoundJaw, rest: &[Vec3], adjacency: &Adjacency, stretch: f32) {
     let Some(turn) = jaw.turn(*JAW_RANGE.end()) else {
         return;
     };
@@ -88,7 +87,6 @@ pub(super) fn limit_jaw(jaw: &mut BoundJaw, mesh: &Mesh, stretch: f32) {
         stretch: f64::from(stretch * JAW_OVER_MUSCLES),
         activation: 1.0,
     };
-    let rest = &mesh.positions;
     let field = Field {
         vertices: jaw.vertices.clone(),
         displacements: jaw
@@ -98,7 +96,7 @@ pub(super) fn limit_jaw(jaw: &mut BoundJaw, mesh: &Mesh, stretch: f32) {
             .map(|(&v, &w)| turn.apply(rest[v as usize], w) - rest[v as usize])
             .collect(),
     };
-    let scale = scales(&[&field], &Adjacency::of(mesh), rest, limit);
+    let scale = scales(&[&field], adjacency, rest, limit);
     for (w, (_, c)) in jaw.weights.iter_mut().zip(&scale) {
         if *c < 1.0 {
             *w = (f64::from(*w) * c) as f32;
@@ -137,11 +135,10 @@ pub(super) fn limit_all(
     rig: &Rig,
     own: &[Field],
     indices: &[usize],
-    mesh: &Mesh,
+    rest: &[Vec3],
+    adjacency: &Adjacency,
     limit: Limit,
 ) -> Vec<Field> {
-    let adjacency = Adjacency::of(mesh);
-    let rest = &mesh.positions;
     let ring = |i: usize| matches!(rig.muscles[i].kind, MuscleKind::Sphincter(_));
     let partner = |i: usize| {
         rig.mirror_of(i)
@@ -155,7 +152,7 @@ pub(super) fn limit_all(
     pairs.dedup();
     let both: Vec<Vec<(u32, f64)>> = pairs
         .par_iter()
-        .map(|&[a, b]| scales(&[&own[a], &own[b]], &adjacency, rest, limit))
+        .map(|&[a, b]| scales(&[&own[a], &own[b]], adjacency, rest, limit))
         .collect();
     indices
         .par_iter()
@@ -164,7 +161,7 @@ pub(super) fn limit_all(
             if ring(i) || field.is_empty() {
                 return field.clone();
             }
-            let alone = scales(&[field], &adjacency, rest, limit);
+            let alone = scales(&[field], adjacency, rest, limit);
             let scale = match partner(i) {
                 Some(j) => {
                     let pair = pairs.binary_search(&[i.min(j), i.max(j)]);
