@@ -30,10 +30,11 @@ pub struct SkinRules {
     /// fraction of the diagonal of the box around the rig's muscles (`spread.rs`); 0 keeps
     /// each muscle's own field.
     pub spread: f32,
-    /// Largest stretch of a skin edge a single linear or sheet muscle makes at activation
-    /// 2.0, where the edge's ends move alike in direction (`stretch.rs`): each field's size
-    /// changes along the skin by at most `(stretch - 1) / 2` per unit of length. 0 leaves
-    /// the fields as the muscles make them.
+    /// Largest stretch of a skin edge a single linear or sheet muscle (or a mirror pair)
+    /// makes at activation 2.0, where the edge's ends move alike in direction (`stretch.rs`):
+    /// each field's size changes along an edge by at most `(stretch - 1) / 2` per unit of
+    /// length moving straight away from the neighbour, `sqrt(stretch^2 - 1) / 2` across the
+    /// edge. 0 leaves the fields as the muscles make them.
     pub stretch: f32,
 }
 
