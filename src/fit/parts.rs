@@ -132,11 +132,31 @@ const ANATOMY_WORDS: [&str; 10] = [
 /// anatomy ([`helper_name`]).
 const PROXY_WORDS: [&str; 3] = ["helper", "joint", "hair"];
 
-/// True when a group's name says it holds eyelashes: they are not rigid but skin, moved by
-/// the lid muscles' fields where they sit at the lid's edge, so they close with their lid
-/// (a still lash would stay where the open lid was).
-fn lash_name(name: &str) -> bool {
-    name.to_ascii_lowercase().contains("lash")
+/// Words in a group's name (lower case, letters and digits only) that mark the thin films
+/// game-engine heads lay over the eye and along the lids for their shaders (Unreal's digital
+/// humans and the models that follow them: `EyeOcclusion`, `EyeBlend`, `eyeshell`,
+/// `LacrimalFluid`, `TearLine`, `eyeEdge`): drawn through transparency there, they hug the
+/// lids and move with them in the artists' own shapes.
+const EYE_FILM_WORDS: [&str; 6] = [
+    "occlusion",
+    "eyeblend",
+    "eyeshell",
+    "lacrimal",
+    "tearline",
+    "eyeedge",
+];
+
+/// True when a group's name says it holds eyelashes or a film over the eye
+/// ([`EYE_FILM_WORDS`]): they are not rigid but skin, moved by the lid muscles' fields where
+/// they sit at the lid's edge, so they close with their lid (a still lash or film would
+/// stay where the open lid was), and they are not drawn ([`undrawn_name`]).
+pub fn lash_name(name: &str) -> bool {
+    let plain: String = name
+        .chars()
+        .filter(char::is_ascii_alphanumeric)
+        .map(|c| c.to_ascii_lowercase())
+        .collect();
+    plain.contains("lash") || EYE_FILM_WORDS.iter().any(|w| plain.contains(w))
 }
 
 /// True when a group's name says it is a rigid part.
@@ -169,10 +189,12 @@ pub fn helper_name(name: &str) -> bool {
 }
 
 /// True when a group's triangles are not drawn: helper geometry ([`helper_name`]), and
-/// eyelashes. Lashes are modelled as cards that a texture's transparency cuts into hairs;
+/// eyelashes and the eye's films ([`lash_name`]). Lashes are modelled as cards that a
+/// texture's transparency cuts into hairs, and the films are drawn through transparency;
 /// drawn opaque (no style reads textures) a card is a pale band over the lid and under the
 /// eye, not lashes, and a face tracker took MakeHuman's for part of the eye
-/// (`docs/gallery.md`, "Lash cards"). They still move with their lids, and export keeps them.
+/// (`docs/gallery.md`, "Lash cards"), while a film is a grey shell over the iris. They still
+/// move with their lids, and export keeps them.
 pub fn undrawn_name(name: &str) -> bool {
     helper_name(name) || lash_name(name)
 }
@@ -463,7 +485,7 @@ fn group_part(
         let jaw = jaw_name(name) || mouth.is_some_and(|m| m.turns_with_jaw(mesh, group.members));
         (Some(if jaw { Part::Jaw } else { Part::Still }), "--rigid")
     } else if lash_name(name) {
-        (Some(Part::Skin), "lashes: move with their lid")
+        (Some(Part::Skin), "lashes or eye film: move with their lid")
     } else if rigid_name(name) && !group.holds_landmark {
         let part = if jaw_name(name) {
             Part::Jaw
@@ -651,6 +673,29 @@ mod tests {
         assert!(!helper_name("helper-l-eyelashes-1"));
         assert!(lash_name("helper-r-eyelashes-2") && lash_name("Eyelashes"));
         assert!(!lash_name("eyebrows"));
+        // the films of game-engine heads (ICT's and Unreal's names) close with their lids
+        for name in [
+            "M_EyeOcclusion",
+            "M_EyeBlend",
+            "M_LacrimalFluid",
+            "eyeshell_lod0",
+            "FaceTearLine",
+            "eyeEdge_lod0_mesh",
+        ] {
+            assert!(
+                lash_name(name) && undrawn_name(name) && !rigid_name(name),
+                "{name}"
+            );
+        }
+        for name in [
+            "M_ScleraLeft",
+            "M_IrisRight",
+            "Eye_L",
+            "M_Face",
+            "M_BackHead",
+        ] {
+            assert!(!lash_name(name), "{name}");
+        }
         assert!(jaw_name("helper-lower-teeth"));
         assert!(jaw_name("Tongue"));
         assert!(!jaw_name("helper-upper-teeth"));

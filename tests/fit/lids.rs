@@ -2,7 +2,10 @@
 //! MakeHuman's base mesh, AU43 and AU45 bring the lids together (as `grimace check`
 //! measures them) without turning the lid's rows over.
 
+use glam::Vec3;
+use grimace::fit::parts::{drawn_triangles, find_parts, Part};
 use grimace::fit::quality::{Expect, Eyes, Gauge};
+use grimace::fit::PartOverrides;
 use grimace::landmarks::Landmarks;
 use grimace::model::{BoundRig, Mesh, SkinRules};
 
@@ -130,4 +133,106 @@ fn makehuman_with_uneven_skin_closes_its_lids() {
         );
         assert!(gap < 0.10, "{sigma} mm: the lids leave {gap}");
     }
+}
+
+/// `mesh` with a film over the front of each eyeball (`helper-l-eye`, `helper-r-eye`), as
+/// game-engine heads lay one for their shaders (ICT's face model and Unreal's digital humans
+/// name it `EyeOcclusion`): the eyeball's front triangles copied 4 % further from its
+/// centre, a piece of their own in the group `M_EyeOcclusion`.
+fn with_eye_films(mesh: &Mesh, nose_tip: Vec3) -> Mesh {
+    let mut out = mesh.clone();
+    let mut film = Vec::new();
+    for eye in ["helper-l-eye", "helper-r-eye"] {
+        let members = &mesh.groups[eye];
+        let centre = members
+            .iter()
+            .map(|&v| mesh.positions[v as usize])
+            .sum::<Vec3>()
+            / members.len() as f32;
+        let radius = members
+            .iter()
+            .map(|&v| mesh.positions[v as usize].distance(centre))
+            .fold(0.0f32, f32::max);
+        let forward = (nose_tip - centre).normalize();
+        let mut copy = std::collections::BTreeMap::new();
+        for t in &mesh.triangles {
+            let middle = t.iter().map(|&v| mesh.positions[v as usize]).sum::<Vec3>() / 3.0;
+            let on_eye = t.iter().all(|v| members.contains(v));
+            if !on_eye || (middle - centre).dot(forward) < 0.3 * radius {
+                continue;
+            }
+            let corners = t.map(|v| {
+                *copy.entry(v).or_insert_with(|| {
+                    let p = mesh.positions[v as usize];
+                    out.positions.push(centre + (p - centre) * 1.04);
+                    film.push(out.positions.len() as u32 - 1);
+                    out.positions.len() as u32 - 1
+                })
+            });
+            out.triangles.push(corners);
+        }
+    }
+    out.groups.insert("M_EyeOcclusion".into(), film);
+    out
+}
+
+/// A film over each eye (`M_EyeOcclusion`) is taken for what it is in the heads that carry
+/// one: skin that moves with its lid, not drawn (no style draws through transparency; drawn,
+/// it was a grey shell over the iris, kept still while the lids closed over it). At AU45 a
+/// film vertex moves, on average, within 5 % of the lid's travel of the nearest body vertex,
+/// and the film's most moved vertex goes at least half as far as the lid.
+#[test]
+fn makehuman_eye_films_close_with_their_lids_and_are_not_drawn() {
+    let Some((_, mesh, landmarks)) = crate::shared_makehuman() else {
+        return;
+    };
+    let marks = landmarks.vertices(&mesh);
+    let filmed = with_eye_films(&mesh, mesh.positions[marks[30] as usize]);
+    let film = filmed.groups["M_EyeOcclusion"].clone();
+    assert!(film.len() > 20, "{} film vertices", film.len());
+    let points: Vec<Vec3> = marks
+        .iter()
+        .map(|&v| filmed.positions[v as usize])
+        .collect();
+    let parts = find_parts(&filmed, &marks, &points, &PartOverrides::default());
+    assert!(film
+        .iter()
+        .all(|&v| parts.of_vertex[v as usize] == Part::Skin));
+    let drawn = drawn_triangles(&filmed).expect("helpers and films are not drawn");
+    assert!(!drawn
+        .iter()
+        .any(|t| t.iter().all(|v| film.binary_search(v).is_ok())));
+    let fitted = crate::fit_default(&filmed, &landmarks);
+    let bound = BoundRig::bind_with(&fitted.rig, &filmed, SkinRules::DEFAULT).unwrap();
+    let moved = crate::positions_at_au(&bound, "45");
+    let d = |v: u32| moved[v as usize] - filmed.positions[v as usize];
+    let lid = [37, 38, 43, 44]
+        .map(|l| d(marks[l]).length())
+        .into_iter()
+        .fold(0.0f32, f32::max);
+    let body = &filmed.groups["body"];
+    // each film vertex's travel off its nearest lid vertex's, and that vertex's own travel
+    // (how far off a film kept still would be)
+    let (off, still): (Vec<f32>, Vec<f32>) = film
+        .iter()
+        .map(|&v| {
+            let p = filmed.positions[v as usize];
+            let edge = *body
+                .iter()
+                .min_by(|&&a, &&b| {
+                    let da = filmed.positions[a as usize].distance_squared(p);
+                    da.total_cmp(&filmed.positions[b as usize].distance_squared(p))
+                })
+                .unwrap();
+            (d(v).distance(d(edge)), d(edge).length())
+        })
+        .unzip();
+    let mean = off.iter().sum::<f32>() / off.len() as f32;
+    let kept = still.iter().sum::<f32>() / still.len() as f32;
+    let most = film.iter().map(|&v| d(v).length()).fold(0.0f32, f32::max);
+    println!(
+        "a film vertex moves {mean} from its nearest lid vertex's travel ({kept} kept still); \
+         most {most}, lid {lid}"
+    );
+    assert!(most > 0.9 * lid, "the film moves {most}, the lid {lid}");
 }

@@ -69,8 +69,8 @@ pub(super) fn tone_at(across: f32, up: f32) -> f32 {
 }
 
 /// Whether a group is the surface of an eye: named for the eye (not its lashes, lids,
-/// brows or corners, not a joint marker), the sclera or the cornea, or the inside of an eye `fit-rig`
-/// opened.
+/// brows or corners, not a joint marker or a film over the eye), the sclera or the cornea,
+/// or the inside of an eye `fit-rig` opened.
 fn eye_name(name: &str) -> bool {
     let lower = name.to_ascii_lowercase();
     let eye = ["eye", "sclera", "cornea"]
@@ -79,7 +79,7 @@ fn eye_name(name: &str) -> bool {
     let other = ["lash", "lid", "brow", "corner", "joint", "target", "socket"]
         .iter()
         .any(|w| lower.contains(w));
-    eye && !other
+    eye && !other && !crate::fit::parts::lash_name(name)
 }
 
 /// Per vertex, whether it lies on a blank eye's surface; empty when the mesh has no such
@@ -303,6 +303,8 @@ mod tests {
             "left_eyebrow",
             "joint-l-eye",
             "eye-target",
+            "M_EyeOcclusion",
+            "M_EyeBlend",
         ] {
             assert!(!eye_name(name), "{name}");
         }
