@@ -18,7 +18,9 @@ use std::collections::{BTreeMap, BinaryHeap};
 
 use glam::DVec3;
 
-use crate::landmarks::{FaceFrame, CHIN, INNER_LOWER, INNER_UPPER, MOUTH_CORNERS};
+use crate::landmarks::{
+    eye_centre, FaceFrame, CHIN, EYES, INNER_LOWER, INNER_UPPER, MOUTH_CORNERS,
+};
 use crate::model::mesh::Distance;
 use crate::model::{Mask, Mesh, Rig};
 
@@ -325,7 +327,8 @@ pub fn find_parts(
         }
     }
     let mouth = MouthTest::new(points);
-    let pieces = Pieces::new(mesh, &component, &marked, mouth.as_ref());
+    let lashes = LashTest::new(points);
+    let pieces = Pieces::new(mesh, &component, &marked, mouth.as_ref(), lashes.as_ref());
     let mut of_vertex: Vec<Part> = component.iter().map(|c| pieces.part[c]).collect();
     let mut grouped = vec![false; n];
     let mut choices = Vec::new();
@@ -400,28 +403,42 @@ struct Pieces {
     members: BTreeMap<u32, Vec<u32>>,
     /// Each piece's part.
     part: BTreeMap<u32, Part>,
+    /// Each piece's part and why, as [`PartChoice::reason`] says it.
+    reason: BTreeMap<u32, &'static str>,
 }
 
 impl Pieces {
-    fn new(mesh: &Mesh, component: &[u32], marked: &[bool], mouth: Option<&MouthTest>) -> Pieces {
+    fn new(
+        mesh: &Mesh,
+        component: &[u32],
+        marked: &[bool],
+        mouth: Option<&MouthTest>,
+        lashes: Option<&LashTest>,
+    ) -> Pieces {
         let mut members: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
         for (v, &c) in component.iter().enumerate() {
             members.entry(c).or_default().push(v as u32);
         }
-        let part = members
-            .iter()
-            .map(|(c, piece)| {
-                let part = if piece.iter().any(|&v| marked[v as usize]) {
-                    Part::Skin
-                } else if mouth.is_some_and(|m| m.turns_with_jaw(mesh, piece)) {
-                    Part::Jaw
-                } else {
-                    Part::Still
-                };
-                (*c, part)
-            })
-            .collect();
-        Pieces { members, part }
+        let mut part = BTreeMap::new();
+        let mut reason = BTreeMap::new();
+        for (c, piece) in &members {
+            let (p, why) = if piece.iter().any(|&v| marked[v as usize]) {
+                (Part::Skin, "landmarks")
+            } else if lashes.is_some_and(|l| l.at_a_lid(mesh, piece)) {
+                (Part::Skin, "lashes at a lid's edge: move with their lid")
+            } else if mouth.is_some_and(|m| m.turns_with_jaw(mesh, piece)) {
+                (Part::Jaw, "position")
+            } else {
+                (Part::Still, "position")
+            };
+            part.insert(*c, p);
+            reason.insert(*c, why);
+        }
+        Pieces {
+            members,
+            part,
+            reason,
+        }
     }
 
     /// What is said of the pieces (or their parts) that no named group covers. Vertices no
@@ -429,20 +446,19 @@ impl Pieces {
     /// deleted) are said in one line, not one a vertex.
     fn ungrouped_choices(&self, grouped: &[bool]) -> Vec<PartChoice> {
         let mut choices = Vec::new();
-        let mut loose = 0;
+        // single vertices in no face, counted by the part their place gives them
+        let mut loose = [(Part::Still, 0), (Part::Jaw, 0), (Part::Skin, 0)];
         for (number, (c, members)) in self.members.iter().enumerate() {
             if members.iter().all(|&v| grouped[v as usize]) {
                 continue;
             }
-            if members.len() == 1 && self.part[c] == Part::Still {
-                loose += 1;
+            if members.len() == 1 && self.reason[c] == "position" {
+                if let Some(slot) = loose.iter_mut().find(|(part, _)| *part == self.part[c]) {
+                    slot.1 += 1;
+                }
                 continue;
             }
-            let reason = if self.part[c] == Part::Skin {
-                "landmarks"
-            } else {
-                "position"
-            };
+            let reason = self.reason[c];
             choices.push(PartChoice {
                 name: format!("piece {}", number + 1),
                 vertices: members.iter().filter(|&&v| !grouped[v as usize]).count(),
@@ -450,11 +466,11 @@ impl Pieces {
                 reason,
             });
         }
-        if loose > 0 {
+        for (part, count) in loose.into_iter().filter(|&(_, n)| n > 0) {
             choices.push(PartChoice {
                 name: "loose vertices (in no face)".to_string(),
-                vertices: loose,
-                part: Part::Still,
+                vertices: count,
+                part,
                 reason: "position",
             });
         }
@@ -625,6 +641,72 @@ impl MouthTest {
     }
 }
 
+/// How far from an eye's centre a lash piece reaches, in eye widths (corner to corner): the
+/// lid's edge lies within half a width of the centre, and a lash is about a third of one.
+const LASH_REACH: f64 = 0.9;
+/// The least extent of a lash piece across the eye, in eye widths: a row of lashes runs
+/// along most of its lid.
+const LASH_SPAN: f64 = 0.5;
+/// The most a lash piece rises across its lid (up the face), as a share of its extent
+/// along it: a row of lashes is a narrow arc, where an iris, a cornea or an eyeball is as
+/// tall as it is wide.
+const LASH_RISE: f64 = 0.45;
+/// The most a lash piece reaches front to back, in eye widths: an eyeball is about 0.8 eye
+/// widths deep, a row of lashes curls forward a third of a width (MakeHuman's upper lashes
+/// 0.41).
+const LASH_DEPTH: f64 = 0.5;
+
+/// Where the eyes are, for telling a piece of its own that no group names: a row of lashes
+/// (or a strip along a lid, as tear lines are) is skin that moves with its lid, so the lid
+/// muscles close it with the lid (`lids.rs` gives it the travel of the lid edge it grows
+/// from); kept still, the lashes stayed where the open lid was, and the lids' free edges
+/// were looked for behind them as if they were the eyeball. A piece is taken for one when it
+/// lies within [`LASH_REACH`] of an eye's centre, runs along the eye ([`LASH_SPAN`]) as a
+/// narrow arc ([`LASH_RISE`]) and is shallow ([`LASH_DEPTH`]).
+struct LashTest {
+    /// Per eye: its centre and its axes (across, up, forward), and its width.
+    eyes: Vec<(DVec3, [DVec3; 3], f64)>,
+}
+
+impl LashTest {
+    fn new(points: &[glam::Vec3]) -> Option<LashTest> {
+        let frame = FaceFrame::of(points)?;
+        let p = |i: usize| points[i].as_dvec3();
+        let eyes = EYES
+            .iter()
+            .map(|eye| {
+                let centre = eye_centre(points, *eye);
+                let width = p(eye[0]).distance(p(eye[3]));
+                (centre, [frame.lateral, frame.up, frame.forward], width)
+            })
+            .filter(|&(_, _, width)| width > 0.0)
+            .collect();
+        Some(LashTest { eyes })
+    }
+
+    /// True when the piece `members` sits at an eye as a row of lashes does.
+    fn at_a_lid(&self, mesh: &Mesh, members: &[u32]) -> bool {
+        self.eyes.iter().any(|&(centre, axes, width)| {
+            let mut low = DVec3::splat(f64::INFINITY);
+            let mut high = DVec3::splat(f64::NEG_INFINITY);
+            for &v in members {
+                let d = mesh.positions[v as usize].as_dvec3() - centre;
+                if d.length() > LASH_REACH * width {
+                    return false;
+                }
+                let q = DVec3::new(d.dot(axes[0]), d.dot(axes[1]), d.dot(axes[2]));
+                low = low.min(q);
+                high = high.max(q);
+            }
+            let size = high - low;
+            !members.is_empty()
+                && size.x >= LASH_SPAN * width
+                && size.y <= LASH_RISE * size.x
+                && size.z <= LASH_DEPTH * width
+        })
+    }
+}
+
 /// A mask holding a rig's still parts: weight 0 everywhere it lists, for every muscle.
 pub(super) fn is_still(rig: &Rig, mask: &Mask) -> bool {
     mask.weights.iter().all(|&(_, w)| w == 0.0)
@@ -637,6 +719,63 @@ pub(super) fn is_still(rig: &Rig, mask: &Mask) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A row of lashes along the built-in face's upper lid is told from an eyeball and an
+    /// iris at the same eye, and from the same row away from the eyes.
+    #[test]
+    fn lashes_are_found_by_where_they_sit() {
+        let face = crate::io::builtin::default_mesh();
+        let points = crate::io::builtin::landmarks("face")
+            .unwrap()
+            .positions(&face)
+            .unwrap();
+        let test = LashTest::new(&points).unwrap();
+        let (centre, axes, width) = test.eyes[0];
+        let at = |across: f64, up: f64, forward: f64| {
+            (centre + axes[0] * across + axes[1] * up + axes[2] * forward).as_vec3()
+        };
+        let piece = |positions: Vec<glam::Vec3>| {
+            let n = positions.len() as u32;
+            let triangles = (1..n - 1).map(|k| [0, k, k + 1]).collect();
+            (
+                Mesh::new(positions, triangles).unwrap(),
+                (0..n).collect::<Vec<u32>>(),
+            )
+        };
+        // an arc over the opening, a few millimetres deep
+        let arc: Vec<_> = (0..12)
+            .map(|k| {
+                let t = k as f64 / 11.0 - 0.5;
+                at(
+                    0.9 * width * t,
+                    0.2 * width - 0.3 * width * t * t,
+                    0.05 * width * (k % 2) as f64,
+                )
+            })
+            .collect();
+        let (mesh, members) = piece(arc.clone());
+        assert!(test.at_a_lid(&mesh, &members));
+        // the same arc on the cheek
+        let low: Vec<_> = arc
+            .iter()
+            .map(|p| *p - (axes[1] * width).as_vec3())
+            .collect();
+        let (mesh, members) = piece(low);
+        assert!(!test.at_a_lid(&mesh, &members));
+        // a ball behind the opening, and a disc in it
+        let ring = |radius: f64, depth: f64| -> Vec<glam::Vec3> {
+            (0..16)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / 16.0;
+                    at(radius * a.cos(), radius * a.sin(), -depth * (k % 2) as f64)
+                })
+                .collect()
+        };
+        for (radius, depth) in [(0.4 * width, 0.8 * width), (0.2 * width, 0.05 * width)] {
+            let (mesh, members) = piece(ring(radius, depth));
+            assert!(!test.at_a_lid(&mesh, &members), "{radius} {depth}");
+        }
+    }
 
     #[test]
     fn names() {
