@@ -48,6 +48,9 @@ pub struct PartChoice {
     pub reason: &'static str,
 }
 
+/// The reason given for a part taken from where a piece sits.
+const BY_POSITION: &str = "position";
+
 /// The skin's edges from each vertex, with their lengths (skin to skin only; edges of no
 /// length are left out, so a distance's neighbours are always apart).
 pub(super) struct SkinGraph {
@@ -329,7 +332,7 @@ pub fn find_parts(
     let mouth = MouthTest::new(points);
     let lashes = LashTest::new(points);
     let pieces = Pieces::new(mesh, &component, &marked, mouth.as_ref(), lashes.as_ref());
-    let mut of_vertex: Vec<Part> = component.iter().map(|c| pieces.part[c]).collect();
+    let mut of_vertex: Vec<Part> = component.iter().map(|c| pieces.part[c].0).collect();
     let mut grouped = vec![false; n];
     let mut choices = Vec::new();
     // Named groups: a rigid name or an override decides for the whole group; otherwise the
@@ -401,10 +404,8 @@ pub fn find_parts(
 struct Pieces {
     /// Each piece's vertices, by the piece's smallest vertex.
     members: BTreeMap<u32, Vec<u32>>,
-    /// Each piece's part.
-    part: BTreeMap<u32, Part>,
-    /// Each piece's part and why, as [`PartChoice::reason`] says it.
-    reason: BTreeMap<u32, &'static str>,
+    /// Each piece's part, and why as [`PartChoice::reason`] says it.
+    part: BTreeMap<u32, (Part, &'static str)>,
 }
 
 impl Pieces {
@@ -419,26 +420,22 @@ impl Pieces {
         for (v, &c) in component.iter().enumerate() {
             members.entry(c).or_default().push(v as u32);
         }
-        let mut part = BTreeMap::new();
-        let mut reason = BTreeMap::new();
-        for (c, piece) in &members {
-            let (p, why) = if piece.iter().any(|&v| marked[v as usize]) {
-                (Part::Skin, "landmarks")
-            } else if lashes.is_some_and(|l| l.at_a_lid(mesh, piece)) {
-                (Part::Skin, "lashes at a lid's edge: move with their lid")
-            } else if mouth.is_some_and(|m| m.turns_with_jaw(mesh, piece)) {
-                (Part::Jaw, "position")
-            } else {
-                (Part::Still, "position")
-            };
-            part.insert(*c, p);
-            reason.insert(*c, why);
-        }
-        Pieces {
-            members,
-            part,
-            reason,
-        }
+        let part = members
+            .iter()
+            .map(|(c, piece)| {
+                let choice = if piece.iter().any(|&v| marked[v as usize]) {
+                    (Part::Skin, "landmarks")
+                } else if lashes.is_some_and(|l| l.at_a_lid(mesh, piece)) {
+                    (Part::Skin, "lashes at a lid's edge: move with their lid")
+                } else if mouth.is_some_and(|m| m.turns_with_jaw(mesh, piece)) {
+                    (Part::Jaw, BY_POSITION)
+                } else {
+                    (Part::Still, BY_POSITION)
+                };
+                (*c, choice)
+            })
+            .collect();
+        Pieces { members, part }
     }
 
     /// What is said of the pieces (or their parts) that no named group covers. Vertices no
@@ -452,17 +449,17 @@ impl Pieces {
             if members.iter().all(|&v| grouped[v as usize]) {
                 continue;
             }
-            if members.len() == 1 && self.reason[c] == "position" {
-                if let Some(slot) = loose.iter_mut().find(|(part, _)| *part == self.part[c]) {
+            let (part, reason) = self.part[c];
+            if members.len() == 1 && reason == BY_POSITION {
+                if let Some(slot) = loose.iter_mut().find(|(p, _)| *p == part) {
                     slot.1 += 1;
                 }
                 continue;
             }
-            let reason = self.reason[c];
             choices.push(PartChoice {
                 name: format!("piece {}", number + 1),
                 vertices: members.iter().filter(|&&v| !grouped[v as usize]).count(),
-                part: self.part[c],
+                part,
                 reason,
             });
         }
@@ -471,7 +468,7 @@ impl Pieces {
                 name: "loose vertices (in no face)".to_string(),
                 vertices: count,
                 part,
-                reason: "position",
+                reason: BY_POSITION,
             });
         }
         choices
@@ -512,7 +509,7 @@ fn group_part(
     } else if group.holds_landmark {
         (None, "landmarks")
     } else {
-        (None, "position")
+        (None, BY_POSITION)
     }
 }
 
@@ -664,8 +661,10 @@ const LASH_DEPTH: f64 = 0.5;
 /// lies within [`LASH_REACH`] of an eye's centre, runs along the eye ([`LASH_SPAN`]) as a
 /// narrow arc ([`LASH_RISE`]) and is shallow ([`LASH_DEPTH`]).
 struct LashTest {
-    /// Per eye: its centre and its axes (across, up, forward), and its width.
-    eyes: Vec<(DVec3, [DVec3; 3], f64)>,
+    /// The face's axes: across, up, forward.
+    axes: [DVec3; 3],
+    /// Per eye: its centre and its width.
+    eyes: Vec<(DVec3, f64)>,
 }
 
 impl LashTest {
@@ -674,19 +673,19 @@ impl LashTest {
         let p = |i: usize| points[i].as_dvec3();
         let eyes = EYES
             .iter()
-            .map(|eye| {
-                let centre = eye_centre(points, *eye);
-                let width = p(eye[0]).distance(p(eye[3]));
-                (centre, [frame.lateral, frame.up, frame.forward], width)
-            })
-            .filter(|&(_, _, width)| width > 0.0)
+            .map(|eye| (eye_centre(points, *eye), p(eye[0]).distance(p(eye[3]))))
+            .filter(|&(_, width)| width > 0.0)
             .collect();
-        Some(LashTest { eyes })
+        Some(LashTest {
+            axes: [frame.lateral, frame.up, frame.forward],
+            eyes,
+        })
     }
 
     /// True when the piece `members` sits at an eye as a row of lashes does.
     fn at_a_lid(&self, mesh: &Mesh, members: &[u32]) -> bool {
-        self.eyes.iter().any(|&(centre, axes, width)| {
+        let axes = self.axes;
+        self.eyes.iter().any(|&(centre, width)| {
             let mut low = DVec3::splat(f64::INFINITY);
             let mut high = DVec3::splat(f64::NEG_INFINITY);
             for &v in members {
@@ -730,7 +729,7 @@ mod tests {
             .positions(&face)
             .unwrap();
         let test = LashTest::new(&points).unwrap();
-        let (centre, axes, width) = test.eyes[0];
+        let ((centre, width), axes) = (test.eyes[0], test.axes);
         let at = |across: f64, up: f64, forward: f64| {
             (centre + axes[0] * across + axes[1] * up + axes[2] * forward).as_vec3()
         };

@@ -65,21 +65,49 @@ fn makehuman_lashes_move_with_their_lid_edge() {
     };
     let fitted = crate::fit_default(&mesh, &landmarks);
     let bound = BoundRig::bind_with(&fitted.rig, &mesh, SkinRules::DEFAULT).unwrap();
-    let moved = crate::positions_at_au(&bound, "45");
-    let d = |v: usize| moved[v] - mesh.positions[v];
-    let marks = landmarks.vertices(&mesh);
-    let lid = [37, 38, 43, 44]
-        .map(|l| d(marks[l] as usize).length())
-        .into_iter()
-        .fold(0.0f32, f32::max);
-    let body = &mesh.groups["body"];
     let lashes: Vec<u32> = mesh
         .groups
         .iter()
         .filter(|(n, _)| n.contains("eyelashes"))
         .flat_map(|(_, m)| m.iter().copied())
         .collect();
-    let mean = lashes
+    let marks = landmarks.vertices(&mesh);
+    let (lid, travel) = at_the_lid_edge(&bound, &mesh, &marks, &lashes);
+    let mean = travel.iter().map(|t| t.off).sum::<f32>() / travel.len() as f32;
+    println!("a lash vertex moves {mean} from its lid edge's travel (lid {lid})");
+    assert!(
+        mean < 0.01 * lid,
+        "lashes {mean} off their lid, lid travel {lid}"
+    );
+}
+
+/// How a piece that grows from a lid edge (lashes, a film) moves at AU45.
+struct EdgeTravel {
+    /// How far its travel is off that of the nearest `body` vertex (the lid edge).
+    off: f32,
+    /// That nearest vertex's own travel: how far off the vertex would be kept still.
+    still: f32,
+    /// Its own travel.
+    own: f32,
+}
+
+/// At AU45 of `bound` on MakeHuman's `mesh` (`marks`: the landmarks' vertices): the upper
+/// lid landmarks' largest travel, and for each vertex of `piece`, its travel against that of
+/// the nearest vertex of the `body` group.
+fn at_the_lid_edge(
+    bound: &BoundRig,
+    mesh: &Mesh,
+    marks: &[u32],
+    piece: &[u32],
+) -> (f32, Vec<EdgeTravel>) {
+    let moved = crate::positions_at_au(bound, "45");
+    let d = |v: u32| moved[v as usize] - mesh.positions[v as usize];
+    let lid = [37, 38, 43, 44]
+        .map(|l| d(marks[l]).length())
+        .into_iter()
+        .fold(0.0f32, f32::max);
+    let body = &mesh.groups["body"];
+    let travel = piece
         .iter()
         .map(|&v| {
             let p = mesh.positions[v as usize];
@@ -90,15 +118,14 @@ fn makehuman_lashes_move_with_their_lid_edge() {
                     da.total_cmp(&mesh.positions[b as usize].distance_squared(p))
                 })
                 .unwrap();
-            d(v as usize).distance(d(edge as usize))
+            EdgeTravel {
+                off: d(v).distance(d(edge)),
+                still: d(edge).length(),
+                own: d(v).length(),
+            }
         })
-        .sum::<f32>()
-        / lashes.len() as f32;
-    println!("a lash vertex moves {mean} from its lid edge's travel (lid {lid})");
-    assert!(
-        mean < 0.01 * lid,
-        "lashes {mean} off their lid, lid travel {lid}"
-    );
+        .collect();
+    (lid, travel)
 }
 
 /// MakeHuman's base mesh made uneven by 0.1 and 0.2 mm (each coordinate, at an outer canthal
@@ -178,9 +205,11 @@ fn with_eye_films(mesh: &Mesh, nose_tip: Vec3) -> Mesh {
 
 /// A film over each eye (`M_EyeOcclusion`) is taken for what it is in the heads that carry
 /// one: skin that moves with its lid, not drawn (no style draws through transparency; drawn,
-/// it was a grey shell over the iris, kept still while the lids closed over it). At AU45 a
-/// film vertex moves, on average, within 5 % of the lid's travel of the nearest body vertex,
-/// and the film's most moved vertex goes at least half as far as the lid.
+/// it was a grey shell over the iris, kept still while the lids closed over it). At AU45 the
+/// film's most moved vertex goes at least 90 % as far as the lid, and a film vertex's travel
+/// is off that of its nearest lid vertex, on average, by under three quarters of what a film
+/// kept still would be (0.011 against 0.023: the film's middle, over the eyeball, is
+/// nearest to lid vertices that move less than the ring gives it).
 #[test]
 fn makehuman_eye_films_close_with_their_lids_and_are_not_drawn() {
     let Some((_, mesh, landmarks)) = crate::shared_makehuman() else {
@@ -204,35 +233,17 @@ fn makehuman_eye_films_close_with_their_lids_and_are_not_drawn() {
         .any(|t| t.iter().all(|v| film.binary_search(v).is_ok())));
     let fitted = crate::fit_default(&filmed, &landmarks);
     let bound = BoundRig::bind_with(&fitted.rig, &filmed, SkinRules::DEFAULT).unwrap();
-    let moved = crate::positions_at_au(&bound, "45");
-    let d = |v: u32| moved[v as usize] - filmed.positions[v as usize];
-    let lid = [37, 38, 43, 44]
-        .map(|l| d(marks[l]).length())
-        .into_iter()
-        .fold(0.0f32, f32::max);
-    let body = &filmed.groups["body"];
-    // each film vertex's travel off its nearest lid vertex's, and that vertex's own travel
-    // (how far off a film kept still would be)
-    let (off, still): (Vec<f32>, Vec<f32>) = film
-        .iter()
-        .map(|&v| {
-            let p = filmed.positions[v as usize];
-            let edge = *body
-                .iter()
-                .min_by(|&&a, &&b| {
-                    let da = filmed.positions[a as usize].distance_squared(p);
-                    da.total_cmp(&filmed.positions[b as usize].distance_squared(p))
-                })
-                .unwrap();
-            (d(v).distance(d(edge)), d(edge).length())
-        })
-        .unzip();
-    let mean = off.iter().sum::<f32>() / off.len() as f32;
-    let kept = still.iter().sum::<f32>() / still.len() as f32;
-    let most = film.iter().map(|&v| d(v).length()).fold(0.0f32, f32::max);
+    let (lid, travel) = at_the_lid_edge(&bound, &filmed, &marks, &film);
+    let mean = |f: fn(&EdgeTravel) -> f32| travel.iter().map(f).sum::<f32>() / travel.len() as f32;
+    let (off, still) = (mean(|t| t.off), mean(|t| t.still));
+    let most = travel.iter().map(|t| t.own).fold(0.0f32, f32::max);
     println!(
-        "a film vertex moves {mean} from its nearest lid vertex's travel ({kept} kept still); \
+        "a film vertex moves {off} from its nearest lid vertex's travel ({still} kept still); \
          most {most}, lid {lid}"
+    );
+    assert!(
+        off < 0.75 * still,
+        "the film is {off} off its lid; kept still, {still}"
     );
     assert!(most > 0.9 * lid, "the film moves {most}, the lid {lid}");
 }
@@ -294,15 +305,7 @@ fn makehuman_without_names_finds_its_lashes_and_closes_its_lids() {
     assert_eq!(found, 4, "{:?}", parts.choices);
     let fitted = crate::fit_default(&bare, &landmarks);
     let bound = BoundRig::bind_with(&fitted.rig, &bare, SkinRules::DEFAULT).unwrap();
-    let gauge = Gauge::new(&bare, &marks, None).unwrap();
-    let expect = Expect {
-        lids_close: Some(Eyes::Both),
-        jaw_opens: false,
-    };
-    let gap = gauge
-        .measure(&crate::positions_at_au(&bound, "45"), expect)
-        .lid_gap
-        .unwrap();
+    let gap = crate::lid_gap_at(&bound, &bare, &marks, "45");
     println!("unnamed MakeHuman AU45: gap {:.1}%", 100.0 * gap);
     assert!(gap < 0.10, "the lids leave {gap}");
 }

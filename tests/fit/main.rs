@@ -141,6 +141,20 @@ fn au_failures(
     failures
 }
 
+/// The share of the rest opening the lids of both eyes leave at AU `key` of the built-in
+/// table, as `grimace check` measures it (`marks`: the landmarks' vertices).
+fn lid_gap_at(bound: &BoundRig, mesh: &Mesh, marks: &[u32], key: &str) -> f32 {
+    let gauge = Gauge::new(mesh, marks, None).unwrap();
+    let closing = Expect {
+        lids_close: Some(grimace::fit::quality::Eyes::Both),
+        jaw_opens: false,
+    };
+    gauge
+        .measure(&positions_at_au(bound, key), closing)
+        .lid_gap
+        .unwrap()
+}
+
 /// Positions of `bound` at an AU of the built-in table, at full intensity.
 fn positions_at_au(bound: &BoundRig, key: &str) -> Vec<Vec3> {
     let table = builtin::default_table();

@@ -10,7 +10,6 @@ use std::f32::consts::FRAC_PI_2;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
-use grimace::fit::quality::{Expect, Eyes, Gauge};
 use grimace::fit::{Fitted, Part};
 use grimace::io::obj;
 use grimace::landmarks::{FaceFrame, Landmarks};
@@ -67,15 +66,7 @@ fn check_aus(mesh: &Mesh, fitted: &Fitted, v: &[u32]) {
     // not on them). MakeHuman's lid landmarks lie on the lid's back, 4 to 5 mm beyond the
     // free edges, and come 0.39 to 0.47 of their opening together when the lids meet.
     let blink = au(&bound, "45");
-    let gauge = Gauge::new(mesh, v, None).unwrap();
-    let closing = Expect {
-        lids_close: Some(Eyes::Both),
-        jaw_opens: false,
-    };
-    let gap = gauge
-        .measure(&crate::positions_at_au(&bound, "45"), closing)
-        .lid_gap
-        .unwrap();
+    let gap = crate::lid_gap_at(&bound, mesh, v, "45");
     assert!(gap < 0.10, "AU 45: the lids leave {gap:.3} of the opening");
     for (upper, lower) in [(37, 41), (38, 40), (43, 47), (44, 46)] {
         let (u, l) = (up(at(&blink, upper)), up(at(&blink, lower)));

@@ -76,7 +76,7 @@ fn eye_name(name: &str) -> bool {
     let eye = ["eye", "sclera", "cornea"]
         .iter()
         .any(|w| lower.contains(w));
-    let other = ["lash", "lid", "brow", "corner", "joint", "target", "socket"]
+    let other = ["lid", "brow", "corner", "joint", "target", "socket"]
         .iter()
         .any(|w| lower.contains(w));
     eye && !other && !crate::fit::parts::lash_name(name)
